@@ -1,0 +1,40 @@
+#pragma once
+// Colour management through OpenColorIO. The config is built in code from OCIO's built-in
+// transforms (Debian's OCIO 2.1 has no built-in config), or loaded from `configPath`.
+// Colour spaces of the built-in config:
+//   "linear-rec709"  scene-linear, Rec.709 primaries (the default working space)
+//   "ACEScg"         scene-linear, AP1 primaries
+//   "sRGB"           sRGB transfer curve, Rec.709 primaries (PNG, JPEG, video by default)
+//   "rec709"         Rec.709 camera OETF, Rec.709 primaries
+//   "raw"            no conversion
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "image/image.h"
+
+namespace pluvia {
+
+class ColorConverter {
+ public:
+  // Throws pluvia::Error naming the colour space when one is unknown.
+  ColorConverter(const std::string& from, const std::string& to, const std::string& configPath = "");
+  ~ColorConverter();
+  ColorConverter(ColorConverter&&) noexcept;
+  ColorConverter& operator=(ColorConverter&&) noexcept;
+  // Converts RGB in place (alpha and planes untouched).
+  void apply(Image& image) const;
+  bool isNoOp() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Names of the colour spaces available (built-in config or the given one).
+std::vector<std::string> colorSpaceNames(const std::string& configPath = "");
+
+// Writes the built-in config as an .ocio file (so users can inspect or extend it).
+void saveBuiltinConfig(const std::string& path);
+
+}  // namespace pluvia

@@ -1,0 +1,43 @@
+#pragma once
+// Frames inside pluvia. Conventions, written once here and assumed by every image operation:
+//  - pixels are 32-bit float RGBA, interleaved, row-major, row 0 at the top of the picture;
+//  - colour is scene-linear in the working space (colour conversion happens only at read and
+//    write, in color.h);
+//  - alpha is straight (not premultiplied) and is 1 where the input had none;
+//  - extra single-channel planes travel by name: "depth" is z-depth in metres along the
+//    camera's optical axis (+infinity for sky), "matte" and "rain_alpha" are 0..1.
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace pluvia {
+
+struct Image {
+  int width = 0;
+  int height = 0;
+  std::vector<float> rgba;                            // width * height * 4
+  std::map<std::string, std::vector<float>> planes;   // each width * height
+
+  Image() = default;
+  Image(int w, int h);  // RGBA zeros, alpha 1
+
+  bool empty() const { return width <= 0 || height <= 0; }
+  size_t pixelCount() const { return static_cast<size_t>(width) * static_cast<size_t>(height); }
+  float* pixel(int x, int y) { return rgba.data() + (static_cast<size_t>(y) * width + x) * 4; }
+  const float* pixel(int x, int y) const { return rgba.data() + (static_cast<size_t>(y) * width + x) * 4; }
+  std::vector<float>& plane(const std::string& name);  // created (zeros) if absent
+  const std::vector<float>* findPlane(const std::string& name) const;
+
+  // Views sharing memory: CV_32FC4 over rgba, CV_32FC1 over a plane.
+  cv::Mat rgbaMat();
+  cv::Mat planeMat(const std::string& name);
+};
+
+// Mean of R, G, B over all pixels (finite values only).
+std::array<double, 3> meanRgb(const Image& image);
+
+}  // namespace pluvia

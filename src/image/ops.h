@@ -1,0 +1,30 @@
+#pragma once
+// Image operations as free functions (OpenImageIO ImageBufAlgo style). All follow image.h's
+// conventions: scene-linear float RGBA, straight alpha; alpha is left untouched.
+#include <array>
+
+#include "image/image.h"
+
+namespace pluvia::ops {
+
+// Rec.709 luminance of a linear RGB triple.
+inline float luminance(const float* rgb) { return 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2]; }
+
+// Starik–Werman darkening: blend each pixel toward its luminance by `amount` (desaturation)
+// and scale it by (1 - amount * strength). amount 0 is the identity.
+//   out = (1 - amount) * rgb + amount * Y, then * (1 - amount * darkening)
+void darken(Image& image, float amount, float darkening);
+
+// Gaussian blur of RGB with standard deviation sigmaPx (pixels), reflecting at the border so the
+// mean is preserved. sigma 0 is the identity.
+void gaussianBlur(Image& image, float sigmaPx);
+
+// Homogeneous fog: alpha = 1 - exp(-density * depth), out = alpha * fogRgb + (1 - alpha) * rgb,
+// with depth the "depth" plane (metres). Infinite depth (sky) gets alpha 1. density 0 is the identity.
+void fog(Image& image, float densityPerMeter, const std::array<float, 3>& fogRgb);
+
+// Replaces NaN and infinite RGB values by 0 (documented input handling for EXR plates) and
+// returns how many values were replaced. Neighbours are never read, so nothing spreads.
+size_t replaceNonFinite(Image& image);
+
+}  // namespace pluvia::ops

@@ -1,0 +1,40 @@
+#pragma once
+// Reading clips: a movie file (OpenCV videoio over FFmpeg), an image sequence (OpenImageIO:
+// EXR, DPX, TIFF, PNG, JPEG, HDR) or a single image. Frames come back as float RGBA in the
+// file's own encoding (no colour conversion here: see image/color.h), alpha 1 where absent,
+// grayscale expanded to RGB, 8/16-bit normalised to 0..1, half and float as they are.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "image/image.h"
+
+namespace pluvia {
+
+struct ClipInfo {
+  std::string path;                 // as given by the user
+  std::vector<int64_t> frames;      // frame numbers, in order (sequences keep theirs; movies 0..N-1)
+  int width = 0;
+  int height = 0;
+  double fps = 24.0;                // from the movie; 24 for sequences and stills unless told
+  bool isMovie = false;
+  bool isFloat = false;             // EXR/HDR/float TIFF: scene-linear by convention
+  int channels = 3;                 // as stored in the file
+  std::vector<std::string> files;   // the files read (one for a movie or a still); for hashing
+};
+
+class ClipReader {
+ public:
+  virtual ~ClipReader() = default;
+  virtual const ClipInfo& info() const = 0;
+  // Reads one frame by its number. Throws pluvia::Error naming the file and frame when the frame
+  // is missing, truncated or corrupt, or its size differs from the clip's.
+  virtual Image read(int64_t frame) = 0;
+};
+
+// Opens INPUT (movie, sequence pattern, or a single image). Throws pluvia::Error naming the
+// path when it does not exist, cannot be decoded, has no frames, or is zero-sized.
+std::unique_ptr<ClipReader> openClip(const std::string& input);
+
+}  // namespace pluvia

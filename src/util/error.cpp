@@ -1,0 +1,24 @@
+#include "util/error.h"
+
+#include <fmt/format.h>
+
+namespace pluvia {
+
+Error::Error(const std::string& message, ErrorContext context)
+    : std::runtime_error(message), context_(std::move(context)) {}
+
+std::string Error::describe() const {
+  std::string where;
+  if (!context_.stage.empty() || context_.frame) {
+    where = "[" + context_.stage;
+    if (context_.frame) where += fmt::format("{}frame {}", context_.stage.empty() ? "" : " @ ", *context_.frame);
+    where += "] ";
+  }
+  std::string text = where + what();
+  if (!context_.file.empty() && text.find(context_.file) == std::string::npos) {
+    text += fmt::format(" (file: {})", context_.file);
+  }
+  return text;
+}
+
+}  // namespace pluvia

@@ -1,0 +1,25 @@
+#pragma once
+// File-system helpers shared by readers, writers and the cache.
+#include <filesystem>
+#include <string>
+
+namespace pluvia::fs {
+
+// A temporary path beside `target` (same folder, so rename is atomic), keeping the extension
+// so that format-sniffing writers still see it: "a.0001.exr" -> "a.0001.pluvia-tmp-<pid>-<n>.exr".
+std::filesystem::path temporaryPathFor(const std::filesystem::path& target);
+
+// Renames tmp over target atomically; removes tmp and throws pluvia::Error on failure.
+void commitTemporary(const std::filesystem::path& tmp, const std::filesystem::path& target);
+
+// Creates the folder (and parents) that will hold `file`; throws with the folder named if it cannot.
+void ensureParentFolder(const std::filesystem::path& file);
+
+// True if two paths name the same existing file (follows links), or the same path when absent.
+bool samePath(const std::filesystem::path& a, const std::filesystem::path& b);
+
+std::string readTextFile(const std::filesystem::path& path);
+// Atomic text write (temporary + rename).
+void writeTextFile(const std::filesystem::path& path, const std::string& text);
+
+}  // namespace pluvia::fs

@@ -1,0 +1,67 @@
+#include "test_support.h"
+
+#include <unistd.h>
+
+#include <cstdlib>
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
+#include "util/subprocess.h"
+
+namespace pluvia::test {
+namespace stdfs = std::filesystem;
+
+stdfs::path sourceDir() { return PLUVIA_SOURCE_DIR; }
+stdfs::path pluviaBinary() { return PLUVIA_BINARY_PATH; }
+stdfs::path exampleClip() { return sourceDir() / "examples/street/street_plate.mp4"; }
+
+stdfs::path sharedData() {
+  if (const char* env = std::getenv("PLUVIA_SHARED_DATA")) {
+    if (stdfs::is_directory(env)) return env;
+  }
+  stdfs::path beside = sourceDir().parent_path() / "shared" / "data";
+  if (stdfs::is_directory(beside)) return beside;
+  return {};
+}
+
+stdfs::path freshTempDir(const std::string& name) {
+  stdfs::path dir = stdfs::temp_directory_path() / ("pluvia-test-" + std::to_string(::getpid())) / name;
+  stdfs::remove_all(dir);
+  stdfs::create_directories(dir);
+  return dir;
+}
+
+CommandResult runPluvia(const std::vector<std::string>& args) {
+  std::vector<std::string> argv{pluviaBinary().string()};
+  argv.insert(argv.end(), args.begin(), args.end());
+  ProcessResult r = runProcess(argv);
+  return {r.exitCode, r.output};
+}
+
+Image readImageFile(const stdfs::path& path) {
+  OIIO::ImageBuf buf(path.string());
+  if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) throw std::runtime_error("cannot read " + path.string());
+  const auto& spec = buf.spec();
+  Image image(spec.width, spec.height);
+  std::vector<float> pixels(image.pixelCount() * spec.nchannels);
+  buf.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, pixels.data());
+  for (size_t i = 0; i < image.pixelCount(); ++i) {
+    for (int c = 0; c < 4; ++c) {
+      int src = c < spec.nchannels ? c : (c == 3 ? -1 : 0);
+      image.rgba[i * 4 + c] = src >= 0 ? pixels[i * spec.nchannels + src] : 1.0f;
+    }
+  }
+  return image;
+}
+
+void writeImageFile(const stdfs::path& path, const Image& image, int channels) {
+  OIIO::ImageSpec spec(image.width, image.height, channels, OIIO::TypeDesc::FLOAT);
+  OIIO::ImageBuf buf(spec);
+  std::vector<float> pixels(image.pixelCount() * channels);
+  for (size_t i = 0; i < image.pixelCount(); ++i)
+    for (int c = 0; c < channels; ++c) pixels[i * channels + c] = image.rgba[i * 4 + c];
+  buf.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, pixels.data());
+  if (!buf.write(path.string())) throw std::runtime_error("cannot write " + path.string());
+}
+
+}  // namespace pluvia::test

@@ -1,0 +1,32 @@
+#pragma once
+// Paths and small helpers shared by the tests.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "image/image.h"
+
+namespace pluvia::test {
+
+std::filesystem::path sourceDir();        // the repository root
+std::filesystem::path pluviaBinary();     // build/pluvia
+std::filesystem::path exampleClip();      // examples/street/street_plate.mp4
+// ../shared/data beside the checkout (or $PLUVIA_SHARED_DATA); empty when absent, in which
+// case tests that need it call GTEST_SKIP().
+std::filesystem::path sharedData();
+// A fresh, empty folder under the system temp dir, unique to this test.
+std::filesystem::path freshTempDir(const std::string& name);
+
+struct CommandResult {
+  int exitCode = -1;
+  std::string output;  // stdout + stderr
+};
+// Runs build/pluvia with the arguments (no shell).
+CommandResult runPluvia(const std::vector<std::string>& args);
+
+// Reads an image file with OpenImageIO as float RGBA (no colour conversion).
+Image readImageFile(const std::filesystem::path& path);
+// Writes float RGBA (alpha dropped when `channels` is 3) to any format OpenImageIO knows.
+void writeImageFile(const std::filesystem::path& path, const Image& image, int channels = 3);
+
+}  // namespace pluvia::test
