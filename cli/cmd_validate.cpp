@@ -1,1 +1,25 @@
-// WIP: being written in this session.
+#include <iostream>
+
+#include "commands.h"
+#include "common.h"
+
+namespace pluvia::cli {
+
+void addValidateCommand(CLI::App& app, Invocation& invocation) {
+  auto* cmd = app.add_subcommand("validate", "check a preset and report every problem at once");
+  auto preset = std::make_shared<std::string>();
+  auto sets = std::make_shared<std::vector<std::string>>();
+  cmd->add_option("PRESET", *preset, "preset name or path")->required();
+  cmd->add_option("--set", *sets, "override KEY=VALUE (dotted key path)");
+  cmd->callback([=, &invocation] {
+    try {
+      Preset p = loadPreset(*preset, *sets);
+      std::cout << p.source() << ": valid (hash " << p.hash() << ")\n";
+    } catch (const PresetError& e) {
+      std::cout << e.what() << "\n";
+      invocation.exitCode = 1;
+    }
+  });
+}
+
+}  // namespace pluvia::cli

@@ -1,1 +1,48 @@
-// WIP: being written in this session.
+#include "common.h"
+
+#include <fmt/format.h>
+
+#include "stages/registry.h"
+#include "util/error.h"
+
+namespace pluvia::cli {
+
+std::pair<int64_t, int64_t> parseFrameRange(const std::string& text) {
+  auto parseNumber = [&](const std::string& s) {
+    size_t used = 0;
+    int64_t value = 0;
+    try {
+      value = std::stoll(s, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != s.size()) throw UsageError(fmt::format("--frames '{}': expected FIRST-LAST, e.g. 1001-1048", text));
+    return value;
+  };
+  size_t dash = text.find('-', 1);
+  int64_t first = parseNumber(text.substr(0, dash));
+  int64_t last = dash == std::string::npos ? first : parseNumber(text.substr(dash + 1));
+  if (last < first) throw UsageError(fmt::format("--frames '{}': the last frame comes before the first", text));
+  return {first, last};
+}
+
+Preset loadPreset(const std::string& nameOrPath, const std::vector<std::string>& overrides) {
+  return Preset::resolve(nameOrPath, overrides, presetSchema());
+}
+
+std::string joinCommandLine(int argc, char** argv) {
+  std::string line;
+  for (int i = 0; i < argc; ++i) {
+    std::string arg = argv[i];
+    bool plain = !arg.empty() && arg.find_first_of(" \t'\"$\\;&|<>*?()") == std::string::npos;
+    if (!plain) {
+      std::string quoted = "'";
+      for (char c : arg) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+      arg = quoted + "'";
+    }
+    line += (i ? " " : "") + arg;
+  }
+  return line;
+}
+
+}  // namespace pluvia::cli

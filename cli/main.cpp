@@ -1,1 +1,59 @@
-int main() { return 0; }
+// pluvia: physically based rain for real footage. The command line is thin: every subcommand
+// is a file in cli/, the work is in the libraries under src/.
+#include <cstdio>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.h"
+#include "common.h"
+#include "pluvia/version.h"
+#include "util/error.h"
+#include "util/log.h"
+
+namespace {
+constexpr const char* kExitCodes =
+    "Exit codes: 0 success, 1 error (bad input file, invalid preset, failed write), 2 usage error "
+    "(bad command line).";
+}
+
+int main(int argc, char** argv) {
+  using namespace pluvia;
+  CLI::App app{"pluvia: adds physically based rain to real footage.", "pluvia"};
+  app.footer(kExitCodes);
+  app.set_version_flag("--version", std::string("pluvia ") + kVersion);
+  app.require_subcommand(1);
+  bool quiet = false;
+  app.add_flag("-q,--quiet", quiet, "only warnings and errors");
+
+  cli::Invocation invocation;
+  invocation.commandLine = cli::joinCommandLine(argc, argv);
+  cli::addRenderCommand(app, invocation);
+  cli::addPlanCommand(app, invocation);
+  cli::addValidateCommand(app, invocation);
+  cli::addDescribeCommand(app, invocation);
+  cli::addBenchCommand(app, invocation);
+  app.parse_complete_callback([&] { log::setLevel(quiet ? log::Level::Warning : log::Level::Info); });
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return 2;
+  } catch (const UsageError& e) {
+    log::error(e.describe());
+    return 2;
+  } catch (const Error& e) {
+    log::error(e.describe());
+    return 1;
+  } catch (const std::exception& e) {
+    log::error(e.what());
+    return 1;
+  }
+  return invocation.exitCode;
+}

@@ -20,13 +20,13 @@
 
 namespace pluvia::gpu {
 
-// One streak, 16 floats (laid out for an instanced vertex buffer).
+// One streak, 12 floats (laid out for an instanced vertex buffer).
 struct StreakInstance {
   float headX, headY, tailX, tailY;          // pixels; origin at the top-left corner, y down
   float widthPx, alpha, depthMeters, strokeIndex;
   float viewX, viewY, viewZ, padding;        // unit direction camera -> drop (world space)
 };
-static_assert(sizeof(StreakInstance) == 16 * sizeof(float));
+static_assert(sizeof(StreakInstance) == 12 * sizeof(float));
 
 // The quad of a streak: it spans from head to tail along its axis, extended by widthPx / 2 at
 // both ends, and widthPx across. Matte coordinates: u across (0 left edge .. 1 right edge when

@@ -1,1 +1,177 @@
-// WIP: being written in this session.
+#include "io/clip_writer.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <functional>
+
+#include <fmt/format.h>
+
+#include "io/image_file_writer.h"
+#include "io/movie_writer.h"
+#include "io/sequence_pattern.h"
+#include "util/error.h"
+#include "util/fs.h"
+
+namespace pluvia {
+namespace {
+
+std::string joined(const std::vector<std::string>& items) {
+  std::string text;
+  for (const std::string& item : items) text += (text.empty() ? "" : ", ") + item;
+  return text;
+}
+
+// JPEG, DPX (as written here) and Radiance HDR hold RGB only.
+bool formatKeepsAlpha(const std::string& extension) {
+  return extension != "jpg" && extension != "jpeg" && extension != "dpx" && extension != "hdr";
+}
+
+bool contains(const std::vector<std::string>& items, const std::string& item) {
+  return std::find(items.begin(), items.end(), item) != items.end();
+}
+
+// Where a frame's files go: the beauty, and the AOV files of formats that cannot hold AOVs as
+// extra channels ("out.####.png" -> "out.rain.0001.png"; depth always "out.depth.0001.exr").
+struct FrameNaming {
+  std::function<std::string(int64_t)> beauty;
+  std::function<std::string(const std::string& aov, const std::string& suffix, int64_t)> aov;
+};
+
+std::string withExtension(const std::string& suffix, const std::string& extension) {
+  const size_t dot = suffix.rfind('.');
+  return (dot == std::string::npos ? suffix : suffix.substr(0, dot)) + "." + extension;
+}
+
+FrameNaming namingFor(const std::string& output) {
+  if (std::optional<SequencePattern> pattern = SequencePattern::parse(output)) {
+    return {[p = *pattern](int64_t frame) { return p.pathFor(frame); },
+            [p = *pattern](const std::string& aov, const std::string& suffix, int64_t frame) {
+              return SequencePattern{p.prefix + aov + ".", suffix, p.padding}.pathFor(frame);
+            }};
+  }
+  // A single image: every frame goes to the same file (a still in, a still out).
+  const std::filesystem::path path(output);
+  const std::string stem = (path.parent_path() / path.stem()).string();
+  return {[output](int64_t) { return output; },
+          [stem](const std::string& aov, const std::string& suffix, int64_t) { return stem + "." + aov + suffix; }};
+}
+
+std::string suffixOf(const std::string& output) {
+  if (std::optional<SequencePattern> pattern = SequencePattern::parse(output)) return pattern->suffix;
+  return std::filesystem::path(output).extension().string();
+}
+
+// The AOV's planes as channels: a single plane "matte" -> "matte.Y" ("depth" -> "depth.Z", in
+// full float), or the four planes "rain.R".."rain.A" -> channels of the same names.
+std::vector<OutputChannel> aovChannels(const std::string& aov, const Image& image, int64_t frame,
+                                       const std::string& path) {
+  if (const std::vector<float>* plane = image.findPlane(aov)) {
+    const bool isDepth = aov == "depth";
+    return {{aov + (isDepth ? ".Z" : ".Y"), plane->data(), 1, isDepth}};
+  }
+  std::vector<OutputChannel> channels;
+  for (const char* component : {"R", "G", "B", "A"}) {
+    const std::vector<float>* plane = image.findPlane(aov + "." + component);
+    if (!plane) {
+      throw Error(fmt::format("AOV '{}' was asked for, but frame {} has no plane '{}' nor '{}.R'..'{}.A'", aov, frame,
+                              aov, aov, aov),
+                  {"write", frame, path});
+    }
+    channels.push_back({aov + "." + component, plane->data(), 1});
+  }
+  return channels;
+}
+
+class ImageSequenceWriter final : public ClipWriter {
+ public:
+  ImageSequenceWriter(const std::string& output, int width, int height, WriterOptions options)
+      : naming_(namingFor(output)),
+        suffix_(suffixOf(output)),
+        extension_(lowerExtension(output)),
+        width_(width),
+        height_(height),
+        options_(std::move(options)) {}
+
+  void write(int64_t frame, const Image& image) override {
+    const std::string path = naming_.beauty(frame);
+    if (image.width != width_ || image.height != height_) {
+      throw Error(fmt::format("frame {} is {}x{} but the output {} was opened for {}x{}", frame, image.width,
+                              image.height, path, width_, height_),
+                  {"write", frame, path});
+    }
+    const bool hasAlpha = formatKeepsAlpha(extension_);
+    std::vector<OutputChannel> channels;
+    for (const char* name : {"R", "G", "B", "A"}) {
+      if (channels.size() < 3 || hasAlpha) channels.push_back({name, image.rgba.data() + channels.size(), 4});
+    }
+    if (extension_ == "exr") {
+      for (const std::string& aov : options_.aovs) {
+        std::vector<OutputChannel> extra = aovChannels(aov, image, frame, path);
+        channels.insert(channels.end(), extra.begin(), extra.end());
+      }
+    } else {
+      writeAovFiles(frame, image);
+    }
+    writeImageFile(path, width_, height_, channels, options_.metadata, frame);
+  }
+
+  void close() override {}
+  bool isMovie() const override { return false; }
+  std::string pathFor(int64_t frame) const override { return naming_.beauty(frame); }
+
+ private:
+  // Formats without extra channels get one file per AOV. Depth is in metres and always goes to
+  // EXR; formats without alpha drop an AOV's alpha as they drop the beauty's.
+  void writeAovFiles(int64_t frame, const Image& image) const {
+    for (const std::string& aov : options_.aovs) {
+      const bool isDepth = aov == "depth";
+      const std::string path = naming_.aov(aov, isDepth ? withExtension(suffix_, "exr") : suffix_, frame);
+      std::vector<OutputChannel> channels = aovChannels(aov, image, frame, path);
+      // In a file of its own the AOV's channels drop its name: "rain.R" -> "R", "depth.Z" -> "Z".
+      for (OutputChannel& channel : channels) channel.name = channel.name.substr(channel.name.rfind('.') + 1);
+      if (!isDepth && !formatKeepsAlpha(extension_) && channels.size() == 4) channels.pop_back();
+      writeImageFile(path, width_, height_, channels, options_.metadata, frame);
+    }
+  }
+
+  FrameNaming naming_;
+  std::string suffix_;
+  std::string extension_;
+  int width_;
+  int height_;
+  WriterOptions options_;
+};
+
+}  // namespace
+
+std::unique_ptr<ClipWriter> openClipWriter(const std::string& output, int width, int height,
+                                           const WriterOptions& options) {
+  const std::string extension = lowerExtension(output);
+  const bool isSequenceFormat = contains(imageOutputExtensions(), extension);
+  const bool isMovieFormat = contains(movieOutputExtensions(), extension);
+  if (!isSequenceFormat && !isMovieFormat) {
+    throw Error(fmt::format("unknown output format '{}' for {} (supported: image sequences {}; movies {})",
+                            extension.empty() ? "(no extension)" : "." + extension, output,
+                            joined(imageOutputExtensions()), joined(movieOutputExtensions())),
+                {"write", {}, output});
+  }
+  if (width <= 0 || height <= 0) {
+    throw Error(fmt::format("cannot write {}: frame size {}x{} is empty", output, width, height), {"write", {}, output});
+  }
+  if (isMovieFormat && !options.aovs.empty()) {
+    throw Error(fmt::format("AOVs ({}) cannot go into the movie {}: write an image sequence such as out.####.exr",
+                            joined(options.aovs), output),
+                {"write", {}, output});
+  }
+  const std::string firstPath = isMovieFormat ? output : namingFor(output).beauty(0);
+  fs::ensureParentFolder(firstPath);
+  if (isMovieFormat) return openMovieWriter(output, width, height, options);
+  return std::make_unique<ImageSequenceWriter>(output, width, height, options);
+}
+
+bool outputIsLinear(const std::string& output) {
+  const std::string extension = lowerExtension(output);
+  return extension == "exr" || extension == "hdr";
+}
+
+}  // namespace pluvia

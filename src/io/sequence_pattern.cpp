@@ -1,1 +1,111 @@
-// WIP: being written in this session.
+#include "io/sequence_pattern.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <charconv>
+#include <filesystem>
+#include <system_error>
+
+#include <fmt/format.h>
+
+namespace pluvia {
+namespace stdfs = std::filesystem;
+namespace {
+
+// A frame-number token found in a pattern: where it is, how long it is, its padding.
+struct Token {
+  size_t position = 0;
+  size_t length = 0;
+  int padding = 0;
+};
+
+// The last run of '#' ("####": padding 4).
+std::optional<Token> findHashToken(const std::string& text) {
+  size_t end = text.rfind('#');
+  if (end == std::string::npos) return std::nullopt;
+  size_t begin = end;
+  while (begin > 0 && text[begin - 1] == '#') --begin;
+  return Token{begin, end - begin + 1, static_cast<int>(end - begin + 1)};
+}
+
+// The last "%d" or "%0Nd" ("%04d": padding 4). "%4d" (space padding) is not a frame token.
+std::optional<Token> findPrintfToken(const std::string& text) {
+  for (size_t at = text.rfind('%'); at != std::string::npos; at = at == 0 ? std::string::npos : text.rfind('%', at - 1)) {
+    size_t cursor = at + 1;
+    int padding = 0;
+    if (cursor < text.size() && text[cursor] == '0') {
+      size_t digitsBegin = ++cursor;
+      while (cursor < text.size() && std::isdigit(static_cast<unsigned char>(text[cursor]))) ++cursor;
+      if (cursor == digitsBegin) continue;
+      std::from_chars(text.data() + digitsBegin, text.data() + cursor, padding);
+    }
+    if (cursor < text.size() && text[cursor] == 'd') return Token{at, cursor + 1 - at, padding};
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<SequencePattern> SequencePattern::parse(const std::string& text) {
+  std::optional<Token> hash = findHashToken(text);
+  std::optional<Token> printf = findPrintfToken(text);
+  // Both kinds in one string is odd; the later one is taken, since frame numbers live in the
+  // file name rather than in a folder name.
+  std::optional<Token> token = hash;
+  if (!token || (printf && printf->position > token->position)) token = printf;
+  if (!token) return std::nullopt;
+  SequencePattern pattern;
+  pattern.prefix = text.substr(0, token->position);
+  pattern.suffix = text.substr(token->position + token->length);
+  pattern.padding = token->padding;
+  return pattern;
+}
+
+std::string SequencePattern::pathFor(int64_t frame) const {
+  return prefix + fmt::format("{:0{}d}", frame, padding) + suffix;
+}
+
+std::vector<int64_t> SequencePattern::existingFrames() const {
+  stdfs::path prefixPath(prefix);
+  // "plate." has no folder part; "shots/" has an empty file-name part.
+  stdfs::path folder = prefixPath.has_filename() ? prefixPath.parent_path() : prefixPath;
+  std::string namePrefix = prefixPath.has_filename() ? prefixPath.filename().string() : "";
+  std::vector<int64_t> frames;
+  std::error_code ec;
+  stdfs::directory_iterator it(folder.empty() ? stdfs::path(".") : folder, ec);
+  if (ec) return frames;
+  for (const stdfs::directory_entry& entry : it) {
+    std::string name = entry.path().filename().string();
+    if (name.size() <= namePrefix.size() + suffix.size()) continue;
+    if (!name.starts_with(namePrefix) || !name.ends_with(suffix)) continue;
+    std::string_view digits(name.data() + namePrefix.size(), name.size() - namePrefix.size() - suffix.size());
+    if (digits.size() > 18 || !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+      continue;
+    }
+    int64_t frame = 0;
+    std::from_chars(digits.data(), digits.data() + digits.size(), frame);
+    // Only names pathFor() would produce: "0001" for ####, also "10000", but not "1" or "00001".
+    if (fmt::format("{:0{}d}", frame, padding) != digits) continue;
+    if (!entry.is_regular_file(ec)) continue;
+    frames.push_back(frame);
+  }
+  std::sort(frames.begin(), frames.end());
+  return frames;
+}
+
+std::string lowerExtension(const std::string& path) {
+  std::string extension = stdfs::path(path).extension().string();
+  if (!extension.empty()) extension.erase(0, 1);
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+
+bool isMovieExtension(const std::string& path) {
+  static const std::array<std::string, 6> kMovieExtensions{"mp4", "mov", "avi", "mkv", "m4v", "webm"};
+  std::string extension = lowerExtension(path);
+  return std::find(kMovieExtensions.begin(), kMovieExtensions.end(), extension) != kMovieExtensions.end();
+}
+
+}  // namespace pluvia

@@ -1,1 +1,358 @@
-// WIP: being written in this session.
+#include "pipeline/render_job.h"
+
+#include <condition_variable>
+#include <deque>
+#include <exception>
+#include <filesystem>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "image/color.h"
+#include "image/ops.h"
+#include "io/clip_writer.h"
+#include "io/sequence_pattern.h"
+#include "pipeline/cache.h"
+#include "pluvia/version.h"
+#include "util/fs.h"
+#include "util/log.h"
+#include "util/progress.h"
+
+namespace pluvia {
+namespace {
+
+// A small blocking queue with a capacity, so the reader stays at most a few frames ahead.
+template <typename T>
+class BoundedQueue {
+ public:
+  explicit BoundedQueue(size_t capacity) : capacity_(capacity) {}
+  void push(T item) {
+    std::unique_lock lock(mutex_);
+    notFull_.wait(lock, [&] { return items_.size() < capacity_ || closed_; });
+    if (closed_) return;
+    items_.push_back(std::move(item));
+    notEmpty_.notify_one();
+  }
+  std::optional<T> pop() {
+    std::unique_lock lock(mutex_);
+    notEmpty_.wait(lock, [&] { return !items_.empty() || closed_; });
+    if (items_.empty()) return std::nullopt;
+    T item = std::move(items_.front());
+    items_.pop_front();
+    notFull_.notify_one();
+    return item;
+  }
+  void close() {
+    std::lock_guard lock(mutex_);
+    closed_ = true;
+    notEmpty_.notify_all();
+    notFull_.notify_all();
+  }
+
+ private:
+  size_t capacity_;
+  std::deque<T> items_;
+  bool closed_ = false;
+  std::mutex mutex_;
+  std::condition_variable notEmpty_, notFull_;
+};
+
+// The first error from any thread wins; the others stop when they see it.
+class ErrorSlot {
+ public:
+  void set(std::exception_ptr e) {
+    std::lock_guard lock(mutex_);
+    if (!error_) error_ = e;
+  }
+  bool isSet() {
+    std::lock_guard lock(mutex_);
+    return error_ != nullptr;
+  }
+  void rethrow() {
+    std::lock_guard lock(mutex_);
+    if (error_) std::rethrow_exception(error_);
+  }
+
+ private:
+  std::mutex mutex_;
+  std::exception_ptr error_;
+};
+
+std::string resolveInputSpace(const Preset& p, const ClipInfo& clip) {
+  std::string space = p.string("color.input");
+  if (space == "auto") return clip.isFloat ? "linear-rec709" : "sRGB";
+  return space;
+}
+
+std::string resolveOutputSpace(const Preset& p, const std::string& output) {
+  std::string space = p.string("color.output");
+  if (space == "auto") return outputIsLinear(output) ? "linear-rec709" : "sRGB";
+  return space;
+}
+
+std::vector<int64_t> selectFrames(const RenderRequest& request, const ClipInfo& clip) {
+  std::vector<int64_t> frames;
+  for (int64_t f : clip.frames) {
+    if (request.firstFrame && f < *request.firstFrame) continue;
+    if (request.lastFrame && f > *request.lastFrame) continue;
+    frames.push_back(f);
+  }
+  if (frames.empty()) {
+    throw UsageError(fmt::format("--frames {}-{} selects no frame of {} (it has frames {}-{})",
+                                 request.firstFrame.value_or(clip.frames.front()),
+                                 request.lastFrame.value_or(clip.frames.back()), clip.path, clip.frames.front(),
+                                 clip.frames.back()),
+                     {"read", {}, clip.path});
+  }
+  // A hole in a sequence is an error before any work: a farm must not render around it silently.
+  for (size_t i = 1; i < frames.size(); ++i) {
+    if (frames[i] != frames[i - 1] + 1) {
+      std::string missing = fmt::format("{}", frames[i - 1] + 1);
+      if (auto pattern = SequencePattern::parse(clip.path)) missing += " (" + pattern->pathFor(frames[i - 1] + 1) + ")";
+      throw Error(fmt::format("frame {} is missing from the sequence {}", missing, clip.path),
+                  {"read", frames[i - 1] + 1, clip.path});
+    }
+  }
+  if (request.firstFrame && frames.front() != *request.firstFrame) {
+    throw Error(fmt::format("frame {} is not in {} (it starts at {})", *request.firstFrame, clip.path, frames.front()),
+                {"read", *request.firstFrame, clip.path});
+  }
+  if (request.lastFrame && frames.back() != *request.lastFrame) {
+    throw Error(fmt::format("frame {} is not in {} (it ends at {})", *request.lastFrame, clip.path, frames.back()),
+                {"read", *request.lastFrame, clip.path});
+  }
+  return frames;
+}
+
+// Refuses any output file that is one of the input files: the original plate is never touched.
+void refuseOverwritingInput(const ClipInfo& clip, const std::string& output, const std::vector<int64_t>& frames) {
+  std::vector<std::string> outputs;
+  if (auto pattern = SequencePattern::parse(output)) {
+    for (int64_t f : frames) outputs.push_back(pattern->pathFor(f));
+  } else {
+    outputs.push_back(output);
+  }
+  std::set<std::string> inputs(clip.files.begin(), clip.files.end());
+  inputs.insert(clip.path);
+  for (const auto& out : outputs) {
+    for (const auto& in : inputs) {
+      if (fs::samePath(out, in)) {
+        throw UsageError(fmt::format("output {} is the input file {}: refusing to overwrite the plate", out, in),
+                         {"write", {}, in});
+      }
+    }
+  }
+}
+
+void ensureAovPlanes(Image& image, const std::vector<std::string>& aovs) {
+  for (const auto& aov : aovs) {
+    if (aov == "rain") {
+      for (const char* c : {"rain.R", "rain.G", "rain.B", "rain.A"}) image.plane(c);
+    } else {
+      image.plane(aov);
+    }
+  }
+}
+
+}  // namespace
+
+Plan planJob(const std::string& input, const Preset& preset, const std::string& cacheDir,
+             const std::vector<StageInfo>& stages, ClipInfo* clipOut) {
+  auto reader = openClip(input);
+  std::optional<ArtifactCache> cache;
+  if (!cacheDir.empty()) cache.emplace(cacheDir);
+  Plan plan = makePlan(preset, reader->info(), cache ? &*cache : nullptr, stages);
+  if (clipOut) *clipOut = reader->info();
+  return plan;
+}
+
+RenderSummary renderJob(const RenderRequest& request, const Preset& preset, const std::vector<StageInfo>& stageInfos,
+                        StageTimes& times) {
+  auto reader = openClip(request.input);
+  const ClipInfo& clip = reader->info();
+  std::vector<int64_t> frames = selectFrames(request, clip);
+  refuseOverwritingInput(clip, request.output, frames);
+
+  std::optional<ArtifactCache> cache;
+  if (!request.cacheDir.empty()) cache.emplace(request.cacheDir);
+  RenderSummary summary;
+  summary.plan = makePlan(preset, clip, cache ? &*cache : nullptr, stageInfos);
+  log::info("command: " + request.commandLine);
+  log::info("preset (resolved): " + preset.json().dump());
+  log::info("plan:\n" + summary.plan.text());
+
+  const std::string configPath = preset.string("color.config");
+  const std::string working = preset.string("color.working");
+  ColorConverter toWorking(resolveInputSpace(preset, clip), working, configPath);
+  ColorConverter toOutput(working, resolveOutputSpace(preset, request.output), configPath);
+
+  // Frames already on disk are skipped before any decoding.
+  WriterOptions writerOptions;
+  writerOptions.fps = preset.number("camera.fps") > 0 ? preset.number("camera.fps") : clip.fps;
+  writerOptions.aovs = request.aovs;
+  writerOptions.metadata = {{"pluvia:version", kVersion},
+                            {"pluvia:presetHash", preset.hash()},
+                            {"pluvia:seed", std::to_string(int64_t(preset.number("rain.seed")))},
+                            {"pluvia:commandLine", request.commandLine},
+                            {"pluvia:preset", preset.json().dump()}};
+  const bool movieOutput = isMovieExtension(request.output);
+  if (request.skipExisting) {
+    if (movieOutput && std::filesystem::exists(request.output)) {
+      log::info("--skip-existing: " + request.output + " exists, nothing to do");
+      summary.framesSkipped = int(frames.size());
+      return summary;
+    }
+    if (auto pattern = SequencePattern::parse(request.output)) {
+      std::vector<int64_t> todo;
+      for (int64_t f : frames) {
+        if (std::filesystem::exists(pattern->pathFor(f))) {
+          ++summary.framesSkipped;
+        } else {
+          todo.push_back(f);
+        }
+      }
+      frames = todo;
+      if (frames.empty()) {
+        log::info("--skip-existing: every frame exists, nothing to do");
+        return summary;
+      }
+    }
+  }
+
+  ClipContext context;
+  context.preset = &preset;
+  context.clip = &clip;
+  context.reader = reader.get();
+  context.cache = cache ? &*cache : nullptr;
+  context.times = &times;
+  context.fps = writerOptions.fps;
+  context.camera = Camera::fromFieldOfView(clip.width, clip.height, preset.number("camera.fov_deg"),
+                                           preset.number("camera.tilt_deg"), preset.number("camera.height_m"));
+  context.readWorking = [&](int64_t frame) {
+    Image image = reader->read(frame);
+    ops::replaceNonFinite(image);
+    toWorking.apply(image);
+    return image;
+  };
+
+  // Build and prepare the stages this shot needs, in pipeline order.
+  struct Built {
+    const StageInfo* info;
+    std::unique_ptr<Stage> stage;
+  };
+  std::vector<Built> stages;
+  for (const auto& info : stageInfos) {
+    if (summary.plan.available(info.spec.name)) stages.push_back({&info, info.create(preset)});
+  }
+  for (auto& [info, stage] : stages) {
+    const std::string& name = info->spec.name;
+    ScopedTimer timer(&times, name + " (prepare)");
+    try {
+      stage->prepare(context);
+    } catch (const Error& e) {
+      if (!e.context().stage.empty()) throw;
+      throw Error(e.what(), {name, {}, e.context().file});
+    }
+  }
+  // Only per-frame stages that run take part in the frame loop; per-clip ones are done.
+  std::vector<std::pair<std::string, Stage*>> frameStages;
+  for (auto& [info, stage] : stages) {
+    if (!info->perClip && summary.plan.runs(info->spec.name)) frameStages.emplace_back(info->spec.name, stage.get());
+  }
+
+  auto writer = openClipWriter(request.output, clip.width, clip.height, writerOptions);
+  ErrorSlot error;
+  BoundedQueue<FrameContext> decoded(3);
+  BoundedQueue<FrameContext> finished(std::max(2, 2 * request.threads));
+  Progress progress(int(frames.size()), request.progress);
+
+  std::thread readerThread([&] {
+    try {
+      for (int64_t f : frames) {
+        if (error.isSet()) break;
+        FrameContext frame;
+        frame.frame = f;
+        frame.timeSeconds = double(f) / context.fps;
+        {
+          ScopedTimer timer(&times, "decode");
+          frame.image = reader->read(f);
+        }
+        if (size_t bad = ops::replaceNonFinite(frame.image)) {
+          log::warning(fmt::format("frame {}: {} NaN/Inf values in {} replaced by 0", f, bad, clip.path));
+        }
+        {
+          ScopedTimer timer(&times, "colour in");
+          toWorking.apply(frame.image);
+        }
+        decoded.push(std::move(frame));
+      }
+    } catch (...) {
+      error.set(std::current_exception());
+    }
+    decoded.close();
+  });
+
+  const int writerCount = writer->isMovie() ? 1 : std::max(1, request.threads);
+  std::vector<std::thread> writerThreads;
+  std::mutex countMutex;
+  for (int w = 0; w < writerCount; ++w) {
+    writerThreads.emplace_back([&] {
+      while (auto frame = finished.pop()) {
+        if (error.isSet()) continue;  // drain
+        try {
+          ScopedTimer timer(&times, "encode");
+          writer->write(frame->frame, frame->image);
+          std::lock_guard lock(countMutex);
+          ++summary.framesWritten;
+        } catch (const Error& e) {
+          error.set(std::make_exception_ptr(Error(e.what(), {"write", frame->frame, e.context().file})));
+        } catch (...) {
+          error.set(std::current_exception());
+        }
+        progress.step();
+      }
+    });
+  }
+
+  try {
+    while (auto frame = decoded.pop()) {
+      if (error.isSet()) break;
+      for (auto& [name, stage] : frameStages) {
+        ScopedTimer timer(&times, name);
+        try {
+          stage->process(context, *frame);
+        } catch (const Error& e) {
+          throw Error(e.what(), {name, frame->frame, e.context().file});
+        } catch (const std::exception& e) {
+          throw Error(e.what(), {name, frame->frame});
+        }
+      }
+      if (!frame->image.findPlane("depth")) {
+        frame->image.plane("depth").assign(frame->image.pixelCount(), std::numeric_limits<float>::infinity());
+      }
+      ensureAovPlanes(frame->image, request.aovs);
+      {
+        ScopedTimer timer(&times, "colour out");
+        toOutput.apply(frame->image);
+      }
+      finished.push(std::move(*frame));
+    }
+  } catch (...) {
+    error.set(std::current_exception());
+  }
+  decoded.close();
+  finished.close();
+  readerThread.join();
+  for (auto& t : writerThreads) t.join();
+  progress.finish();
+  error.rethrow();
+  {
+    ScopedTimer timer(&times, "encode");
+    writer->close();
+  }
+  return summary;
+}
+
+}  // namespace pluvia

@@ -1,1 +1,96 @@
-// WIP: being written in this session.
+#include "preset/param_table.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace pluvia {
+
+const char* paramTypeName(ParamType type) {
+  switch (type) {
+    case ParamType::Number: return "number";
+    case ParamType::Integer: return "integer";
+    case ParamType::Boolean: return "boolean";
+    case ParamType::String: return "string";
+    case ParamType::Enum: return "enum";
+    case ParamType::Color3: return "rgb";
+    case ParamType::List: return "list";
+  }
+  return "?";
+}
+
+const ParamSpec* SectionSpec::find(const std::string& key) const {
+  for (const auto& p : params)
+    if (p.key == key) return &p;
+  return nullptr;
+}
+
+size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string nearestWord(const std::string& word, const std::vector<std::string>& candidates) {
+  std::string best;
+  size_t bestDistance = std::numeric_limits<size_t>::max();
+  for (const auto& c : candidates) {
+    size_t d = editDistance(word, c);
+    if (d < bestDistance) {
+      bestDistance = d;
+      best = c;
+    }
+  }
+  // Accept up to about a third of the word's letters wrong, at least 2.
+  return bestDistance <= std::max<size_t>(2, word.size() / 3) ? best : "";
+}
+
+namespace {
+std::string rangeText(const ParamSpec& p) {
+  if (p.type == ParamType::Enum) {
+    std::string s;
+    for (const auto& c : p.choices) s += (s.empty() ? "" : "|") + c;
+    return s;
+  }
+  if (p.type != ParamType::Number && p.type != ParamType::Integer) return "";
+  auto num = [](double v) { return std::isinf(v) ? std::string(v < 0 ? "-inf" : "inf") : fmt::format("{:g}", v); };
+  return "[" + num(p.minValue) + ", " + num(p.maxValue) + "]";
+}
+
+void describeParams(std::string& text, const std::vector<ParamSpec>& params, const std::string& indent) {
+  for (const auto& p : params) {
+    text += fmt::format("{}{:<22} {:<8} default {:<12} {:<16} {:<6} {}\n", indent, p.key, paramTypeName(p.type),
+                        p.defaultValue.is_null() ? "-" : p.defaultValue.dump(), rangeText(p), p.units, p.help);
+    for (const auto& [itemType, fields] : p.itemTypes) {
+      text += fmt::format("{}  item type \"{}\":\n", indent, itemType);
+      describeParams(text, fields, indent + "    ");
+    }
+  }
+}
+}  // namespace
+
+std::string describeSection(const SectionSpec& section) {
+  std::string text = fmt::format("{}: {}\n", section.name, section.help);
+  if (!section.inputs.empty() || !section.outputs.empty()) {
+    auto join = [](const std::vector<std::string>& v) {
+      std::string s;
+      for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+      return s.empty() ? std::string("-") : s;
+    };
+    text += fmt::format("  reads: {}   writes: {}\n", join(section.inputs), join(section.outputs));
+  }
+  describeParams(text, section.params, "  ");
+  return text;
+}
+
+}  // namespace pluvia

@@ -1,1 +1,399 @@
-// WIP: being written in this session.
+#include "preset/preset.h"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "pluvia/version.h"
+#include "util/fs.h"
+#include "util/hash.h"
+
+namespace pluvia {
+namespace stdfs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+std::string joinLines(const std::vector<std::string>& lines) {
+  std::string text;
+  for (const auto& l : lines) text += "\n  " + l;
+  return text;
+}
+
+stdfs::path executableDir() {
+  std::error_code ec;
+  stdfs::path exe = stdfs::read_symlink("/proc/self/exe", ec);
+  return ec ? stdfs::path() : exe.parent_path();
+}
+
+std::vector<std::string> splitDots(const std::string& path) {
+  std::vector<std::string> parts;
+  size_t start = 0;
+  while (true) {
+    size_t dot = path.find('.', start);
+    parts.push_back(path.substr(start, dot - start));
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  return parts;
+}
+
+bool isIndex(const std::string& s) {
+  return !s.empty() && s.find_first_not_of("0123456789") == std::string::npos;
+}
+
+// Deep merge: objects merge key by key, anything else in `over` replaces `base`.
+void mergeInto(json& base, const json& over) {
+  for (auto it = over.begin(); it != over.end(); ++it) {
+    if (it.value().is_object() && base.contains(it.key()) && base[it.key()].is_object()) {
+      mergeInto(base[it.key()], it.value());
+    } else {
+      base[it.key()] = it.value();
+    }
+  }
+}
+
+json loadWithExtends(const stdfs::path& file, std::vector<std::string>& chain) {
+  std::string canonical = stdfs::weakly_canonical(file).string();
+  for (const auto& c : chain) {
+    if (c == canonical) throw PresetError(file.string(), {"\"extends\" forms a cycle through " + canonical});
+  }
+  chain.push_back(canonical);
+  json document;
+  try {
+    document = json::parse(fs::readTextFile(file));
+  } catch (const json::parse_error& e) {
+    throw PresetError(file.string(), {fmt::format("not valid JSON: {}", e.what())});
+  } catch (const Error& e) {
+    throw PresetError(file.string(), {e.what()});
+  }
+  if (!document.is_object()) throw PresetError(file.string(), {"/: a preset must be a JSON object"});
+  if (document.contains("extends")) {
+    if (!document["extends"].is_string()) throw PresetError(file.string(), {"/extends: must be a preset name or path"});
+    std::string parentName = document["extends"];
+    stdfs::path parent = file.parent_path() / parentName;
+    if (!stdfs::is_regular_file(parent)) parent = findPreset(parentName);
+    json base = loadWithExtends(parent, chain);
+    document.erase("extends");
+    mergeInto(base, document);
+    return base;
+  }
+  return document;
+}
+
+std::string pointer(const std::string& parent, const std::string& key) { return parent + "/" + key; }
+
+std::string numberText(double v) { return fmt::format("{:g}", v); }
+
+void checkValue(const ParamSpec& spec, const json& value, const std::string& where, std::vector<std::string>& problems);
+
+void checkObjectFields(const std::vector<ParamSpec>& params, const json& object, const std::string& where,
+                       const std::string& prefix, std::vector<std::string>& problems,
+                       const std::set<std::string>& extraKeys = {}) {
+  for (auto it = object.begin(); it != object.end(); ++it) {
+    const std::string key = prefix.empty() ? it.key() : prefix + "." + it.key();
+    const std::string path = pointer(where, it.key());
+    if (extraKeys.count(it.key())) continue;
+    const ParamSpec* spec = nullptr;
+    bool isPrefix = false;
+    std::vector<std::string> siblings;
+    for (const auto& p : params) {
+      if (p.key == key) spec = &p;
+      if (p.key.rfind(key + ".", 0) == 0) isPrefix = true;
+      // Candidate names at this nesting level, for the suggestion.
+      if (prefix.empty() || p.key.rfind(prefix + ".", 0) == 0) {
+        std::string rest = prefix.empty() ? p.key : p.key.substr(prefix.size() + 1);
+        siblings.push_back(rest.substr(0, rest.find('.')));
+      }
+    }
+    if (spec) {
+      checkValue(*spec, it.value(), path, problems);
+    } else if (isPrefix) {
+      if (!it.value().is_object()) {
+        problems.push_back(fmt::format("{}: expected an object, got {}", path, it.value().dump()));
+      } else {
+        checkObjectFields(params, it.value(), path, key, problems);
+      }
+    } else {
+      std::string nearest = nearestWord(it.key(), siblings);
+      problems.push_back(fmt::format("{}: unknown key '{}'{}", path, it.key(),
+                                     nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest)));
+    }
+  }
+}
+
+void checkValue(const ParamSpec& spec, const json& value, const std::string& where, std::vector<std::string>& problems) {
+  auto bad = [&](const std::string& what) {
+    problems.push_back(fmt::format("{}: {} (got {})", where, what, value.dump()));
+  };
+  auto checkRange = [&](double v) {
+    if (!std::isfinite(v) || v < spec.minValue || v > spec.maxValue) {
+      bad(fmt::format("must be between {} and {}{}", numberText(spec.minValue), numberText(spec.maxValue),
+                      spec.units.empty() ? "" : " " + spec.units));
+    }
+  };
+  switch (spec.type) {
+    case ParamType::Number:
+      if (!value.is_number()) return bad("expected a number");
+      checkRange(value.get<double>());
+      return;
+    case ParamType::Integer:
+      if (!value.is_number_integer() &&
+          !(value.is_number_float() && std::floor(value.get<double>()) == value.get<double>()))
+        return bad("expected an integer");
+      checkRange(value.get<double>());
+      return;
+    case ParamType::Boolean:
+      if (!value.is_boolean()) bad("expected true or false");
+      return;
+    case ParamType::String:
+      if (!value.is_string()) bad("expected a string");
+      return;
+    case ParamType::Enum: {
+      std::string allowed;
+      for (const auto& c : spec.choices) allowed += (allowed.empty() ? "" : ", ") + c;
+      if (!value.is_string()) return bad("expected one of: " + allowed);
+      std::string v = value.get<std::string>();
+      if (std::find(spec.choices.begin(), spec.choices.end(), v) == spec.choices.end()) {
+        std::string nearest = nearestWord(v, spec.choices);
+        bad("expected one of: " + allowed + (nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest)));
+      }
+      return;
+    }
+    case ParamType::Color3:
+      if (!value.is_array() || value.size() != 3) return bad("expected [r, g, b]");
+      for (const auto& c : value) {
+        if (!c.is_number() || !std::isfinite(c.get<double>()) || c.get<double>() < 0)
+          return bad("expected three finite numbers >= 0");
+      }
+      return;
+    case ParamType::List: {
+      if (!value.is_array()) return bad("expected a list");
+      std::vector<std::string> types;
+      for (const auto& [t, fields] : spec.itemTypes) types.push_back(t);
+      for (size_t i = 0; i < value.size(); ++i) {
+        const json& item = value[i];
+        std::string itemWhere = fmt::format("{}/{}", where, i);
+        if (!item.is_object() || !item.contains("type") || !item["type"].is_string()) {
+          problems.push_back(fmt::format("{}: each item needs a \"type\" (one of: {})", itemWhere,
+                                         fmt::format("{}", fmt::join(types, ", "))));
+          continue;
+        }
+        auto found = spec.itemTypes.find(item["type"].get<std::string>());
+        if (found == spec.itemTypes.end()) {
+          std::string nearest = nearestWord(item["type"].get<std::string>(), types);
+          problems.push_back(fmt::format("{}/type: unknown item type {} (one of: {}){}", itemWhere, item["type"].dump(),
+                                         fmt::join(types, ", "),
+                                         nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest)));
+          continue;
+        }
+        checkObjectFields(found->second, item, itemWhere, "", problems, {"type"});
+      }
+      return;
+    }
+  }
+}
+
+void setDefaults(json& object, const std::vector<ParamSpec>& params) {
+  for (const auto& p : params) {
+    json* node = &object;
+    auto parts = splitDots(p.key);
+    for (size_t i = 0; i + 1 < parts.size(); ++i) {
+      if (!node->contains(parts[i])) (*node)[parts[i]] = json::object();
+      node = &(*node)[parts[i]];
+    }
+    if (!node->contains(parts.back())) {
+      (*node)[parts.back()] = p.defaultValue;
+    }
+    json& value = (*node)[parts.back()];
+    if (p.type == ParamType::List && value.is_array()) {
+      for (auto& item : value) {
+        auto found = p.itemTypes.find(item.value("type", ""));
+        if (found != p.itemTypes.end()) setDefaults(item, found->second);
+      }
+    }
+  }
+}
+
+const json* walk(const json& document, const std::string& dottedPath) {
+  const json* node = &document;
+  for (const auto& part : splitDots(dottedPath)) {
+    if (node->is_object() && node->contains(part)) {
+      node = &(*node)[part];
+    } else if (node->is_array() && isIndex(part) && std::stoul(part) < node->size()) {
+      node = &(*node)[std::stoul(part)];
+    } else {
+      return nullptr;
+    }
+  }
+  return node;
+}
+
+}  // namespace
+
+PresetError::PresetError(const std::string& source, std::vector<std::string> problems)
+    : Error(fmt::format("invalid preset {}:{}", source, joinLines(problems)), {"preset", {}, source}),
+      problems_(std::move(problems)) {}
+
+std::vector<stdfs::path> presetSearchPath() {
+  std::vector<stdfs::path> dirs;
+  if (const char* env = std::getenv("PLUVIA_PRESET_DIR")) dirs.emplace_back(env);
+  stdfs::path exeDir = executableDir();
+  if (!exeDir.empty()) {
+    dirs.push_back(exeDir.parent_path() / "presets");
+    dirs.push_back(exeDir.parent_path() / "share" / "pluvia" / "presets");
+  }
+  dirs.emplace_back(kSourcePresetDir);
+  return dirs;
+}
+
+std::vector<std::string> shippedPresetNames() {
+  std::set<std::string> names;
+  for (const auto& dir : presetSearchPath()) {
+    std::error_code ec;
+    for (const auto& entry : stdfs::directory_iterator(dir, ec)) {
+      if (entry.path().extension() == ".json") names.insert(entry.path().stem().string());
+    }
+  }
+  return {names.begin(), names.end()};
+}
+
+stdfs::path findPreset(const std::string& nameOrPath) {
+  stdfs::path asPath(nameOrPath);
+  if (stdfs::is_regular_file(asPath)) return asPath;
+  bool looksLikePath = nameOrPath.find('/') != std::string::npos || asPath.extension() == ".json";
+  if (!looksLikePath) {
+    for (const auto& dir : presetSearchPath()) {
+      stdfs::path candidate = dir / (nameOrPath + ".json");
+      if (stdfs::is_regular_file(candidate)) return candidate;
+    }
+  }
+  auto names = shippedPresetNames();
+  std::string nearest = nearestWord(nameOrPath, names);
+  throw PresetError(nameOrPath, {fmt::format("no preset file or shipped preset named '{}'{} (shipped: {})", nameOrPath,
+                                             nearest.empty() ? "" : fmt::format(", did you mean '{}'?", nearest),
+                                             fmt::join(names, ", "))});
+}
+
+void applyOverride(json& document, const std::string& assignment) {
+  size_t eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0) {
+    throw PresetError("--set", {fmt::format("'{}' is not KEY=VALUE (for example rain.rate_mm_h=40)", assignment)});
+  }
+  std::string key = assignment.substr(0, eq);
+  std::string text = assignment.substr(eq + 1);
+  json value;
+  try {
+    value = json::parse(text);
+  } catch (const json::parse_error&) {
+    value = text;
+  }
+  json* node = &document;
+  auto parts = splitDots(key);
+  for (size_t i = 0; i < parts.size(); ++i) {
+    const std::string& part = parts[i];
+    bool last = i + 1 == parts.size();
+    if (node->is_array() && isIndex(part)) {
+      size_t index = std::stoul(part);
+      if (index >= node->size())
+        throw PresetError("--set", {fmt::format("{}: index {} is past the end of a list of {}", key, index, node->size())});
+      node = &(*node)[index];
+    } else if (node->is_object() || node->is_null()) {
+      if (last) {
+        (*node)[part] = value;
+        return;
+      }
+      if (!node->contains(part)) (*node)[part] = json::object();
+      node = &(*node)[part];
+    } else {
+      throw PresetError("--set", {fmt::format("{}: '{}' is not an object", key, part)});
+    }
+    if (last) *node = value;
+  }
+}
+
+std::vector<std::string> validatePreset(const json& document, const Schema& schema) {
+  std::vector<std::string> problems;
+  if (!document.contains("pluvia")) {
+    problems.push_back(fmt::format("/pluvia: missing schema version (add \"pluvia\": {})", kPresetSchemaVersion));
+  } else if (document["pluvia"] != kPresetSchemaVersion) {
+    problems.push_back(fmt::format("/pluvia: schema version {} is not supported (this pluvia reads {})",
+                                   document["pluvia"].dump(), kPresetSchemaVersion));
+  }
+  std::vector<std::string> topKeys{"pluvia", "extends", "description"};
+  for (const auto& s : schema) topKeys.push_back(s.name);
+  for (auto it = document.begin(); it != document.end(); ++it) {
+    const std::string& key = it.key();
+    if (key == "pluvia" || key == "extends") continue;
+    if (key == "description") {
+      if (!it.value().is_string()) problems.push_back("/description: expected a string");
+      continue;
+    }
+    auto section = std::find_if(schema.begin(), schema.end(), [&](const SectionSpec& s) { return s.name == key; });
+    if (section == schema.end()) {
+      std::string nearest = nearestWord(key, topKeys);
+      problems.push_back(fmt::format("/{}: unknown section '{}'{}", key, key,
+                                     nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest)));
+      continue;
+    }
+    if (!it.value().is_object()) {
+      problems.push_back(fmt::format("/{}: expected an object, got {}", key, it.value().dump()));
+      continue;
+    }
+    checkObjectFields(section->params, it.value(), "/" + key, "", problems);
+  }
+  return problems;
+}
+
+void fillDefaults(json& document, const Schema& schema) {
+  for (const auto& section : schema) {
+    if (!document.contains(section.name)) document[section.name] = json::object();
+    setDefaults(document[section.name], section.params);
+  }
+}
+
+Preset Preset::resolve(const std::string& nameOrPath, const std::vector<std::string>& overrides, const Schema& schema) {
+  stdfs::path file = findPreset(nameOrPath);
+  std::vector<std::string> chain;
+  nlohmann::json document = loadWithExtends(file, chain);
+  std::vector<std::string> problems;
+  for (const auto& assignment : overrides) {
+    try {
+      applyOverride(document, assignment);
+    } catch (const PresetError& e) {
+      problems.insert(problems.end(), e.problems().begin(), e.problems().end());
+    }
+  }
+  auto found = validatePreset(document, schema);
+  problems.insert(problems.end(), found.begin(), found.end());
+  if (!problems.empty()) throw PresetError(file.string(), problems);
+  fillDefaults(document, schema);
+  Preset preset;
+  preset.resolved_ = std::move(document);
+  preset.resolved_.erase("extends");
+  preset.source_ = file.string();
+  return preset;
+}
+
+std::string Preset::hash() const { return Hasher().add(resolved_.dump()).hex(); }
+
+const nlohmann::json& Preset::at(const std::string& dottedPath) const {
+  const nlohmann::json* node = walk(resolved_, dottedPath);
+  if (!node) throw Error("preset has no key " + dottedPath, {"preset", {}, source_});
+  return *node;
+}
+
+bool Preset::has(const std::string& dottedPath) const { return walk(resolved_, dottedPath) != nullptr; }
+double Preset::number(const std::string& p) const { return at(p).get<double>(); }
+bool Preset::boolean(const std::string& p) const { return at(p).get<bool>(); }
+std::string Preset::string(const std::string& p) const { return at(p).get<std::string>(); }
+std::array<float, 3> Preset::color(const std::string& p) const {
+  const nlohmann::json& v = at(p);
+  return {v[0].get<float>(), v[1].get<float>(), v[2].get<float>()};
+}
+
+}  // namespace pluvia

@@ -1,1 +1,141 @@
-// WIP: being written in this session.
+// Rain: particles carrying stroke mattes, drawn on the GPU through headless EGL, shaded by the
+// environment (PRT) and composited over the plate (Wang et al. sections 3-4).
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "rain/drop_volume.h"
+#include "rain/stroke_library.h"
+#include "stages/registry.h"
+#include "util/error.h"
+#include "util/fs.h"
+#include "util/log.h"
+
+namespace pluvia {
+namespace {
+
+constexpr int kAnalyticStrokeCount = 16;
+
+rain::DropVolumeParams volumeParams(const Preset& p) {
+  rain::DropVolumeParams v;
+  v.rainRateMmPerHour = p.number("rain.rate_mm_h");
+  v.minDiameterMm = p.number("rain.min_diameter_mm");
+  v.densityScale = p.number("rain.density_scale");
+  v.sizeScale = p.number("rain.size_scale");
+  v.nearMeters = p.number("rain.near_m");
+  v.farMeters = p.number("rain.far_m");
+  v.maxDrops = int64_t(p.number("rain.max_drops"));
+  v.seed = uint64_t(p.number("rain.seed"));
+  // Wind direction: degrees counter-clockwise from the camera's right seen from above
+  // (0 right, 90 away from the camera); the world here is the camera's yaw frame.
+  const double speed = p.number("rain.wind.speed_m_s");
+  const double dir = p.number("rain.wind.dir_deg") * M_PI / 180.0;
+  v.windMetersPerSecond = Eigen::Vector3d(speed * std::cos(dir), 0.0, -speed * std::sin(dir));
+  return v;
+}
+
+class RainStage : public Stage {
+ public:
+  explicit RainStage(const Preset& p) : preset_(p) {}
+
+  void prepare(ClipContext& clip) override {
+    const Preset& p = preset_;
+    if (p.number("rain.min_diameter_mm") >= 6.0) throw Error("rain.min_diameter_mm must be below 6 mm", {"rain"});
+    volume_ = std::make_unique<rain::DropVolume>(clip.camera, volumeParams(p));
+    if (volume_->physicalCount() > double(volume_->drops().size()) + 0.5) {
+      log::info(fmt::format("rain: {:.0f} drops at this rate in the volume, drawing rain.max_drops = {}",
+                               volume_->physicalCount(), volume_->drops().size()));
+    }
+    atlas_ = loadAtlas(clip);
+    streakParams_.exposureSeconds = p.number("camera.exposure_s");
+    streakParams_.opacity = p.number("rain.opacity");
+    streakParams_.fogDensityPerMeter = p.boolean("fog.enabled") ? p.number("fog.density") : 0.0;
+    streakParams_.strokeCount = int(atlas_.rects.size());
+    streakParams_.meanMatte = rain::meanMatte(atlas_);
+    streakParams_.seed = uint64_t(p.number("rain.seed"));
+    shading_.backgroundWeight = float(p.number("rain.background_weight"));
+    if (!clip.environment) throw Error("rain needs the lighting stage's environment", {"rain"});
+    shading_.shOrder = clip.environment->shOrder;
+    shading_.envSh = clip.environment->sh;
+    // PLACEHOLDER transfer until the optics issue: the drop sends back all the light it receives,
+    // spread uniformly (integral of D = 1, zonal order 0 only).
+    shading_.transferZonal.assign(size_t(shading_.shOrder) + 1, 0.0f);
+    shading_.transferZonal[0] = 1.0f;
+    renderer_ = std::make_unique<gpu::RainRenderer>(clip.camera.width, clip.camera.height);
+    renderer_->setStrokeAtlas(atlas_);
+    log::info(fmt::format("rain: {} drops in a {:.1f} x {:.1f} x {:.1f} m box, {} strokes, GPU: {}",
+                          volume_->drops().size(), volume_->boxSize().x(), volume_->boxSize().y(),
+                          volume_->boxSize().z(), atlas_.rects.size(), renderer_->deviceDescription()));
+  }
+
+  void process(ClipContext& clip, FrameContext& frame) override {
+    auto streaks = rain::buildStreaks(*volume_, clip.camera, frame.timeSeconds, streakParams_);
+    renderer_->render(frame.image, streaks, shading_);
+  }
+
+ private:
+  gpu::StrokeAtlas loadAtlas(ClipContext& clip) const {
+    const std::string strokes = preset_.string("rain.strokes");
+    if (strokes == "builtin") return rain::makeAnalyticStrokes(kAnalyticStrokeCount, uint64_t(preset_.number("rain.seed")));
+    if (strokes == "derain") {
+      if (!clip.footageStrokes) throw Error("rain.strokes is \"derain\" but no strokes were extracted", {"rain"});
+      return *clip.footageStrokes;
+    }
+    try {
+      return rain::strokeAtlasFromJson(nlohmann::json::parse(fs::readTextFile(strokes)), strokes);
+    } catch (const nlohmann::json::exception& e) {
+      throw Error(std::string("stroke library is not valid JSON: ") + e.what(), {"rain", {}, strokes});
+    }
+  }
+
+  const Preset& preset_;
+  std::unique_ptr<rain::DropVolume> volume_;
+  gpu::StrokeAtlas atlas_;
+  rain::StreakParams streakParams_;
+  gpu::ShadingParams shading_;
+  std::unique_ptr<gpu::RainRenderer> renderer_;
+};
+
+}  // namespace
+
+StageInfo rainStageInfo() {
+  StageInfo info;
+  info.spec.name = "rain";
+  info.spec.help = "Rain streaks on the GPU (headless EGL): drops by rate, stroke mattes, PRT shading, composite.";
+  info.spec.inputs = {"image", "depth", "environment", "footage_strokes"};
+  info.spec.outputs = {"image"};
+  info.spec.params = {
+      {"enabled", ParamType::Boolean, true, {}, {}, {}, "", "run this stage"},
+      {"rate_mm_h", ParamType::Number, 15.0, 0.0, 500.0, {}, "mm/h", "rain rate; sets drop count and sizes (Marshall-Palmer)"},
+      {"seed", ParamType::Integer, 1, 0, 4294967295.0, {}, "", "random seed; same seed, same rain"},
+      {"strokes", ParamType::String, "builtin", {}, {}, {}, "",
+       "stroke library: builtin, derain (cut from derain.input), or a library file path"},
+      {"min_diameter_mm", ParamType::Number, 0.8, 0.05, 6.0, {}, "mm", "smaller drops are left to the fog"},
+      {"density_scale", ParamType::Number, 1.0, 0.0, 100.0, {}, "", "artist scale on the physical drop count"},
+      {"size_scale", ParamType::Number, 1.0, 0.05, 20.0, {}, "", "artist scale on the drawn drop diameter"},
+      {"opacity", ParamType::Number, 1.0, 0.0, 100.0, {}, "", "artist scale on the physical streak alpha"},
+      {"near_m", ParamType::Number, 0.5, 0.05, 100.0, {}, "m", "nearest drops drawn"},
+      {"far_m", ParamType::Number, 15.0, 0.1, 1000.0, {}, "m", "farthest drops drawn"},
+      {"max_drops", ParamType::Integer, 100000, 0, 10000000, {}, "drops", "cap on the simulated drops"},
+      {"background_weight", ParamType::Number, 0.7, 0.0, 1.0, {}, "", "c in C' = C + c B (Wang et al. Eq. 2)"},
+      {"wind.speed_m_s", ParamType::Number, 0.0, 0.0, 60.0, {}, "m/s", "horizontal wind speed"},
+      {"wind.dir_deg", ParamType::Number, 0.0, -360.0, 360.0, {}, "deg",
+       "direction the wind blows toward: 0 camera right, 90 away from the camera"},
+  };
+  info.noOpReason = [](const Preset& p) -> std::string {
+    if (p.number("rain.rate_mm_h") == 0.0) return "rate_mm_h is 0";
+    if (p.number("rain.density_scale") == 0.0) return "density_scale is 0";
+    if (p.number("rain.opacity") == 0.0) return "opacity is 0";
+    if (p.number("rain.max_drops") == 0.0) return "max_drops is 0";
+    return "";
+  };
+  info.reads = [](const Preset& p) {
+    std::vector<std::string> reads{"image", "depth", "environment"};
+    if (p.string("rain.strokes") == "derain") reads.push_back("footage_strokes");
+    return reads;
+  };
+  info.create = [](const Preset& p) { return std::make_unique<RainStage>(p); };
+  return info;
+}
+
+}  // namespace pluvia

@@ -1,0 +1,21 @@
+#pragma once
+// One function per subcommand: registers its options on `app` and its action, which sets
+// `exitCode`. Actions throw pluvia::Error / UsageError; main() turns them into exit codes.
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace pluvia::cli {
+
+struct Invocation {
+  std::string commandLine;
+  int exitCode = 0;
+};
+
+void addRenderCommand(CLI::App& app, Invocation& invocation);
+void addPlanCommand(CLI::App& app, Invocation& invocation);
+void addValidateCommand(CLI::App& app, Invocation& invocation);
+void addDescribeCommand(CLI::App& app, Invocation& invocation);
+void addBenchCommand(CLI::App& app, Invocation& invocation);
+
+}  // namespace pluvia::cli

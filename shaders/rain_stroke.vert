@@ -1,0 +1,81 @@
+#version 430 core
+// One instance per streak: a quad from head to tail, widened by widthPx / 2 at both ends and
+// widthPx across, built from gl_VertexID (triangle strip of 4 vertices). The per-streak PRT
+// colour C is computed here once, not per fragment: it is constant over a streak and this
+// halves the shading cost on software rasterisers. The CPU twin of the geometry is
+// src/gpu/streak_quad.h, of the colour src/gpu/streak_radiance.cpp: keep them in step.
+#include "common_sh.glsl"
+
+layout(location = 0) in vec4 aEndsPx;   // headX, headY, tailX, tailY; pixels, y down
+layout(location = 1) in vec4 aStreak;   // widthPx, alpha, depthMeters, strokeIndex
+layout(location = 2) in vec3 aView;     // unit direction camera -> drop
+
+// Stroke rectangles in atlas pixels: x0, y0, x1, y1.
+layout(std430, binding = 0) readonly buffer StrokeRects { vec4 strokeRects[]; };
+
+uniform vec2 uTargetSizePx;
+uniform int uShOrder;
+uniform vec3 uEnvSh[16];
+uniform float uTransferZonal[4];
+
+flat out vec4 vFrame;     // head.xy (pixels), axis.xy (unit, head -> tail)
+flat out vec4 vStreak;    // widthPx, lengthPx, alpha, depthMeters
+flat out vec4 vRectPx;    // the stroke's rectangle in the atlas
+flat out vec3 vRadiance;  // C, clamped to >= 0
+
+// Same threshold as kDegenerateStreakLengthPx: a shorter streak is a still drop, drawn as a
+// square with a vertical axis.
+const float kDegenerateLengthPx = 1e-4;
+// The rasterised quad is this much larger than the streak's quad on every side: the fragment
+// shader decides coverage from the exact quad, so snapping of the vertices to the
+// rasteriser's sub-pixel grid (1/256 px or finer) can never lose a pixel centre.
+const float kCoverageMarginPx = 1.0 / 16.0;
+
+vec3 streakRadiance(vec3 view) {
+  float basis[16];
+  shEvaluate(view, basis);
+  vec3 radiance = vec3(0.0);
+  for (int l = 0; l <= uShOrder; ++l) {
+    vec3 band = vec3(0.0);
+    for (int m = -l; m <= l; ++m) band += basis[l * l + l + m] * uEnvSh[l * l + l + m];
+    radiance += uTransferZonal[l] * band;
+  }
+  return max(radiance, vec3(0.0));
+}
+
+void main() {
+  float widthPx = aStreak.x;
+  float alpha = aStreak.y;
+  // Zero (or NaN) width or alpha covers nothing: collapse the quad to one point outside the
+  // viewport, so the rasteriser drops it without running a fragment.
+  if (!(widthPx > 0.0) || !(alpha > 0.0)) {
+    gl_Position = vec4(-2.0, -2.0, 0.0, 1.0);
+    return;
+  }
+  vec2 head = aEndsPx.xy;
+  vec2 toTail = aEndsPx.zw - head;
+  float lengthPx = sqrt(toTail.x * toTail.x + toTail.y * toTail.y);
+  vec2 axis = vec2(0.0, 1.0);
+  if (lengthPx > kDegenerateLengthPx) {
+    axis = toTail / lengthPx;
+  } else {
+    lengthPx = 0.0;
+  }
+
+  // Corner s (0 left, 1 right seen from head to tail on screen), t (0 head end, 1 tail end).
+  int s = gl_VertexID & 1;
+  int t = gl_VertexID >> 1;
+  float halfWidth = 0.5 * widthPx + kCoverageMarginPx;
+  float along = t == 0 ? -halfWidth : lengthPx + halfWidth;
+  float across = s == 0 ? -halfWidth : halfWidth;
+  vec2 cornerPx = vec2(head.x + axis.x * along - axis.y * across,
+                       head.y + axis.y * along + axis.x * across);
+  // Image rows go to GL rows unflipped (row 0 of the image is GL's y = 0): the framebuffer
+  // holds the picture upside down in GL terms and reads back top row first, as Image wants.
+  gl_Position = vec4(cornerPx / uTargetSizePx * 2.0 - 1.0, 0.0, 1.0);
+
+  vFrame = vec4(head, axis);
+  vStreak = vec4(widthPx, lengthPx, alpha, aStreak.z);
+  vRectPx = strokeRects[int(aStreak.w)];
+  vRadiance = streakRadiance(aView);
+}

@@ -1,0 +1,91 @@
+#include "gpu/rain_inputs.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "gpu/rain_error.h"
+
+namespace pluvia::gpu {
+
+void validateFrame(const Image& frame) {
+  if (frame.empty()) throwRainError("cannot draw rain on an empty frame");
+  if (frame.rgba.size() != frame.pixelCount() * 4) {
+    throwRainError(fmt::format("frame of {}x{} pixels holds {} RGBA floats instead of {}",
+                               frame.width, frame.height, frame.rgba.size(),
+                               frame.pixelCount() * 4));
+  }
+  const std::vector<float>* depth = frame.findPlane("depth");
+  if (depth && depth->size() != frame.pixelCount()) {
+    throwRainError(fmt::format("depth plane holds {} values for {}x{} pixels", depth->size(),
+                               frame.width, frame.height));
+  }
+}
+
+void validateShading(const ShadingParams& shading) {
+  if (shading.shOrder < 0 || shading.shOrder > 3) {
+    throwRainError(fmt::format("SH order {} is outside 0..3", shading.shOrder));
+  }
+  const size_t coefficients = static_cast<size_t>((shading.shOrder + 1) * (shading.shOrder + 1));
+  if (shading.envSh.size() != coefficients) {
+    throwRainError(fmt::format("SH order {} needs {} environment coefficients, got {}",
+                               shading.shOrder, coefficients, shading.envSh.size()));
+  }
+  if (shading.transferZonal.size() != static_cast<size_t>(shading.shOrder + 1)) {
+    throwRainError(fmt::format("SH order {} needs {} zonal transfer values, got {}",
+                               shading.shOrder, shading.shOrder + 1,
+                               shading.transferZonal.size()));
+  }
+}
+
+void validateAtlas(const StrokeAtlas& atlas) {
+  if (atlas.width <= 0 || atlas.height <= 0) {
+    throwRainError(fmt::format("stroke atlas has no pixels ({}x{})", atlas.width, atlas.height));
+  }
+  if (atlas.alpha.size() != static_cast<size_t>(atlas.width) * atlas.height) {
+    throwRainError(fmt::format("stroke atlas of {}x{} pixels holds {} values", atlas.width,
+                               atlas.height, atlas.alpha.size()));
+  }
+}
+
+void validateStreaks(const std::vector<StreakInstance>& streaks, int strokeCount) {
+  for (size_t i = 0; i < streaks.size(); ++i) {
+    const StreakInstance& streak = streaks[i];
+    if (!std::isfinite(streak.headX) || !std::isfinite(streak.headY) ||
+        !std::isfinite(streak.tailX) || !std::isfinite(streak.tailY)) {
+      throwRainError(fmt::format("streak {} has a non-finite end point", i));
+    }
+    const float index = streak.strokeIndex;
+    // Both renderers truncate the index to an integer, as GLSL's int() does.
+    if (!(index >= 0.0f && static_cast<int>(index) < strokeCount)) {
+      throwRainError(fmt::format("streak {} uses stroke {} but the atlas has {} strokes", i,
+                                 index, strokeCount));
+    }
+  }
+}
+
+void comparableSceneDepth(const Image& frame, std::vector<float>& depthMeters) {
+  depthMeters.assign(frame.pixelCount(), kFarDepthMeters);
+  const std::vector<float>* depth = frame.findPlane("depth");
+  if (!depth) return;
+  std::transform(depth->begin(), depth->end(), depthMeters.begin(),
+                 [](float d) { return std::isfinite(d) ? d : kFarDepthMeters; });
+}
+
+void storeRainLayer(const std::vector<float>& rainRgba, Image& frame) {
+  std::vector<float>* channels[4] = {&frame.plane("rain.R"), &frame.plane("rain.G"),
+                                     &frame.plane("rain.B"), &frame.plane("rain.A")};
+  for (size_t i = 0; i < frame.pixelCount(); ++i) {
+    for (int c = 0; c < 4; ++c) (*channels[c])[i] = rainRgba[i * 4 + c];
+  }
+  frame.planes["matte"] = *channels[3];
+}
+
+void clearRainLayer(Image& frame) {
+  for (const char* name : {"rain.R", "rain.G", "rain.B", "rain.A", "matte"}) {
+    frame.plane(name).assign(frame.pixelCount(), 0.0f);
+  }
+}
+
+}  // namespace pluvia::gpu

@@ -1,0 +1,31 @@
+#pragma once
+// Checks and preparation of render inputs shared by RainRenderer and renderRainCpu, so both
+// reject the same inputs and compare against the same depths.
+#include <vector>
+
+#include "gpu/rain_renderer.h"
+#include "image/image.h"
+
+namespace pluvia::gpu {
+
+// Stands in for "infinitely far" (no depth plane, +inf, NaN): a finite value keeps the
+// streak-behind-scene comparison well defined on every GPU (some flush infinities in textures).
+inline constexpr float kFarDepthMeters = 3.0e38f;
+
+// Throw pluvia::Error (stage "rain") naming what is wrong.
+void validateFrame(const Image& frame);
+void validateShading(const ShadingParams& shading);
+void validateAtlas(const StrokeAtlas& atlas);
+void validateStreaks(const std::vector<StreakInstance>& streaks, int strokeCount);
+
+// The frame's "depth" plane with every non-finite or missing value replaced by kFarDepthMeters.
+void comparableSceneDepth(const Image& frame, std::vector<float>& depthMeters);
+
+// Sets "rain.R", "rain.G", "rain.B", "rain.A" and "matte" from an interleaved premultiplied
+// RGBA rain layer of frame.pixelCount() pixels.
+void storeRainLayer(const std::vector<float>& rainRgba, Image& frame);
+
+// Sets the rain planes to zero: the result when no streak is drawn.
+void clearRainLayer(Image& frame);
+
+}  // namespace pluvia::gpu

@@ -1,0 +1,47 @@
+#include "gpu/rain_program.h"
+
+#include <array>
+
+#include "gpu/gl_check.h"
+#include "gpu/shader_program.h"
+
+namespace pluvia::gpu {
+
+RainProgram::RainProgram() : program_(buildProgram("rain_stroke.vert", "rain_stroke.frag")) {
+  const GLuint id = program_.id();
+  targetSize_ = glGetUniformLocation(id, "uTargetSizePx");
+  shOrder_ = glGetUniformLocation(id, "uShOrder");
+  envSh_ = glGetUniformLocation(id, "uEnvSh");
+  transferZonal_ = glGetUniformLocation(id, "uTransferZonal");
+  atlasSize_ = glGetUniformLocation(id, "uAtlasSizePx");
+  backgroundWeight_ = glGetUniformLocation(id, "uBackgroundWeight");
+  checkGl("looking up the rain shader's uniforms");
+}
+
+void RainProgram::use(const ShadingParams& shading, int targetWidth, int targetHeight,
+                      int atlasWidth, int atlasHeight) const {
+  glUseProgram(program_.id());
+  glUniform2f(targetSize_, static_cast<float>(targetWidth), static_cast<float>(targetHeight));
+  glUniform2f(atlasSize_, static_cast<float>(atlasWidth), static_cast<float>(atlasHeight));
+  glUniform1f(backgroundWeight_, shading.backgroundWeight);
+  glUniform1i(shOrder_, shading.shOrder);
+  // Always all 16 / 4 entries: the shader reads only up to shOrder, the rest are zeros.
+  std::array<float, 16 * 3> envSh{};
+  for (size_t i = 0; i < shading.envSh.size(); ++i) {
+    for (int c = 0; c < 3; ++c) envSh[i * 3 + c] = shading.envSh[i][c];
+  }
+  std::array<float, 4> zonal{};
+  for (size_t l = 0; l < shading.transferZonal.size(); ++l) zonal[l] = shading.transferZonal[l];
+  glUniform3fv(envSh_, 16, envSh.data());
+  glUniform1fv(transferZonal_, 4, zonal.data());
+
+  glEnablei(GL_BLEND, 0);
+  glBlendEquationSeparatei(0, GL_FUNC_ADD, GL_FUNC_ADD);
+  glBlendFuncSeparatei(0, GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+  glEnablei(GL_BLEND, 1);
+  glBlendEquationSeparatei(1, GL_FUNC_ADD, GL_FUNC_ADD);
+  glBlendFuncSeparatei(1, GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  checkGl("setting the rain shader's uniforms");
+}
+
+}  // namespace pluvia::gpu

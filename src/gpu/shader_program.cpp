@@ -1,0 +1,107 @@
+#include "gpu/shader_program.h"
+
+#include <sstream>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "gpu/embedded_shaders.h"
+#include "gpu/gl_check.h"
+#include "gpu/rain_error.h"
+
+namespace pluvia::gpu {
+namespace {
+
+// Deep enough for any sane nesting; stops include cycles.
+constexpr int kMaxIncludeDepth = 8;
+
+std::string_view embeddedShader(const std::string& name) {
+  const auto& table = embeddedShaders();
+  auto it = table.find(name);
+  if (it == table.end()) throwRainError(fmt::format("no embedded shader named '{}'", name));
+  return it->second;
+}
+
+// GLSL #line takes a source-string number; each included file gets its own so that messages
+// like "1(12): error" point into the right file (0 is the stage file itself).
+void appendWithIncludes(const std::string& name, int depth, int& nextFileNumber,
+                        std::string& out) {
+  if (depth > kMaxIncludeDepth) {
+    throwRainError(fmt::format("shader includes nest deeper than {} at '{}'", kMaxIncludeDepth,
+                               name));
+  }
+  const int fileNumber = nextFileNumber++;
+  std::istringstream lines{std::string(embeddedShader(name))};
+  std::string line;
+  int lineNumber = 0;
+  while (std::getline(lines, line)) {
+    ++lineNumber;
+    const size_t open = line.find("#include \"");
+    if (open != std::string::npos && line.find_first_not_of(" \t") == open) {
+      const size_t start = open + 10;
+      const size_t end = line.find('"', start);
+      if (end == std::string::npos) {
+        throwRainError(fmt::format("{}:{}: malformed #include", name, lineNumber));
+      }
+      out += fmt::format("#line 1 {}\n", nextFileNumber);
+      appendWithIncludes(line.substr(start, end - start), depth + 1, nextFileNumber, out);
+      out += fmt::format("#line {} {}\n", lineNumber + 1, fileNumber);
+      continue;
+    }
+    out += line;
+    out += '\n';
+  }
+}
+
+GlShader compileShader(GLenum stage, const std::string& name) {
+  const std::string source = shaderSourceWithIncludes(name);
+  GlShader shader(glCreateShader(stage));
+  const char* text = source.c_str();
+  glShaderSource(shader.id(), 1, &text, nullptr);
+  glCompileShader(shader.id());
+  GLint compiled = GL_FALSE;
+  glGetShaderiv(shader.id(), GL_COMPILE_STATUS, &compiled);
+  if (!compiled) {
+    GLint logLength = 0;
+    glGetShaderiv(shader.id(), GL_INFO_LOG_LENGTH, &logLength);
+    std::string log(static_cast<size_t>(std::max(logLength, 1)), '\0');
+    glGetShaderInfoLog(shader.id(), logLength, nullptr, log.data());
+    throwRainError(fmt::format("shader {} does not compile: {}", name, log.c_str()));
+  }
+  checkGl(fmt::format("compiling {}", name));
+  return shader;
+}
+
+}  // namespace
+
+std::string shaderSourceWithIncludes(const std::string& name) {
+  std::string out;
+  int nextFileNumber = 0;
+  appendWithIncludes(name, 0, nextFileNumber, out);
+  return out;
+}
+
+GlProgram buildProgram(const std::string& vertexName, const std::string& fragmentName) {
+  const GlShader vertex = compileShader(GL_VERTEX_SHADER, vertexName);
+  const GlShader fragment = compileShader(GL_FRAGMENT_SHADER, fragmentName);
+  GlProgram program(glCreateProgram());
+  glAttachShader(program.id(), vertex.id());
+  glAttachShader(program.id(), fragment.id());
+  glLinkProgram(program.id());
+  GLint linked = GL_FALSE;
+  glGetProgramiv(program.id(), GL_LINK_STATUS, &linked);
+  if (!linked) {
+    GLint logLength = 0;
+    glGetProgramiv(program.id(), GL_INFO_LOG_LENGTH, &logLength);
+    std::string log(static_cast<size_t>(std::max(logLength, 1)), '\0');
+    glGetProgramInfoLog(program.id(), logLength, nullptr, log.data());
+    throwRainError(fmt::format("shaders {} + {} do not link: {}", vertexName, fragmentName,
+                               log.c_str()));
+  }
+  glDetachShader(program.id(), vertex.id());
+  glDetachShader(program.id(), fragment.id());
+  checkGl(fmt::format("linking {} + {}", vertexName, fragmentName));
+  return program;
+}
+
+}  // namespace pluvia::gpu

@@ -1,0 +1,22 @@
+#include "gpu/streak_radiance.h"
+
+#include <algorithm>
+
+namespace pluvia::gpu {
+
+std::array<float, 3> streakRadiance(const ShadingParams& shading, const StreakInstance& streak) {
+  const std::array<float, 16> basis = shEvaluate(streak.viewX, streak.viewY, streak.viewZ);
+  std::array<float, 3> radiance{0.0f, 0.0f, 0.0f};
+  for (int l = 0; l <= shading.shOrder; ++l) {
+    std::array<float, 3> band{0.0f, 0.0f, 0.0f};
+    for (int m = -l; m <= l; ++m) {
+      const int index = l * l + l + m;
+      for (int c = 0; c < 3; ++c) band[c] += basis[index] * shading.envSh[index][c];
+    }
+    for (int c = 0; c < 3; ++c) radiance[c] += shading.transferZonal[l] * band[c];
+  }
+  for (float& channel : radiance) channel = std::max(channel, 0.0f);
+  return radiance;
+}
+
+}  // namespace pluvia::gpu

@@ -1,0 +1,30 @@
+#pragma once
+// Writing one image file through OpenImageIO, atomically (temporary file, then rename), in the
+// sample encoding its extension calls for: EXR half (float where asked), HDR float, PNG/JPEG
+// 8-bit, TIFF 16-bit, DPX 10-bit.
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace pluvia {
+
+// One channel of the file, gathered from pluvia's buffers.
+struct OutputChannel {
+  std::string name;          // "R", "rain.R", "depth.Z"
+  const float* samples;      // the first pixel's sample
+  size_t strideFloats;       // between pixels: 4 inside an RGBA buffer, 1 in a plane
+  bool fullFloat = false;    // EXR: 32-bit float instead of half (depth in metres)
+};
+
+// Extensions writeImageFile() accepts, lower case.
+const std::vector<std::string>& imageOutputExtensions();
+
+// Integer encodings clamp to 0..1 and round to the nearest code; float encodings keep values
+// (NaN and Inf included). String metadata goes into the header where the format has room.
+// Throws pluvia::Error naming the file (and frame).
+void writeImageFile(const std::string& path, int width, int height, const std::vector<OutputChannel>& channels,
+                    const std::map<std::string, std::string>& metadata, std::optional<int64_t> frame);
+
+}  // namespace pluvia

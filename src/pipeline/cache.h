@@ -1,0 +1,25 @@
+#pragma once
+// The artifact cache for per-clip analysis (--cache DIR): one JSON file per result, named by
+// stage and key, the key a hash of the inputs, the parameters and the pluvia version (OCIO's
+// cache-ID idea). Writes are atomic; a corrupt entry is treated as missing.
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace pluvia {
+
+class ArtifactCache {
+ public:
+  explicit ArtifactCache(std::filesystem::path folder);
+  std::filesystem::path pathFor(const std::string& stage, const std::string& key) const;
+  bool contains(const std::string& stage, const std::string& key) const;
+  std::optional<nlohmann::json> load(const std::string& stage, const std::string& key) const;
+  void store(const std::string& stage, const std::string& key, const nlohmann::json& value) const;
+
+ private:
+  std::filesystem::path folder_;
+};
+
+}  // namespace pluvia

@@ -1,0 +1,30 @@
+#pragma once
+// The planner: which stages this shot needs. A stage is left out when it is disabled, when its
+// parameters make it a no-op (OCIO's isNoOp), when nothing downstream reads what it writes
+// (dead-code elimination over declared outputs), or, for per-clip analysis, when its result is
+// already in the cache.
+#include <string>
+#include <vector>
+
+#include "pipeline/stage.h"
+
+namespace pluvia {
+
+struct PlanEntry {
+  std::string stage;
+  bool runs = false;
+  bool cached = false;  // per-clip result comes from the cache (runs is false)
+  std::string reason;   // why it runs or why it is left out
+};
+
+struct Plan {
+  std::vector<PlanEntry> entries;  // pipeline order, "write" last
+  bool runs(const std::string& stage) const;
+  bool available(const std::string& stage) const;  // runs or cached
+  std::string text() const;  // human-readable, one line per stage
+};
+
+Plan makePlan(const Preset& preset, const ClipInfo& clip, const ArtifactCache* cache,
+              const std::vector<StageInfo>& stages);
+
+}  // namespace pluvia

@@ -1,0 +1,80 @@
+#pragma once
+// The Stage interface and the data a stage declares about itself (FFmpeg AVFilter style):
+// its section of the preset (parameter table, reads, writes), when it is a no-op, and how to
+// build it. Stages are listed in pipeline order by stages/registry.h.
+//
+// Artifacts passed between stages:
+//   "image"           the frame, scene-linear (every image stage reads and writes it)
+//   "depth"           the frame's "depth" plane, metres
+//   "environment"     per-clip lighting (SH coefficients and average colour)
+//   "footage_strokes" per-clip stroke library cut from rain footage
+#include <array>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "geometry/camera.h"
+#include "gpu/rain_renderer.h"
+#include "image/image.h"
+#include "io/clip_reader.h"
+#include "preset/preset.h"
+#include "util/timer.h"
+
+namespace pluvia {
+
+class ArtifactCache;
+
+// Lighting of the shot, in the working colour space.
+struct Environment {
+  int shOrder = 0;
+  std::vector<std::array<float, 3>> sh;  // (shOrder+1)^2 RGB coefficients, real SH basis
+  std::array<float, 3> averageRgb{0, 0, 0};
+};
+
+// Per-clip state, filled by per-clip stages in prepare() and read by per-frame stages.
+struct ClipContext {
+  const Preset* preset = nullptr;
+  const ClipInfo* clip = nullptr;
+  ClipReader* reader = nullptr;            // frames in the file's encoding
+  std::function<Image(int64_t)> readWorking;  // a frame converted to the working space
+  Camera camera;
+  double fps = 24.0;
+  ArtifactCache* cache = nullptr;          // null without --cache
+  StageTimes* times = nullptr;
+  std::optional<Environment> environment;
+  std::optional<gpu::StrokeAtlas> footageStrokes;
+};
+
+struct FrameContext {
+  int64_t frame = 0;
+  double timeSeconds = 0.0;
+  Image image;
+};
+
+class Stage {
+ public:
+  virtual ~Stage() = default;
+  // Once per clip, before any frame (per-clip analysis, GPU set-up).
+  virtual void prepare(ClipContext& clip) {}
+  // Once per frame, in frame order, on the render thread.
+  virtual void process(ClipContext& clip, FrameContext& frame) {}
+};
+
+struct StageInfo {
+  SectionSpec spec;       // name = preset section; params; static reads/writes for describe
+  bool perClip = false;   // per-clip analysis (cacheable) rather than per-frame work
+  // Why these parameters make the stage do nothing ("density is 0"), or "" when it does work.
+  std::function<std::string(const Preset&)> noOpReason;
+  // What it reads with these parameters (a subset of spec.inputs).
+  std::function<std::vector<std::string>(const Preset&)> reads;
+  // Per-clip stages: the cache key of their result for this preset and clip.
+  std::function<std::string(const Preset&, const ClipInfo&)> cacheKey;
+  std::function<std::unique_ptr<Stage>(const Preset&)> create;
+};
+
+// Hash of a clip's identity for cache keys: file paths, sizes and modification times.
+std::string clipIdentity(const ClipInfo& clip);
+
+}  // namespace pluvia

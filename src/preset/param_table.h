@@ -1,0 +1,48 @@
+#pragma once
+// Parameters declared as data (FFmpeg AVOption style): one table drives validation, defaults,
+// `pluvia describe` and the docs. A section is one top-level key of the preset ("rain", "fog").
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace pluvia {
+
+enum class ParamType { Number, Integer, Boolean, String, Enum, Color3, List };
+const char* paramTypeName(ParamType type);
+
+struct ParamSpec {
+  std::string key;  // within its section, dotted for nested objects: "wind.speed_m_s"
+  ParamType type = ParamType::Number;
+  nlohmann::json defaultValue;
+  double minValue = -std::numeric_limits<double>::infinity();
+  double maxValue = std::numeric_limits<double>::infinity();
+  std::vector<std::string> choices;  // Enum
+  std::string units;                 // "mm/h", "m", "1/m", "px", "s", "deg"
+  std::string help;
+  // List: the fields allowed in an item, by the item's "type" value. Every item has "type".
+  std::map<std::string, std::vector<ParamSpec>> itemTypes;
+};
+
+struct SectionSpec {
+  std::string name;  // top-level preset key
+  std::string help;
+  std::vector<std::string> inputs;   // artifacts read (pipeline stages only)
+  std::vector<std::string> outputs;  // artifacts written
+  std::vector<ParamSpec> params;
+  const ParamSpec* find(const std::string& key) const;
+};
+
+using Schema = std::vector<SectionSpec>;
+
+// Levenshtein distance, for "did you mean" suggestions.
+size_t editDistance(const std::string& a, const std::string& b);
+// The candidate nearest to `word`, or "" when none is reasonably close.
+std::string nearestWord(const std::string& word, const std::vector<std::string>& candidates);
+
+// One line per parameter: key, type, default, range or choices, units, help.
+std::string describeSection(const SectionSpec& section);
+
+}  // namespace pluvia

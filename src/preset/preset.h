@@ -1,0 +1,73 @@
+#pragma once
+// Presets: JSON files with a schema version ("pluvia": 1), "extends" (a shipped preset name or a
+// path) and sections validated against the Schema. `--set key.path=value` overrides any key.
+// Validation reports every problem at once, each naming its JSON Pointer path; nothing is
+// rendered from an invalid preset.
+#include <array>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "preset/param_table.h"
+#include "util/error.h"
+
+namespace pluvia {
+
+inline constexpr int kPresetSchemaVersion = 1;
+
+// All the problems found in a preset, one line each.
+class PresetError : public Error {
+ public:
+  PresetError(const std::string& source, std::vector<std::string> problems);
+  const std::vector<std::string>& problems() const { return problems_; }
+
+ private:
+  std::vector<std::string> problems_;
+};
+
+// Folders searched for preset names: $PLUVIA_PRESET_DIR, presets/ beside the binary's parent,
+// and the source tree's presets/.
+std::vector<std::filesystem::path> presetSearchPath();
+// Names of the shipped presets (files NAME.json in the search path).
+std::vector<std::string> shippedPresetNames();
+// A name or path -> the file. Throws PresetError naming what was looked for.
+std::filesystem::path findPreset(const std::string& nameOrPath);
+
+class Preset {
+ public:
+  // Loads, follows "extends", applies the overrides ("rain.rate_mm_h=40"), validates against the
+  // schema and fills defaults. Throws PresetError listing every problem.
+  static Preset resolve(const std::string& nameOrPath, const std::vector<std::string>& overrides,
+                        const Schema& schema);
+
+  const nlohmann::json& json() const { return resolved_; }
+  const std::string& source() const { return source_; }
+  std::string hash() const;  // 16 hex digits of the resolved JSON
+
+  // Typed access by dotted path ("rain.wind.speed_m_s"); the value exists after resolve().
+  const nlohmann::json& at(const std::string& dottedPath) const;
+  double number(const std::string& dottedPath) const;
+  bool boolean(const std::string& dottedPath) const;
+  std::string string(const std::string& dottedPath) const;
+  std::array<float, 3> color(const std::string& dottedPath) const;
+  bool has(const std::string& dottedPath) const;
+
+ private:
+  nlohmann::json resolved_;
+  std::string source_;
+};
+
+// Applies one "a.b.c=value" override to a JSON document; the value is parsed as JSON when it
+// parses (numbers, true, [1,2,3]) and taken as a string otherwise. Throws PresetError when the
+// text has no '=' or the path walks through a non-object.
+void applyOverride(nlohmann::json& document, const std::string& assignment);
+
+// Checks a merged preset document against the schema; returns every problem found.
+std::vector<std::string> validatePreset(const nlohmann::json& document, const Schema& schema);
+
+// Fills every missing key with its default (objects created as needed).
+void fillDefaults(nlohmann::json& document, const Schema& schema);
+
+}  // namespace pluvia

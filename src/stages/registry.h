@@ -1,0 +1,29 @@
+#pragma once
+// Every stage in pipeline order, and the full preset schema (stage sections plus the global
+// "camera" and "color" sections). One table drives validation, planning and `pluvia describe`.
+#include <vector>
+
+#include "pipeline/stage.h"
+
+namespace pluvia {
+
+// derain, lighting, depth, darken, blur, fog, rain. Darken, blur and fog act on the plate before
+// the rain is composited: rain falls in front of the scene, so the scene's fog must not cover
+// the drops (fog reaches the drops per drop instead, through their own depth).
+const std::vector<StageInfo>& allStages();
+const StageInfo* findStage(const std::string& name);
+
+SectionSpec cameraSection();
+SectionSpec colorSection();
+Schema presetSchema();
+
+// Declarations of each stage's table (one file pair per stage).
+StageInfo derainStageInfo();
+StageInfo environmentStageInfo();
+StageInfo depthStageInfo();
+StageInfo darkenStageInfo();
+StageInfo blurStageInfo();
+StageInfo fogStageInfo();
+StageInfo rainStageInfo();
+
+}  // namespace pluvia
