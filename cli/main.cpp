@@ -1,5 +1,6 @@
 // pluvia: physically based rain for real footage. The command line is thin: every subcommand
 // is a file in cli/, the work is in the libraries under src/.
+#include <algorithm>
 #include <cstdio>
 
 #include <CLI/CLI.hpp>
@@ -7,6 +8,7 @@
 #include "commands.h"
 #include "common.h"
 #include "pluvia/version.h"
+#include "preset/param_table.h"
 #include "util/error.h"
 #include "util/log.h"
 
@@ -33,6 +35,21 @@ int main(int argc, char** argv) {
   cli::addDescribeCommand(app, invocation);
   cli::addBenchCommand(app, invocation);
   app.parse_complete_callback([&] { log::setLevel(quiet ? log::Level::Warning : log::Level::Info); });
+
+  // CLI11 would only say "a subcommand is required" for a mistyped command: name it.
+  for (int i = 1; i < argc; ++i) {
+    std::string word = argv[i];
+    if (word.rfind('-', 0) == 0) continue;
+    std::vector<std::string> names;
+    for (const auto* sub : app.get_subcommands({})) names.push_back(sub->get_name());
+    if (std::find(names.begin(), names.end(), word) == names.end()) {
+      std::string nearest = nearestWord(word, names);
+      log::error("unknown command '" + word + "'" + (nearest.empty() ? "" : ", did you mean '" + nearest + "'?") +
+                 " (commands: render, plan, validate, describe, bench; see pluvia --help)");
+      return 2;
+    }
+    break;
+  }
 
   try {
     app.parse(argc, argv);

@@ -13,27 +13,36 @@ namespace pluvia::gpu {
 namespace {
 
 std::string eglErrorName(EGLint error) {
-  switch (error) {
-    case EGL_SUCCESS: return "EGL_SUCCESS";
-    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-    case EGL_BAD_CURRENT_SURFACE: return "EGL_BAD_CURRENT_SURFACE";
-    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-    case EGL_BAD_NATIVE_PIXMAP: return "EGL_BAD_NATIVE_PIXMAP";
-    case EGL_BAD_NATIVE_WINDOW: return "EGL_BAD_NATIVE_WINDOW";
-    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
-    case EGL_BAD_SURFACE: return "EGL_BAD_SURFACE";
-    case EGL_CONTEXT_LOST: return "EGL_CONTEXT_LOST";
-    default: return fmt::format("EGL error 0x{:04x}", error);
+  struct Named {
+    EGLint code;
+    const char* name;
+  };
+  static constexpr Named kErrors[] = {
+      {EGL_SUCCESS, "EGL_SUCCESS"},
+      {EGL_NOT_INITIALIZED, "EGL_NOT_INITIALIZED"},
+      {EGL_BAD_ACCESS, "EGL_BAD_ACCESS"},
+      {EGL_BAD_ALLOC, "EGL_BAD_ALLOC"},
+      {EGL_BAD_ATTRIBUTE, "EGL_BAD_ATTRIBUTE"},
+      {EGL_BAD_CONFIG, "EGL_BAD_CONFIG"},
+      {EGL_BAD_CONTEXT, "EGL_BAD_CONTEXT"},
+      {EGL_BAD_CURRENT_SURFACE, "EGL_BAD_CURRENT_SURFACE"},
+      {EGL_BAD_DISPLAY, "EGL_BAD_DISPLAY"},
+      {EGL_BAD_MATCH, "EGL_BAD_MATCH"},
+      {EGL_BAD_NATIVE_PIXMAP, "EGL_BAD_NATIVE_PIXMAP"},
+      {EGL_BAD_NATIVE_WINDOW, "EGL_BAD_NATIVE_WINDOW"},
+      {EGL_BAD_PARAMETER, "EGL_BAD_PARAMETER"},
+      {EGL_BAD_SURFACE, "EGL_BAD_SURFACE"},
+      {EGL_CONTEXT_LOST, "EGL_CONTEXT_LOST"},
+  };
+  for (const Named& known : kErrors) {
+    if (known.code == error) return known.name;
   }
+  return fmt::format("EGL error 0x{:04x}", error);
 }
 
-std::string lastEglError() { return eglErrorName(eglGetError()); }
+std::string lastEglError() {
+  return eglErrorName(eglGetError());
+}
 
 bool hasExtension(const char* extensions, std::string_view name) {
   if (!extensions) return false;
@@ -197,9 +206,10 @@ HeadlessGlContext::~HeadlessGlContext() {
 void HeadlessGlContext::makeCurrent() {
   if (eglGetCurrentContext() == context_) return;
   if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_)) {
-    throwRainError(fmt::format("cannot make the rain renderer's OpenGL context current ({}); "
-                               "is it used from another thread?",
-                               lastEglError()));
+    throwRainError(
+        fmt::format("cannot make the rain renderer's OpenGL context current ({}); "
+                    "is it used from another thread?",
+                    lastEglError()));
   }
 }
 

@@ -10,6 +10,9 @@
 namespace pluvia::gpu {
 
 FrameTargets::FrameTargets(int width, int height) : width_(width), height_(height) {
+  if (width <= 0 || height <= 0) {
+    throwRainError(fmt::format("cannot render rain into {}x{} pixels", width, height));
+  }
   GLint maxTextureSize = 0;
   GLint maxViewport[2] = {0, 0};
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTextureSize);
@@ -49,8 +52,8 @@ void FrameTargets::begin(const std::vector<float>& backgroundRgba,
   glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RED, GL_FLOAT, depthMeters.data());
   glBindTexture(GL_TEXTURE_2D, 0);
   // The composite starts as B: a copy on the GPU rather than a second upload.
-  glCopyImageSubData(background_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, composite_.id(), GL_TEXTURE_2D,
-                     0, 0, 0, 0, width_, height_, 1);
+  glCopyImageSubData(background_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, composite_.id(), GL_TEXTURE_2D, 0,
+                     0, 0, 0, width_, height_, 1);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   const GLfloat transparent[4] = {0.0f, 0.0f, 0.0f, 0.0f};
   glClearBufferfv(GL_COLOR, 1, transparent);
@@ -65,9 +68,13 @@ void FrameTargets::bindInputs(GLuint backgroundUnit, GLuint depthUnit) const {
   glBindTexture(GL_TEXTURE_2D, depth_.id());
 }
 
-void FrameTargets::readComposite(float* rgba) const { readAttachment(GL_COLOR_ATTACHMENT0, rgba); }
+void FrameTargets::readComposite(float* rgba) const {
+  readAttachment(GL_COLOR_ATTACHMENT0, rgba);
+}
 
-void FrameTargets::readRainLayer(float* rgba) const { readAttachment(GL_COLOR_ATTACHMENT1, rgba); }
+void FrameTargets::readRainLayer(float* rgba) const {
+  readAttachment(GL_COLOR_ATTACHMENT1, rgba);
+}
 
 void FrameTargets::readAttachment(GLenum attachment, float* rgba) const {
   glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer_.id());

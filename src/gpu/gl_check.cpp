@@ -9,16 +9,23 @@ namespace pluvia::gpu {
 namespace {
 
 const char* glErrorName(GLenum error) {
-  switch (error) {
-    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
-    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
-    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
-    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
-    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
-    case GL_STACK_OVERFLOW: return "GL_STACK_OVERFLOW";
-    case GL_STACK_UNDERFLOW: return "GL_STACK_UNDERFLOW";
-    default: return "unknown GL error";
+  struct Named {
+    GLenum code;
+    const char* name;
+  };
+  static constexpr Named kErrors[] = {
+      {GL_INVALID_ENUM, "GL_INVALID_ENUM"},
+      {GL_INVALID_VALUE, "GL_INVALID_VALUE"},
+      {GL_INVALID_OPERATION, "GL_INVALID_OPERATION"},
+      {GL_INVALID_FRAMEBUFFER_OPERATION, "GL_INVALID_FRAMEBUFFER_OPERATION"},
+      {GL_OUT_OF_MEMORY, "GL_OUT_OF_MEMORY"},
+      {GL_STACK_OVERFLOW, "GL_STACK_OVERFLOW"},
+      {GL_STACK_UNDERFLOW, "GL_STACK_UNDERFLOW"},
+  };
+  for (const Named& known : kErrors) {
+    if (known.code == error) return known.name;
   }
+  return "unknown GL error";
 }
 
 }  // namespace

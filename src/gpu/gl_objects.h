@@ -7,12 +7,24 @@
 
 namespace pluvia::gpu {
 namespace gl_delete {
-inline void texture(GLuint id) { glDeleteTextures(1, &id); }
-inline void buffer(GLuint id) { glDeleteBuffers(1, &id); }
-inline void framebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
-inline void vertexArray(GLuint id) { glDeleteVertexArrays(1, &id); }
-inline void program(GLuint id) { glDeleteProgram(id); }
-inline void shader(GLuint id) { glDeleteShader(id); }
+inline void texture(GLuint id) {
+  glDeleteTextures(1, &id);
+}
+inline void buffer(GLuint id) {
+  glDeleteBuffers(1, &id);
+}
+inline void framebuffer(GLuint id) {
+  glDeleteFramebuffers(1, &id);
+}
+inline void vertexArray(GLuint id) {
+  glDeleteVertexArrays(1, &id);
+}
+inline void program(GLuint id) {
+  glDeleteProgram(id);
+}
+inline void shader(GLuint id) {
+  glDeleteShader(id);
+}
 }  // namespace gl_delete
 
 template <void (*Delete)(GLuint)>

@@ -34,8 +34,7 @@ void validateShading(const ShadingParams& shading) {
   }
   if (shading.transferZonal.size() != static_cast<size_t>(shading.shOrder + 1)) {
     throwRainError(fmt::format("SH order {} needs {} zonal transfer values, got {}",
-                               shading.shOrder, shading.shOrder + 1,
-                               shading.transferZonal.size()));
+                               shading.shOrder, shading.shOrder + 1, shading.transferZonal.size()));
   }
 }
 
@@ -50,6 +49,9 @@ void validateAtlas(const StrokeAtlas& atlas) {
 }
 
 void validateStreaks(const std::vector<StreakInstance>& streaks, int strokeCount) {
+  if (!streaks.empty() && strokeCount == 0) {
+    throwRainError("streaks to draw but no strokes: set a stroke atlas with strokes first");
+  }
   for (size_t i = 0; i < streaks.size(); ++i) {
     const StreakInstance& streak = streaks[i];
     if (!std::isfinite(streak.headX) || !std::isfinite(streak.headY) ||
@@ -59,8 +61,8 @@ void validateStreaks(const std::vector<StreakInstance>& streaks, int strokeCount
     const float index = streak.strokeIndex;
     // Both renderers truncate the index to an integer, as GLSL's int() does.
     if (!(index >= 0.0f && static_cast<int>(index) < strokeCount)) {
-      throwRainError(fmt::format("streak {} uses stroke {} but the atlas has {} strokes", i,
-                                 index, strokeCount));
+      throwRainError(fmt::format("streak {} uses stroke {} but the atlas has {} strokes", i, index,
+                                 strokeCount));
     }
   }
 }

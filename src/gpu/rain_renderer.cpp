@@ -5,6 +5,7 @@
 #include <optional>
 
 #include <epoxy/gl.h>
+#include <fmt/format.h>
 
 #include "gpu/egl_context.h"
 #include "gpu/frame_targets.h"
@@ -13,21 +14,20 @@
 #include "gpu/rain_inputs.h"
 #include "gpu/rain_program.h"
 #include "gpu/streak_stream.h"
+#include "util/error.h"
+#include "util/log.h"
 
 namespace pluvia::gpu {
 
-struct RainRenderer::Impl {
-  // Declared first so it is destroyed last, after every GL object below.
-  HeadlessGlContext context;
+namespace {
+
+// Every GL object of a renderer, boxed so that it can be abandoned rather than deleted (see
+// ~Impl).
+struct GpuObjects {
   RainProgram program;
   StreakStream streaks;
   GpuStrokeAtlas atlas;
   std::optional<FrameTargets> targets;
-  std::vector<float> sceneDepth;  // scratch, kept to avoid a per-frame allocation
-  std::vector<float> rainRgba;    // scratch for the read-back rain layer
-
-  // GL objects are deleted by the members' destructors; they need this context current.
-  ~Impl() { context.makeCurrent(); }
 
   void ensureTargets(int width, int height) {
     if (!targets || targets->width() != width || targets->height() != height) {
@@ -37,31 +37,53 @@ struct RainRenderer::Impl {
   }
 };
 
+}  // namespace
+
+struct RainRenderer::Impl {
+  // Declared first so it is destroyed last, after every GL object.
+  HeadlessGlContext context;
+  std::unique_ptr<GpuObjects> gpu = std::make_unique<GpuObjects>();
+  std::vector<float> sceneDepth;  // scratch, kept to avoid a per-frame allocation
+  std::vector<float> rainRgba;    // scratch for the read-back rain layer
+
+  // GL objects are deleted by their owners' destructors, which needs this context current.
+  ~Impl() {
+    try {
+      context.makeCurrent();
+    } catch (const Error& error) {
+      // The context is current on another thread. Deleting names now would hit whatever
+      // context this thread has; the objects go with their own context in eglDestroyContext.
+      log::warning(fmt::format("rain renderer destroyed off its thread: {}", error.what()));
+      (void)gpu.release();
+    }
+  }
+};
+
 RainRenderer::RainRenderer(int width, int height) : impl_(std::make_unique<Impl>()) {
-  impl_->ensureTargets(width, height);
+  impl_->gpu->ensureTargets(width, height);
 }
 
 RainRenderer::~RainRenderer() = default;
 
 void RainRenderer::setStrokeAtlas(const StrokeAtlas& atlas) {
   impl_->context.makeCurrent();
-  impl_->atlas.upload(atlas);
+  impl_->gpu->atlas.upload(atlas);
 }
 
 void RainRenderer::render(Image& frame, const std::vector<StreakInstance>& streaks,
                           const ShadingParams& shading) {
   validateFrame(frame);
   validateShading(shading);
-  validateStreaks(streaks, impl_->atlas.strokeCount());
+  GpuObjects& gpu = *impl_->gpu;
+  validateStreaks(streaks, gpu.atlas.strokeCount());
   if (streaks.empty()) {
     clearRainLayer(frame);
     return;
   }
-  Impl& gpu = *impl_;
-  gpu.context.makeCurrent();
+  impl_->context.makeCurrent();
   gpu.ensureTargets(frame.width, frame.height);
-  comparableSceneDepth(frame, gpu.sceneDepth);
-  gpu.targets->begin(frame.rgba, gpu.sceneDepth);
+  comparableSceneDepth(frame, impl_->sceneDepth);
+  gpu.targets->begin(frame.rgba, impl_->sceneDepth);
   gpu.streaks.upload(streaks);
   gpu.program.use(shading, frame.width, frame.height, gpu.atlas.width(), gpu.atlas.height());
   gpu.atlas.bind(kAtlasUnit, kStrokeRectBinding);
@@ -71,17 +93,17 @@ void RainRenderer::render(Image& frame, const std::vector<StreakInstance>& strea
   // Blending with (ZERO, ONE) on alpha keeps the background's alpha exactly, so the composite
   // is read straight into the frame.
   gpu.targets->readComposite(frame.rgba.data());
-  gpu.rainRgba.resize(frame.pixelCount() * 4);
-  gpu.targets->readRainLayer(gpu.rainRgba.data());
-  storeRainLayer(gpu.rainRgba, frame);
+  impl_->rainRgba.resize(frame.pixelCount() * 4);
+  gpu.targets->readRainLayer(impl_->rainRgba.data());
+  storeRainLayer(impl_->rainRgba, frame);
 }
 
 std::string RainRenderer::deviceDescription() const {
   impl_->context.makeCurrent();
   const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   const auto* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
-  return std::string(renderer ? renderer : "unknown renderer") + ", OpenGL " +
-         (version ? version : "unknown version");
+  return fmt::format("{}, OpenGL {} ({})", renderer ? renderer : "unknown renderer",
+                     version ? version : "unknown version", impl_->context.displayName());
 }
 
 }  // namespace pluvia::gpu

@@ -24,11 +24,10 @@ std::string_view embeddedShader(const std::string& name) {
 
 // GLSL #line takes a source-string number; each included file gets its own so that messages
 // like "1(12): error" point into the right file (0 is the stage file itself).
-void appendWithIncludes(const std::string& name, int depth, int& nextFileNumber,
-                        std::string& out) {
+void appendWithIncludes(const std::string& name, int depth, int& nextFileNumber, std::string& out) {
   if (depth > kMaxIncludeDepth) {
-    throwRainError(fmt::format("shader includes nest deeper than {} at '{}'", kMaxIncludeDepth,
-                               name));
+    throwRainError(
+        fmt::format("shader includes nest deeper than {} at '{}'", kMaxIncludeDepth, name));
   }
   const int fileNumber = nextFileNumber++;
   std::istringstream lines{std::string(embeddedShader(name))};
@@ -53,6 +52,15 @@ void appendWithIncludes(const std::string& name, int depth, int& nextFileNumber,
   }
 }
 
+// The shader's text with its includes resolved, bracketed by #line directives so compiler
+// messages keep their file numbers and lines.
+std::string shaderSourceWithIncludes(const std::string& name) {
+  std::string out;
+  int nextFileNumber = 0;
+  appendWithIncludes(name, 0, nextFileNumber, out);
+  return out;
+}
+
 GlShader compileShader(GLenum stage, const std::string& name) {
   const std::string source = shaderSourceWithIncludes(name);
   GlShader shader(glCreateShader(stage));
@@ -74,13 +82,6 @@ GlShader compileShader(GLenum stage, const std::string& name) {
 
 }  // namespace
 
-std::string shaderSourceWithIncludes(const std::string& name) {
-  std::string out;
-  int nextFileNumber = 0;
-  appendWithIncludes(name, 0, nextFileNumber, out);
-  return out;
-}
-
 GlProgram buildProgram(const std::string& vertexName, const std::string& fragmentName) {
   const GlShader vertex = compileShader(GL_VERTEX_SHADER, vertexName);
   const GlShader fragment = compileShader(GL_FRAGMENT_SHADER, fragmentName);
@@ -95,8 +96,8 @@ GlProgram buildProgram(const std::string& vertexName, const std::string& fragmen
     glGetProgramiv(program.id(), GL_INFO_LOG_LENGTH, &logLength);
     std::string log(static_cast<size_t>(std::max(logLength, 1)), '\0');
     glGetProgramInfoLog(program.id(), logLength, nullptr, log.data());
-    throwRainError(fmt::format("shaders {} + {} do not link: {}", vertexName, fragmentName,
-                               log.c_str()));
+    throwRainError(
+        fmt::format("shaders {} + {} do not link: {}", vertexName, fragmentName, log.c_str()));
   }
   glDetachShader(program.id(), vertex.id());
   glDetachShader(program.id(), fragment.id());

@@ -28,12 +28,11 @@ class MovieReader final : public ClipReader {
     int64_t frames = countFrames();
     if (frames == 0) throw Error("movie has no decodable frames: " + path, {"read", {}, path});
     for (int64_t i = 0; i < frames; ++i) info_.frames.push_back(i);
-    open();  // back to frame 0 for the sequential reads that are the common case
-    cv::Mat first = decodeAt(0);
-    info_.width = first.cols;
-    info_.height = first.rows;
-    info_.channels = first.channels();
-    pending_ = first;
+    // Decoding frame 0 gives the size as decoded (rotation applied); kept for the first read.
+    pending_ = decodeAt(0);
+    info_.width = pending_.cols;
+    info_.height = pending_.rows;
+    info_.channels = pending_.channels();
   }
 
   const ClipInfo& info() const override { return info_; }
@@ -74,14 +73,14 @@ class MovieReader final : public ClipReader {
   // count by decoding everything only when that check fails.
   int64_t countFrames() {
     double hint = capture_.get(cv::CAP_PROP_FRAME_COUNT);
-    if (std::isfinite(hint) && hint >= 1 && seekTo(static_cast<int64_t>(hint) - 1) && capture_.grab()) {
-      int64_t frames = static_cast<int64_t>(hint);
-      while (capture_.grab()) ++frames;
-      return frames;
-    }
-    open();
     int64_t frames = 0;
+    if (std::isfinite(hint) && hint >= 1 && seekTo(static_cast<int64_t>(hint) - 1) && capture_.grab()) {
+      frames = static_cast<int64_t>(hint);
+    } else {
+      open();
+    }
     while (capture_.grab()) ++frames;
+    next_ = frames;
     return frames;
   }
 

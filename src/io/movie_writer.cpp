@@ -1,5 +1,6 @@
 #include "io/movie_writer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <filesystem>
@@ -49,18 +50,19 @@ std::string lastLines(const stdfs::path& path, int count) {
 class MovieWriter final : public ClipWriter {
  public:
   MovieWriter(const std::string& path, int width, int height, const WriterOptions& options)
-      : path_(path), width_(width), height_(height), tmp_(fs::temporaryPathFor(path)), log_(tmp_.string() + ".log") {
+      : path_(path),
+        width_(width),
+        height_(height),
+        encodedWidth_(width + width % 2),
+        encodedHeight_(height + height % 2),
+        tmp_(fs::temporaryPathFor(path)),
+        log_(tmp_.string() + ".log") {
     if (!programAvailable("ffmpeg")) {
       throw Error("ffmpeg is needed to write the movie " + path + " but is not on PATH", {"write", {}, path});
     }
     std::vector<std::string> argv{"ffmpeg", "-y", "-v", "error", "-f", "rawvideo", "-pix_fmt", "rgb48le",
-                                  "-s", fmt::format("{}x{}", width, height), "-r", frameRateArgument(options.fps),
-                                  "-i", "-"};
-    if (width % 2 != 0 || height % 2 != 0) {
-      // libx264 cannot encode 4:2:0 at odd sizes: pad to even (one black column/row at the
-      // right/bottom), so the movie is up to one pixel larger than the frames.
-      argv.insert(argv.end(), {"-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2"});
-    }
+                                  "-s", fmt::format("{}x{}", encodedWidth_, encodedHeight_), "-r",
+                                  frameRateArgument(options.fps), "-i", "-"};
     argv.insert(argv.end(), {"-c:v", "libx264", "-preset", "medium", "-crf", "16", "-pix_fmt", "yuv420p"});
     if (!options.metadata.empty()) argv.insert(argv.end(), {"-metadata", "comment=" + metadataComment(options.metadata)});
     argv.push_back(tmp_.string());
@@ -85,14 +87,7 @@ class MovieWriter final : public ClipWriter {
                               width_, height_),
                   context);
     }
-    packed_.resize(image.pixelCount() * 3);
-    for (size_t i = 0; i < image.pixelCount(); ++i) {
-      for (int c = 0; c < 3; ++c) {
-        const float v = image.rgba[i * 4 + c];
-        const float clamped = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;  // NaN -> 0
-        packed_[i * 3 + c] = static_cast<uint16_t>(clamped * 65535.0f + 0.5f);  // rgb48le on a little-endian host
-      }
-    }
+    pack(image);
     try {
       encoder_->write(packed_.data(), packed_.size() * sizeof(uint16_t));
     } catch (const Error&) {
@@ -127,6 +122,24 @@ class MovieWriter final : public ClipWriter {
   std::string pathFor(int64_t) const override { return path_; }
 
  private:
+  // To rgb48le (on a little-endian host), clamped and rounded. libx264 cannot encode 4:2:0 at
+  // odd sizes, so odd frames get their last column/row repeated to reach an even size (rather
+  // than ffmpeg's pad filter: black there would bleed into the edge through the shared chroma).
+  void pack(const Image& image) {
+    packed_.resize(static_cast<size_t>(encodedWidth_) * encodedHeight_ * 3);
+    uint16_t* dst = packed_.data();
+    for (int y = 0; y < encodedHeight_; ++y) {
+      const float* row = image.pixel(0, std::min(y, height_ - 1));
+      for (int x = 0; x < encodedWidth_; ++x) {
+        const float* src = row + std::min(x, width_ - 1) * 4;
+        for (int c = 0; c < 3; ++c) {
+          const float clamped = src[c] > 0.0f ? (src[c] < 1.0f ? src[c] : 1.0f) : 0.0f;  // NaN -> 0
+          *dst++ = static_cast<uint16_t>(clamped * 65535.0f + 0.5f);
+        }
+      }
+    }
+  }
+
   void removeTemporaries() {
     std::error_code ec;
     stdfs::remove(tmp_, ec);
@@ -136,6 +149,8 @@ class MovieWriter final : public ClipWriter {
   std::string path_;
   int width_;
   int height_;
+  int encodedWidth_;   // even: what libx264 gets
+  int encodedHeight_;
   stdfs::path tmp_;  // encoded here, renamed to path_ by close()
   stdfs::path log_;  // ffmpeg's output, quoted in errors
   std::optional<PipeProcess> encoder_;

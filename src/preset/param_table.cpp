@@ -52,7 +52,11 @@ std::string nearestWord(const std::string& word, const std::vector<std::string>&
     }
   }
   // Accept up to about a third of the word's letters wrong, at least 2.
-  return bestDistance <= std::max<size_t>(2, word.size() / 3) ? best : "";
+  if (bestDistance <= std::max<size_t>(2, word.size() / 3)) return best;
+  // A key typed without its unit suffix ("sigma" for "sigma_px") is still a clear match.
+  for (const auto& c : candidates)
+    if (word.size() >= 3 && c.rfind(word, 0) == 0) return c;
+  return "";
 }
 
 namespace {

@@ -3,12 +3,13 @@
 // memory over a long run.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <memory>
 #include <numbers>
 #include <string>
-#include <unistd.h>
 
 #include "gpu/rain_renderer.h"
 #include "util/error.h"
@@ -31,7 +32,9 @@ class RainRendererTest : public ::testing::Test {
 RainRenderer* RainRendererTest::renderer_ = nullptr;
 
 // A 2x2 atlas of ones: bilinear sampling anywhere gives exactly 1.
-StrokeAtlas solidAtlas() { return {2, 2, {1, 1, 1, 1}, {{0, 0, 2, 2}}}; }
+StrokeAtlas solidAtlas() {
+  return {2, 2, {1, 1, 1, 1}, {{0, 0, 2, 2}}};
+}
 
 ShadingParams constantShading(std::array<float, 3> l0, float backgroundWeight) {
   ShadingParams shading;
@@ -97,8 +100,9 @@ TEST_F(RainRendererTest, StreakBehindTheSceneLeavesTheFrameUnchanged) {
 
   // The same streak in front of the scene is drawn; an infinite depth counts as far away.
   frame.plane("depth")[10 * 32 + 16] = INFINITY;
-  renderer().render(frame, {verticalStreak(16.0f, 4.0f, 18.0f, 4.0f, 1.0f, 4.0f),
-                            verticalStreak(16.0f, 4.0f, 18.0f, 4.0f, 0.5f, 1e30f)},
+  renderer().render(frame,
+                    {verticalStreak(16.0f, 4.0f, 18.0f, 4.0f, 1.0f, 4.0f),
+                     verticalStreak(16.0f, 4.0f, 18.0f, 4.0f, 0.5f, 1e30f)},
                     constantShading({5, 5, 5}, 0.7f));
   EXPECT_EQ(frame.plane("rain.A")[10 * 32 + 16], 1.0f);
   EXPECT_EQ(frame.plane("rain.A")[11 * 32 + 16], 1.0f);
@@ -116,12 +120,12 @@ TEST_F(RainRendererTest, ConstantEnvironmentIsAWhiteFurnace) {
   shading.transferZonal = {1.0f, 0.8f, -0.4f, 0.3f};
   shading.backgroundWeight = 0.0f;
   std::vector<StreakInstance> drops;
-  const float views[][3] = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {0, -1, 0}, {0.6f, 0.0f, 0.8f},
-                            {0.48f, -0.6f, 0.64f}};
+  const float views[][3] = {{0, 0, 1},  {0, 0, -1},         {1, 0, 0},
+                            {0, -1, 0}, {0.6f, 0.0f, 0.8f}, {0.48f, -0.6f, 0.64f}};
   for (int k = 0; k < 6; ++k) {
     const float x = 3.0f + 5.0f * k;
-    drops.push_back({x, 8.0f, x, 8.0f, 3.0f, 1.0f, 1.0f, 0.0f, views[k][0], views[k][1],
-                     views[k][2], 0.0f});
+    drops.push_back(
+        {x, 8.0f, x, 8.0f, 3.0f, 1.0f, 1.0f, 0.0f, views[k][0], views[k][1], views[k][2], 0.0f});
   }
   renderer().setStrokeAtlas(solidAtlas());
   Image frame = uniformFrame(32, 24, {0, 0, 0, 1});
@@ -177,16 +181,16 @@ std::vector<StreakInstance> crossingStreaks() {
   for (int i = 0; i < 40; ++i) {
     const float x = 2.0f + (i * 7) % 28, y = 1.0f + (i * 5) % 20;
     const float angle = 0.3f * i;
-    streaks.push_back({x, y, x + 9.0f * std::cos(angle), y + 9.0f * std::sin(angle),
-                       1.0f + i % 5, 0.2f + 0.02f * i, 1.0f + i % 4, 0.0f, std::sin(angle), 0.3f,
-                       std::cos(angle), 0.0f});
+    streaks.push_back({x, y, x + 9.0f * std::cos(angle), y + 9.0f * std::sin(angle), 1.0f + i % 5,
+                       0.2f + 0.02f * i, 1.0f + i % 4, 0.0f, std::sin(angle), 0.3f, std::cos(angle),
+                       0.0f});
   }
   return streaks;
 }
 
 TEST_F(RainRendererTest, RenderingTwiceIsByteIdentical) {
-  renderer().setStrokeAtlas({3, 3, {0.1f, 0.5f, 0.1f, 0.4f, 1.0f, 0.4f, 0.1f, 0.5f, 0.1f},
-                             {{0, 0, 3, 3}}});
+  renderer().setStrokeAtlas(
+      {3, 3, {0.1f, 0.5f, 0.1f, 0.4f, 1.0f, 0.4f, 0.1f, 0.5f, 0.1f}, {{0, 0, 3, 3}}});
   ShadingParams shading = constantShading({0.9f, 1.1f, 1.3f}, 0.7f);
   Image first = uniformFrame(32, 24, {0.3f, 0.2f, 0.1f, 1.0f});
   first.plane("depth").assign(first.pixelCount(), 2.5f);
@@ -195,9 +199,8 @@ TEST_F(RainRendererTest, RenderingTwiceIsByteIdentical) {
   renderer().render(second, crossingStreaks(), shading);
   EXPECT_EQ(std::memcmp(first.rgba.data(), second.rgba.data(), first.rgba.size() * 4), 0);
   for (const char* name : {"rain.R", "rain.G", "rain.B", "rain.A", "matte"}) {
-    EXPECT_EQ(std::memcmp(first.plane(name).data(), second.plane(name).data(),
-                          first.pixelCount() * 4),
-              0)
+    EXPECT_EQ(
+        std::memcmp(first.plane(name).data(), second.plane(name).data(), first.pixelCount() * 4), 0)
         << name;
   }
 }
@@ -250,6 +253,27 @@ TEST_F(RainRendererTest, RejectsInconsistentInputs) {
 TEST_F(RainRendererTest, DescribesItsDevice) {
   const std::string description = renderer().deviceDescription();
   EXPECT_NE(description.find("OpenGL 4."), std::string::npos) << description;
+}
+
+TEST_F(RainRendererTest, SeveralRenderersShareTheDisplay) {
+  // Renderers on one thread switch contexts as they go, and destroying one must not
+  // terminate the EGL display under the others.
+  const ShadingParams shading = constantShading({1, 1, 1}, 0.0f);
+  const std::vector<StreakInstance> streak{verticalStreak(4.0f, 1.0f, 6.0f, 2.0f, 1.0f, 1.0f)};
+  auto second = std::make_unique<RainRenderer>(8, 8);
+  second->setStrokeAtlas(solidAtlas());
+  renderer().setStrokeAtlas(solidAtlas());
+  for (int round = 0; round < 2; ++round) {
+    Image small(8, 8), large(32, 24);
+    second->render(small, streak, shading);
+    renderer().render(large, streak, shading);
+    EXPECT_EQ(small.plane("matte")[3 * 8 + 4], 1.0f);
+    EXPECT_EQ(large.plane("matte")[3 * 32 + 4], 1.0f);
+  }
+  second.reset();
+  Image frame(32, 24);
+  renderer().render(frame, streak, shading);
+  EXPECT_EQ(frame.plane("matte")[3 * 32 + 4], 1.0f);
 }
 
 size_t residentBytes() {

@@ -106,7 +106,8 @@ TEST(ShBasis, GlslBasisEqualsShEvaluate) {
     Image frame(kSize, kSize);
     renderer.render(frame, drops, shading);
     for (size_t k = 0; k < drops.size(); ++k) {
-      const float* p = frame.pixel(static_cast<int>(drops[k].headX), static_cast<int>(drops[k].headY));
+      const float* p =
+          frame.pixel(static_cast<int>(drops[k].headX), static_cast<int>(drops[k].headY));
       const float expected = shEvaluate(views[k][0], views[k][1], views[k][2])[i];
       EXPECT_NEAR(p[0] - p[1], expected, 1e-5f) << "Y" << i << " at drop " << k;
     }

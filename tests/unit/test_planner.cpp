@@ -1,0 +1,82 @@
+#include <gtest/gtest.h>
+
+#include "pipeline/cache.h"
+#include "pipeline/planner.h"
+#include "stages/registry.h"
+#include "test_support.h"
+
+using namespace pluvia;
+
+namespace {
+ClipInfo fakeClipInfo() {
+  ClipInfo clip;
+  clip.path = "plate.####.exr";
+  clip.frames = {1001, 1002};
+  clip.width = 64;
+  clip.height = 48;
+  return clip;
+}
+
+const PlanEntry& entry(const Plan& plan, const std::string& stage) {
+  for (const auto& e : plan.entries)
+    if (e.stage == stage) return e;
+  throw std::runtime_error("no stage " + stage);
+}
+
+Plan planWith(const std::vector<std::string>& sets, const ArtifactCache* cache = nullptr) {
+  Preset preset = Preset::resolve("moderate", sets, presetSchema());
+  return makePlan(preset, fakeClipInfo(), cache, allStages());
+}
+}  // namespace
+
+TEST(Planner, ModerateRunsEverythingButDerain) {
+  Plan plan = planWith({});
+  for (const char* s : {"lighting", "depth", "darken", "blur", "fog", "rain", "write"}) EXPECT_TRUE(plan.runs(s)) << s;
+  EXPECT_FALSE(plan.runs("derain"));
+  EXPECT_NE(entry(plan, "derain").reason.find("nothing reads its output"), std::string::npos);
+}
+
+TEST(Planner, NoOpParametersAreLeftOutWithReasons) {
+  Plan plan = planWith({"fog.density=0", "blur.sigma_px=0", "darken.amount=0"});
+  EXPECT_EQ(entry(plan, "fog").reason, "no-op: density is 0");
+  EXPECT_EQ(entry(plan, "blur").reason, "no-op: sigma_px is 0");
+  EXPECT_EQ(entry(plan, "darken").reason, "no-op: amount is 0");
+  EXPECT_TRUE(plan.runs("rain"));
+  EXPECT_TRUE(plan.runs("lighting"));  // the rain still reads it
+}
+
+TEST(Planner, StagesWhoseOutputNobodyReadsAreLeftOut) {
+  // No rain and a constant fog colour: nothing reads the environment; depth still feeds fog.
+  Plan plan = planWith({"rain.rate_mm_h=0", "fog.color_source=constant"});
+  EXPECT_FALSE(plan.runs("rain"));
+  EXPECT_FALSE(plan.runs("lighting"));
+  EXPECT_NE(entry(plan, "lighting").reason.find("nothing reads its output (environment)"), std::string::npos);
+  EXPECT_TRUE(plan.runs("depth"));
+  // And with no fog either, depth goes too.
+  Plan bare = planWith({"rain.rate_mm_h=0", "fog.density=0"});
+  EXPECT_FALSE(bare.runs("depth"));
+  EXPECT_FALSE(bare.runs("lighting"));
+}
+
+TEST(Planner, DisabledStagesAndDerainOnDemand) {
+  Plan plan = planWith({"rain.enabled=false"});
+  EXPECT_EQ(entry(plan, "rain").reason, "disabled (rain.enabled = false)");
+  Plan derain = planWith({"rain.strokes=derain"});
+  EXPECT_TRUE(derain.runs("derain"));
+}
+
+TEST(Planner, CachedPerClipResultIsNotRecomputed) {
+  auto dir = test::freshTempDir("planner_cache");
+  ArtifactCache cache(dir);
+  Preset preset = Preset::resolve("moderate", {}, presetSchema());
+  const StageInfo* lighting = findStage("lighting");
+  std::string key = lighting->cacheKey(preset, fakeClipInfo());
+  EXPECT_TRUE(planWith({}, &cache).runs("lighting"));
+  cache.store("lighting", key, {{"average_rgb", {0.1, 0.2, 0.3}}});
+  Plan plan = planWith({}, &cache);
+  EXPECT_FALSE(plan.runs("lighting"));
+  EXPECT_TRUE(entry(plan, "lighting").cached);
+  EXPECT_TRUE(plan.available("lighting"));
+  // Other lighting parameters: another key, computed again.
+  EXPECT_TRUE(planWith({"lighting.sample_frames=3"}, &cache).runs("lighting"));
+}
