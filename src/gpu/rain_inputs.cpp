@@ -59,8 +59,9 @@ void validateStreaks(const std::vector<StreakInstance>& streaks, int strokeCount
       throwRainError(fmt::format("streak {} has a non-finite end point", i));
     }
     const float index = streak.strokeIndex;
-    // Both renderers truncate the index to an integer, as GLSL's int() does.
-    if (!(index >= 0.0f && static_cast<int>(index) < strokeCount)) {
+    // Both renderers truncate the index to an integer, as GLSL's int() does; for index >= 0
+    // that stays below the count exactly when the float does.
+    if (!(index >= 0.0f && index < static_cast<float>(strokeCount))) {
       throwRainError(fmt::format("streak {} uses stroke {} but the atlas has {} strokes", i, index,
                                  strokeCount));
     }

@@ -35,8 +35,9 @@ StrokeAtlas threeStrokeAtlas() {
       const float across = (x + 0.5f - 3.0f) / 1.5f, along = (y + 0.5f - 10.0f) / 7.0f;
       at(x, y) = std::exp(-across * across - along * along);
     }
-    for (int x = 6; x < 14; ++x)
+    for (int x = 6; x < 14; ++x) {
       at(x, y) = (y < 16) ? (0.1f + 0.05f * y) * (x % 2 ? 1.0f : 0.6f) : 0.0f;
+    }
     for (int x = 14; x < 24; ++x) {
       const float r = std::hypot(x + 0.5f - 19.0f, y + 0.5f - 10.0f);
       at(x, y) = r < 2.0f ? 0.0f : std::max(0.0f, 1.0f - std::abs(r - 4.0f) / 3.0f);
@@ -65,9 +66,10 @@ std::vector<StreakInstance> mixedStreaks() {
                        0.25f + 0.06f * i, i % 3 == 0 ? 12.0f : 3.0f, static_cast<float>(i % 3),
                        vx / n, vy / n, vz / n, 0.0f});
   }
-  streaks[3].alpha = 1.7f;  // matte * alpha clamps to 1
-  streaks[7].alpha = 0.0f;  // drawn by neither
-  streaks[5].tailX = streaks[5].headX, streaks[5].tailY = streaks[5].headY;  // still drop
+  streaks[3].alpha = 1.7f;              // matte * alpha clamps to 1
+  streaks[7].alpha = 0.0f;              // drawn by neither
+  streaks[5].tailX = streaks[5].headX;  // a still drop
+  streaks[5].tailY = streaks[5].headY;
   streaks[11] = streaks[2];  // an exact overlap, drawn after: order matters
   streaks[11].strokeIndex = 2;
   streaks[11].widthPx = 2.5f;
@@ -280,7 +282,10 @@ TEST_F(GpuVsCpu, SceneDepthHidesTheFarStreaksOnTheLeft) {
   renderRainCpu(cpu, streaks, orderZeroShading(), threeStrokeAtlas());
   const auto& matte = frame.plane("matte");
   float left = 0, right = 0;
-  for (int y = 4; y < 28; ++y) left += matte[y * kWidth + 10], right += matte[y * kWidth + 36];
+  for (int y = 4; y < 28; ++y) {
+    left += matte[y * kWidth + 10];
+    right += matte[y * kWidth + 36];
+  }
   EXPECT_EQ(left, 0.0f);
   EXPECT_GT(right, 1.0f);
   EXPECT_EQ(compare(frame, cpu, streaks).mismatches, 0);

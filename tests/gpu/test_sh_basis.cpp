@@ -87,7 +87,10 @@ TEST(ShBasis, GlslBasisEqualsShEvaluate) {
   std::vector<std::array<float, 3>> views;
   for (int k = 0; k < kGrid * kGrid; ++k) {
     float v[3] = {normal(random), normal(random), normal(random)};
-    if (k < 6) v[0] = v[1] = v[2] = 0, v[k / 2] = k % 2 ? -1.0f : 1.0f;  // the six axes
+    if (k < 6) {  // the six axis directions first
+      v[0] = v[1] = v[2] = 0.0f;
+      v[k / 2] = k % 2 ? -1.0f : 1.0f;
+    }
     const float n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     views.push_back({v[0] / n, v[1] / n, v[2] / n});
     const float cx = (k % kGrid) * kCell + 2.5f, cy = (k / kGrid) * kCell + 2.5f;
