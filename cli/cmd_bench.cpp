@@ -88,6 +88,11 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     std::cout << fmt::format("{:<22} {:>10} {:>10}\n", "stage", "ms/frame", "frames/s");
     for (const auto& [stage, entry] : times.snapshot()) {
       const double ms = 1000.0 * entry.first / std::max(1, frames);
+      if (stage.ends_with("(prepare)")) {
+        // Once per clip: its total, not a per-frame rate.
+        std::cout << fmt::format("{:<22} {:>10.2f} ms once\n", stage, 1000.0 * entry.first);
+        continue;
+      }
       std::cout << fmt::format("{:<22} {:>10.2f} {:>10.1f}\n", stage, ms, ms > 0 ? 1000.0 / ms : 0.0);
     }
     const double pluviaFps = frames / pluviaSeconds;
