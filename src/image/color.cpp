@@ -24,7 +24,8 @@ constexpr OCIO::OptimizationFlags kOptimization = OCIO::OPTIMIZATION_LOSSLESS;
 // Rows below which a band is not worth a thread of its own.
 constexpr int kMinRowsPerBand = 64;
 
-OCIO::ColorSpaceRcPtr makeColorSpace(const std::string& name, const std::string& family, const std::string& description) {
+OCIO::ColorSpaceRcPtr makeColorSpace(const std::string& name, const std::string& family,
+                                     const std::string& description) {
   OCIO::ColorSpaceRcPtr space = OCIO::ColorSpace::Create();
   space->setName(name.c_str());
   space->setFamily(family.c_str());
@@ -44,25 +45,30 @@ OCIO::TransformRcPtr transferCurve(double gamma, double offset) {
 
 OCIO::ConstConfigRcPtr buildBuiltinConfig() {
   OCIO::ConfigRcPtr config = OCIO::Config::Create();
-  config->setDescription("pluvia built-in colour config (OCIO built-in transforms; reference: linear Rec.709)");
+  config->setDescription(
+      "pluvia built-in colour config (OCIO built-in transforms; reference: linear Rec.709)");
 
-  OCIO::ColorSpaceRcPtr linear = makeColorSpace("linear-rec709", "scene-linear", "Scene-linear, Rec.709 primaries, D65");
+  OCIO::ColorSpaceRcPtr linear =
+      makeColorSpace("linear-rec709", "scene-linear", "Scene-linear, Rec.709 primaries, D65");
   linear->setEncoding("scene-linear");
   config->addColorSpace(linear);
 
-  OCIO::ColorSpaceRcPtr acescg = makeColorSpace("ACEScg", "scene-linear", "Scene-linear, ACES AP1 primaries");
+  OCIO::ColorSpaceRcPtr acescg =
+      makeColorSpace("ACEScg", "scene-linear", "Scene-linear, ACES AP1 primaries");
   acescg->setEncoding("scene-linear");
   OCIO::BuiltinTransformRcPtr ap1ToRec709 = OCIO::BuiltinTransform::Create();
   ap1ToRec709->setStyle("UTILITY - ACES-AP1_to_LINEAR-REC709_BFD");
   acescg->setTransform(ap1ToRec709, OCIO::COLORSPACE_DIR_TO_REFERENCE);
   config->addColorSpace(acescg);
 
-  OCIO::ColorSpaceRcPtr srgb = makeColorSpace("sRGB", "display", "sRGB piecewise transfer curve, Rec.709 primaries");
+  OCIO::ColorSpaceRcPtr srgb =
+      makeColorSpace("sRGB", "display", "sRGB piecewise transfer curve, Rec.709 primaries");
   srgb->setEncoding("sdr-video");
   srgb->setTransform(transferCurve(2.4, 0.055), OCIO::COLORSPACE_DIR_TO_REFERENCE);
   config->addColorSpace(srgb);
 
-  OCIO::ColorSpaceRcPtr rec709 = makeColorSpace("rec709", "display", "Rec.709 camera OETF, Rec.709 primaries");
+  OCIO::ColorSpaceRcPtr rec709 =
+      makeColorSpace("rec709", "display", "Rec.709 camera OETF, Rec.709 primaries");
   rec709->setEncoding("sdr-video");
   rec709->setTransform(transferCurve(1.0 / 0.45, 0.099), OCIO::COLORSPACE_DIR_TO_REFERENCE);
   config->addColorSpace(rec709);
@@ -92,10 +98,11 @@ OCIO::ConstConfigRcPtr configFor(const std::string& configPath) {
   if (found != configs.end()) return found->second;
   OCIO::ConstConfigRcPtr config;
   try {
-    config = configPath.empty() ? buildBuiltinConfig() : OCIO::Config::CreateFromFile(configPath.c_str());
+    config = configPath.empty() ? buildBuiltinConfig()
+                                : OCIO::Config::CreateFromFile(configPath.c_str());
   } catch (const OCIO::Exception& e) {
-    throw Error(std::string("cannot load the OpenColorIO config ") + (configPath.empty() ? "(built-in)" : configPath) +
-                    ": " + e.what(),
+    throw Error(std::string("cannot load the OpenColorIO config ") +
+                    (configPath.empty() ? "(built-in)" : configPath) + ": " + e.what(),
                 {"color", {}, configPath});
   }
   return configs.emplace(configPath, config).first->second;
@@ -103,21 +110,28 @@ OCIO::ConstConfigRcPtr configFor(const std::string& configPath) {
 
 std::vector<std::string> namesIn(const OCIO::ConstConfigRcPtr& config) {
   std::vector<std::string> names;
-  for (int i = 0; i < config->getNumColorSpaces(); ++i) names.emplace_back(config->getColorSpaceNameByIndex(i));
+  for (int i = 0; i < config->getNumColorSpaces(); ++i)
+    names.emplace_back(config->getColorSpaceNameByIndex(i));
   return names;
 }
 
 // The colour space's own name (OCIO also resolves roles and aliases); throws when unknown.
-std::string resolveName(const OCIO::ConstConfigRcPtr& config, const std::string& name, const std::string& configPath) {
-  if (OCIO::ConstColorSpaceRcPtr space = config->getColorSpace(name.c_str())) return space->getName();
+std::string resolveName(const OCIO::ConstConfigRcPtr& config, const std::string& name,
+                        const std::string& configPath) {
+  if (OCIO::ConstColorSpaceRcPtr space = config->getColorSpace(name.c_str()))
+    return space->getName();
   std::string available;
-  for (const std::string& known : namesIn(config)) available += (available.empty() ? "" : ", ") + known;
-  throw Error("unknown colour space '" + name + "' (available: " + available + ")", {"color", {}, configPath});
+  for (const std::string& known : namesIn(config))
+    available += (available.empty() ? "" : ", ") + known;
+  throw Error("unknown colour space '" + name + "' (available: " + available + ")",
+              {"color", {}, configPath});
 }
 
-OCIO::ConstCPUProcessorRcPtr processorFor(const OCIO::ConstConfigRcPtr& config, const std::string& configPath,
-                                          const std::string& from, const std::string& to) {
-  static std::map<std::tuple<std::string, std::string, std::string>, OCIO::ConstCPUProcessorRcPtr> processors;
+OCIO::ConstCPUProcessorRcPtr processorFor(const OCIO::ConstConfigRcPtr& config,
+                                          const std::string& configPath, const std::string& from,
+                                          const std::string& to) {
+  static std::map<std::tuple<std::string, std::string, std::string>, OCIO::ConstCPUProcessorRcPtr>
+      processors;
   const auto key = std::make_tuple(configPath, from, to);
   {
     std::lock_guard lock(cacheMutex);
@@ -129,7 +143,8 @@ OCIO::ConstCPUProcessorRcPtr processorFor(const OCIO::ConstConfigRcPtr& config, 
     cpu = config->getProcessor(from.c_str(), to.c_str())
               ->getOptimizedCPUProcessor(OCIO::BIT_DEPTH_F32, OCIO::BIT_DEPTH_F32, kOptimization);
   } catch (const OCIO::Exception& e) {
-    throw Error("cannot convert colour from '" + from + "' to '" + to + "': " + e.what(), {"color", {}, configPath});
+    throw Error("cannot convert colour from '" + from + "' to '" + to + "': " + e.what(),
+                {"color", {}, configPath});
   }
   std::lock_guard lock(cacheMutex);
   return processors.emplace(key, cpu).first->second;
@@ -142,7 +157,8 @@ struct ColorConverter::Impl {
   bool noOp = false;
 };
 
-ColorConverter::ColorConverter(const std::string& from, const std::string& to, const std::string& configPath)
+ColorConverter::ColorConverter(const std::string& from, const std::string& to,
+                               const std::string& configPath)
     : impl_(std::make_unique<Impl>()) {
   OCIO::ConstConfigRcPtr config = configFor(configPath);
   const std::string fromName = resolveName(config, from, configPath);
@@ -159,7 +175,9 @@ ColorConverter::~ColorConverter() = default;
 ColorConverter::ColorConverter(ColorConverter&&) noexcept = default;
 ColorConverter& ColorConverter::operator=(ColorConverter&&) noexcept = default;
 
-bool ColorConverter::isNoOp() const { return impl_->noOp; }
+bool ColorConverter::isNoOp() const {
+  return impl_->noOp;
+}
 
 void ColorConverter::apply(Image& image) const {
   if (impl_->noOp || image.empty()) return;
@@ -174,8 +192,9 @@ void ColorConverter::apply(Image& image) const {
     const int rows = std::min(rowsPerBand, image.height - firstRow);
     if (rows <= 0) return;
     try {
-      OCIO::PackedImageDesc rgb(image.pixel(0, firstRow), image.width, rows, OCIO::CHANNEL_ORDERING_RGB,
-                                OCIO::BIT_DEPTH_F32, sizeof(float), pixelBytes, pixelBytes * image.width);
+      OCIO::PackedImageDesc rgb(image.pixel(0, firstRow), image.width, rows,
+                                OCIO::CHANNEL_ORDERING_RGB, OCIO::BIT_DEPTH_F32, sizeof(float),
+                                pixelBytes, pixelBytes * image.width);
       impl_->processor->apply(rgb);
     } catch (...) {
       failures[band] = std::current_exception();
@@ -195,7 +214,9 @@ void ColorConverter::apply(Image& image) const {
   }
 }
 
-std::vector<std::string> colorSpaceNames(const std::string& configPath) { return namesIn(configFor(configPath)); }
+std::vector<std::string> colorSpaceNames(const std::string& configPath) {
+  return namesIn(configFor(configPath));
+}
 
 void saveBuiltinConfig(const std::string& path) {
   std::ostringstream text;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <functional>
 #include <system_error>
 
 #include <fmt/format.h>
@@ -28,14 +29,14 @@ class ImageFilesReader final : public ClipReader {
     const std::string path = pathFor_(frame);
     if (!std::binary_search(info_.frames.begin(), info_.frames.end(), frame)) {
       const bool inGap = frame > info_.frames.front() && frame < info_.frames.back();
-      throw Error(fmt::format("frame {} {} {}: expected file {}", frame, inGap ? "is missing from" : "is not in",
-                              info_.path, path),
+      throw Error(fmt::format("frame {} {} {}: expected file {}", frame,
+                              inGap ? "is missing from" : "is not in", info_.path, path),
                   {"read", frame, path});
     }
     Image image = readImageFile(path, frame);
     if (image.width != info_.width || image.height != info_.height) {
-      throw Error(fmt::format("frame {} is {}x{} but the clip is {}x{} (from its first frame): {}", frame, image.width,
-                              image.height, info_.width, info_.height, path),
+      throw Error(fmt::format("frame {} is {}x{} but the clip is {}x{} (from its first frame): {}",
+                              frame, image.width, image.height, info_.width, info_.height, path),
                   {"read", frame, path});
     }
     return image;
@@ -60,9 +61,11 @@ void warnAboutGaps(const ClipInfo& info) {
   const int64_t span = info.frames.back() - info.frames.front() + 1;
   const int64_t missing = span - static_cast<int64_t>(info.frames.size());
   if (missing == 0) return;
-  auto gap = std::adjacent_find(info.frames.begin(), info.frames.end(), [](int64_t a, int64_t b) { return b != a + 1; });
-  log::warning(fmt::format("sequence {} has {} missing frame(s) between {} and {}; the first is frame {}", info.path,
-                           missing, info.frames.front(), info.frames.back(), *gap + 1));
+  auto gap = std::adjacent_find(info.frames.begin(), info.frames.end(),
+                                [](int64_t a, int64_t b) { return b != a + 1; });
+  log::warning(
+      fmt::format("sequence {} has {} missing frame(s) between {} and {}; the first is frame {}",
+                  info.path, missing, info.frames.front(), info.frames.back(), *gap + 1));
 }
 
 std::unique_ptr<ClipReader> openSequence(const std::string& input, const SequencePattern& pattern) {
@@ -70,12 +73,14 @@ std::unique_ptr<ClipReader> openSequence(const std::string& input, const Sequenc
   info.path = input;
   info.frames = pattern.existingFrames();
   if (info.frames.empty()) {
-    throw Error("input not found: no files match the sequence pattern " + input, {"read", {}, input});
+    throw Error("input not found: no files match the sequence pattern " + input,
+                {"read", {}, input});
   }
   for (int64_t frame : info.frames) info.files.push_back(pattern.pathFor(frame));
   describeFirstFrame(info, info.files.front(), info.frames.front());
   warnAboutGaps(info);
-  return std::make_unique<ImageFilesReader>(std::move(info), [pattern](int64_t frame) { return pattern.pathFor(frame); });
+  return std::make_unique<ImageFilesReader>(
+      std::move(info), [pattern](int64_t frame) { return pattern.pathFor(frame); });
 }
 
 std::unique_ptr<ClipReader> openStill(const std::string& input) {
@@ -100,7 +105,8 @@ std::unique_ptr<ClipReader> openClip(const std::string& input) {
   }
   // A file that exists is taken literally, even if its name happens to contain '#' or '%d'.
   if (stdfs::exists(status)) return isMovieExtension(input) ? openMovie(input) : openStill(input);
-  if (std::optional<SequencePattern> pattern = SequencePattern::parse(input)) return openSequence(input, *pattern);
+  if (std::optional<SequencePattern> pattern = SequencePattern::parse(input))
+    return openSequence(input, *pattern);
   throw Error("input not found: " + input, {"read", {}, input});
 }
 

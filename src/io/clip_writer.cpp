@@ -53,11 +53,14 @@ FrameNaming namingFor(const std::string& output) {
   const std::filesystem::path path(output);
   const std::string stem = (path.parent_path() / path.stem()).string();
   return {[output](int64_t) { return output; },
-          [stem](const std::string& aov, const std::string& suffix, int64_t) { return stem + "." + aov + suffix; }};
+          [stem](const std::string& aov, const std::string& suffix, int64_t) {
+            return stem + "." + aov + suffix;
+          }};
 }
 
 std::string suffixOf(const std::string& output) {
-  if (std::optional<SequencePattern> pattern = SequencePattern::parse(output)) return pattern->suffix;
+  if (std::optional<SequencePattern> pattern = SequencePattern::parse(output))
+    return pattern->suffix;
   return std::filesystem::path(output).extension().string();
 }
 
@@ -73,9 +76,10 @@ std::vector<OutputChannel> aovChannels(const std::string& aov, const Image& imag
   for (const char* component : {"R", "G", "B", "A"}) {
     const std::vector<float>* plane = image.findPlane(aov + "." + component);
     if (!plane) {
-      throw Error(fmt::format("AOV '{}' was asked for, but frame {} has no plane '{}' nor '{}.R'..'{}.A'", aov, frame,
-                              aov, aov, aov),
-                  {"write", frame, path});
+      throw Error(
+          fmt::format("AOV '{}' was asked for, but frame {} has no plane '{}' nor '{}.R'..'{}.A'",
+                      aov, frame, aov, aov, aov),
+          {"write", frame, path});
     }
     channels.push_back({aov + "." + component, plane->data(), 1});
   }
@@ -95,24 +99,25 @@ class ImageSequenceWriter final : public ClipWriter {
   void write(int64_t frame, const Image& image) override {
     const std::string path = naming_.beauty(frame);
     if (image.width != width_ || image.height != height_) {
-      throw Error(fmt::format("frame {} is {}x{} but the output {} was opened for {}x{}", frame, image.width,
-                              image.height, path, width_, height_),
+      throw Error(fmt::format("frame {} is {}x{} but the output {} was opened for {}x{}", frame,
+                              image.width, image.height, path, width_, height_),
                   {"write", frame, path});
     }
-    const bool hasAlpha = formatKeepsAlpha(extension_);
-    std::vector<OutputChannel> channels;
-    for (const char* name : {"R", "G", "B", "A"}) {
-      if (channels.size() < 3 || hasAlpha) channels.push_back({name, image.rgba.data() + channels.size(), 4});
-    }
-    if (extension_ == "exr") {
-      for (const std::string& aov : options_.aovs) {
+    // Every AOV plane is looked up before anything is written: a missing one leaves no files.
+    std::vector<OutputChannel> channels = beautyChannels(image);
+    std::vector<std::pair<std::string, std::vector<OutputChannel>>> aovFiles;
+    for (const std::string& aov : options_.aovs) {
+      if (extension_ == "exr") {
         std::vector<OutputChannel> extra = aovChannels(aov, image, frame, path);
         channels.insert(channels.end(), extra.begin(), extra.end());
+      } else {
+        aovFiles.push_back(aovFile(aov, image, frame));
       }
-    } else {
-      writeAovFiles(frame, image);
     }
     writeImageFile(path, width_, height_, channels, options_.metadata, frame);
+    for (const auto& [aovPath, aovSamples] : aovFiles) {
+      writeImageFile(aovPath, width_, height_, aovSamples, options_.metadata, frame);
+    }
   }
 
   void close() override {}
@@ -120,18 +125,32 @@ class ImageSequenceWriter final : public ClipWriter {
   std::string pathFor(int64_t frame) const override { return naming_.beauty(frame); }
 
  private:
-  // Formats without extra channels get one file per AOV. Depth is in metres and always goes to
-  // EXR; formats without alpha drop an AOV's alpha as they drop the beauty's.
-  void writeAovFiles(int64_t frame, const Image& image) const {
-    for (const std::string& aov : options_.aovs) {
-      const bool isDepth = aov == "depth";
-      const std::string path = naming_.aov(aov, isDepth ? withExtension(suffix_, "exr") : suffix_, frame);
-      std::vector<OutputChannel> channels = aovChannels(aov, image, frame, path);
-      // In a file of its own the AOV's channels drop its name: "rain.R" -> "R", "depth.Z" -> "Z".
-      for (OutputChannel& channel : channels) channel.name = channel.name.substr(channel.name.rfind('.') + 1);
-      if (!isDepth && !formatKeepsAlpha(extension_) && channels.size() == 4) channels.pop_back();
-      writeImageFile(path, width_, height_, channels, options_.metadata, frame);
+  std::vector<OutputChannel> beautyChannels(const Image& image) const {
+    std::vector<OutputChannel> channels;
+    for (const char* name : {"R", "G", "B", "A"}) {
+      if (channels.size() < 3 || formatKeepsAlpha(extension_)) {
+        channels.push_back({name, image.rgba.data() + channels.size(), 4});
+      }
     }
+    return channels;
+  }
+
+  // Formats without extra channels get one file per AOV, in the output's format, except where
+  // that cannot hold it: depth is in metres and goes to EXR, and so do all AOVs of an HDR
+  // output (Radiance holds RGB only). Formats without alpha drop an AOV's alpha as they drop
+  // the beauty's.
+  std::pair<std::string, std::vector<OutputChannel>> aovFile(const std::string& aov,
+                                                             const Image& image,
+                                                             int64_t frame) const {
+    const bool asExr = aov == "depth" || extension_ == "hdr";
+    const std::string path =
+        naming_.aov(aov, asExr ? withExtension(suffix_, "exr") : suffix_, frame);
+    std::vector<OutputChannel> channels = aovChannels(aov, image, frame, path);
+    // In a file of its own the AOV's channels drop its name: "rain.R" -> "R", "depth.Z" -> "Z".
+    for (OutputChannel& channel : channels)
+      channel.name = channel.name.substr(channel.name.rfind('.') + 1);
+    if (!asExr && !formatKeepsAlpha(extension_) && channels.size() == 4) channels.pop_back();
+    return {path, channels};
   }
 
   FrameNaming naming_;
@@ -150,18 +169,22 @@ std::unique_ptr<ClipWriter> openClipWriter(const std::string& output, int width,
   const bool isSequenceFormat = contains(imageOutputExtensions(), extension);
   const bool isMovieFormat = contains(movieOutputExtensions(), extension);
   if (!isSequenceFormat && !isMovieFormat) {
-    throw Error(fmt::format("unknown output format '{}' for {} (supported: image sequences {}; movies {})",
-                            extension.empty() ? "(no extension)" : "." + extension, output,
-                            joined(imageOutputExtensions()), joined(movieOutputExtensions())),
-                {"write", {}, output});
+    throw Error(
+        fmt::format("unknown output format '{}' for {} (supported: image sequences {}; movies {})",
+                    extension.empty() ? "(no extension)" : "." + extension, output,
+                    joined(imageOutputExtensions()), joined(movieOutputExtensions())),
+        {"write", {}, output});
   }
   if (width <= 0 || height <= 0) {
-    throw Error(fmt::format("cannot write {}: frame size {}x{} is empty", output, width, height), {"write", {}, output});
+    throw Error(fmt::format("cannot write {}: frame size {}x{} is empty", output, width, height),
+                {"write", {}, output});
   }
   if (isMovieFormat && !options.aovs.empty()) {
-    throw Error(fmt::format("AOVs ({}) cannot go into the movie {}: write an image sequence such as out.####.exr",
-                            joined(options.aovs), output),
-                {"write", {}, output});
+    throw Error(
+        fmt::format(
+            "AOVs ({}) cannot go into the movie {}: write an image sequence such as out.####.exr",
+            joined(options.aovs), output),
+        {"write", {}, output});
   }
   const std::string firstPath = isMovieFormat ? output : namingFor(output).beauty(0);
   fs::ensureParentFolder(firstPath);

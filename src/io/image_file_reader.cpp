@@ -1,6 +1,7 @@
 #include "io/image_file_reader.h"
 
 #include <algorithm>
+#include <array>
 #include <filesystem>
 #include <memory>
 #include <system_error>
@@ -29,7 +30,8 @@ std::unique_ptr<OIIO::ImageInput> openImage(const std::string& path, std::option
     throw Error("cannot read image " + path + ": " + OIIO::geterror(), readContext(path, frame));
   }
   const OIIO::ImageSpec& spec = input->spec();
-  if (spec.full_width <= 0 || spec.full_height <= 0 || spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) {
+  if (spec.full_width <= 0 || spec.full_height <= 0 || spec.width <= 0 || spec.height <= 0 ||
+      spec.nchannels <= 0) {
     throw Error("image has no pixels (zero size): " + path, readContext(path, frame));
   }
   return input;
@@ -37,16 +39,18 @@ std::unique_ptr<OIIO::ImageInput> openImage(const std::string& path, std::option
 
 bool isFloatFormat(const OIIO::ImageSpec& spec) {
   OIIO::TypeDesc::BASETYPE base = static_cast<OIIO::TypeDesc::BASETYPE>(spec.format.basetype);
-  return base == OIIO::TypeDesc::HALF || base == OIIO::TypeDesc::FLOAT || base == OIIO::TypeDesc::DOUBLE;
+  return base == OIIO::TypeDesc::HALF || base == OIIO::TypeDesc::FLOAT ||
+         base == OIIO::TypeDesc::DOUBLE;
 }
 
-// Where each of R, G, B, A comes from among the channels read; -1: alpha absent (1).
-std::array<int, 4> channelSources(int channelsRead) {
-  switch (channelsRead) {
-    case 1: return {0, 0, 0, -1};
-    case 2: return {0, 0, 0, 1};
-    case 3: return {0, 1, 2, -1};
-    default: return {0, 1, 2, 3};
+// Turns what read_image() left in the RGBA slots (1 channel: gray in R; 2: gray in R, alpha in G)
+// into RGBA.
+void expandChannels(Image& image, int channelsRead) {
+  if (channelsRead > 2) return;
+  for (size_t i = 0; i < image.pixelCount(); ++i) {
+    float* p = image.rgba.data() + i * 4;
+    if (channelsRead == 2) p[3] = p[1];
+    p[1] = p[2] = p[0];
   }
 }
 
@@ -62,29 +66,40 @@ Image readImageFile(const std::string& path, std::optional<int64_t> frame) {
   std::unique_ptr<OIIO::ImageInput> input = openImage(path, frame);
   const OIIO::ImageSpec& spec = input->spec();
   const int channelsRead = std::min(spec.nchannels, 4);
-  std::vector<float> data(spec.image_pixels() * channelsRead);
-  if (!input->read_image(0, 0, 0, channelsRead, OIIO::TypeDesc::FLOAT, data.data())) {
+  Image image(spec.full_width, spec.full_height);
+  const OIIO::stride_t pixelBytes = 4 * sizeof(float);
+  // The data window (EXR) may differ from the display window, which is the frame. Pixels
+  // outside the data window stay black, transparent where the file has alpha.
+  const bool windowIsFrame = spec.x == spec.full_x && spec.y == spec.full_y &&
+                             spec.width == spec.full_width && spec.height == spec.full_height;
+  if (!windowIsFrame && (channelsRead == 2 || channelsRead == 4)) {
+    for (size_t i = 0; i < image.pixelCount(); ++i) image.rgba[i * 4 + 3] = 0.0f;
+  }
+  const bool windowInsideFrame = spec.x >= spec.full_x && spec.y >= spec.full_y &&
+                                 spec.x + spec.width <= spec.full_x + spec.full_width &&
+                                 spec.y + spec.height <= spec.full_y + spec.full_height;
+  // Straight into the frame's RGBA slots: no intermediate buffer (a 1080p one costs more to
+  // allocate than to fill). Only a data window reaching outside the frame needs one.
+  std::vector<float> overscan;
+  float* target = windowInsideFrame ? image.pixel(spec.x - spec.full_x, spec.y - spec.full_y)
+                                    : (overscan.resize(spec.image_pixels() * 4), overscan.data());
+  const OIIO::stride_t rowBytes = pixelBytes * (windowInsideFrame ? image.width : spec.width);
+  if (!input->read_image(0, 0, 0, channelsRead, OIIO::TypeDesc::FLOAT, target, pixelBytes,
+                         rowBytes)) {
     throw Error("cannot decode image " + path + " (corrupt or truncated?): " + input->geterror(),
                 readContext(path, frame));
   }
-  const std::array<int, 4> source = channelSources(channelsRead);
-  // The data window (EXR) may be smaller or larger than the display window, which is the
-  // frame: pixels outside the data window are black, transparent only if the file has alpha.
-  Image image(spec.full_width, spec.full_height);
-  if (spec.x != spec.full_x || spec.y != spec.full_y || spec.width != spec.full_width ||
-      spec.height != spec.full_height) {
-    const float outsideAlpha = source[3] >= 0 ? 0.0f : 1.0f;
-    for (size_t i = 0; i < image.pixelCount(); ++i) image.rgba[i * 4 + 3] = outsideAlpha;
-  }
-  const int x0 = std::max(spec.x, spec.full_x), x1 = std::min(spec.x + spec.width, spec.full_x + spec.full_width);
-  const int y0 = std::max(spec.y, spec.full_y), y1 = std::min(spec.y + spec.height, spec.full_y + spec.full_height);
-  for (int y = y0; y < y1; ++y) {
-    const float* src = data.data() + (static_cast<size_t>(y - spec.y) * spec.width + (x0 - spec.x)) * channelsRead;
-    float* dst = image.pixel(x0 - spec.full_x, y - spec.full_y);
-    for (int x = x0; x < x1; ++x, src += channelsRead, dst += 4) {
-      for (int c = 0; c < 4; ++c) dst[c] = source[c] >= 0 ? src[source[c]] : 1.0f;
+  if (!windowInsideFrame) {
+    const int x0 = std::max(spec.x, spec.full_x);
+    const int x1 = std::min(spec.x + spec.width, spec.full_x + spec.full_width);
+    for (int y = std::max(spec.y, spec.full_y);
+         y < std::min(spec.y + spec.height, spec.full_y + spec.full_height) && x0 < x1; ++y) {
+      const float* src =
+          overscan.data() + (static_cast<size_t>(y - spec.y) * spec.width + (x0 - spec.x)) * 4;
+      std::copy(src, src + (x1 - x0) * 4, image.pixel(x0 - spec.full_x, y - spec.full_y));
     }
   }
+  expandChannels(image, channelsRead);
   return image;
 }
 

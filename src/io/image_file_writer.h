@@ -12,10 +12,10 @@ namespace pluvia {
 
 // One channel of the file, gathered from pluvia's buffers.
 struct OutputChannel {
-  std::string name;          // "R", "rain.R", "depth.Z"
-  const float* samples;      // the first pixel's sample
-  size_t strideFloats;       // between pixels: 4 inside an RGBA buffer, 1 in a plane
-  bool fullFloat = false;    // EXR: 32-bit float instead of half (depth in metres)
+  std::string name;        // "R", "rain.R", "depth.Z"
+  const float* samples;    // the first pixel's sample
+  size_t strideFloats;     // between pixels: 4 inside an RGBA buffer, 1 in a plane
+  bool fullFloat = false;  // EXR: 32-bit float instead of half (depth in metres)
 };
 
 // Extensions writeImageFile() accepts, lower case.
@@ -24,7 +24,9 @@ const std::vector<std::string>& imageOutputExtensions();
 // Integer encodings clamp to 0..1 and round to the nearest code; float encodings keep values
 // (NaN and Inf included). String metadata goes into the header where the format has room.
 // Throws pluvia::Error naming the file (and frame).
-void writeImageFile(const std::string& path, int width, int height, const std::vector<OutputChannel>& channels,
-                    const std::map<std::string, std::string>& metadata, std::optional<int64_t> frame);
+void writeImageFile(const std::string& path, int width, int height,
+                    const std::vector<OutputChannel>& channels,
+                    const std::map<std::string, std::string>& metadata,
+                    std::optional<int64_t> frame);
 
 }  // namespace pluvia

@@ -40,7 +40,8 @@ class MovieReader final : public ClipReader {
   Image read(int64_t frame) override {
     std::lock_guard lock(mutex_);
     if (frame < 0 || frame >= static_cast<int64_t>(info_.frames.size())) {
-      throw Error(fmt::format("frame {} is not in movie {} (frames 0..{})", frame, info_.path, info_.frames.size() - 1),
+      throw Error(fmt::format("frame {} is not in movie {} (frames 0..{})", frame, info_.path,
+                              info_.frames.size() - 1),
                   {"read", frame, info_.path});
     }
     cv::Mat bgr;
@@ -51,8 +52,8 @@ class MovieReader final : public ClipReader {
     }
     pending_.release();
     if (bgr.cols != info_.width || bgr.rows != info_.height) {
-      throw Error(fmt::format("frame {} of {} is {}x{}, the movie started at {}x{}", frame, info_.path, bgr.cols, bgr.rows,
-                              info_.width, info_.height),
+      throw Error(fmt::format("frame {} of {} is {}x{}, the movie started at {}x{}", frame,
+                              info_.path, bgr.cols, bgr.rows, info_.width, info_.height),
                   {"read", frame, info_.path});
     }
     return toImage(bgr);
@@ -62,8 +63,9 @@ class MovieReader final : public ClipReader {
   void open() {
     capture_.release();
     if (!capture_.open(info_.path, cv::CAP_FFMPEG)) {
-      throw Error("cannot open movie " + info_.path + " (not a movie FFmpeg can decode, or truncated)",
-                  {"read", {}, info_.path});
+      throw Error(
+          "cannot open movie " + info_.path + " (not a movie FFmpeg can decode, or truncated)",
+          {"read", {}, info_.path});
     }
     next_ = 0;
   }
@@ -74,7 +76,8 @@ class MovieReader final : public ClipReader {
   int64_t countFrames() {
     double hint = capture_.get(cv::CAP_PROP_FRAME_COUNT);
     int64_t frames = 0;
-    if (std::isfinite(hint) && hint >= 1 && seekTo(static_cast<int64_t>(hint) - 1) && capture_.grab()) {
+    if (std::isfinite(hint) && hint >= 1 && seekTo(static_cast<int64_t>(hint) - 1) &&
+        capture_.grab()) {
       frames = static_cast<int64_t>(hint);
     } else {
       open();
@@ -105,7 +108,8 @@ class MovieReader final : public ClipReader {
     cv::Mat bgr;
     if (!capture_.grab() || !capture_.retrieve(bgr) || bgr.empty()) {
       next_ = -1;  // the decoder's position is unknown now: seek next time
-      throw Error(fmt::format("cannot decode frame {} of movie {} (truncated or corrupt file?)", frame, info_.path),
+      throw Error(fmt::format("cannot decode frame {} of movie {} (truncated or corrupt file?)",
+                              frame, info_.path),
                   {"read", frame, info_.path});
     }
     next_ = frame + 1;
@@ -115,9 +119,11 @@ class MovieReader final : public ClipReader {
   void skipTo(int64_t frame) {
     while (next_ < frame) {
       if (!capture_.grab()) {
-        int64_t failed = next_;
+        const int64_t failed = next_;
         next_ = -1;
-        throw Error(fmt::format("cannot decode frame {} of movie {} (truncated or corrupt file?)", failed, info_.path),
+        throw Error(fmt::format("cannot decode frame {} of movie {}: decoding stops at frame {} "
+                                "(truncated or corrupt file?)",
+                                frame, info_.path, failed),
                     {"read", frame, info_.path});
       }
       ++next_;
@@ -126,7 +132,8 @@ class MovieReader final : public ClipReader {
 
   Image toImage(const cv::Mat& decoded) const {
     if (decoded.depth() != CV_8U || (decoded.channels() != 3 && decoded.channels() != 1)) {
-      throw Error("unexpected pixel layout decoded from movie " + info_.path, {"read", {}, info_.path});
+      throw Error("unexpected pixel layout decoded from movie " + info_.path,
+                  {"read", {}, info_.path});
     }
     Image image(decoded.cols, decoded.rows);
     const int channels = decoded.channels();
@@ -153,6 +160,8 @@ class MovieReader final : public ClipReader {
 
 }  // namespace
 
-std::unique_ptr<ClipReader> openMovie(const std::string& path) { return std::make_unique<MovieReader>(path); }
+std::unique_ptr<ClipReader> openMovie(const std::string& path) {
+  return std::make_unique<MovieReader>(path);
+}
 
 }  // namespace pluvia

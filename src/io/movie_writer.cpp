@@ -31,7 +31,8 @@ std::string frameRateArgument(double fps) {
 
 std::string metadataComment(const std::map<std::string, std::string>& metadata) {
   std::string comment;
-  for (const auto& [key, value] : metadata) comment += (comment.empty() ? "" : "; ") + key + "=" + value;
+  for (const auto& [key, value] : metadata)
+    comment += (comment.empty() ? "" : "; ") + key + "=" + value;
   return comment;
 }
 
@@ -58,13 +59,20 @@ class MovieWriter final : public ClipWriter {
         tmp_(fs::temporaryPathFor(path)),
         log_(tmp_.string() + ".log") {
     if (!programAvailable("ffmpeg")) {
-      throw Error("ffmpeg is needed to write the movie " + path + " but is not on PATH", {"write", {}, path});
+      throw Error("ffmpeg is needed to write the movie " + path + " but is not on PATH",
+                  {"write", {}, path});
     }
-    std::vector<std::string> argv{"ffmpeg", "-y", "-v", "error", "-f", "rawvideo", "-pix_fmt", "rgb48le",
-                                  "-s", fmt::format("{}x{}", encodedWidth_, encodedHeight_), "-r",
-                                  frameRateArgument(options.fps), "-i", "-"};
-    argv.insert(argv.end(), {"-c:v", "libx264", "-preset", "medium", "-crf", "16", "-pix_fmt", "yuv420p"});
-    if (!options.metadata.empty()) argv.insert(argv.end(), {"-metadata", "comment=" + metadataComment(options.metadata)});
+    std::vector<std::string> argv{"ffmpeg",   "-y",
+                                  "-v",       "error",
+                                  "-f",       "rawvideo",
+                                  "-pix_fmt", "rgb48le",
+                                  "-s",       fmt::format("{}x{}", encodedWidth_, encodedHeight_),
+                                  "-r",       frameRateArgument(options.fps),
+                                  "-i",       "-"};
+    argv.insert(argv.end(),
+                {"-c:v", "libx264", "-preset", "medium", "-crf", "16", "-pix_fmt", "yuv420p"});
+    if (!options.metadata.empty())
+      argv.insert(argv.end(), {"-metadata", "comment=" + metadataComment(options.metadata)});
     argv.push_back(tmp_.string());
     encoder_.emplace(argv, log_.string());
   }
@@ -79,12 +87,13 @@ class MovieWriter final : public ClipWriter {
     const ErrorContext context{"write", frame, path_};
     if (!encoder_) throw Error("movie " + path_ + " is already closed or failed", context);
     if (lastFrame_ && frame <= *lastFrame_) {
-      throw Error(fmt::format("movie frames must come in order: frame {} after frame {} ({})", frame, *lastFrame_, path_),
+      throw Error(fmt::format("movie frames must come in order: frame {} after frame {} ({})",
+                              frame, *lastFrame_, path_),
                   context);
     }
     if (image.width != width_ || image.height != height_) {
-      throw Error(fmt::format("frame {} is {}x{} but the movie {} is {}x{}", frame, image.width, image.height, path_,
-                              width_, height_),
+      throw Error(fmt::format("frame {} is {}x{} but the movie {} is {}x{}", frame, image.width,
+                              image.height, path_, width_, height_),
                   context);
     }
     pack(image);
@@ -93,8 +102,8 @@ class MovieWriter final : public ClipWriter {
     } catch (const Error&) {
       int code = encoder_->close();
       encoder_.reset();
-      throw Error(fmt::format("ffmpeg stopped (exit code {}) while writing frame {} of {}:{}", code, frame, path_,
-                              lastLines(log_, kLogLinesInErrors)),
+      throw Error(fmt::format("ffmpeg stopped (exit code {}) while writing frame {} of {}:{}", code,
+                              frame, path_, lastLines(log_, kLogLinesInErrors)),
                   context);
     }
     lastFrame_ = frame;
@@ -111,7 +120,8 @@ class MovieWriter final : public ClipWriter {
     const int code = encoder_->close();
     encoder_.reset();
     if (code != 0) {
-      throw Error(fmt::format("ffmpeg failed (exit code {}) encoding {}:{}", code, path_, lastLines(log_, kLogLinesInErrors)),
+      throw Error(fmt::format("ffmpeg failed (exit code {}) encoding {}:{}", code, path_,
+                              lastLines(log_, kLogLinesInErrors)),
                   context);
     }
     fs::commitTemporary(tmp_, path_);
@@ -149,7 +159,7 @@ class MovieWriter final : public ClipWriter {
   std::string path_;
   int width_;
   int height_;
-  int encodedWidth_;   // even: what libx264 gets
+  int encodedWidth_;  // even: what libx264 gets
   int encodedHeight_;
   stdfs::path tmp_;  // encoded here, renamed to path_ by close()
   stdfs::path log_;  // ffmpeg's output, quoted in errors

@@ -31,12 +31,14 @@ std::optional<Token> findHashToken(const std::string& text) {
 
 // The last "%d" or "%0Nd" ("%04d": padding 4). "%4d" (space padding) is not a frame token.
 std::optional<Token> findPrintfToken(const std::string& text) {
-  for (size_t at = text.rfind('%'); at != std::string::npos; at = at == 0 ? std::string::npos : text.rfind('%', at - 1)) {
+  for (size_t at = text.rfind('%'); at != std::string::npos;
+       at = at == 0 ? std::string::npos : text.rfind('%', at - 1)) {
     size_t cursor = at + 1;
     int padding = 0;
     if (cursor < text.size() && text[cursor] == '0') {
       size_t digitsBegin = ++cursor;
-      while (cursor < text.size() && std::isdigit(static_cast<unsigned char>(text[cursor]))) ++cursor;
+      while (cursor < text.size() && std::isdigit(static_cast<unsigned char>(text[cursor])))
+        ++cursor;
       if (cursor == digitsBegin) continue;
       std::from_chars(text.data() + digitsBegin, text.data() + cursor, padding);
     }
@@ -79,8 +81,10 @@ std::vector<int64_t> SequencePattern::existingFrames() const {
     std::string name = entry.path().filename().string();
     if (name.size() <= namePrefix.size() + suffix.size()) continue;
     if (!name.starts_with(namePrefix) || !name.ends_with(suffix)) continue;
-    std::string_view digits(name.data() + namePrefix.size(), name.size() - namePrefix.size() - suffix.size());
-    if (digits.size() > 18 || !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+    std::string_view digits(name.data() + namePrefix.size(),
+                            name.size() - namePrefix.size() - suffix.size());
+    if (digits.size() > 18 ||
+        !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; })) {
       continue;
     }
     int64_t frame = 0;
@@ -103,9 +107,11 @@ std::string lowerExtension(const std::string& path) {
 }
 
 bool isMovieExtension(const std::string& path) {
-  static const std::array<std::string, 6> kMovieExtensions{"mp4", "mov", "avi", "mkv", "m4v", "webm"};
+  static const std::array<std::string, 6> kMovieExtensions{"mp4", "mov", "avi",
+                                                           "mkv", "m4v", "webm"};
   std::string extension = lowerExtension(path);
-  return std::find(kMovieExtensions.begin(), kMovieExtensions.end(), extension) != kMovieExtensions.end();
+  return std::find(kMovieExtensions.begin(), kMovieExtensions.end(), extension) !=
+         kMovieExtensions.end();
 }
 
 }  // namespace pluvia

@@ -34,14 +34,16 @@ void writeSamples(const stdfs::path& path, int width, int height, int channels, 
 // A ramp where every sample is a distinct multiple of 1/levels.
 std::vector<float> ramp(int width, int height, int channels, int levels) {
   std::vector<float> samples(static_cast<size_t>(width) * height * channels);
-  for (size_t i = 0; i < samples.size(); ++i) samples[i] = static_cast<float>((i * 37) % (levels + 1)) / levels;
+  for (size_t i = 0; i < samples.size(); ++i)
+    samples[i] = static_cast<float>((i * 37) % (levels + 1)) / levels;
   return samples;
 }
 
 void cutFile(const stdfs::path& from, const stdfs::path& to, double fraction) {
   std::ifstream in(from, std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::ofstream(to, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size() * fraction));
+  std::ofstream(to, std::ios::binary)
+      .write(bytes.data(), static_cast<std::streamsize>(bytes.size() * fraction));
 }
 
 // Runs `action`, expecting a pluvia::Error whose message names `needle`; returns the error.
@@ -101,8 +103,8 @@ TEST(ClipReaderMovie, FramesMatchFfmpegsOwnDecoding) {
   for (int64_t frame : {0, 10, 47}) {
     const stdfs::path png = dir / ("frame" + std::to_string(frame) + ".png");
     ASSERT_EQ(runProcess({"ffmpeg", "-v", "error", "-i", test::exampleClip().string(), "-vf",
-                          "select=eq(n\\," + std::to_string(frame) + ")", "-frames:v", "1", "-pix_fmt", "rgb24",
-                          png.string()})
+                          "select=eq(n\\," + std::to_string(frame) + ")", "-frames:v", "1",
+                          "-pix_fmt", "rgb24", png.string()})
                   .exitCode,
               0);
     Image expected = test::readImageFile(png);
@@ -112,7 +114,8 @@ TEST(ClipReaderMovie, FramesMatchFfmpegsOwnDecoding) {
     // Same decoder; only the YUV -> RGB step may differ in rounding. A red/blue swap or a wrong
     // frame would be far off.
     double difference = 0;
-    for (size_t i = 0; i < actual.rgba.size(); ++i) difference += std::abs(actual.rgba[i] - expected.rgba[i]);
+    for (size_t i = 0; i < actual.rgba.size(); ++i)
+      difference += std::abs(actual.rgba[i] - expected.rgba[i]);
     EXPECT_LT(difference / actual.rgba.size(), 0.5 / 255) << "frame " << frame;
   }
 }
@@ -152,8 +155,8 @@ TEST(ClipReaderMovie, StreamableMovieCutInHalfReadsFewerFramesOrFailsClearly) {
   auto dir = test::freshTempDir("reader_cut_faststart");
   const stdfs::path whole = dir / "faststart.mp4";
   // Index first, so a cut file still opens and claims all 48 frames.
-  ASSERT_EQ(runProcess({"ffmpeg", "-v", "error", "-i", test::exampleClip().string(), "-c", "copy", "-movflags",
-                        "+faststart", whole.string()})
+  ASSERT_EQ(runProcess({"ffmpeg", "-v", "error", "-i", test::exampleClip().string(), "-c", "copy",
+                        "-movflags", "+faststart", whole.string()})
                 .exitCode,
             0);
   const stdfs::path cut = dir / "cut.mp4";
@@ -182,7 +185,8 @@ TEST(ClipReaderImages, ExrHalfKeepsValuesNanAndInf) {
   auto dir = test::freshTempDir("reader_exr_half");
   const float inf = std::numeric_limits<float>::infinity();
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  std::vector<float> samples{0.5f, 2.0f, -0.25f, 1.0f, nan, inf, -inf, 0.75f, 65504.0f, 0.0009765625f, 1024.0f, 0.0f};
+  std::vector<float> samples{0.5f, 2.0f,  -0.25f,   1.0f,          nan,     inf,
+                             -inf, 0.75f, 65504.0f, 0.0009765625f, 1024.0f, 0.0f};
   writeSamples(dir / "hdr.0001.exr", 3, 1, 4, OIIO::TypeDesc::HALF, samples);
   auto clip = openClip((dir / "hdr.####.exr").string());
   EXPECT_TRUE(clip->info().isFloat);
@@ -212,7 +216,8 @@ TEST(ClipReaderImages, ExrFloatIsBitExact) {
 }
 
 // Integer files: every code comes back as code / max exactly.
-void expectIntegerRoundTrip(const stdfs::path& path, int channels, OIIO::TypeDesc type, int levels) {
+void expectIntegerRoundTrip(const stdfs::path& path, int channels, OIIO::TypeDesc type,
+                            int levels) {
   const int width = 7, height = 5;
   std::vector<float> samples = ramp(width, height, channels, levels);
   writeSamples(path, width, height, channels, type, samples);
@@ -223,26 +228,31 @@ void expectIntegerRoundTrip(const stdfs::path& path, int channels, OIIO::TypeDes
   ASSERT_EQ(image.width, width);
   ASSERT_EQ(image.height, height);
   for (size_t p = 0; p < image.pixelCount(); ++p) {
-    for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(image.rgba[p * 4 + c], samples[p * channels + c]) << p;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_FLOAT_EQ(image.rgba[p * 4 + c], samples[p * channels + c]) << p;
     EXPECT_FLOAT_EQ(image.rgba[p * 4 + 3], channels == 4 ? samples[p * channels + 3] : 1.0f) << p;
   }
 }
 
 TEST(ClipReaderImages, Png8BitRgb) {
-  expectIntegerRoundTrip(test::freshTempDir("reader_png8") / "a.png", 3, OIIO::TypeDesc::UINT8, 255);
+  expectIntegerRoundTrip(test::freshTempDir("reader_png8") / "a.png", 3, OIIO::TypeDesc::UINT8,
+                         255);
 }
 
 TEST(ClipReaderImages, Png16BitRgb) {
-  expectIntegerRoundTrip(test::freshTempDir("reader_png16") / "a.png", 3, OIIO::TypeDesc::UINT16, 65535);
+  expectIntegerRoundTrip(test::freshTempDir("reader_png16") / "a.png", 3, OIIO::TypeDesc::UINT16,
+                         65535);
 }
 
 TEST(ClipReaderImages, PngRgbaKeepsStraightAlpha) {
   // Colour under alpha 0.2 stays as stored: not premultiplied on the way in.
-  expectIntegerRoundTrip(test::freshTempDir("reader_png_rgba") / "a.png", 4, OIIO::TypeDesc::UINT8, 255);
+  expectIntegerRoundTrip(test::freshTempDir("reader_png_rgba") / "a.png", 4, OIIO::TypeDesc::UINT8,
+                         255);
 }
 
 TEST(ClipReaderImages, Tiff16Bit) {
-  expectIntegerRoundTrip(test::freshTempDir("reader_tiff16") / "a.tif", 4, OIIO::TypeDesc::UINT16, 65535);
+  expectIntegerRoundTrip(test::freshTempDir("reader_tiff16") / "a.tif", 4, OIIO::TypeDesc::UINT16,
+                         65535);
 }
 
 TEST(ClipReaderImages, GrayscalePngIsExpandedToRgb) {
@@ -260,7 +270,8 @@ TEST(ClipReaderImages, GrayscalePngIsExpandedToRgb) {
 
 TEST(ClipReaderImages, GrayAlphaPng) {
   const stdfs::path path = test::freshTempDir("reader_gray_alpha") / "ga.png";
-  writeSamples(path, 2, 1, 2, OIIO::TypeDesc::UINT8, {200 / 255.0f, 51 / 255.0f, 10 / 255.0f, 1.0f});
+  writeSamples(path, 2, 1, 2, OIIO::TypeDesc::UINT8,
+               {200 / 255.0f, 51 / 255.0f, 10 / 255.0f, 1.0f});
   auto clip = openClip(path.string());
   EXPECT_EQ(clip->info().channels, 2);
   Image image = clip->read(0);
@@ -280,14 +291,16 @@ TEST(ClipReaderImages, Dpx10Bit) {
   EXPECT_FALSE(clip->info().isFloat);
   Image image = clip->read(0);
   for (size_t p = 0; p < image.pixelCount(); ++p) {
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(image.rgba[p * 4 + c], samples[p * 3 + c], 0.5 / 1023) << p;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(image.rgba[p * 4 + c], samples[p * 3 + c], 0.5 / 1023) << p;
   }
 }
 
 TEST(ClipReaderImages, JpegIsCloseToWhatWasWritten) {
   const stdfs::path path = test::freshTempDir("reader_jpeg") / "a.jpg";
   std::vector<float> samples(16 * 16 * 3);
-  for (size_t i = 0; i < samples.size(); i += 3) samples[i] = 0.8f, samples[i + 1] = 0.4f, samples[i + 2] = 0.2f;
+  for (size_t i = 0; i < samples.size(); i += 3)
+    samples[i] = 0.8f, samples[i + 1] = 0.4f, samples[i + 2] = 0.2f;
   writeSamples(path, 16, 16, 3, OIIO::TypeDesc::UINT8, samples);
   auto clip = openClip(path.string());
   Image image = clip->read(0);
@@ -399,7 +412,8 @@ TEST(ClipReaderSequence, GapOpensButReadingTheMissingFrameNamesTheFile) {
 TEST(ClipReaderSequence, FrameOfAnotherSizeIsAnError) {
   auto dir = test::freshTempDir("reader_seq_size");
   writeNumberedFrames(dir, {1, 2});
-  writeSamples(dir / "plate.3.exr", 5, 2, 3, OIIO::TypeDesc::FLOAT, std::vector<float>(5 * 2 * 3, 3.0f));
+  writeSamples(dir / "plate.3.exr", 5, 2, 3, OIIO::TypeDesc::FLOAT,
+               std::vector<float>(5 * 2 * 3, 3.0f));
   auto clip = openClip((dir / "plate.#.exr").string());
   Error e = expectError([&] { clip->read(3); }, "5x2");
   EXPECT_NE(std::string(e.what()).find("4x2"), std::string::npos) << e.what();

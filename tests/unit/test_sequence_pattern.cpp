@@ -9,7 +9,9 @@
 namespace pluvia {
 namespace {
 
-void touch(const std::filesystem::path& path) { std::ofstream(path) << "x"; }
+void touch(const std::filesystem::path& path) {
+  std::ofstream(path) << "x";
+}
 
 TEST(SequencePattern, ParsesHashes) {
   auto pattern = SequencePattern::parse("shots/plate.####.exr");
@@ -64,10 +66,11 @@ TEST(SequencePattern, TheLastTokenIsTheFrameNumber) {
 
 TEST(SequencePattern, FindsExistingFramesWithGaps) {
   auto dir = test::freshTempDir("sequence_pattern_gaps");
-  for (const char* name : {"plate.1001.exr", "plate.1002.exr", "plate.1005.exr", "plate.10000.exr"}) touch(dir / name);
+  for (const char* name : {"plate.1001.exr", "plate.1002.exr", "plate.1005.exr", "plate.10000.exr"})
+    touch(dir / name);
   // Not frames of the pattern: too few digits, extra zero, other suffix or prefix, not digits.
-  for (const char* name : {"plate.101.exr", "plate.01002.exr", "plate.1003.png", "plates.1004.exr", "plate.10a4.exr",
-                           "plate..exr", "plate.1006.exr.tmp"}) {
+  for (const char* name : {"plate.101.exr", "plate.01002.exr", "plate.1003.png", "plates.1004.exr",
+                           "plate.10a4.exr", "plate..exr", "plate.1006.exr.tmp"}) {
     touch(dir / name);
   }
   std::filesystem::create_directory(dir / "plate.1007.exr");  // a folder is not a frame
@@ -103,8 +106,10 @@ TEST(SequencePattern, Extensions) {
   EXPECT_EQ(lowerExtension("a/b/Plate.0001.EXR"), "exr");
   EXPECT_EQ(lowerExtension("noext"), "");
   EXPECT_EQ(lowerExtension("dir.d/noext"), "");
-  for (const char* movie : {"a.mp4", "b.MOV", "c.avi", "d.mkv", "e.m4v", "f.webm"}) EXPECT_TRUE(isMovieExtension(movie)) << movie;
-  for (const char* other : {"a.exr", "b.png", "c.mp4.png", "mp4", "d.mpeg4"}) EXPECT_FALSE(isMovieExtension(other)) << other;
+  for (const char* movie : {"a.mp4", "b.MOV", "c.avi", "d.mkv", "e.m4v", "f.webm"})
+    EXPECT_TRUE(isMovieExtension(movie)) << movie;
+  for (const char* other : {"a.exr", "b.png", "c.mp4.png", "mp4", "d.mpeg4"})
+    EXPECT_FALSE(isMovieExtension(other)) << other;
 }
 
 }  // namespace
