@@ -68,13 +68,22 @@ std::string suffixOf(const std::string& output) {
 // full float), or the four planes "rain.R".."rain.A" -> channels of the same names.
 std::vector<OutputChannel> aovChannels(const std::string& aov, const Image& image, int64_t frame,
                                        const std::string& path) {
-  if (const std::vector<float>* plane = image.findPlane(aov)) {
+  auto checkedPlane = [&](const std::string& name) {
+    const std::vector<float>* plane = image.findPlane(name);
+    if (plane && plane->size() != image.pixelCount()) {
+      throw Error(fmt::format("plane '{}' of frame {} holds {} values for {}x{} pixels", name,
+                              frame, plane->size(), image.width, image.height),
+                  {"write", frame, path});
+    }
+    return plane;
+  };
+  if (const std::vector<float>* plane = checkedPlane(aov)) {
     const bool isDepth = aov == "depth";
     return {{aov + (isDepth ? ".Z" : ".Y"), plane->data(), 1, isDepth}};
   }
   std::vector<OutputChannel> channels;
   for (const char* component : {"R", "G", "B", "A"}) {
-    const std::vector<float>* plane = image.findPlane(aov + "." + component);
+    const std::vector<float>* plane = checkedPlane(aov + "." + component);
     if (!plane) {
       throw Error(
           fmt::format("AOV '{}' was asked for, but frame {} has no plane '{}' nor '{}.R'..'{}.A'",

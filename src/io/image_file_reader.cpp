@@ -81,9 +81,16 @@ Image readImageFile(const std::string& path, std::optional<int64_t> frame) {
   // Straight into the frame's RGBA slots: no intermediate buffer (a 1080p one costs more to
   // allocate than to fill). Only a data window reaching outside the frame needs one.
   std::vector<float> overscan;
-  float* target = windowInsideFrame ? image.pixel(spec.x - spec.full_x, spec.y - spec.full_y)
-                                    : (overscan.resize(spec.image_pixels() * 4), overscan.data());
-  const OIIO::stride_t rowBytes = pixelBytes * (windowInsideFrame ? image.width : spec.width);
+  float* target = nullptr;
+  OIIO::stride_t rowBytes = 0;
+  if (windowInsideFrame) {
+    target = image.pixel(spec.x - spec.full_x, spec.y - spec.full_y);
+    rowBytes = pixelBytes * image.width;
+  } else {
+    overscan.resize(spec.image_pixels() * 4);
+    target = overscan.data();
+    rowBytes = pixelBytes * spec.width;
+  }
   if (!input->read_image(0, 0, 0, channelsRead, OIIO::TypeDesc::FLOAT, target, pixelBytes,
                          rowBytes)) {
     throw Error("cannot decode image " + path + " (corrupt or truncated?): " + input->geterror(),

@@ -58,6 +58,11 @@ class MovieWriter final : public ClipWriter {
         encodedHeight_(height + height % 2),
         tmp_(fs::temporaryPathFor(path)),
         log_(tmp_.string() + ".log") {
+    if (!(options.fps > 0) || !std::isfinite(options.fps)) {
+      throw Error(
+          fmt::format("cannot write the movie {} at {} frames per second", path, options.fps),
+          {"write", {}, path});
+    }
     if (!programAvailable("ffmpeg")) {
       throw Error("ffmpeg is needed to write the movie " + path + " but is not on PATH",
                   {"write", {}, path});

@@ -2,6 +2,7 @@
 // A movie encoded by an ffmpeg process (libx264, yuv420p) fed 16-bit RGB frames through a pipe.
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "io/clip_writer.h"
 

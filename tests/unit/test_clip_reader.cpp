@@ -365,6 +365,31 @@ TEST(ClipReaderImages, ExrDataWindowIsPlacedInTheDisplayWindow) {
   EXPECT_EQ(image.pixel(3, 3)[3], 1.0f);
 }
 
+TEST(ClipReaderImages, ExrOverscanIsCropped) {
+  const stdfs::path path = test::freshTempDir("reader_overscan") / "overscan.exr";
+  OIIO::ImageSpec spec(4, 3, 4, OIIO::TypeDesc::FLOAT);  // data window -1..2 x -1..1
+  spec.x = -1;
+  spec.y = -1;
+  spec.full_x = 0;
+  spec.full_y = 0;
+  spec.full_width = 2;
+  spec.full_height = 2;
+  std::vector<float> samples(4 * 3 * 4);
+  for (size_t i = 0; i < samples.size(); ++i) samples[i] = static_cast<float>(i);
+  auto out = OIIO::ImageOutput::create(path.string());
+  ASSERT_TRUE(out->open(path.string(), spec));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, samples.data()));
+  ASSERT_TRUE(out->close());
+  Image image = openClip(path.string())->read(0);
+  ASSERT_EQ(image.width, 2);
+  ASSERT_EQ(image.height, 2);
+  // Frame pixel (0, 0) is data pixel (1, 1); frame (1, 1) is data (2, 2).
+  for (int c = 0; c < 4; ++c) {
+    EXPECT_EQ(image.pixel(0, 0)[c], samples[(1 * 4 + 1) * 4 + c]);
+    EXPECT_EQ(image.pixel(1, 1)[c], samples[(2 * 4 + 2) * 4 + c]);
+  }
+}
+
 // A sequence whose pixels carry their frame number.
 void writeNumberedFrames(const stdfs::path& dir, const std::vector<int64_t>& frames) {
   for (int64_t frame : frames) {
