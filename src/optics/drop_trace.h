@@ -16,13 +16,17 @@
 namespace pluvia::optics {
 
 struct TraceSettings {
-  int samples = 16384;         // rays through the disc, stratified on a sqrt x sqrt grid in (b^2, phi)
+  // Rays through the disc, stratified on a k x k grid in (b^2, phi), k = round(sqrt(samples)).
+  // The default keeps the noise near 0.5 % even with a sun in view (see the optics report).
+  int samples = 262144;
   double minPower = 1e-7;      // a path ends when the power left inside falls below this
-  int maxInteractions = 2000;  // and at most this many interfaces
+  int maxInteractions = 2000;  // and at most this many interfaces (the entry counts as one)
   uint64_t seed = 1;           // jitter of the stratified samples
 };
 
 // Linear RGB radiance of the drop; eta: refractive index of water relative to air per channel.
+// Throws std::invalid_argument for an empty map, a zero or non-finite view direction (any other
+// length is normalised), eta outside (1, 3], samples < 1.
 std::array<double, 3> traceDropRadiance(const EquirectMap& environment,
                                         const std::array<double, 3>& viewDirection,
                                         const std::array<double, 3>& eta,
