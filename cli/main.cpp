@@ -34,6 +34,8 @@ int main(int argc, char** argv) {
   cli::addValidateCommand(app, invocation);
   cli::addDescribeCommand(app, invocation);
   cli::addBenchCommand(app, invocation);
+  cli::addShadeDropCommand(app, invocation);
+  cli::addReportCommand(app, invocation);
   app.parse_complete_callback([&] { log::setLevel(quiet ? log::Level::Warning : log::Level::Info); });
 
   // CLI11 would only say "a subcommand is required" for a mistyped command: name it.
@@ -45,7 +47,7 @@ int main(int argc, char** argv) {
     if (std::find(names.begin(), names.end(), word) == names.end()) {
       std::string nearest = nearestWord(word, names);
       log::error("unknown command '" + word + "'" + (nearest.empty() ? "" : ", did you mean '" + nearest + "'?") +
-                 " (commands: render, plan, validate, describe, bench; see pluvia --help)");
+                 " (commands: render, plan, validate, describe, bench, shade-drop, report; see pluvia --help)");
       return 2;
     }
     break;
