@@ -1,10 +1,12 @@
 #version 430 core
 // One instance per streak: a quad from head to tail, widened by widthPx / 2 at both ends and
-// widthPx across, built from gl_VertexID (triangle strip of 4 vertices). The per-streak PRT
-// colour C is computed here once, not per fragment: it is constant over a streak and this
-// halves the shading cost on software rasterisers. The CPU twin of the geometry is
-// src/gpu/streak_quad.h, of the colour src/gpu/streak_radiance.cpp: keep them in step.
+// widthPx across, built from gl_VertexID (triangle strip of 4 vertices). The per-streak
+// colour C (SH term + radiance map term) is computed here once, not per fragment: it is
+// constant over a streak and this halves the shading cost on software rasterisers. The CPU
+// twin of the geometry is src/gpu/streak_quad.h, of the colour src/gpu/streak_radiance.cpp:
+// keep them in step.
 #include "common_sh.glsl"
+#include "common_trig.glsl"
 
 layout(location = 0) in vec4 aEndsPx;   // headX, headY, tailX, tailY; pixels, y down
 layout(location = 1) in vec4 aStreak;   // widthPx, alpha, depthMeters, strokeIndex
@@ -13,15 +15,20 @@ layout(location = 2) in vec3 aView;     // unit direction camera -> drop
 // Stroke rectangles in atlas pixels: x0, y0, x1, y1.
 layout(std430, binding = 0) readonly buffer StrokeRects { vec4 strokeRects[]; };
 
+// The drop's radiance per view direction, equirectangular (image/equirect.h), row 0 at +Y.
+layout(binding = 3) uniform sampler2D uRadianceMap;  // RGB32F, texelFetch only
+
 uniform vec2 uTargetSizePx;
+uniform bool uHasSh;  // the SH term of C: uShOrder, uEnvSh, uTransferZonal
 uniform int uShOrder;
 uniform vec3 uEnvSh[16];
 uniform float uTransferZonal[4];
+uniform bool uHasRadianceMap;  // the map term of C
 
 flat out vec4 vFrame;     // head.xy (pixels), axis.xy (unit, head -> tail)
 flat out vec4 vStreak;    // widthPx, lengthPx, alpha, depthMeters
 flat out vec4 vRectPx;    // the stroke's rectangle in the atlas
-flat out vec3 vRadiance;  // C, clamped to >= 0
+flat out vec3 vRadiance;  // C
 
 // Same threshold as kDegenerateStreakLengthPx: a shorter streak is a still drop, drawn as a
 // square with a vertical axis.
@@ -31,7 +38,8 @@ const float kDegenerateLengthPx = 1e-4;
 // rasteriser's sub-pixel grid (1/256 px or finer) can never lose a pixel centre.
 const float kCoverageMarginPx = 1.0 / 16.0;
 
-vec3 streakRadiance(vec3 view) {
+// The SH (PRT) term, clamped to >= 0.
+vec3 shRadiance(vec3 view) {
   float basis[16];
   shEvaluate(view, basis);
   vec3 radiance = vec3(0.0);
@@ -41,6 +49,47 @@ vec3 streakRadiance(vec3 view) {
     radiance += uTransferZonal[l] * band;
   }
   return max(radiance, vec3(0.0));
+}
+
+vec3 radianceTexel(int x, int y) {
+  return texelFetch(uRadianceMap, ivec2(x, y), 0).rgb;
+}
+
+// sampleEquirect() of src/image/equirect.cpp, step for step in float: bilinear between texel
+// centres, wrapping around in u and clamped to the first and last rows in v. Done by hand
+// with texelFetch because a GL sampler's bilinear weights are fixed point (8 bits on many
+// GPUs), far from the CPU twin's float weights; atan2 and acos are common_trig.glsl's.
+vec3 sampleRadianceMap(vec3 d) {
+  const float kTwoPi = 6.28318530717958648;
+  const float kPi = 3.14159265358979324;
+  ivec2 size = textureSize(uRadianceMap, 0);
+  float u = 0.5 + accurateAtan2(d.x, -d.z) / kTwoPi;
+  float v = accurateAcos(clamp(d.y, -1.0, 1.0)) / kPi;
+  // Texel coordinates with centres on integers.
+  float px = u * float(size.x) - 0.5;
+  float py = clamp(v * float(size.y) - 0.5, 0.0, float(size.y - 1));
+  float x0f = floor(px);
+  float y0f = floor(py);
+  float fx = px - x0f;
+  float fy = py - y0f;
+  // GLSL leaves % of a negative int undefined: wrap in float, exact for these whole numbers.
+  int x0 = int(mod(x0f, float(size.x)));
+  int x1 = (x0 + 1) % size.x;
+  int y0 = int(y0f);
+  int y1 = min(y0 + 1, size.y - 1);
+  vec3 a = radianceTexel(x0, y0), b = radianceTexel(x1, y0);
+  vec3 c = radianceTexel(x0, y1), e = radianceTexel(x1, y1);
+  vec3 top = a + fx * (b - a);
+  vec3 bottom = c + fx * (e - c);
+  return top + fy * (bottom - top);
+}
+
+// C: each term only when present, added in the order of streakRadiance() on the CPU.
+vec3 streakRadiance(vec3 view) {
+  vec3 radiance = vec3(0.0);
+  if (uHasSh) radiance = shRadiance(view);
+  if (uHasRadianceMap) radiance += sampleRadianceMap(view);
+  return radiance;
 }
 
 void main() {

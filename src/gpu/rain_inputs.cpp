@@ -23,7 +23,9 @@ void validateFrame(const Image& frame) {
   }
 }
 
-void validateShading(const ShadingParams& shading) {
+namespace {
+
+void validateShTerm(const ShadingParams& shading) {
   if (shading.shOrder < 0 || shading.shOrder > 3) {
     throwRainError(fmt::format("SH order {} is outside 0..3", shading.shOrder));
   }
@@ -36,6 +38,42 @@ void validateShading(const ShadingParams& shading) {
     throwRainError(fmt::format("SH order {} needs {} zonal transfer values, got {}",
                                shading.shOrder, shading.shOrder + 1, shading.transferZonal.size()));
   }
+}
+
+// An empty map (no map term) must hold no data either: data with a zero size is a mistake.
+void validateRadianceMap(const EquirectMap& map) {
+  if (map.empty()) {
+    if (!map.rgb.empty()) {
+      throwRainError(fmt::format("radiance map of {}x{} texels holds {} floats", map.width,
+                                 map.height, map.rgb.size()));
+    }
+    return;
+  }
+  const size_t expected = static_cast<size_t>(map.width) * static_cast<size_t>(map.height) * 3;
+  if (map.rgb.size() != expected) {
+    throwRainError(fmt::format("radiance map of {}x{} texels holds {} floats instead of {} (RGB)",
+                               map.width, map.height, map.rgb.size(), expected));
+  }
+  const auto bad = std::find_if(map.rgb.begin(), map.rgb.end(),
+                                [](float value) { return !std::isfinite(value); });
+  if (bad != map.rgb.end()) {
+    const size_t index = static_cast<size_t>(bad - map.rgb.begin());
+    const size_t texel = index / 3;
+    throwRainError(fmt::format("radiance map texel ({}, {}) has a non-finite {} value ({})",
+                               texel % map.width, texel / map.width, "RGB"[index % 3], *bad));
+  }
+}
+
+}  // namespace
+
+void validateShading(const ShadingParams& shading) {
+  validateRadianceMap(shading.radianceMap);
+  const bool hasSh = !shading.envSh.empty();
+  if (!hasSh && shading.radianceMap.empty()) {
+    throwRainError(
+        "shading has neither SH environment coefficients nor a radiance map: set at least one");
+  }
+  if (hasSh) validateShTerm(shading);
 }
 
 void validateAtlas(const StrokeAtlas& atlas) {

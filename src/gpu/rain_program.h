@@ -9,6 +9,7 @@ namespace pluvia::gpu {
 inline constexpr GLuint kAtlasUnit = 0;
 inline constexpr GLuint kBackgroundUnit = 1;
 inline constexpr GLuint kSceneDepthUnit = 2;
+inline constexpr GLuint kRadianceMapUnit = 3;
 inline constexpr GLuint kStrokeRectBinding = 0;
 
 class RainProgram {
@@ -20,8 +21,12 @@ class RainProgram {
            int atlasHeight) const;
 
  private:
+  // uShOrder, uEnvSh, uTransferZonal from a validated SH term.
+  void setShUniforms(const ShadingParams& shading) const;
+
   GlProgram program_;
-  GLint targetSize_, shOrder_, envSh_, transferZonal_, atlasSize_, backgroundWeight_;
+  GLint targetSize_, hasSh_, shOrder_, envSh_, transferZonal_, hasRadianceMap_, atlasSize_,
+      backgroundWeight_;
 };
 
 }  // namespace pluvia::gpu

@@ -10,6 +10,7 @@
 #include "gpu/egl_context.h"
 #include "gpu/frame_targets.h"
 #include "gpu/gl_check.h"
+#include "gpu/gpu_radiance_map.h"
 #include "gpu/gpu_stroke_atlas.h"
 #include "gpu/rain_inputs.h"
 #include "gpu/rain_program.h"
@@ -27,6 +28,7 @@ struct GpuObjects {
   RainProgram program;
   StreakStream streaks;
   GpuStrokeAtlas atlas;
+  GpuRadianceMap radianceMap;
   std::optional<FrameTargets> targets;
 
   void ensureTargets(int width, int height) {
@@ -85,8 +87,10 @@ void RainRenderer::render(Image& frame, const std::vector<StreakInstance>& strea
   comparableSceneDepth(frame, impl_->sceneDepth);
   gpu.targets->begin(frame.rgba, impl_->sceneDepth);
   gpu.streaks.upload(streaks);
+  if (!shading.radianceMap.empty()) gpu.radianceMap.update(shading.radianceMap);
   gpu.program.use(shading, frame.width, frame.height, gpu.atlas.width(), gpu.atlas.height());
   gpu.atlas.bind(kAtlasUnit, kStrokeRectBinding);
+  gpu.radianceMap.bind(kRadianceMapUnit);
   gpu.targets->bindInputs(kBackgroundUnit, kSceneDepthUnit);
   gpu.streaks.draw();
 

@@ -4,9 +4,11 @@
 // thread that created it.
 //
 // What it draws: one screen-space quad per streak (instanced), textured with a stroke matte
-// from the atlas, depth-tested against the scene's "depth" plane, shaded with precomputed
-// radiance transfer (PRT) and composited over the background as in Wang et al. (Eq. 2):
-//   C  = sum_l zonal[l] * sum_m Y_lm(view) * envSh[l,m]      (per streak, RGB)
+// from the atlas, depth-tested against the scene's "depth" plane, shaded with the drop's
+// precomputed radiance and composited over the background as in Wang et al. (Eq. 2):
+//   C_sh  = max(sum_l zonal[l] * sum_m Y_lm(view) * envSh[l,m], 0)   (SH transfer, PRT)
+//   C_map = radianceMap(view)               (bilinear, as sampleEquirect() in image/equirect.h)
+//   C  = C_sh + C_map         (per streak, RGB; each term only when its input is present)
 //   C' = C + c * B                                            (B: background pixel)
 //   out = alpha * C' + (1 - alpha) * dst                      (drawn in instance order)
 // alpha = matte(u, v) * streak.alpha, and the fragment is dropped when the streak lies behind
@@ -16,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "image/equirect.h"
 #include "image/image.h"
 
 namespace pluvia::gpu {
@@ -40,13 +43,19 @@ struct StrokeAtlas {
   std::vector<std::array<float, 4>> rects;    // per stroke: x0, y0, x1, y1 in atlas pixels
 };
 
-// Spherical-harmonic shading inputs. Real SH, order L <= 3 on the GPU ((L+1)^2 coefficients,
-// index l*l + l + m), basis as in shaders/common_sh.glsl and its CPU twin shEvaluate().
+// Shading inputs: the two terms of C (see above), at least one of them present, and c.
+// SH term: real SH of order L = shOrder <= 3 ((L+1)^2 coefficients, index l*l + l + m), basis as
+// in shaders/common_sh.glsl and its CPU twin shEvaluate(); used only when envSh is non-empty.
+// Map term: per view direction, the radiance a drop shows (the environment already convolved
+// with the drop's transfer); used only when radianceMap is non-empty. A map is meant to be
+// small (128 x 64, say) and to change per clip, not per frame: render() compares it with the
+// one on the GPU and uploads it only when it differs.
 struct ShadingParams {
   int shOrder = 0;
-  std::vector<std::array<float, 3>> envSh;    // (shOrder+1)^2 RGB coefficients of the environment
-  std::vector<float> transferZonal;           // shOrder+1 values: rotated zonal transfer (see above)
-  float backgroundWeight = 0.7f;              // c in C' = C + c*B
+  std::vector<std::array<float, 3>> envSh;  // (shOrder+1)^2 RGB coefficients; empty: no SH term
+  std::vector<float> transferZonal;         // shOrder+1 values: rotated zonal transfer (see above)
+  EquirectMap radianceMap;                  // empty: no map term
+  float backgroundWeight = 0.0f;            // c in C' = C + c*B
 };
 
 // Evaluates the real SH basis up to order 3 at unit direction (x, y, z): 16 values.
@@ -66,7 +75,8 @@ class RainRenderer {
   // Draws the streaks over `frame` (its RGBA is the background B; its "depth" plane, if any, the
   // scene depth; no plane means infinitely far). On return frame.rgba holds the composite and
   // planes "rain.R", "rain.G", "rain.B", "rain.A" hold the premultiplied rain layer alone (rain
-  // over transparent black), "matte" = rain.A.
+  // over transparent black), "matte" = rain.A. Throws pluvia::Error (stage "rain") on
+  // inconsistent inputs, shading included.
   void render(Image& frame, const std::vector<StreakInstance>& streaks, const ShadingParams& shading);
 
   // "llvmpipe (LLVM 15.0.6, 256 bits)", "NVIDIA H100 ..."

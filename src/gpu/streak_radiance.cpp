@@ -3,8 +3,10 @@
 #include <algorithm>
 
 namespace pluvia::gpu {
+namespace {
 
-std::array<float, 3> streakRadiance(const ShadingParams& shading, const StreakInstance& streak) {
+// The SH (PRT) term, clamped to >= 0.
+std::array<float, 3> shRadiance(const ShadingParams& shading, const StreakInstance& streak) {
   const std::array<float, 16> basis = shEvaluate(streak.viewX, streak.viewY, streak.viewZ);
   std::array<float, 3> radiance{0.0f, 0.0f, 0.0f};
   for (int l = 0; l <= shading.shOrder; ++l) {
@@ -16,6 +18,19 @@ std::array<float, 3> streakRadiance(const ShadingParams& shading, const StreakIn
     for (int c = 0; c < 3; ++c) radiance[c] += shading.transferZonal[l] * band[c];
   }
   for (float& channel : radiance) channel = std::max(channel, 0.0f);
+  return radiance;
+}
+
+}  // namespace
+
+std::array<float, 3> streakRadiance(const ShadingParams& shading, const StreakInstance& streak) {
+  std::array<float, 3> radiance{0.0f, 0.0f, 0.0f};
+  if (!shading.envSh.empty()) radiance = shRadiance(shading, streak);
+  if (!shading.radianceMap.empty()) {
+    const std::array<float, 3> map =
+        sampleEquirect(shading.radianceMap, streak.viewX, streak.viewY, streak.viewZ);
+    for (int c = 0; c < 3; ++c) radiance[c] += map[c];
+  }
   return radiance;
 }
 

@@ -1,6 +1,8 @@
 #pragma once
-// The PRT colour of one streak on the CPU, C = sum_l zonal[l] * sum_m Y_lm(view) * env[l,m],
-// clamped to >= 0: the twin of the sum in shaders/rain_stroke.vert (same order of additions).
+// The colour C of one streak on the CPU, the twin of streakRadiance() in
+// shaders/rain_stroke.vert (same terms, same order of additions):
+//   C = max(sum_l zonal[l] * sum_m Y_lm(view) * env[l,m], 0)   when shading.envSh is set
+//     + sampleEquirect(radianceMap, view)                      when shading.radianceMap is set
 #include <array>
 
 #include "gpu/rain_renderer.h"

@@ -17,6 +17,7 @@
 
 #include "geometry/camera.h"
 #include "gpu/rain_renderer.h"
+#include "image/equirect.h"
 #include "image/image.h"
 #include "io/clip_reader.h"
 #include "preset/preset.h"
@@ -26,11 +27,11 @@ namespace pluvia {
 
 class ArtifactCache;
 
-// Lighting of the shot, in the working colour space.
+// Lighting of the shot, in the working colour space: the radiance arriving from every
+// direction, as an equirect map (image/equirect.h conventions, world +Y up).
 struct Environment {
-  int shOrder = 0;
-  std::vector<std::array<float, 3>> sh;  // (shOrder+1)^2 RGB coefficients, real SH basis
-  std::array<float, 3> averageRgb{0, 0, 0};
+  EquirectMap radiance;
+  std::array<float, 3> averageRgb{0, 0, 0};  // solid-angle mean of radiance
 };
 
 // Per-clip state, filled by per-clip stages in prepare() and read by per-frame stages.

@@ -1,27 +1,55 @@
-// Lighting: the environment the drops refract. Until the environment issue stitches panoramas,
-// this is a constant radiance or the clip's average colour, held as the order-0 SH coefficient
-// (L00 = 2 sqrt(pi) E for a uniform environment of radiance E).
+// Lighting: the environment the drops refract, as an equirect radiance map: an HDR the user
+// gives (lighting.hdr), a constant radiance, or the clip's average colour in every direction
+// (PLACEHOLDER for frame_average until the environment issue stitches panoramas).
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
 
+#include "optics/environment_file.h"
 #include "pipeline/cache.h"
 #include "pluvia/version.h"
 #include "stages/registry.h"
+#include "util/error.h"
 #include "util/hash.h"
 #include "util/log.h"
 
 namespace pluvia {
 namespace {
 
-constexpr const char* kStageVersion = "1";
+constexpr const char* kStageVersion = "2";
+// A uniform environment needs no detail; an HDR is kept at most this wide (area-resampled, so
+// the power of a sun is kept): the drop shading resamples it to 256 x 128 anyway.
+constexpr int kUniformWidth = 8;
+constexpr int kMaxHdrWidth = 1024;
 
 Environment uniformEnvironment(const std::array<float, 3>& radiance) {
   Environment env;
-  env.shOrder = 0;
-  const float l00 = float(2.0 * std::sqrt(M_PI));
-  env.sh = {{l00 * radiance[0], l00 * radiance[1], l00 * radiance[2]}};
+  env.radiance = uniformEquirect(kUniformWidth, kUniformWidth / 2, radiance);
   env.averageRgb = radiance;
+  return env;
+}
+
+std::array<float, 3> solidAngleMean(const EquirectMap& map) {
+  std::array<double, 3> sum{0, 0, 0};
+  double total = 0.0;
+  for (int y = 0; y < map.height; ++y) {
+    const double w = equirectTexelSolidAngle(map.width, map.height, y);
+    for (int x = 0; x < map.width; ++x) {
+      for (int c = 0; c < 3; ++c) sum[size_t(c)] += w * map.texel(x, y)[c];
+      total += w;
+    }
+  }
+  return {float(sum[0] / total), float(sum[1] / total), float(sum[2] / total)};
+}
+
+Environment hdrEnvironment(const std::string& path, double intensity) {
+  EquirectMap map = optics::loadEnvironment(path);
+  if (map.width > kMaxHdrWidth) map = resampleEquirect(map, kMaxHdrWidth, kMaxHdrWidth / 2);
+  for (float& v : map.rgb) v *= float(intensity);
+  Environment env;
+  env.averageRgb = solidAngleMean(map);
+  env.radiance = std::move(map);
   return env;
 }
 
@@ -30,9 +58,20 @@ class EnvironmentStage : public Stage {
   explicit EnvironmentStage(const Preset& p)
       : source_(p.string("lighting.source")),
         color_(p.color("lighting.color")),
+        hdr_(p.string("lighting.hdr")),
+        intensity_(p.number("lighting.intensity")),
         sampleFrames_(int(p.number("lighting.sample_frames"))) {}
 
   void prepare(ClipContext& clip) override {
+    if (source_ == "hdr") {
+      if (hdr_.empty()) throw Error("lighting.source is \"hdr\" but lighting.hdr names no file", {"lighting"});
+      clip.environment = hdrEnvironment(hdr_, intensity_);
+      const auto& mean = clip.environment->averageRgb;
+      log::info(fmt::format("lighting: {} ({} x {}), mean radiance {:.4f} {:.4f} {:.4f}", hdr_,
+                            clip.environment->radiance.width, clip.environment->radiance.height, mean[0],
+                            mean[1], mean[2]));
+      return;
+    }
     const std::string key = environmentCacheKey(*clip.preset, *clip.clip);
     if (clip.cache) {
       if (auto cached = clip.cache->load("lighting", key)) {
@@ -77,6 +116,8 @@ class EnvironmentStage : public Stage {
 
   std::string source_;
   std::array<float, 3> color_;
+  std::string hdr_;
+  double intensity_;
   int sampleFrames_;
 };
 
@@ -85,12 +126,15 @@ class EnvironmentStage : public Stage {
 StageInfo environmentStageInfo() {
   StageInfo info;
   info.spec.name = "lighting";
-  info.spec.help = "Environment lighting for the drops (per clip, cached): constant or the clip's average.";
+  info.spec.help = "Environment lighting for the drops (per clip): an equirect HDR, a constant, or the clip's average.";
   info.spec.outputs = {"environment"};
   info.spec.params = {
       {"enabled", ParamType::Boolean, true, {}, {}, {}, "", "run this stage"},
-      {"source", ParamType::Enum, "frame_average", {}, {}, {"frame_average", "constant"}, "",
-       "frame_average: mean radiance of sampled frames; constant: lighting.color"},
+      {"source", ParamType::Enum, "frame_average", {}, {}, {"frame_average", "constant", "hdr"}, "",
+       "frame_average: mean radiance of sampled frames; constant: lighting.color; hdr: lighting.hdr"},
+      {"hdr", ParamType::String, "", {}, {}, {}, "",
+       "equirect HDR (.exr, .hdr; linear Rec.709; +Y up, image centre looking along -Z) for source hdr"},
+      {"intensity", ParamType::Number, 1.0, 0.0, 1e6, {}, "", "scale on the HDR's radiance, to match the plate"},
       {"color", ParamType::Color3, nlohmann::json::array({0.5, 0.5, 0.5}), {}, {}, {}, "linear",
        "radiance when source is constant"},
       {"sample_frames", ParamType::Integer, 8, 1, 1000, {}, "frames", "frames averaged for frame_average"},

@@ -1,15 +1,18 @@
 // Rain: particles carrying stroke mattes, drawn on the GPU through headless EGL, shaded by the
 // environment (PRT) and composited over the plate (Wang et al. sections 3-4).
+#include <chrono>
 #include <cmath>
 
 #include <fmt/format.h>
 
+#include "optics/drop_shading.h"
 #include "rain/drop_volume.h"
 #include "rain/stroke_library.h"
 #include "stages/registry.h"
 #include "util/error.h"
 #include "util/fs.h"
 #include "util/log.h"
+#include "util/timer.h"
 
 namespace pluvia {
 namespace {
@@ -34,6 +37,33 @@ rain::DropVolumeParams volumeParams(const Preset& p) {
   return v;
 }
 
+// How the drops are shaded (src/optics/drop_shading.h): "default" looks the drop's radiance up
+// in the environment convolved with the drop's transfer function; "paper" is Wang et al.'s 16
+// SH coefficients plus c * B.
+gpu::ShadingParams dropShading(const Preset& p, const EquirectMap& environment) {
+  const std::array<double, 3> eta =
+      p.boolean("rain.dispersion") ? optics::kWaterEtaDispersion
+                                   : std::array<double, 3>{optics::kWaterEta, optics::kWaterEta, optics::kWaterEta};
+  gpu::ShadingParams shading;
+  const auto started = std::chrono::steady_clock::now();
+  if (p.string("rain.shading") == "default") {
+    shading.radianceMap = optics::buildDropRadianceMap(environment, optics::channelOptics(eta, optics::kDefaultTerms));
+    shading.backgroundWeight = 0.0f;
+  } else {
+    const optics::PaperShading paper = optics::preparePaperShading(environment, eta);
+    shading.shOrder = optics::kPaperShOrder;
+    for (const auto& rgb : paper.environmentSh) shading.envSh.push_back({float(rgb[0]), float(rgb[1]), float(rgb[2])});
+    // The GPU holds one transfer vector: the green channel's (dispersion shows in "default").
+    for (int l = 0; l <= optics::kPaperShOrder; ++l) {
+      shading.transferZonal.push_back(float(std::sqrt(4.0 * M_PI / (2.0 * l + 1.0)) * paper.zonal[1][size_t(l)]));
+    }
+    shading.backgroundWeight = float(p.number("rain.background_weight"));
+  }
+  log::info(fmt::format("rain: {} drop shading prepared in {:.0f} ms", p.string("rain.shading"),
+                        secondsSince(started) * 1000.0));
+  return shading;
+}
+
 class RainStage : public Stage {
  public:
   explicit RainStage(const Preset& p) : preset_(p) {}
@@ -53,14 +83,8 @@ class RainStage : public Stage {
     streakParams_.strokeCount = int(atlas_.rects.size());
     streakParams_.meanMatte = rain::meanMatte(atlas_);
     streakParams_.seed = uint64_t(p.number("rain.seed"));
-    shading_.backgroundWeight = float(p.number("rain.background_weight"));
     if (!clip.environment) throw Error("rain needs the lighting stage's environment", {"rain"});
-    shading_.shOrder = clip.environment->shOrder;
-    shading_.envSh = clip.environment->sh;
-    // PLACEHOLDER transfer until the optics issue: the drop sends back all the light it receives,
-    // spread uniformly (integral of D = 1, zonal order 0 only).
-    shading_.transferZonal.assign(size_t(shading_.shOrder) + 1, 0.0f);
-    shading_.transferZonal[0] = 1.0f;
+    shading_ = dropShading(p, clip.environment->radiance);
     renderer_ = std::make_unique<gpu::RainRenderer>(clip.camera.width, clip.camera.height);
     renderer_->setStrokeAtlas(atlas_);
     log::info(fmt::format("rain: {} drops in a {:.1f} x {:.1f} x {:.1f} m box, {} strokes, GPU: {}",
@@ -117,7 +141,12 @@ StageInfo rainStageInfo() {
       {"near_m", ParamType::Number, 0.5, 0.05, 100.0, {}, "m", "nearest drops drawn"},
       {"far_m", ParamType::Number, 15.0, 0.1, 1000.0, {}, "m", "farthest drops drawn"},
       {"max_drops", ParamType::Integer, 100000, 0, 10000000, {}, "drops", "cap on the simulated drops"},
-      {"background_weight", ParamType::Number, 0.7, 0.0, 1.0, {}, "", "c in C' = C + c B (Wang et al. Eq. 2)"},
+      {"shading", ParamType::Enum, "default", {}, {}, {"default", "paper"}, "",
+       "default: environment convolved with the drop's transfer function (about 1 % from a ray-traced drop); "
+       "paper: Wang et al.'s 16 SH coefficients + c B (about 50 %)"},
+      {"dispersion", ParamType::Boolean, false, {}, {}, {}, "", "per-channel refractive index 1.331 / 1.333 / 1.338"},
+      {"background_weight", ParamType::Number, 0.7, 0.0, 1.0, {}, "",
+       "c in C' = C + c B (Wang et al. Eq. 2); used by shading paper only"},
       {"wind.speed_m_s", ParamType::Number, 0.0, 0.0, 60.0, {}, "m/s", "horizontal wind speed"},
       {"wind.dir_deg", ParamType::Number, 0.0, -360.0, 360.0, {}, "deg",
        "direction the wind blows toward: 0 camera right, 90 away from the camera"},

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "gpu/rain_renderer.h"
+#include "image/equirect.h"
 
 namespace pluvia::gpu {
 namespace {
@@ -132,6 +133,94 @@ ShadingParams orderThreeShading() {
   shading.transferZonal = {1.0f, 0.75f, 0.4f, 0.2f};
   shading.backgroundWeight = 0.55f;
   return shading;
+}
+
+// Texels made bright in testRadianceMap().
+std::vector<std::pair<int, int>> brightTexels(int width, int height) {
+  return {{0, height * 5 / 16},
+          {width - 1, height * 5 / 8},
+          {width * 3 / 10, 0},
+          {width * 7 / 10, height - 1},
+          {width / 2, height / 2}};
+}
+
+// A drop radiance map: a smooth function of the texel's direction (0.4 .. 1.5 per channel)
+// with a few bright texels (5 .. 7): on the u seam (first and last column), in the top and
+// bottom rows and in the middle. Their contrast is kept below ~20: the float u of a lookup
+// is quantised (1e-5 texel at width 128), and such a step times the contrast must stay well
+// within the 1e-3 agreement.
+EquirectMap testRadianceMap(int width, int height) {
+  EquirectMap map(width, height);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const auto d = equirectTexelDirection(width, height, x, y);
+      float* t = map.texel(x, y);
+      t[0] = static_cast<float>(0.9 + 0.4 * d[0] + 0.1 * d[1]);
+      t[1] = static_cast<float>(0.8 + 0.3 * d[1] * d[2] + 0.2 * d[2]);
+      t[2] = static_cast<float>(1.0 - 0.3 * d[1] + 0.2 * d[0] * d[0]);
+    }
+  }
+  for (const auto& [x, y] : brightTexels(width, height)) {
+    float* t = map.texel(x, y);
+    t[0] = 6.0f, t[1] = 5.0f, t[2] = 7.0f;
+  }
+  return map;
+}
+
+ShadingParams mapOnlyShading(const EquirectMap& map) {
+  ShadingParams shading;
+  shading.radianceMap = map;
+  return shading;
+}
+
+std::array<float, 3> normalized(double x, double y, double z) {
+  const double n = std::sqrt(x * x + y * y + z * z);
+  return {static_cast<float>(x / n), static_cast<float>(y / n), static_cast<float>(z / n)};
+}
+
+// View directions that probe the lookup where it is delicate: near and at the poles (v
+// clamps to the first and last rows), across the u seam (x ~ 0 on the +Z side, signed zeros
+// included), around each bright texel (within a texel of its centre), then random ones.
+std::vector<std::array<float, 3>> probeViews(int width, int height, int count) {
+  std::vector<std::array<float, 3>> views = {{0.0f, 1.0f, 0.0f}, {0.0f, -1.0f, 0.0f}};
+  const double ring = std::sqrt(1.0 - 0.999 * 0.999);
+  for (double y : {0.999, -0.999}) {
+    for (double phi : {0.1, 1.7, 3.1, 4.4}) {
+      views.push_back(normalized(ring * std::cos(phi), y, ring * std::sin(phi)));
+    }
+  }
+  for (double y : {0.0, 0.3, -0.6}) {
+    for (double x : {0.0, -0.0, 1e-4, -1e-4, 3e-3, -3e-3, 0.02, -0.02}) {
+      views.push_back(normalized(x, y, 1.0));
+    }
+  }
+  for (const auto& [x, y] : brightTexels(width, height)) {
+    for (auto [du, dv] : {std::pair{-0.3, -0.4}, {0.45, 0.2}, {-0.7, 0.6}, {0.1, -0.9}}) {
+      const auto d = equirectDirection((x + 0.5 + du) / width, (y + 0.5 + dv) / height);
+      views.push_back(normalized(d[0], d[1], d[2]));
+    }
+  }
+  std::mt19937 random(31);
+  std::normal_distribution<double> normal;
+  while (static_cast<int>(views.size()) < count) {
+    views.push_back(normalized(normal(random), normal(random), normal(random)));
+  }
+  views.resize(count);
+  return views;
+}
+
+// Still drops (3 x 3 px squares, no pixel centre near an edge) on a 4 px grid, one per view.
+// The rain planes hold alpha * C', so their comparison checks C' of every view.
+std::vector<StreakInstance> probeDrops(const EquirectMap& map) {
+  constexpr int kColumns = kWidth / 4, kRows = kHeight / 4;
+  const auto views = probeViews(map.width, map.height, kColumns * kRows);
+  std::vector<StreakInstance> drops;
+  for (int k = 0; k < kColumns * kRows; ++k) {
+    const float x = 4.0f * (k % kColumns) + 2.5f, y = 4.0f * (k / kColumns) + 2.5f;
+    const auto& v = views[k];
+    drops.push_back({x, y, x, y, 3.0f, 1.0f, 1.0f, 0.0f, v[0], v[1], v[2], 0.0f});
+  }
+  return drops;
 }
 
 // True when (x, y) lies within `band` px of an edge of the streak's quad (double precision,
@@ -289,6 +378,36 @@ TEST_F(GpuVsCpu, SceneDepthHidesTheFarStreaksOnTheLeft) {
   EXPECT_EQ(left, 0.0f);
   EXPECT_GT(right, 1.0f);
   EXPECT_EQ(compare(frame, cpu, streaks).mismatches, 0);
+}
+
+TEST_F(GpuVsCpu, RadianceMapAloneAtDelicateViews) {
+  for (auto [width, height] : {std::pair{16, 8}, {128, 64}}) {
+    SCOPED_TRACE(std::to_string(width) + "x" + std::to_string(height) + " map");
+    const EquirectMap map = testRadianceMap(width, height);
+    const Comparison result =
+        renderBoth(gradientBackground(), probeDrops(map), mapOnlyShading(map));
+    EXPECT_GT(result.rainPixels, 8 * 96) << "every drop must show";
+  }
+}
+
+TEST_F(GpuVsCpu, RadianceMapAloneOnOverlappingStreaks) {
+  Image background = gradientBackground();
+  addDepthPlane(background);
+  const Comparison result =
+      renderBoth(background, mixedStreaks(), mapOnlyShading(testRadianceMap(128, 64)));
+  EXPECT_GT(result.rainPixels, 200);
+}
+
+TEST_F(GpuVsCpu, RadianceMapWithShAndBackground) {
+  for (auto [width, height] : {std::pair{16, 8}, {128, 64}}) {
+    SCOPED_TRACE(std::to_string(width) + "x" + std::to_string(height) + " map");
+    ShadingParams shading = orderThreeShading();  // c = 0.55
+    shading.radianceMap = testRadianceMap(width, height);
+    Image background = gradientBackground();
+    addDepthPlane(background);
+    renderBoth(background, mixedStreaks(), shading);
+    renderBoth(gradientBackground(), probeDrops(shading.radianceMap), shading);
+  }
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // RainRenderer against analytic expectations: the compositing equation on one streak, the
-// depth test, the white furnace, read-back orientation, determinism, input checks, and steady
-// memory over a long run.
+// depth test, the white furnace, the radiance map term, read-back orientation, determinism,
+// input checks, and steady memory over a long run.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -12,6 +12,7 @@
 #include <string>
 
 #include "gpu/rain_renderer.h"
+#include "image/equirect.h"
 #include "util/error.h"
 
 namespace pluvia::gpu {
@@ -135,6 +136,132 @@ TEST_F(RainRendererTest, ConstantEnvironmentIsAWhiteFurnace) {
       EXPECT_NEAR(frame.pixel(3 + 5 * k, 8)[ch], e[ch], 1e-6f * e[ch]) << "view " << k;
     }
   }
+}
+
+// Radiance that varies smoothly with direction, differently per channel, and stays > 0.2.
+EquirectMap smoothRadianceMap(int width, int height) {
+  EquirectMap map(width, height);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const auto d = equirectTexelDirection(width, height, x, y);
+      float* t = map.texel(x, y);
+      t[0] = static_cast<float>(1.0 + 0.6 * d[0]);
+      t[1] = static_cast<float>(0.8 + 0.5 * d[1] * d[1] - 0.3 * d[2]);
+      t[2] = static_cast<float>(2.0 + d[1] + 0.5 * d[0] * d[2]);
+    }
+  }
+  return map;
+}
+
+TEST_F(RainRendererTest, OpaqueStreakShowsTheRadianceMap) {
+  // The map term alone, alpha 1 over black: C' = C = the map's value for the view. c must
+  // default to 0, the physically based choice.
+  EXPECT_EQ(ShadingParams{}.backgroundWeight, 0.0f);
+  ShadingParams shading;
+  shading.radianceMap = smoothRadianceMap(128, 64);
+  renderer().setStrokeAtlas(solidAtlas());
+  // A general view, the map's centre (-Z), near both poles, both sides of the u seam (+Z).
+  const float views[][3] = {{0.3f, -0.5f, 0.8f},      {0.0f, 0.0f, -1.0f},  {0.02f, 0.999f, 0.04f},
+                            {-0.05f, -0.999f, 0.01f}, {1e-3f, 0.2f, 0.98f}, {-1e-3f, 0.2f, 0.98f}};
+  for (const auto& [x, y, z] : views) {
+    const float n = std::sqrt(x * x + y * y + z * z);
+    StreakInstance streak = verticalStreak(16.0f, 5.0f, 17.0f, 8.0f, 1.0f, 10.0f);
+    streak.viewX = x / n;
+    streak.viewY = y / n;
+    streak.viewZ = z / n;
+    Image frame = uniformFrame(32, 24, {0, 0, 0, 1});
+    renderer().render(frame, {streak}, shading);
+    const std::array<float, 3> expected =
+        sampleEquirect(shading.radianceMap, streak.viewX, streak.viewY, streak.viewZ);
+    for (auto [px, py] : {std::pair{16, 10}, {13, 2}, {19, 19}}) {
+      for (int ch = 0; ch < 3; ++ch) {
+        EXPECT_NEAR(frame.pixel(px, py)[ch], expected[ch], 1e-4f * expected[ch])
+            << "view " << x << "," << y << "," << z << " at " << px << "," << py;
+      }
+    }
+  }
+}
+
+TEST_F(RainRendererTest, ShAndMapTermsAdd) {
+  // C = max(SH term, 0) + map: the negative green SH term is clamped before the map adds in.
+  renderer().setStrokeAtlas(solidAtlas());
+  const std::array<float, 4> b{0.2f, 0.4f, 0.8f, 1.0f};
+  const std::array<float, 3> l0{1.0f, -2.0f, 3.0f}, map{0.5f, 0.25f, 2.0f};
+  const float c = 0.3f, alpha = 0.6f;
+  ShadingParams shading = constantShading(l0, c);
+  shading.radianceMap = uniformEquirect(16, 8, map);
+  Image frame = uniformFrame(32, 24, b);
+  renderer().render(frame, {verticalStreak(16.0f, 5.0f, 17.0f, 4.0f, alpha, 10.0f)}, shading);
+  const float y00 = 0.28209479177387814f;
+  for (int ch = 0; ch < 3; ++ch) {
+    const float shaded = std::max(y00 * l0[ch], 0.0f) + map[ch] + c * b[ch];
+    EXPECT_NEAR(frame.pixel(16, 10)[ch], alpha * shaded + (1 - alpha) * b[ch], 1e-6f) << ch;
+  }
+}
+
+TEST_F(RainRendererTest, FollowsAChangeOfRadianceMap) {
+  // Uploads happen only when the map differs from the resident one; a map edited in place
+  // or resized must still show.
+  renderer().setStrokeAtlas(solidAtlas());
+  const std::vector<StreakInstance> streak{verticalStreak(16.0f, 5.0f, 17.0f, 4.0f, 1.0f, 1.0f)};
+  ShadingParams shading;
+  shading.radianceMap = uniformEquirect(16, 8, {1.0f, 2.0f, 3.0f});
+  auto centre = [&] {
+    Image frame = uniformFrame(32, 24, {0, 0, 0, 1});
+    renderer().render(frame, streak, shading);
+    return std::array<float, 3>{frame.pixel(16, 10)[0], frame.pixel(16, 10)[1],
+                                frame.pixel(16, 10)[2]};
+  };
+  EXPECT_EQ(centre(), (std::array<float, 3>{1.0f, 2.0f, 3.0f}));
+  EXPECT_EQ(centre(), (std::array<float, 3>{1.0f, 2.0f, 3.0f})) << "unchanged map";
+  shading.radianceMap.rgb.assign(shading.radianceMap.rgb.size(), 0.5f);
+  EXPECT_EQ(centre(), (std::array<float, 3>{0.5f, 0.5f, 0.5f})) << "edited in place";
+  shading.radianceMap = uniformEquirect(32, 16, {4.0f, 5.0f, 6.0f});
+  EXPECT_EQ(centre(), (std::array<float, 3>{4.0f, 5.0f, 6.0f})) << "resized";
+  shading = constantShading({0, 0, 0}, 0.0f);
+  EXPECT_EQ(centre(), (std::array<float, 3>{0.0f, 0.0f, 0.0f})) << "map term off";
+}
+
+// Rendering with `shading` must throw a pluvia::Error (stage "rain") whose message holds
+// `needle`.
+void expectShadingError(RainRenderer& renderer, const ShadingParams& shading,
+                        const std::string& needle) {
+  Image frame(32, 24);
+  try {
+    renderer.render(frame, {verticalStreak(8, 2, 9, 2, 1, 1)}, shading);
+    ADD_FAILURE() << "expected an error about " << needle;
+  } catch (const Error& error) {
+    EXPECT_EQ(error.context().stage, "rain");
+    EXPECT_NE(std::string(error.what()).find(needle), std::string::npos) << error.what();
+  }
+}
+
+TEST_F(RainRendererTest, RejectsBadRadianceMaps) {
+  renderer().setStrokeAtlas(solidAtlas());
+  expectShadingError(renderer(), ShadingParams{},
+                     "neither SH environment coefficients nor a radiance map");
+
+  ShadingParams shortMap;
+  shortMap.radianceMap = uniformEquirect(16, 8, {1, 1, 1});
+  shortMap.radianceMap.rgb.pop_back();
+  expectShadingError(renderer(), shortMap, "16x8 texels holds 383 floats instead of 384");
+
+  ShadingParams sizeless;
+  sizeless.radianceMap.rgb.assign(24, 1.0f);
+  expectShadingError(renderer(), sizeless, "0x0 texels holds 24 floats");
+
+  ShadingParams nan;
+  nan.radianceMap = uniformEquirect(16, 8, {1, 1, 1});
+  nan.radianceMap.texel(3, 2)[1] = NAN;
+  expectShadingError(renderer(), nan, "texel (3, 2) has a non-finite G value");
+  ShadingParams inf = constantShading({1, 1, 1}, 0.0f);  // an SH term does not excuse the map
+  inf.radianceMap = uniformEquirect(16, 8, {1, 1, 1});
+  inf.radianceMap.texel(15, 7)[2] = -INFINITY;
+  expectShadingError(renderer(), inf, "texel (15, 7) has a non-finite B value");
+
+  // The CPU twin rejects the same.
+  Image frame(32, 24);
+  EXPECT_THROW(renderRainCpu(frame, {}, nan, solidAtlas()), Error);
 }
 
 TEST_F(RainRendererTest, ReadBackPutsTheTopOfThePictureInRowZero) {
