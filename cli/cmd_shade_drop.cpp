@@ -1,6 +1,7 @@
 // `pluvia shade-drop`: the linear RGB radiance one raindrop sends toward the camera along a
 // view direction, lit by an equirect environment, by any of the drop-shading methods.
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 
 #include <fmt/format.h>
