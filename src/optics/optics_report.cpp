@@ -202,7 +202,7 @@ OpticsReport runOpticsReport(const EquirectMap& environment, const OpticsReportS
 std::string formatOpticsReport(const OpticsReport& report) {
   std::string out = fmt::format(
       "Drop shading against the Monte-Carlo reference: {} view directions, {} rays each "
-      "(reference noise {:.2f} %).\n",
+      "(reference noise {:.2f} %: the reference row's mean error is that noise).\n",
       report.directions, report.referenceSamples, 100.0 * report.referenceNoise);
   out += fmt::format("{:<10} {:<52} {:>10} {:>10} {:>12} {:>13} {:>12}\n", "group", "setting",
                      "mean err %", "max err %", "ns / drop", "precompute ms", "memory KiB");
