@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "image/equirect.h"
+#include "independent_fresnel.h"
 #include "optics/drop_trace.h"
 
 using namespace pluvia;
@@ -46,15 +47,6 @@ EquirectMap mapAroundView(const Vec& view, const std::function<double(double)>& 
   });
 }
 
-// Unpolarised Fresnel reflectance from air into index eta at incidence angle i, in the sine and
-// tangent form (the tracer uses the cosine form).
-double fresnelReflectance(double i, double eta) {
-  if (i < 1e-8) return std::pow((eta - 1) / (eta + 1), 2);
-  const double r = std::asin(std::sin(i) / eta);
-  const double rs = std::sin(i - r) / std::sin(i + r);
-  const double rp = std::tan(i - r) / std::tan(i + r);
-  return 0.5 * (rs * rs + rp * rp);
-}
 
 // Disc-averaged radiance of a drop in an environment L(w) = f(w . view), by the midpoint rule in
 // b^2 = sin^2 i: the external reflection leaves at deviation pi - 2i from the view direction,
@@ -68,7 +60,7 @@ double deviationQuadrature(double eta, int maxInteractions,
   for (int m = 0; m < n; ++m) {
     const double b = std::sqrt((m + 0.5) / n);
     const double i = std::asin(b), r = std::asin(b / eta);
-    const double reflectance = fresnelReflectance(i, eta);
+    const double reflectance = test::fresnelSineTangent(i, eta);
     sum += reflectance * f(std::cos(M_PI - 2 * i));
     double power = (1 - reflectance) * (1 - reflectance);
     for (int k = 0; k <= maxInteractions - 2 && power > 1e-12; ++k) {

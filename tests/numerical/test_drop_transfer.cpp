@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "independent_fresnel.h"
 #include "optics/drop_transfer.h"
 #include "optics/fresnel.h"
 
@@ -15,14 +16,7 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 const std::vector<double> kEtas = {1.0001, 1.01, 1.2, 1.333, 1.7, 2.5};
 
-// Unpolarised Fresnel written independently of fresnel.cpp, in the sine/tangent form.
-double fresnelSineTangent(double incidence, double eta) {
-  if (incidence < 1e-9) return std::pow((eta - 1.0) / (eta + 1.0), 2.0);
-  const double refraction = std::asin(std::sin(incidence) / eta);
-  const double rs = std::sin(incidence - refraction) / std::sin(incidence + refraction);
-  const double rp = std::tan(incidence - refraction) / std::tan(incidence + refraction);
-  return 0.5 * (rs * rs + rp * rp);
-}
+using test::fresnelSineTangent;
 
 // The angle (from the forward direction) of the k-th order rainbow by Descartes' minimum
 // deviation: cos^2(gamma) = (eta^2 - 1) / (k (k + 2)) for k internal reflections.
