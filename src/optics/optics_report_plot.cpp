@@ -65,14 +65,36 @@ void writeOpticsReportPlot(const OpticsReport& report, const std::string& path) 
               fmt::format("Drop shading: mean relative error vs time ({} directions, reference {} rays)",
                           report.directions, report.referenceSamples),
               {kLeft, 35}, font, 0.7, {0, 0, 0}, 2);
+  double allTermsError = 0.0;  // the error of the "terms" row with the most terms
+  for (const auto& row : report.rows) {
+    if (row.group == "terms") allTermsError = row.meanRelativeError;
+  }
+  std::vector<cv::Rect> labels;  // drawn so far: a new label moves down until it is clear
   for (const auto& row : report.rows) {
     const cv::Scalar colour = kGroupColours.count(row.group) ? kGroupColours.at(row.group) : cv::Scalar(0, 0, 0);
     const cv::Point p = toPixel(row.nanosecondsPerDrop, std::max(row.meanRelativeError, 1e-5));
     cv::circle(canvas, p, 5, colour, cv::FILLED);
-    // Rows of a sweep are labelled by their short setting; the "terms" sweep only by N.
+    // The "terms" sweep is labelled by N alone, and only where its points still spread out.
     std::string label = row.setting;
-    if (row.group == "terms") label = label.substr(label.find("N="));
-    cv::putText(canvas, label, {p.x + 7, p.y - 4}, font, 0.38, colour);
+    if (row.group == "terms") {
+      label = label.substr(label.find("N="));
+      if (row.meanRelativeError < 2.0 * allTermsError) continue;
+    }
+    int baseline = 0;
+    const cv::Size size = cv::getTextSize(label, font, 0.38, 1, &baseline);
+    cv::Rect box(p.x + 7, p.y - 4 - size.height, size.width, size.height + baseline);
+    if (box.x + box.width > kWidth - 5) box.x = p.x - 7 - size.width;  // keep it on the canvas
+    for (bool clear = false; !clear;) {
+      clear = true;
+      for (const cv::Rect& other : labels) {
+        if ((box & other).area() > 0) {
+          box.y = other.y + other.height + 1;
+          clear = false;
+        }
+      }
+    }
+    labels.push_back(box);
+    cv::putText(canvas, label, {box.x, box.y + size.height}, font, 0.38, colour);
   }
   int legendY = kTop + 20;
   for (const auto& [group, colour] : kGroupColours) {
