@@ -7,7 +7,8 @@
 
 namespace pluvia {
 
-EquirectMap::EquirectMap(int w, int h) : width(w), height(h), rgb(size_t(w) * size_t(h) * 3, 0.0f) {}
+EquirectMap::EquirectMap(int w, int h)
+    : width(w), height(h), rgb(size_t(w) * size_t(h) * 3, 0.0f) {}
 
 std::array<double, 2> equirectUv(const std::array<double, 3>& d) {
   double u = 0.5 + std::atan2(d[0], -d[2]) / (2.0 * M_PI);

@@ -21,7 +21,9 @@ struct EquirectMap {
   EquirectMap() = default;
   EquirectMap(int w, int h);  // zeros
   bool empty() const { return width <= 0 || height <= 0; }
-  float* texel(int x, int y) { return rgb.data() + (std::size_t(y) * std::size_t(width) + std::size_t(x)) * 3; }
+  float* texel(int x, int y) {
+    return rgb.data() + (std::size_t(y) * std::size_t(width) + std::size_t(x)) * 3;
+  }
   const float* texel(int x, int y) const {
     return rgb.data() + (std::size_t(y) * std::size_t(width) + std::size_t(x)) * 3;
   }

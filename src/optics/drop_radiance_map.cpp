@@ -4,8 +4,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include <opencv2/core.hpp>
 #include <tbb/parallel_for.h>
+#include <opencv2/core.hpp>
 
 namespace pluvia::optics {
 namespace {
@@ -50,7 +50,8 @@ std::vector<double> subsampleCosDeltaPhi(int inWidth, int ratio, int subsamples)
   for (int s = 0; s < inWidth; ++s) {
     for (int b = 0; b < subsamples; ++b) {
       const double columns = s - 0.5 * ratio + (b + 0.5) / subsamples;
-      cosines[size_t(s) * size_t(subsamples) + size_t(b)] = std::cos(2.0 * M_PI * columns / inWidth);
+      cosines[size_t(s) * size_t(subsamples) + size_t(b)] =
+          std::cos(2.0 * M_PI * columns / inWidth);
     }
   }
   return cosines;
@@ -58,7 +59,8 @@ std::vector<double> subsampleCosDeltaPhi(int inWidth, int ratio, int subsamples)
 
 }  // namespace
 
-EquirectMap buildDropRadianceMap(const EquirectMap& environment, const std::array<DropOptics, 3>& optics,
+EquirectMap buildDropRadianceMap(const EquirectMap& environment,
+                                 const std::array<DropOptics, 3>& optics,
                                  const RadianceMapSettings& settings) {
   if (environment.empty()) throw std::invalid_argument("empty environment map");
   if (settings.outputWidth < 4 || settings.outputWidth % 2 != 0 ||
@@ -90,7 +92,8 @@ EquirectMap buildDropRadianceMap(const EquirectMap& environment, const std::arra
     }
   }
 
-  const std::vector<double> cosDeltaPhi = subsampleCosDeltaPhi(inWidth, ratio, settings.kernelSubsamples);
+  const std::vector<double> cosDeltaPhi =
+      subsampleCosDeltaPhi(inWidth, ratio, settings.kernelSubsamples);
   EquirectMap out(outWidth, outHeight);
   tbb::parallel_for(0, outHeight, [&](int outRow) {
     std::array<cv::Mat, 3> accumulated;
@@ -102,11 +105,13 @@ EquirectMap buildDropRadianceMap(const EquirectMap& environment, const std::arra
         if (c == 0 || !oneTable) {
           rowKernel(tables[size_t(c)], outRow, outHeight, inRow, inWidth, inHeight,
                     settings.kernelSubsamples, cosDeltaPhi, kernel);
-          cv::dft(cv::Mat(1, inWidth, CV_64F, kernel.data()), kernelSpectrum, cv::DFT_COMPLEX_OUTPUT);
+          cv::dft(cv::Mat(1, inWidth, CV_64F, kernel.data()), kernelSpectrum,
+                  cv::DFT_COMPLEX_OUTPUT);
         }
         // sum_s K[s] L[q + s] <-> conj(K^) L^
         cv::Mat product;
-        cv::mulSpectrums(rowSpectra[size_t(inRow) * 3 + size_t(c)], kernelSpectrum, product, 0, true);
+        cv::mulSpectrums(rowSpectra[size_t(inRow) * 3 + size_t(c)], kernelSpectrum, product, 0,
+                         true);
         accumulated[size_t(c)] += product;
       }
     }

@@ -19,8 +19,8 @@ struct RadianceMapSettings {
   // The map looked up per drop (outputWidth / 2 rows). 256 x 128 halves the worst error near a
   // sun against 128 x 64 for ~0.5 s more per environment (table in the optics report).
   int outputWidth = 256;
-  int inputWidth = 512;   // the environment is resampled to this (a multiple of outputWidth)
-  int bins = 2048;        // bins in cos(theta) of the transfer table
+  int inputWidth = 512;      // the environment is resampled to this (a multiple of outputWidth)
+  int bins = 2048;           // bins in cos(theta) of the transfer table
   int kernelSubsamples = 3;  // per input texel and axis: D averaged over the texel's footprint
 };
 

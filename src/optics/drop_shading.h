@@ -38,8 +38,8 @@ struct PaperShading {
   double backgroundWeight = kPaperBackgroundWeight;
 };
 PaperShading preparePaperShading(const EquirectMap& environment, const std::array<double, 3>& eta,
-                                  int order = kPaperShOrder, int terms = kPaperTerms,
-                                  ShWindow window = ShWindow::None);
+                                 int order = kPaperShOrder, int terms = kPaperTerms,
+                                 ShWindow window = ShWindow::None);
 // C' = max(C, 0) + c * B, B = sampleEquirect(environment, view).
 std::array<double, 3> shadePaper(const PaperShading& paper, const EquirectMap& environment,
                                  const std::array<double, 3>& view);

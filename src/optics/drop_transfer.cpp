@@ -25,14 +25,17 @@ constexpr double kRingHalfWidthRad = 1e-4;
 
 void checkOptics(const DropOptics& optics) {
   if (!(optics.eta > 1.0 && optics.eta <= 3.0)) {
-    throw std::invalid_argument("refractive index must be in (1, 3], got " + std::to_string(optics.eta));
+    throw std::invalid_argument("refractive index must be in (1, 3], got " +
+                                std::to_string(optics.eta));
   }
   if (optics.terms < 1 || optics.terms > 200) {
     throw std::invalid_argument("terms must be in 1..200, got " + std::to_string(optics.terms));
   }
 }
 
-double gammaCellWidth() { return kHalfPi / kGammaCells; }
+double gammaCellWidth() {
+  return kHalfPi / kGammaCells;
+}
 
 // Integral over gamma in [a, b] of f(gamma) * d(b^2)/d(gamma) = f * sin(2 gamma), 4-point Gauss.
 template <typename F>
@@ -63,7 +66,9 @@ double bisect(double a, double b, G&& g) {
   return 0.5 * (a + b);
 }
 
-double refractionAngle(double gamma, double eta) { return std::asin(std::sin(gamma) / eta); }
+double refractionAngle(double gamma, double eta) {
+  return std::asin(std::sin(gamma) / eta);
+}
 
 }  // namespace
 
@@ -146,7 +151,8 @@ double powerAboveCosTheta(double mu, const DropOptics& optics) {
         sum += integrateOverDisc(a, b, power);
       } else if (previous >= 0.0 || next >= 0.0) {
         const double root = bisect(a, b, excess);
-        sum += previous >= 0.0 ? integrateOverDisc(a, root, power) : integrateOverDisc(root, b, power);
+        sum +=
+            previous >= 0.0 ? integrateOverDisc(a, root, power) : integrateOverDisc(root, b, power);
       }
       previous = next;
     }
@@ -215,15 +221,16 @@ TransferTable binTransfer(const DropOptics& optics, int bins) {
       const double g0 = s * h, g1 = (s + 1) * h, gm = 0.5 * (g0 + g1);
       const double muMid = termCosTheta(n, gm, optics.eta);
       const double muEnd = termCosTheta(n, g1, optics.eta);
-      const double segmentPower =
-          termPower(n, gm, optics.eta) * (std::sin(g1) * std::sin(g1) - std::sin(g0) * std::sin(g0));
+      const double segmentPower = termPower(n, gm, optics.eta) *
+                                  (std::sin(g1) * std::sin(g1) - std::sin(g0) * std::sin(g0));
       const double lo = std::min({muStart, muMid, muEnd}), hi = std::max({muStart, muMid, muEnd});
       const int first = binOf(lo), last = binOf(hi);
       if (first == last) {
         power[size_t(first)] += segmentPower;
       } else {
         for (int k = first; k <= last; ++k) {
-          const double overlap = std::min(hi, -1.0 + (k + 1) * binWidth) - std::max(lo, -1.0 + k * binWidth);
+          const double overlap =
+              std::min(hi, -1.0 + (k + 1) * binWidth) - std::max(lo, -1.0 + k * binWidth);
           power[size_t(k)] += segmentPower * std::max(0.0, overlap) / (hi - lo);
         }
       }
@@ -232,7 +239,8 @@ TransferTable binTransfer(const DropOptics& optics, int bins) {
   }
   TransferTable table;
   table.density.resize(size_t(bins));
-  for (int k = 0; k < bins; ++k) table.density[size_t(k)] = power[size_t(k)] / (2.0 * M_PI * binWidth);
+  for (int k = 0; k < bins; ++k)
+    table.density[size_t(k)] = power[size_t(k)] / (2.0 * M_PI * binWidth);
   return table;
 }
 

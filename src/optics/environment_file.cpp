@@ -14,9 +14,10 @@ EquirectMap loadEnvironment(const std::string& path) {
   const ErrorContext context{"environment", {}, path};
   const Image image = readImageFile(path, std::nullopt);
   if (image.width != 2 * image.height) {
-    throw Error(fmt::format("an equirect environment must be twice as wide as high, this one is {} x {}",
-                            image.width, image.height),
-                context);
+    throw Error(
+        fmt::format("an equirect environment must be twice as wide as high, this one is {} x {}",
+                    image.width, image.height),
+        context);
   }
   EquirectMap map(image.width, image.height);
   for (int y = 0; y < image.height; ++y) {

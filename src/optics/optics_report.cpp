@@ -78,7 +78,9 @@ std::vector<Rgb> traceAll(const EquirectMap& environment, const std::vector<Dire
 class ReportBuilder {
  public:
   ReportBuilder(const EquirectMap& environment, const OpticsReportSettings& settings)
-      : environment_(environment), settings_(settings), directions_(fibonacciDirections(settings.directions)) {
+      : environment_(environment),
+        settings_(settings),
+        directions_(fibonacciDirections(settings.directions)) {
     reference_ = traceAll(environment, directions_, settings.eta, settings.referenceSamples, 1);
   }
 
@@ -94,9 +96,11 @@ class ReportBuilder {
     RadianceMapSettings map;
     map.outputWidth = width;
     map.inputWidth = 2 * width;
-    const EquirectMap radiance = buildDropRadianceMap(environment_, channelOptics(settings_.eta, terms), map);
+    const EquirectMap radiance =
+        buildDropRadianceMap(environment_, channelOptics(settings_.eta, terms), map);
     const double ms = millisecondsSince(start);
-    add(group, fmt::format("radiance map {}x{}, N={}", width, width / 2, terms),
+    add(
+        group, fmt::format("radiance map {}x{}, N={}", width, width / 2, terms),
         [&](const Direction& d) {
           const auto c = sampleEquirect(radiance, float(d[0]), float(d[1]), float(d[2]));
           return Rgb{c[0], c[1], c[2]};
@@ -111,7 +115,9 @@ class ReportBuilder {
     sh.backgroundWeight = c;
     const double ms = millisecondsSince(start);
     const double bytes = double((order + 1) * (order + 1) * 3 + (order + 1) * 3) * sizeof(float);
-    add(group, setting, [&](const Direction& d) { return shadePaper(sh, environment_, d); }, ms, bytes);
+    add(
+        group, setting, [&](const Direction& d) { return shadePaper(sh, environment_, d); }, ms,
+        bytes);
   }
 
   void addPaperTable() {
@@ -119,11 +125,13 @@ class ReportBuilder {
     const PaperShading paper = preparePaperShading(environment_, settings_.eta);
     const PaperTransferTable table(paper.zonal);
     const double ms = millisecondsSince(start);
-    add("paper", fmt::format("paper table ({} directions), L=3, N=9, c=0.7", table.directions()),
+    add(
+        "paper", fmt::format("paper table ({} directions), L=3, N=9, c=0.7", table.directions()),
         [&](const Direction& d) {
           Rgb rgb = table.shade(paper.environmentSh, d);
           const auto b = sampleEquirect(environment_, float(d[0]), float(d[1]), float(d[2]));
-          for (size_t c = 0; c < 3; ++c) rgb[c] = std::max(rgb[c], 0.0) + kPaperBackgroundWeight * b[c];
+          for (size_t c = 0; c < 3; ++c)
+            rgb[c] = std::max(rgb[c], 0.0) + kPaperBackgroundWeight * b[c];
           return rgb;
         },
         ms, double(table.bytes()));
@@ -133,19 +141,22 @@ class ReportBuilder {
     // The reference against a second run of itself with another seed: its noise.
     const size_t subset = std::min<size_t>(32, directions_.size());
     const std::vector<Direction> some(directions_.begin(), directions_.begin() + long(subset));
-    const std::vector<Rgb> again = traceAll(environment_, some, settings_.eta, settings_.referenceSamples, 2);
+    const std::vector<Rgb> again =
+        traceAll(environment_, some, settings_.eta, settings_.referenceSamples, 2);
     double noise = 0.0;
-    for (size_t i = 0; i < subset; ++i) noise += relativeError(again[i], reference_[i]) / double(subset);
+    for (size_t i = 0; i < subset; ++i)
+      noise += relativeError(again[i], reference_[i]) / double(subset);
     report_.referenceNoise = noise / std::sqrt(2.0);
 
     TraceSettings trace;  // the reference at its default quality
     const auto start = Clock::now();
     const size_t timed = std::min<size_t>(8, directions_.size());
-    for (size_t i = 0; i < timed; ++i) traceDropRadiance(environment_, directions_[i], settings_.eta, trace);
+    for (size_t i = 0; i < timed; ++i)
+      traceDropRadiance(environment_, directions_[i], settings_.eta, trace);
     const double ns = millisecondsSince(start) * 1e6 / double(timed);
-    report_.rows.push_back({"reference", fmt::format("trace, {} rays (default quality)", trace.samples),
-                            report_.referenceNoise, 0.0, ns, 0.0,
-                            double(environment_.rgb.size() * sizeof(float))});
+    report_.rows.push_back(
+        {"reference", fmt::format("trace, {} rays (default quality)", trace.samples),
+         report_.referenceNoise, 0.0, ns, 0.0, double(environment_.rgb.size() * sizeof(float))});
   }
 
   OpticsReport finish() {
@@ -186,15 +197,16 @@ OpticsReport runOpticsReport(const EquirectMap& environment, const OpticsReportS
   for (int width : {64, 128, 256}) {
     builder.addRadianceMap(width == defaultWidth ? "default" : "map size", width, kDefaultTerms);
   }
-  for (int terms = 1; terms <= settings.maxTerms; ++terms) builder.addRadianceMap("terms", defaultWidth, terms);
+  for (int terms = 1; terms <= settings.maxTerms; ++terms)
+    builder.addRadianceMap("terms", defaultWidth, terms);
   for (int order = 1; order <= settings.maxOrder; ++order) {
-    builder.addSh("sh", fmt::format("SH L={}, N={}, closed-form rotation", order, kDefaultTerms), order,
-                  kDefaultTerms, 0.0, ShWindow::None);
+    builder.addSh("sh", fmt::format("SH L={}, N={}, closed-form rotation", order, kDefaultTerms),
+                  order, kDefaultTerms, 0.0, ShWindow::None);
   }
   builder.addSh("sh", fmt::format("SH L={}, N={}, Hann window", settings.maxOrder, kDefaultTerms),
                 settings.maxOrder, kDefaultTerms, 0.0, ShWindow::Hann);
-  builder.addSh("paper", "paper: SH L=3, N=9, c=0.7, closed-form rotation", kPaperShOrder, kPaperTerms,
-                kPaperBackgroundWeight, ShWindow::None);
+  builder.addSh("paper", "paper: SH L=3, N=9, c=0.7, closed-form rotation", kPaperShOrder,
+                kPaperTerms, kPaperBackgroundWeight, ShWindow::None);
   builder.addPaperTable();
   return builder.finish();
 }
@@ -207,9 +219,10 @@ std::string formatOpticsReport(const OpticsReport& report) {
   out += fmt::format("{:<10} {:<52} {:>10} {:>10} {:>12} {:>13} {:>12}\n", "group", "setting",
                      "mean err %", "max err %", "ns / drop", "precompute ms", "memory KiB");
   for (const OpticsReportRow& row : report.rows) {
-    out += fmt::format("{:<10} {:<52} {:>10.2f} {:>10.2f} {:>12.1f} {:>13.1f} {:>12.1f}\n", row.group,
-                       row.setting, 100.0 * row.meanRelativeError, 100.0 * row.maxRelativeError,
-                       row.nanosecondsPerDrop, row.precomputeMilliseconds, row.memoryBytes / 1024.0);
+    out +=
+        fmt::format("{:<10} {:<52} {:>10.2f} {:>10.2f} {:>12.1f} {:>13.1f} {:>12.1f}\n", row.group,
+                    row.setting, 100.0 * row.meanRelativeError, 100.0 * row.maxRelativeError,
+                    row.nanosecondsPerDrop, row.precomputeMilliseconds, row.memoryBytes / 1024.0);
   }
   return out;
 }
@@ -217,7 +230,8 @@ std::string formatOpticsReport(const OpticsReport& report) {
 void writeOpticsReportCsv(const OpticsReport& report, const std::string& path) {
   std::ofstream file(path);
   if (!file) throw Error("cannot write the report", {"report", {}, path});
-  file << "group,setting,mean_relative_error,max_relative_error,ns_per_drop,precompute_ms,memory_bytes\n";
+  file << "group,setting,mean_relative_error,max_relative_error,ns_per_drop,precompute_ms,memory_"
+          "bytes\n";
   for (const OpticsReportRow& row : report.rows) {
     file << fmt::format("{},\"{}\",{:.6g},{:.6g},{:.6g},{:.6g},{:.0f}\n", row.group, row.setting,
                         row.meanRelativeError, row.maxRelativeError, row.nanosecondsPerDrop,

@@ -52,26 +52,31 @@ void writeOpticsReportPlot(const OpticsReport& report, const std::string& path) 
   for (int decade = int(x.lo); decade <= int(x.hi); ++decade) {
     const int px = kLeft + int((decade - x.lo) / (x.hi - x.lo) * plotW);
     cv::line(canvas, {px, kTop}, {px, kTop + plotH}, {225, 225, 225});
-    cv::putText(canvas, fmt::format("1e{}", decade), {px - 18, kTop + plotH + 25}, font, 0.5, {0, 0, 0});
+    cv::putText(canvas, fmt::format("1e{}", decade), {px - 18, kTop + plotH + 25}, font, 0.5,
+                {0, 0, 0});
   }
   for (int decade = int(y.lo); decade <= int(y.hi); ++decade) {
     const int py = kTop + plotH - int((decade - y.lo) / (y.hi - y.lo) * plotH);
     cv::line(canvas, {kLeft, py}, {kLeft + plotW, py}, {225, 225, 225});
-    cv::putText(canvas, fmt::format("{:g} %", 100.0 * std::pow(10.0, decade)), {10, py + 5}, font, 0.5, {0, 0, 0});
+    cv::putText(canvas, fmt::format("{:g} %", 100.0 * std::pow(10.0, decade)), {10, py + 5}, font,
+                0.5, {0, 0, 0});
   }
   cv::rectangle(canvas, {kLeft, kTop}, {kLeft + plotW, kTop + plotH}, {0, 0, 0});
-  cv::putText(canvas, "time per drop (ns, log)", {kLeft + plotW / 2 - 100, kHeight - 30}, font, 0.6, {0, 0, 0});
-  cv::putText(canvas,
-              fmt::format("Drop shading: mean relative error vs time ({} directions, reference {} rays)",
-                          report.directions, report.referenceSamples),
-              {kLeft, 35}, font, 0.7, {0, 0, 0}, 2);
+  cv::putText(canvas, "time per drop (ns, log)", {kLeft + plotW / 2 - 100, kHeight - 30}, font, 0.6,
+              {0, 0, 0});
+  cv::putText(
+      canvas,
+      fmt::format("Drop shading: mean relative error vs time ({} directions, reference {} rays)",
+                  report.directions, report.referenceSamples),
+      {kLeft, 35}, font, 0.7, {0, 0, 0}, 2);
   double allTermsError = 0.0;  // the error of the "terms" row with the most terms
   for (const auto& row : report.rows) {
     if (row.group == "terms") allTermsError = row.meanRelativeError;
   }
   std::vector<cv::Rect> labels;  // drawn so far: a new label moves down until it is clear
   for (const auto& row : report.rows) {
-    const cv::Scalar colour = kGroupColours.count(row.group) ? kGroupColours.at(row.group) : cv::Scalar(0, 0, 0);
+    const cv::Scalar colour =
+        kGroupColours.count(row.group) ? kGroupColours.at(row.group) : cv::Scalar(0, 0, 0);
     const cv::Point p = toPixel(row.nanosecondsPerDrop, std::max(row.meanRelativeError, 1e-5));
     cv::circle(canvas, p, 5, colour, cv::FILLED);
     // The "terms" sweep is labelled by N alone, and only where its points still spread out.
@@ -102,7 +107,8 @@ void writeOpticsReportPlot(const OpticsReport& report, const std::string& path) 
     cv::putText(canvas, group, {kLeft + plotW - 138, legendY}, font, 0.5, colour);
     legendY += 20;
   }
-  if (!cv::imwrite(path, canvas)) throw Error("cannot write the plot (is it a .png path?)", {"report", {}, path});
+  if (!cv::imwrite(path, canvas))
+    throw Error("cannot write the plot (is it a .png path?)", {"report", {}, path});
 }
 
 }  // namespace pluvia::optics

@@ -10,12 +10,24 @@ namespace {
 std::array<double, 3> faceDirection(int face, double s, double t) {
   std::array<double, 3> d;
   switch (face) {
-    case 0: d = {1.0, t, -s}; break;
-    case 1: d = {-1.0, t, s}; break;
-    case 2: d = {s, 1.0, -t}; break;
-    case 3: d = {s, -1.0, t}; break;
-    case 4: d = {s, t, 1.0}; break;
-    default: d = {-s, t, -1.0}; break;
+    case 0:
+      d = {1.0, t, -s};
+      break;
+    case 1:
+      d = {-1.0, t, s};
+      break;
+    case 2:
+      d = {s, 1.0, -t};
+      break;
+    case 3:
+      d = {s, -1.0, t};
+      break;
+    case 4:
+      d = {s, t, 1.0};
+      break;
+    default:
+      d = {-s, t, -1.0};
+      break;
   }
   const double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
   return {d[0] / length, d[1] / length, d[2] / length};
@@ -23,7 +35,8 @@ std::array<double, 3> faceDirection(int face, double s, double t) {
 
 }  // namespace
 
-PaperTransferTable::PaperTransferTable(const std::array<std::vector<double>, 3>& zonal, int faceSize)
+PaperTransferTable::PaperTransferTable(const std::array<std::vector<double>, 3>& zonal,
+                                       int faceSize)
     : faceSize_(faceSize), coefficients_(int(zonal[0].size() * zonal[0].size())) {
   transfers_.resize(size_t(directions()) * 3 * size_t(coefficients_));
   for (int face = 0; face < 6; ++face) {
@@ -31,7 +44,8 @@ PaperTransferTable::PaperTransferTable(const std::array<std::vector<double>, 3>&
       for (int i = 0; i < faceSize; ++i) {
         const double s = 2.0 * (i + 0.5) / faceSize - 1.0, t = 2.0 * (j + 0.5) / faceSize - 1.0;
         const std::array<double, 3> view = faceDirection(face, s, t);
-        const size_t texel = (size_t(face) * size_t(faceSize) + size_t(j)) * size_t(faceSize) + size_t(i);
+        const size_t texel =
+            (size_t(face) * size_t(faceSize) + size_t(j)) * size_t(faceSize) + size_t(i);
         for (size_t c = 0; c < 3; ++c) {
           const std::vector<double> transfer = rotatedTransfer(zonal[c], view);
           float* out = transfers_.data() + (texel * 3 + c) * size_t(coefficients_);

@@ -16,7 +16,8 @@ class PaperTransferTable {
   explicit PaperTransferTable(const std::array<std::vector<double>, 3>& zonal, int faceSize = 128);
 
   // C = transfer(nearest texel to view) . environment SH, per channel.
-  std::array<double, 3> shade(const ShCoefficients& environment, const std::array<double, 3>& view) const;
+  std::array<double, 3> shade(const ShCoefficients& environment,
+                              const std::array<double, 3>& view) const;
 
   int directions() const { return 6 * faceSize_ * faceSize_; }
   size_t bytes() const { return transfers_.size() * sizeof(float); }

@@ -31,7 +31,8 @@ void shBasis(int order, const std::array<double, 3>& d, std::vector<double>& bas
         previous = current;
         current = z * (2.0 * m + 1.0) * previous;
       } else if (l > m + 1) {
-        const double next = ((2.0 * l - 1.0) * z * current - (l + m - 1.0) * previous) / double(l - m);
+        const double next =
+            ((2.0 * l - 1.0) * z * current - (l + m - 1.0) * previous) / double(l - m);
         previous = current;
         current = next;
       }
@@ -86,7 +87,8 @@ ShCoefficients projectEnvironment(const EquirectMap& environment, int order, ShW
   return sums;
 }
 
-std::vector<double> rotatedTransfer(const std::vector<double>& zonal, const std::array<double, 3>& view) {
+std::vector<double> rotatedTransfer(const std::vector<double>& zonal,
+                                    const std::array<double, 3>& view) {
   const int order = int(zonal.size()) - 1;
   std::vector<double> basis;
   shBasis(order, view, basis);
@@ -109,7 +111,8 @@ std::array<double, 3> shadeZonal(const ShCoefficients& environment,
     const double rotation = std::sqrt(4.0 * M_PI / (2.0 * l + 1.0));
     for (int m = -l; m <= l; ++m) {
       const size_t i = size_t(l * l + l + m);
-      for (size_t c = 0; c < 3; ++c) radiance[c] += rotation * zonal[c][size_t(l)] * basis[i] * environment[i][c];
+      for (size_t c = 0; c < 3; ++c)
+        radiance[c] += rotation * zonal[c][size_t(l)] * basis[i] * environment[i][c];
     }
   }
   return radiance;

@@ -32,6 +32,7 @@ std::array<double, 3> shadeZonal(const ShCoefficients& environment,
 
 // The rotated transfer vector sqrt(4 pi / (2l + 1)) d_l Y_lm(view) of one channel: what the
 // paper precomputes per view direction.
-std::vector<double> rotatedTransfer(const std::vector<double>& zonal, const std::array<double, 3>& view);
+std::vector<double> rotatedTransfer(const std::vector<double>& zonal,
+                                    const std::array<double, 3>& view);
 
 }  // namespace pluvia::optics

@@ -64,19 +64,21 @@ class EnvironmentStage : public Stage {
 
   void prepare(ClipContext& clip) override {
     if (source_ == "hdr") {
-      if (hdr_.empty()) throw Error("lighting.source is \"hdr\" but lighting.hdr names no file", {"lighting"});
+      if (hdr_.empty())
+        throw Error("lighting.source is \"hdr\" but lighting.hdr names no file", {"lighting"});
       clip.environment = hdrEnvironment(hdr_, intensity_);
       const auto& mean = clip.environment->averageRgb;
       log::info(fmt::format("lighting: {} ({} x {}), mean radiance {:.4f} {:.4f} {:.4f}", hdr_,
-                            clip.environment->radiance.width, clip.environment->radiance.height, mean[0],
-                            mean[1], mean[2]));
+                            clip.environment->radiance.width, clip.environment->radiance.height,
+                            mean[0], mean[1], mean[2]));
       return;
     }
     const std::string key = environmentCacheKey(*clip.preset, *clip.clip);
     if (clip.cache) {
       if (auto cached = clip.cache->load("lighting", key)) {
         auto rgb = (*cached)["average_rgb"];
-        clip.environment = uniformEnvironment({rgb[0].get<float>(), rgb[1].get<float>(), rgb[2].get<float>()});
+        clip.environment =
+            uniformEnvironment({rgb[0].get<float>(), rgb[1].get<float>(), rgb[2].get<float>()});
         log::info("lighting: from cache");
         return;
       }
@@ -84,7 +86,8 @@ class EnvironmentStage : public Stage {
     std::array<float, 3> radiance = color_;
     if (source_ == "frame_average") radiance = averageOfFrames(clip);
     clip.environment = uniformEnvironment(radiance);
-    log::info(fmt::format("lighting: average radiance {:.4f} {:.4f} {:.4f}", radiance[0], radiance[1], radiance[2]));
+    log::info(fmt::format("lighting: average radiance {:.4f} {:.4f} {:.4f}", radiance[0],
+                          radiance[1], radiance[2]));
     if (clip.cache) clip.cache->store("lighting", key, {{"average_rgb", radiance}});
   }
 
@@ -126,21 +129,59 @@ class EnvironmentStage : public Stage {
 StageInfo environmentStageInfo() {
   StageInfo info;
   info.spec.name = "lighting";
-  info.spec.help = "Environment lighting for the drops (per clip): an equirect HDR, a constant, or the clip's average.";
+  info.spec.help =
+      "Environment lighting for the drops (per clip): an equirect HDR, a constant, or the clip's "
+      "average.";
   info.spec.outputs = {"environment"};
   info.spec.params = {
       {"enabled", ParamType::Boolean, true, {}, {}, {}, "", "run this stage"},
-      {"source", ParamType::Enum, "frame_average", {}, {}, {"frame_average", "constant", "hdr"}, "",
-       "frame_average: mean radiance of sampled frames; constant: lighting.color; hdr: lighting.hdr"},
-      {"hdr", ParamType::String, "", {}, {}, {}, "",
-       "equirect HDR (.exr, .hdr; linear Rec.709; +Y up, image centre looking along -Z) for source hdr"},
-      {"intensity", ParamType::Number, 1.0, 0.0, 1e6, {}, "", "scale on the HDR's radiance, to match the plate"},
-      {"color", ParamType::Color3, nlohmann::json::array({0.5, 0.5, 0.5}), {}, {}, {}, "linear",
+      {"source",
+       ParamType::Enum,
+       "frame_average",
+       {},
+       {},
+       {"frame_average", "constant", "hdr"},
+       "",
+       "frame_average: mean radiance of sampled frames; constant: lighting.color; hdr: "
+       "lighting.hdr"},
+      {"hdr",
+       ParamType::String,
+       "",
+       {},
+       {},
+       {},
+       "",
+       "equirect HDR (.exr, .hdr; linear Rec.709; +Y up, image centre looking along -Z) for source "
+       "hdr"},
+      {"intensity",
+       ParamType::Number,
+       1.0,
+       0.0,
+       1e6,
+       {},
+       "",
+       "scale on the HDR's radiance, to match the plate"},
+      {"color",
+       ParamType::Color3,
+       nlohmann::json::array({0.5, 0.5, 0.5}),
+       {},
+       {},
+       {},
+       "linear",
        "radiance when source is constant"},
-      {"sample_frames", ParamType::Integer, 8, 1, 1000, {}, "frames", "frames averaged for frame_average"},
+      {"sample_frames",
+       ParamType::Integer,
+       8,
+       1,
+       1000,
+       {},
+       "frames",
+       "frames averaged for frame_average"},
   };
   info.perClip = true;
-  info.cacheKey = [](const Preset& p, const ClipInfo& clip) { return EnvironmentStage::environmentCacheKey(p, clip); };
+  info.cacheKey = [](const Preset& p, const ClipInfo& clip) {
+    return EnvironmentStage::environmentCacheKey(p, clip);
+  };
   info.create = [](const Preset& p) { return std::make_unique<EnvironmentStage>(p); };
   return info;
 }

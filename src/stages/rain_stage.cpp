@@ -42,20 +42,24 @@ rain::DropVolumeParams volumeParams(const Preset& p) {
 // SH coefficients plus c * B.
 gpu::ShadingParams dropShading(const Preset& p, const EquirectMap& environment) {
   const std::array<double, 3> eta =
-      p.boolean("rain.dispersion") ? optics::kWaterEtaDispersion
-                                   : std::array<double, 3>{optics::kWaterEta, optics::kWaterEta, optics::kWaterEta};
+      p.boolean("rain.dispersion")
+          ? optics::kWaterEtaDispersion
+          : std::array<double, 3>{optics::kWaterEta, optics::kWaterEta, optics::kWaterEta};
   gpu::ShadingParams shading;
   const auto started = std::chrono::steady_clock::now();
   if (p.string("rain.shading") == "default") {
-    shading.radianceMap = optics::buildDropRadianceMap(environment, optics::channelOptics(eta, optics::kDefaultTerms));
+    shading.radianceMap = optics::buildDropRadianceMap(
+        environment, optics::channelOptics(eta, optics::kDefaultTerms));
     shading.backgroundWeight = 0.0f;
   } else {
     const optics::PaperShading paper = optics::preparePaperShading(environment, eta);
     shading.shOrder = optics::kPaperShOrder;
-    for (const auto& rgb : paper.environmentSh) shading.envSh.push_back({float(rgb[0]), float(rgb[1]), float(rgb[2])});
+    for (const auto& rgb : paper.environmentSh)
+      shading.envSh.push_back({float(rgb[0]), float(rgb[1]), float(rgb[2])});
     // The GPU holds one transfer vector: the green channel's (dispersion shows in "default").
     for (int l = 0; l <= optics::kPaperShOrder; ++l) {
-      shading.transferZonal.push_back(float(std::sqrt(4.0 * M_PI / (2.0 * l + 1.0)) * paper.zonal[1][size_t(l)]));
+      shading.transferZonal.push_back(
+          float(std::sqrt(4.0 * M_PI / (2.0 * l + 1.0)) * paper.zonal[1][size_t(l)]));
     }
     shading.backgroundWeight = float(p.number("rain.background_weight"));
   }
@@ -70,11 +74,13 @@ class RainStage : public Stage {
 
   void prepare(ClipContext& clip) override {
     const Preset& p = preset_;
-    if (p.number("rain.min_diameter_mm") >= 6.0) throw Error("rain.min_diameter_mm must be below 6 mm", {"rain"});
+    if (p.number("rain.min_diameter_mm") >= 6.0)
+      throw Error("rain.min_diameter_mm must be below 6 mm", {"rain"});
     volume_ = std::make_unique<rain::DropVolume>(clip.camera, volumeParams(p));
     if (volume_->physicalCount() > double(volume_->drops().size()) + 0.5) {
-      log::info(fmt::format("rain: {:.0f} drops at this rate in the volume, drawing rain.max_drops = {}",
-                               volume_->physicalCount(), volume_->drops().size()));
+      log::info(
+          fmt::format("rain: {:.0f} drops at this rate in the volume, drawing rain.max_drops = {}",
+                      volume_->physicalCount(), volume_->drops().size()));
     }
     atlas_ = loadAtlas(clip);
     streakParams_.exposureSeconds = p.number("camera.exposure_s");
@@ -89,7 +95,8 @@ class RainStage : public Stage {
     renderer_->setStrokeAtlas(atlas_);
     log::info(fmt::format("rain: {} drops in a {:.1f} x {:.1f} x {:.1f} m box, {} strokes, GPU: {}",
                           volume_->drops().size(), volume_->boxSize().x(), volume_->boxSize().y(),
-                          volume_->boxSize().z(), atlas_.rects.size(), renderer_->deviceDescription()));
+                          volume_->boxSize().z(), atlas_.rects.size(),
+                          renderer_->deviceDescription()));
   }
 
   void process(ClipContext& clip, FrameContext& frame) override {
@@ -100,15 +107,18 @@ class RainStage : public Stage {
  private:
   gpu::StrokeAtlas loadAtlas(ClipContext& clip) const {
     const std::string strokes = preset_.string("rain.strokes");
-    if (strokes == "builtin") return rain::makeAnalyticStrokes(kAnalyticStrokeCount, uint64_t(preset_.number("rain.seed")));
+    if (strokes == "builtin")
+      return rain::makeAnalyticStrokes(kAnalyticStrokeCount, uint64_t(preset_.number("rain.seed")));
     if (strokes == "derain") {
-      if (!clip.footageStrokes) throw Error("rain.strokes is \"derain\" but no strokes were extracted", {"rain"});
+      if (!clip.footageStrokes)
+        throw Error("rain.strokes is \"derain\" but no strokes were extracted", {"rain"});
       return *clip.footageStrokes;
     }
     try {
       return rain::strokeAtlasFromJson(nlohmann::json::parse(fs::readTextFile(strokes)), strokes);
     } catch (const nlohmann::json::exception& e) {
-      throw Error(std::string("stroke library is not valid JSON: ") + e.what(), {"rain", {}, strokes});
+      throw Error(std::string("stroke library is not valid JSON: ") + e.what(),
+                  {"rain", {}, strokes});
     }
   }
 
@@ -125,30 +135,106 @@ class RainStage : public Stage {
 StageInfo rainStageInfo() {
   StageInfo info;
   info.spec.name = "rain";
-  info.spec.help = "Rain streaks on the GPU (headless EGL): drops by rate, stroke mattes, PRT shading, composite.";
+  info.spec.help =
+      "Rain streaks on the GPU (headless EGL): drops by rate, stroke mattes, PRT shading, "
+      "composite.";
   info.spec.inputs = {"image", "depth", "environment", "footage_strokes"};
   info.spec.outputs = {"image"};
   info.spec.params = {
       {"enabled", ParamType::Boolean, true, {}, {}, {}, "", "run this stage"},
-      {"rate_mm_h", ParamType::Number, 15.0, 0.0, 500.0, {}, "mm/h", "rain rate; sets drop count and sizes (Marshall-Palmer)"},
+      {"rate_mm_h",
+       ParamType::Number,
+       15.0,
+       0.0,
+       500.0,
+       {},
+       "mm/h",
+       "rain rate; sets drop count and sizes (Marshall-Palmer)"},
       {"seed", ParamType::Integer, 1, 0, 4294967295.0, {}, "", "random seed; same seed, same rain"},
-      {"strokes", ParamType::String, "builtin", {}, {}, {}, "",
+      {"strokes",
+       ParamType::String,
+       "builtin",
+       {},
+       {},
+       {},
+       "",
        "stroke library: builtin, derain (cut from derain.input), or a library file path"},
-      {"min_diameter_mm", ParamType::Number, 0.8, 0.05, 6.0, {}, "mm", "smaller drops are left to the fog"},
-      {"density_scale", ParamType::Number, 1.0, 0.0, 100.0, {}, "", "artist scale on the physical drop count"},
-      {"size_scale", ParamType::Number, 1.0, 0.05, 20.0, {}, "", "artist scale on the drawn drop diameter"},
-      {"opacity", ParamType::Number, 1.0, 0.0, 100.0, {}, "", "artist scale on the physical streak alpha"},
+      {"min_diameter_mm",
+       ParamType::Number,
+       0.8,
+       0.05,
+       6.0,
+       {},
+       "mm",
+       "smaller drops are left to the fog"},
+      {"density_scale",
+       ParamType::Number,
+       1.0,
+       0.0,
+       100.0,
+       {},
+       "",
+       "artist scale on the physical drop count"},
+      {"size_scale",
+       ParamType::Number,
+       1.0,
+       0.05,
+       20.0,
+       {},
+       "",
+       "artist scale on the drawn drop diameter"},
+      {"opacity",
+       ParamType::Number,
+       1.0,
+       0.0,
+       100.0,
+       {},
+       "",
+       "artist scale on the physical streak alpha"},
       {"near_m", ParamType::Number, 0.5, 0.05, 100.0, {}, "m", "nearest drops drawn"},
       {"far_m", ParamType::Number, 15.0, 0.1, 1000.0, {}, "m", "farthest drops drawn"},
-      {"max_drops", ParamType::Integer, 100000, 0, 10000000, {}, "drops", "cap on the simulated drops"},
-      {"shading", ParamType::Enum, "default", {}, {}, {"default", "paper"}, "",
-       "default: environment convolved with the drop's transfer function (about 1 % from a ray-traced drop); "
+      {"max_drops",
+       ParamType::Integer,
+       100000,
+       0,
+       10000000,
+       {},
+       "drops",
+       "cap on the simulated drops"},
+      {"shading",
+       ParamType::Enum,
+       "default",
+       {},
+       {},
+       {"default", "paper"},
+       "",
+       "default: environment convolved with the drop's transfer function (about 1 % from a "
+       "ray-traced drop); "
        "paper: Wang et al.'s 16 SH coefficients + c B (about 50 %)"},
-      {"dispersion", ParamType::Boolean, false, {}, {}, {}, "", "per-channel refractive index 1.331 / 1.333 / 1.338"},
-      {"background_weight", ParamType::Number, 0.7, 0.0, 1.0, {}, "",
+      {"dispersion",
+       ParamType::Boolean,
+       false,
+       {},
+       {},
+       {},
+       "",
+       "per-channel refractive index 1.331 / 1.333 / 1.338"},
+      {"background_weight",
+       ParamType::Number,
+       0.7,
+       0.0,
+       1.0,
+       {},
+       "",
        "c in C' = C + c B (Wang et al. Eq. 2); used by shading paper only"},
       {"wind.speed_m_s", ParamType::Number, 0.0, 0.0, 60.0, {}, "m/s", "horizontal wind speed"},
-      {"wind.dir_deg", ParamType::Number, 0.0, -360.0, 360.0, {}, "deg",
+      {"wind.dir_deg",
+       ParamType::Number,
+       0.0,
+       -360.0,
+       360.0,
+       {},
+       "deg",
        "direction the wind blows toward: 0 camera right, 90 away from the camera"},
   };
   info.noOpReason = [](const Preset& p) -> std::string {

@@ -47,7 +47,8 @@ TEST(Fresnel, PaperFormEqualsSPAverageAndAnIndependentForm) {
       const double c = std::cos(incidenceDeg * kDeg);
       const double r = fresnelReflectance(c, eta);
       EXPECT_NEAR(r, fresnelReflectancePaperForm(c, eta), 1e-12) << eta << " " << incidenceDeg;
-      EXPECT_NEAR(r, fresnelSineTangent(incidenceDeg * kDeg, eta), 1e-12) << eta << " " << incidenceDeg;
+      EXPECT_NEAR(r, fresnelSineTangent(incidenceDeg * kDeg, eta), 1e-12)
+          << eta << " " << incidenceDeg;
     }
     EXPECT_NEAR(fresnelReflectance(1.0, eta), std::pow((eta - 1.0) / (eta + 1.0), 2.0), 1e-15);
     EXPECT_DOUBLE_EQ(fresnelReflectance(0.0, eta), 1.0);  // grazing: finite, total
@@ -109,8 +110,8 @@ TEST(DropTransfer, ReflectionTermIsRoverFourPi) {
   // n = 1 alone: theta = pi - 2 gamma and D = R(gamma) / (4 pi) (xi_1 = R / 4, Eq. 6).
   for (double thetaDeg : {5.0, 30.0, 90.0, 150.0, 179.0}) {
     const double gamma = (M_PI - thetaDeg * kDeg) / 2.0;
-    EXPECT_NEAR(transferDensity(thetaDeg * kDeg, {1.333, 1}), fresnelSineTangent(gamma, 1.333) / (4.0 * M_PI),
-                1e-10)
+    EXPECT_NEAR(transferDensity(thetaDeg * kDeg, {1.333, 1}),
+                fresnelSineTangent(gamma, 1.333) / (4.0 * M_PI), 1e-10)
         << thetaDeg;
   }
 }
