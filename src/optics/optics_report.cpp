@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <stdexcept>
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
@@ -43,8 +44,8 @@ double nanosecondsPerDrop(const Shader& shade, const std::vector<Direction>& dir
     for (const Direction& d : directions) checksum += shade(d)[0];
     evaluations += int64_t(directions.size());
   } while (millisecondsSince(start) < 30.0);
-  static volatile double sink;  // keeps the calls from being optimised away
-  sink = checksum;
+  // Using the results keeps the calls from being optimised away, and checks them.
+  if (!std::isfinite(checksum)) throw std::runtime_error("non-finite drop radiance while timing");
   return millisecondsSince(start) * 1e6 / double(evaluations);
 }
 

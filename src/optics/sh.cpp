@@ -87,13 +87,17 @@ ShCoefficients projectEnvironment(const EquirectMap& environment, int order, ShW
   return sums;
 }
 
+double zonalRotationFactor(int l) {
+  return std::sqrt(4.0 * M_PI / (2.0 * l + 1.0));
+}
+
 std::vector<double> rotatedTransfer(const std::vector<double>& zonal,
                                     const std::array<double, 3>& view) {
   const int order = int(zonal.size()) - 1;
   std::vector<double> basis;
   shBasis(order, view, basis);
   for (int l = 0; l <= order; ++l) {
-    const double scale = std::sqrt(4.0 * M_PI / (2.0 * l + 1.0)) * zonal[size_t(l)];
+    const double scale = zonalRotationFactor(l) * zonal[size_t(l)];
     for (int m = -l; m <= l; ++m) basis[size_t(l * l + l + m)] *= scale;
   }
   return basis;
@@ -108,7 +112,7 @@ std::array<double, 3> shadeZonal(const ShCoefficients& environment,
   shBasis(order, view, basis);
   std::array<double, 3> radiance{0.0, 0.0, 0.0};
   for (int l = 0; l <= order; ++l) {
-    const double rotation = std::sqrt(4.0 * M_PI / (2.0 * l + 1.0));
+    const double rotation = zonalRotationFactor(l);
     for (int m = -l; m <= l; ++m) {
       const size_t i = size_t(l * l + l + m);
       for (size_t c = 0; c < 3; ++c)

@@ -23,6 +23,10 @@ double shWindowFactor(ShWindow window, int l, int order);
 ShCoefficients projectEnvironment(const EquirectMap& environment, int order,
                                   ShWindow window = ShWindow::None);
 
+// sqrt(4 pi / (2l + 1)): turns the zonal coefficient d_l into band l of the transfer rotated to
+// any view direction (the GPU's ShadingParams::transferZonal holds d_l times this).
+double zonalRotationFactor(int l);
+
 // The drop's radiance along `view` by the closed-form rotation of a zonal transfer
 // (addition theorem): C = sum_l sqrt(4 pi / (2l + 1)) d_l sum_m Y_lm(view) L_lm, per channel with
 // that channel's zonal coefficients d_l.

@@ -59,7 +59,7 @@ gpu::ShadingParams dropShading(const Preset& p, const EquirectMap& environment) 
     // The GPU holds one transfer vector: the green channel's (dispersion shows in "default").
     for (int l = 0; l <= optics::kPaperShOrder; ++l) {
       shading.transferZonal.push_back(
-          float(std::sqrt(4.0 * M_PI / (2.0 * l + 1.0)) * paper.zonal[1][size_t(l)]));
+          float(optics::zonalRotationFactor(l) * paper.zonal[1][size_t(l)]));
     }
     shading.backgroundWeight = float(p.number("rain.background_weight"));
   }
