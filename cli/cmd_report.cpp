@@ -1,12 +1,64 @@
 // `pluvia report optics`: the table of error against run time of the drop-shading methods.
+// `pluvia report derain`: rain extraction against synthetic ground truth and on real footage.
+#include <cstdlib>
+#include <filesystem>
 #include <iostream>
 
 #include "commands.h"
+#include "derain/derain_report.h"
 #include "optics/environment_file.h"
 #include "optics/optics_report.h"
 #include "optics/test_environment.h"
+#include "pluvia/version.h"
+#include "util/error.h"
 
 namespace pluvia::cli {
+namespace {
+
+// The repository root, from where the shipped presets are (version.h).
+std::filesystem::path sourceRoot() {
+  return std::filesystem::path(kSourcePresetDir).parent_path();
+}
+
+void addReportDerain(CLI::App& report, Invocation& invocation) {
+  auto* derain = report.add_subcommand(
+      "derain", "rain extraction: error vs time against synthetic truth, and on real footage");
+  struct Args {
+    std::string csv, plot, images, data;
+    derain::DerainReportSettings settings;
+  };
+  auto args = std::make_shared<Args>();
+  derain->add_option("--csv", args->csv, "also write the table as CSV");
+  derain->add_option("--plot", args->plot, "also write PSNR vs time as a PNG");
+  derain->add_option("--images", args->images,
+                     "write previews here (PNG): clean plates, mattes x4, input frames");
+  derain->add_option("--data", args->data,
+                     "shared data folder (default: $PLUVIA_SHARED_DATA, else ../shared/data "
+                     "beside the source tree); without it only the example plate is used");
+  derain->add_flag("--quick", args->settings.quick,
+                   "one 320x240 case, short sweeps, no real footage (for tests)");
+  derain->callback([=, &invocation] {
+    derain::DerainReportSettings settings = args->settings;
+    settings.examplePlate = (sourceRoot() / "examples/street/street_plate.mp4").string();
+    if (!args->data.empty()) {
+      if (!std::filesystem::is_directory(args->data))
+        throw UsageError("--data: no such folder: " + args->data);
+      settings.sharedData = args->data;
+    } else if (const char* env = std::getenv("PLUVIA_SHARED_DATA"); env && *env) {
+      settings.sharedData = env;
+    } else if (std::filesystem::is_directory(sourceRoot() / "../shared/data")) {
+      settings.sharedData = (sourceRoot() / "../shared/data").lexically_normal().string();
+    }
+    settings.imagesDir = args->images;
+    const derain::DerainReport result = derain::runDerainReport(settings);
+    std::cout << derain::formatDerainReport(result);
+    if (!args->csv.empty()) derain::writeDerainReportCsv(result, args->csv);
+    if (!args->plot.empty()) derain::writeDerainReportPlot(result, args->plot);
+    invocation.exitCode = 0;
+  });
+}
+
+}  // namespace
 
 void addReportCommand(CLI::App& app, Invocation& invocation) {
   auto* cmd = app.add_subcommand("report", "measurement reports");
@@ -44,6 +96,7 @@ void addReportCommand(CLI::App& app, Invocation& invocation) {
     if (!args->plot.empty()) optics::writeOpticsReportPlot(report, args->plot);
     invocation.exitCode = 0;
   });
+  addReportDerain(*cmd, invocation);
 }
 
 }  // namespace pluvia::cli

@@ -19,5 +19,7 @@ void addDescribeCommand(CLI::App& app, Invocation& invocation);
 void addBenchCommand(CLI::App& app, Invocation& invocation);
 void addShadeDropCommand(CLI::App& app, Invocation& invocation);
 void addReportCommand(CLI::App& app, Invocation& invocation);
+void addDerainCommand(CLI::App& app, Invocation& invocation);
+void addStrokesCommand(CLI::App& app, Invocation& invocation);
 
 }  // namespace pluvia::cli

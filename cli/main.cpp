@@ -36,6 +36,8 @@ int main(int argc, char** argv) {
   cli::addBenchCommand(app, invocation);
   cli::addShadeDropCommand(app, invocation);
   cli::addReportCommand(app, invocation);
+  cli::addDerainCommand(app, invocation);
+  cli::addStrokesCommand(app, invocation);
   app.parse_complete_callback([&] { log::setLevel(quiet ? log::Level::Warning : log::Level::Info); });
 
   // CLI11 would only say "a subcommand is required" for a mistyped command: name it.

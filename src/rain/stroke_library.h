@@ -1,7 +1,18 @@
 #pragma once
-// Stroke libraries: the rain mattes particles carry (Wang et al. section 3).
+// Stroke libraries: the rain mattes particles carry (Wang et al. section 3), cut from real rain
+// footage by `pluvia strokes` (src/derain/stroke_extraction.h).
+//
+// On disk a library is two files side by side: LIBRARY.json and the atlas it names (a 16-bit
+// grayscale PNG). The JSON:
+//   {"pluvia_strokes": 1, "atlas": "name.png", "width": W, "height": H,
+//    "source": "...", "command": "...",
+//    "strokes": [{"rect": [x, y, w, h], "length_px": L, "width_px": w, "contrast": peak alpha,
+//                 "source_frame": n, "score": s}, ...]}
+// Every stroke in the atlas is vertical (rain rotated upright), its matte scaled to peak 1
+// (the renderer sets the opacity from physics; `contrast` keeps the measured peak).
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -9,17 +20,37 @@
 
 namespace pluvia::rain {
 
-// PLACEHOLDER (analytic, not from footage): `count` procedural strokes, each a vertical matte
-// with a Gaussian cross-section, soft tapered ends and a gentle random variation of brightness
-// along its length. The stroke-extraction issue replaces this with strokes cut from real rain.
-gpu::StrokeAtlas makeAnalyticStrokes(int count, uint64_t seed);
+struct StrokeInfo {
+  int x = 0, y = 0, width = 0, height = 0;  // rectangle in the atlas, pixels
+  double lengthPx = 0.0;                    // length of the stroke in its source frame
+  double widthPx = 0.0;                     // width across it in its source frame
+  double contrast = 0.0;                    // measured peak alpha before normalising
+  int64_t sourceFrame = 0;
+  double score = 0.0;
+};
+
+struct StrokeLibrary {
+  gpu::StrokeAtlas atlas;  // rects filled from `strokes`
+  std::vector<StrokeInfo> strokes;
+  std::string source;   // footage it was cut from
+  std::string command;  // command line that made it
+};
+
+// Writes LIBRARY.json and, beside it, the atlas PNG (same stem). Both files are written to
+// temporary names and renamed into place. Throws pluvia::Error naming the path on failure.
+void saveStrokeLibrary(const StrokeLibrary& library, const std::string& jsonPath);
+// Throws pluvia::Error naming the file (and the key or stroke) when it is missing or invalid:
+// rectangles outside the atlas, an atlas of another size than the JSON says, no strokes.
+StrokeLibrary loadStrokeLibrary(const std::string& jsonPath);
+// The library shipped with pluvia (assets/strokes/builtin.json in the source tree).
+std::string builtinStrokeLibraryPath();
 
 // Mean matte value over all strokes' rectangles (1 for an empty atlas).
 double meanMatte(const gpu::StrokeAtlas& atlas);
 
-// A stroke library as JSON: {"width", "height", "alpha": [row-major floats], "rects": [[x0,y0,x1,y1]...]}.
+// A whole atlas as one JSON value (alpha inline), for the artifact cache.
 nlohmann::json strokeAtlasToJson(const gpu::StrokeAtlas& atlas);
-// Throws pluvia::Error naming `source` when the JSON is not a valid library.
+// Throws pluvia::Error naming `source` when the JSON is not a valid atlas.
 gpu::StrokeAtlas strokeAtlasFromJson(const nlohmann::json& json, const std::string& source);
 
 }  // namespace pluvia::rain

@@ -10,14 +10,11 @@
 #include "rain/stroke_library.h"
 #include "stages/registry.h"
 #include "util/error.h"
-#include "util/fs.h"
 #include "util/log.h"
 #include "util/timer.h"
 
 namespace pluvia {
 namespace {
-
-constexpr int kAnalyticStrokeCount = 16;
 
 rain::DropVolumeParams volumeParams(const Preset& p) {
   rain::DropVolumeParams v;
@@ -108,18 +105,13 @@ class RainStage : public Stage {
   gpu::StrokeAtlas loadAtlas(ClipContext& clip) const {
     const std::string strokes = preset_.string("rain.strokes");
     if (strokes == "builtin")
-      return rain::makeAnalyticStrokes(kAnalyticStrokeCount, uint64_t(preset_.number("rain.seed")));
+      return rain::loadStrokeLibrary(rain::builtinStrokeLibraryPath()).atlas;
     if (strokes == "derain") {
       if (!clip.footageStrokes)
         throw Error("rain.strokes is \"derain\" but no strokes were extracted", {"rain"});
       return *clip.footageStrokes;
     }
-    try {
-      return rain::strokeAtlasFromJson(nlohmann::json::parse(fs::readTextFile(strokes)), strokes);
-    } catch (const nlohmann::json::exception& e) {
-      throw Error(std::string("stroke library is not valid JSON: ") + e.what(),
-                  {"rain", {}, strokes});
-    }
+    return rain::loadStrokeLibrary(strokes).atlas;
   }
 
   const Preset& preset_;
@@ -158,7 +150,8 @@ StageInfo rainStageInfo() {
        {},
        {},
        "",
-       "stroke library: builtin, derain (cut from derain.input), or a library file path"},
+       "stroke library: builtin (cut from real rain, shipped), derain (cut from derain.input), or "
+       "a LIBRARY.json written by `pluvia strokes`"},
       {"min_diameter_mm",
        ParamType::Number,
        0.8,

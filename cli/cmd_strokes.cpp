@@ -1,0 +1,94 @@
+// `pluvia strokes`: a stroke library cut from real rain footage (Wang et al. section 2): the
+// clip is derained window by window (Eq. 1) and single strokes are cut from the mattes.
+#include <filesystem>
+#include <iostream>
+
+#include <fmt/format.h>
+
+#include "commands.h"
+#include "common.h"
+#include "derain/clip_derain.h"
+#include "derain/stroke_extraction.h"
+#include "io/clip_reader.h"
+#include "rain/stroke_library.h"
+#include "util/error.h"
+#include "util/fs.h"
+
+namespace pluvia::cli {
+namespace {
+
+// The library's two files must not be any file of the input.
+void refuseOverwritingInput(const std::string& input, const std::string& library) {
+  const std::filesystem::path json(library);
+  const std::filesystem::path png = json.parent_path() / (json.stem().string() + ".png");
+  const auto reader = openClip(input);
+  for (const std::string& file : reader->info().files) {
+    for (const auto& out : {json, png}) {
+      if (fs::samePath(out, file)) {
+        throw UsageError(fmt::format("-o {} would overwrite the input file {}", library, file));
+      }
+    }
+  }
+}
+
+}  // namespace
+
+void addStrokesCommand(CLI::App& app, Invocation& invocation) {
+  auto* cmd = app.add_subcommand(
+      "strokes", "cut a stroke library (LIBRARY.json + LIBRARY.png) from real rain footage");
+  struct Args {
+    std::string input, output, frames;
+    derain::ClipDerainSettings clip;
+    derain::StrokeExtractionSettings strokes;
+  };
+  auto args = std::make_shared<Args>();
+  cmd->add_option("INPUT", args->input, "rain footage: movie, image sequence (rain.%05d.jpg)")
+      ->required();
+  cmd->add_option("-o,--output", args->output, "the library to write, LIBRARY.json (atlas beside)")
+      ->required();
+  cmd->add_option("--count", args->strokes.count, "strokes kept, best first")
+      ->check(CLI::Range(1, 4096))
+      ->capture_default_str();
+  cmd->add_option("--frames", args->frames, "FIRST-LAST, in the clip's frame numbers");
+  cmd->add_option("--window", args->clip.window, "frames per derain solve")
+      ->check(CLI::Range(3, 1000))
+      ->capture_default_str();
+  cmd->add_option("--lambda", args->clip.solver.lambda, "weight of the background's smoothness")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--mu", args->clip.solver.mu, "weight of the matte's smoothness along the rain")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->callback([=, &invocation] {
+    if (!args->frames.empty()) {
+      std::tie(args->clip.firstFrame, args->clip.lastFrame) = parseFrameRange(args->frames);
+    }
+    refuseOverwritingInput(args->input, args->output);
+
+    derain::StrokeCollector collector(args->strokes);
+    size_t frames = 0;
+    const derain::ClipDerainSummary summary =
+        derain::derainClip(args->input, args->clip, [&](const derain::ClipDerainFrame& frame) {
+          collector.addFrame(frame.frame, frame.matte, frame.angleDeg, frame.noiseSigma);
+          ++frames;
+        });
+    rain::StrokeLibrary library = collector.finish();
+    if (library.strokes.empty()) {
+      throw Error(fmt::format("no rain strokes found in {} ({} frames, rain angle {:.1f} deg): "
+                              "nothing written",
+                              args->input, frames, summary.angleDeg),
+                  {"strokes", {}, args->input});
+    }
+    library.source = args->input;
+    library.command = invocation.commandLine;
+    rain::saveStrokeLibrary(library, args->output);
+    std::cout << fmt::format(
+        "strokes: kept {} of {} candidates from {} frames of {}, rain angle {:.1f} deg, atlas "
+        "{}x{} -> {}\n",
+        library.strokes.size(), collector.candidateCount(), frames, args->input, summary.angleDeg,
+        library.atlas.width, library.atlas.height, args->output);
+    invocation.exitCode = 0;
+  });
+}
+
+}  // namespace pluvia::cli

@@ -1,0 +1,58 @@
+#pragma once
+// Derain over a whole clip: frames read (in the file's own encoding, see frame_stack.h), cut into
+// windows of `window` frames (the last window reaches back so every window is full), each window
+// registered (panning camera) and solved with Eq. (1); results handed back frame by frame on
+// each frame's own pixel grid.
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "derain/derain_solver.h"
+
+namespace pluvia::derain {
+
+struct ClipDerainSettings {
+  DerainSettings solver;
+  int window = 20;                 // frames per solve, at least 3
+  int64_t firstFrame = INT64_MIN;  // frame range (inclusive); defaults: the whole clip
+  int64_t lastFrame = INT64_MAX;
+  bool registration = true;  // false: assume a locked-off camera
+};
+
+struct ClipDerainFrame {
+  int64_t frame = 0;      // the clip's frame number
+  cv::Mat original;       // the frame as read, CV_32FC3 RGB
+  cv::Mat clean;          // S on this frame's grid; outside the window's reference frame: original
+  cv::Mat matte;          // alpha on this frame's grid, CV_32FC1 (0 outside the reference frame)
+  cv::Vec3f rainColor;    // C^k
+  double angleDeg = 0.0;  // the window's D0
+  double noiseSigma = 0.0;
+};
+
+// One window's solve, without its images (they went to `emit`).
+struct ClipDerainWindow {
+  int64_t firstFrame = 0, lastFrame = 0;
+  double maxShiftPx = 0.0;  // registration: 0 when not registered
+  double angleDeg = 0.0;
+  int iterations = 0;
+  double residual = 0.0;
+  double noiseSigma = 0.0;
+  std::vector<DerainIteration> history;
+};
+
+struct ClipDerainSummary {
+  std::vector<ClipDerainWindow> windows;
+  double angleDeg = 0.0;  // over all windows (weighted by frames)
+  cv::Vec3f rainColor;    // mean C over all frames
+  int iterations = 0;     // largest over windows
+  double residual = 0.0;  // RMS over windows
+  double seconds = 0.0;
+};
+
+// Calls `emit` once per frame, in frame order. Throws pluvia::Error naming the input when the
+// range holds fewer than 3 frames or a frame cannot be read or registered.
+ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings& settings,
+                             const std::function<void(const ClipDerainFrame&)>& emit);
+
+}  // namespace pluvia::derain

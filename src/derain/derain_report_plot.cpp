@@ -1,0 +1,180 @@
+// The derain report as a picture: PSNR of S against run time (log), the EM-iteration sweep and
+// the window sweep as lines, the median baseline as markers, the rained input as a floor. Same
+// canvas, margins, fonts and grid as the optics report's plot.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <fmt/format.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "derain/derain_report.h"
+#include "util/error.h"
+
+namespace pluvia::derain {
+namespace {
+
+constexpr int kWidth = 1400, kHeight = 900;
+constexpr int kLeft = 110, kRight = 40, kTop = 60, kBottom = 90;
+constexpr int kPlotW = kWidth - kLeft - kRight, kPlotH = kHeight - kTop - kBottom;
+const auto kFont = cv::FONT_HERSHEY_SIMPLEX;
+
+const cv::Scalar kIterationColour{200, 140, 60};  // BGR
+const cv::Scalar kWindowColour{40, 160, 40};
+const cv::Scalar kMedianColour{40, 40, 220};
+const cv::Scalar kInputColour{150, 150, 150};
+
+struct Point {
+  double seconds, psnr;
+  std::string label;
+};
+
+struct Axes {
+  double logLo, logHi;  // time, log10 seconds
+  double lo, hi;        // PSNR, dB
+  cv::Point at(double seconds, double psnr) const {
+    const double fx = (std::log10(seconds) - logLo) / (logHi - logLo);
+    const double fy = (psnr - lo) / (hi - lo);
+    return {kLeft + int(std::lround(fx * kPlotW)), kTop + kPlotH - int(std::lround(fy * kPlotH))};
+  }
+};
+
+// Labels are placed right of their point and pushed down until they overlap no earlier one.
+class Labeller {
+ public:
+  void draw(cv::Mat& canvas, cv::Point p, const std::string& text, const cv::Scalar& colour) {
+    int baseline = 0;
+    const cv::Size size = cv::getTextSize(text, kFont, 0.42, 1, &baseline);
+    cv::Rect box(p.x + 8, p.y - 4 - size.height, size.width, size.height + baseline);
+    if (box.x + box.width > kWidth - 5) box.x = p.x - 8 - size.width;
+    for (bool clear = false; !clear;) {
+      clear = true;
+      for (const cv::Rect& other : placed_) {
+        if ((box & other).area() > 0) {
+          box.y = other.y + other.height + 1;
+          clear = false;
+        }
+      }
+    }
+    placed_.push_back(box);
+    cv::putText(canvas, text, {box.x, box.y + size.height}, kFont, 0.42, colour);
+  }
+
+ private:
+  std::vector<cv::Rect> placed_;
+};
+
+void drawSeries(cv::Mat& canvas, const Axes& axes, const std::vector<Point>& points,
+                const cv::Scalar& colour, bool joined, Labeller& labels) {
+  for (size_t i = 0; joined && i + 1 < points.size(); ++i) {
+    cv::line(canvas, axes.at(points[i].seconds, points[i].psnr),
+             axes.at(points[i + 1].seconds, points[i + 1].psnr), colour, 2, cv::LINE_AA);
+  }
+  for (const Point& p : points) {
+    const cv::Point at = axes.at(p.seconds, p.psnr);
+    if (joined) {
+      cv::circle(canvas, at, 5, colour, cv::FILLED, cv::LINE_AA);
+    } else {
+      cv::drawMarker(canvas, at, colour, cv::MARKER_DIAMOND, 14, 2, cv::LINE_AA);
+    }
+    labels.draw(canvas, at, p.label, colour);
+  }
+}
+
+}  // namespace
+
+void writeDerainReportPlot(const DerainReport& report, const std::string& path) {
+  std::vector<Point> iterations, windows, medians;
+  double inputPsnr = NAN;
+  std::string scene;
+  double angle = 0.0;
+  for (const DerainReportRow& row : report.rows) {
+    if (row.section == "iterations") {
+      iterations.push_back({row.seconds, row.psnrDb, fmt::format("{} it", row.iterations)});
+      scene = row.scene;
+      angle = row.trueAngleDeg;
+    } else if (row.section == "window" && row.method == "solver") {
+      windows.push_back({row.seconds, row.psnrDb, fmt::format("{} frames", row.frames)});
+    } else if (row.section == "window" && row.method == "median") {
+      medians.push_back({row.seconds, row.psnrDb, fmt::format("median, {} frames", row.frames)});
+    }
+  }
+  for (const DerainReportRow& row : report.rows) {
+    if (row.section == "synthetic" && row.method == "input" && row.scene == scene &&
+        row.trueAngleDeg == angle)
+      inputPsnr = row.psnrDb;
+  }
+
+  double tLo = 1e300, tHi = -1e300, pLo = 1e300, pHi = -1e300;
+  for (const auto* series : {&iterations, &windows, &medians}) {
+    for (const Point& p : *series) {
+      if (!(p.seconds > 0.0) || !std::isfinite(p.psnr)) continue;
+      tLo = std::min(tLo, p.seconds), tHi = std::max(tHi, p.seconds);
+      pLo = std::min(pLo, p.psnr), pHi = std::max(pHi, p.psnr);
+    }
+  }
+  if (tLo > tHi) throw Error("the derain report has no sweep to plot", {"report", {}, path});
+  if (std::isfinite(inputPsnr)) pLo = std::min(pLo, inputPsnr);
+  const Axes axes{std::floor(std::log10(tLo) - 0.05), std::ceil(std::log10(tHi) + 0.05),
+                  std::floor(pLo - 0.5), std::ceil(pHi + 0.5)};
+
+  cv::Mat canvas(kHeight, kWidth, CV_8UC3, cv::Scalar(255, 255, 255));
+  // Time grid: 1, 2, 5 per decade.
+  for (int decade = int(axes.logLo); decade < int(axes.logHi) + 1; ++decade) {
+    for (double m : {1.0, 2.0, 5.0}) {
+      const double t = m * std::pow(10.0, decade);
+      if (std::log10(t) > axes.logHi + 1e-9) break;
+      const int px = axes.at(t, axes.lo).x;
+      cv::line(canvas, {px, kTop}, {px, kTop + kPlotH},
+               m == 1.0 ? cv::Scalar(215, 215, 215) : cv::Scalar(238, 238, 238));
+      cv::putText(canvas, fmt::format("{:g}", t), {px - 12, kTop + kPlotH + 25}, kFont, 0.5,
+                  {0, 0, 0});
+    }
+  }
+  // PSNR grid: a step of 1, 2 or 5 dB giving at most 12 lines.
+  double step = 1.0;
+  for (double s : {1.0, 2.0, 5.0, 10.0}) {
+    step = s;
+    if ((axes.hi - axes.lo) / s <= 12.0) break;
+  }
+  for (double v = std::ceil(axes.lo / step) * step; v <= axes.hi + 1e-9; v += step) {
+    const int py = axes.at(1.0 * std::pow(10.0, axes.logLo), v).y;
+    cv::line(canvas, {kLeft, py}, {kLeft + kPlotW, py}, {225, 225, 225});
+    cv::putText(canvas, fmt::format("{:g} dB", v), {30, py + 5}, kFont, 0.5, {0, 0, 0});
+  }
+  cv::rectangle(canvas, {kLeft, kTop}, {kLeft + kPlotW, kTop + kPlotH}, {0, 0, 0});
+  cv::putText(canvas, "run time per stack (s, log)", {kLeft + kPlotW / 2 - 110, kHeight - 30},
+              kFont, 0.6, {0, 0, 0});
+  cv::putText(canvas,
+              fmt::format("Rain extraction: PSNR of the background vs run time ({}, rain at {:g} "
+                          "deg, {}x{}, display encoding)",
+                          scene, angle, report.size.width, report.size.height),
+              {kLeft, 35}, kFont, 0.7, {0, 0, 0}, 2);
+
+  Labeller labels;
+  if (std::isfinite(inputPsnr)) {
+    const int py = axes.at(1.0 * std::pow(10.0, axes.logLo), inputPsnr).y;
+    for (int x = kLeft; x < kLeft + kPlotW; x += 16)
+      cv::line(canvas, {x, py}, {std::min(x + 8, kLeft + kPlotW), py}, kInputColour, 1);
+    labels.draw(canvas, {kLeft + 2, py}, "rained input frame (no derain)", kInputColour);
+  }
+  drawSeries(canvas, axes, iterations, kIterationColour, true, labels);
+  drawSeries(canvas, axes, windows, kWindowColour, true, labels);
+  drawSeries(canvas, axes, medians, kMedianColour, false, labels);
+
+  const std::pair<const char*, cv::Scalar> legend[] = {
+      {"EM iterations (full window, tolerance 0)", kIterationColour},
+      {"window size (default settings)", kWindowColour},
+      {"temporal median baseline", kMedianColour}};
+  int legendY = kTop + kPlotH - 120;  // above the input line, which sits at the bottom
+  for (const auto& [text, colour] : legend) {
+    cv::circle(canvas, {kLeft + kPlotW - 380, legendY - 4}, 5, colour, cv::FILLED, cv::LINE_AA);
+    cv::putText(canvas, text, {kLeft + kPlotW - 368, legendY}, kFont, 0.5, colour);
+    legendY += 22;
+  }
+  if (!cv::imwrite(path, canvas))
+    throw Error("cannot write the plot (is it a .png path?)", {"report", {}, path});
+}
+
+}  // namespace pluvia::derain

@@ -1,0 +1,38 @@
+#pragma once
+// Registering the frames of a slowly panning camera onto one reference frame, so that the
+// static background lines up for Eq. (1), and warping the results back.
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "derain/frame_stack.h"
+
+namespace pluvia::derain {
+
+struct Registration {
+  // Per frame: the homography taking reference-frame pixel coordinates to that frame's pixel
+  // coordinates (identity for the reference frame itself).
+  std::vector<cv::Matx33d> referenceToFrame;
+  // Largest displacement of a frame corner under any of the homographies, in pixels.
+  double maxShiftPx = 0.0;
+  bool moving() const { return maxShiftPx >= 0.25; }
+};
+
+// Estimates each frame's homography from frames[reference] (ORB features on the median-filtered
+// luminance, so thin rain streaks carry none; ratio test; RANSAC, refitted on the inliers).
+// When no frame moves more than half a pixel the camera is taken as locked-off and every
+// homography is the identity. Throws pluvia::Error naming the frame index when a frame cannot
+// be registered.
+Registration registerFrames(const std::vector<cv::Mat>& frames, int reference);
+
+// The frames resampled onto the reference frame's pixel grid, with validity masks. When the
+// registration is not moving() the frames are passed through untouched (no resampling blur).
+FrameStack warpToReference(const std::vector<cv::Mat>& frames, const Registration& registration);
+
+// An image on the reference grid resampled onto frame `index`'s grid (bilinear); pixels of that
+// frame outside the reference frame come back as 0, and `covered` (CV_8UC1, when given) says
+// which pixels were inside.
+cv::Mat warpToFrame(const cv::Mat& onReference, const Registration& registration, int index,
+                    cv::Mat* covered = nullptr);
+
+}  // namespace pluvia::derain

@@ -1,0 +1,387 @@
+#include "derain/stroke_extraction.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+
+#include "util/error.h"
+
+namespace pluvia::derain {
+
+struct StrokeCollector::Candidate {
+  cv::Mat matte;  // CV_32FC1, upright, peak 1, zero outside the stroke
+  double lengthPx = 0.0, widthPx = 0.0, contrast = 0.0, score = 0.0;
+  int64_t frame = 0;
+  int x = 0, y = 0;  // where in the rotated frame (for a deterministic order)
+};
+
+namespace {
+
+constexpr int kAtlasMaxWidth = 1024;
+constexpr int kAtlasPadding = 2;  // zero texels around every stroke (bilinear, clamp-to-edge)
+constexpr int kCropMarginPx = 2;  // soft edge kept around a component's mask
+
+// The matte rotated by angleDeg so the rain is vertical, on a canvas that holds the whole
+// frame, and the mask of the canvas pixels that lie inside the frame's valid area.
+struct Upright {
+  cv::Mat matte;     // CV_32FC1
+  cv::Mat valid;     // CV_8UC1, 255 inside
+  cv::Mat toSource;  // 2x3 affine: canvas pixel -> frame pixel
+};
+
+Upright rotateUpright(const cv::Mat& matte, const cv::Mat& valid, double angleDeg) {
+  // A streak's direction (sin a, -cos a) (frame_stack.h); OpenCV's rotation by +a (counter-
+  // clockwise on screen, y down) takes it to (0, -1).
+  const double a = angleDeg * M_PI / 180.0;
+  const double c = std::abs(std::cos(a)), s = std::abs(std::sin(a));
+  const cv::Size size(int(std::ceil(matte.cols * c + matte.rows * s - 1e-6)),
+                      int(std::ceil(matte.cols * s + matte.rows * c - 1e-6)));
+  cv::Mat m =
+      cv::getRotationMatrix2D(cv::Point2f(matte.cols * 0.5f, matte.rows * 0.5f), angleDeg, 1.0);
+  m.at<double>(0, 2) += size.width * 0.5 - matte.cols * 0.5;
+  m.at<double>(1, 2) += size.height * 0.5 - matte.rows * 0.5;
+  Upright out;
+  cv::warpAffine(matte, out.matte, m, size, cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0.0);
+  cv::Mat inside = valid.empty() ? cv::Mat(matte.size(), CV_8UC1, cv::Scalar(255)) : (valid != 0);
+  // The frame's own border is an edge too: a stroke running into it is clipped.
+  inside.row(0).setTo(0), inside.row(inside.rows - 1).setTo(0);
+  inside.col(0).setTo(0), inside.col(inside.cols - 1).setTo(0);
+  cv::warpAffine(inside, out.valid, m, size, cv::INTER_NEAREST, cv::BORDER_CONSTANT, 0.0);
+  // Bilinear taps near the border mixed in the zeros outside: those pixels are not valid.
+  cv::erode(out.valid, out.valid, cv::Mat(), cv::Point(-1, -1), 1);
+  out.matte.setTo(0.0f, out.valid == 0);
+  cv::invertAffineTransform(m, out.toSource);
+  return out;
+}
+
+// The matte's own noise level: for a sparse rain matte most pixels are noise, projected onto
+// alpha >= 0, so the upper quartile of N(0, s) clipped at 0 is 0.6745 s.
+double matteNoise(const cv::Mat& matte, const cv::Mat& valid) {
+  std::vector<float> values;
+  values.reserve(size_t(matte.total()));
+  for (int y = 0; y < matte.rows; ++y) {
+    const float* m = matte.ptr<float>(y);
+    const uint8_t* v = valid.ptr<uint8_t>(y);
+    for (int x = 0; x < matte.cols; ++x)
+      if (v[x]) values.push_back(m[x]);
+  }
+  if (values.empty()) return 0.0;
+  const auto q = values.begin() + std::ptrdiff_t(values.size() * 3 / 4);
+  std::nth_element(values.begin(), q, values.end());
+  return std::max(0.0f, *q) / 0.6745;
+}
+
+// The tilt of a crop's alpha-weighted principal axis from the vertical, in the frame_stack.h
+// convention (positive when the upper end lies to the right).
+double principalTiltDeg(const cv::Mat& crop) {
+  const cv::Moments m = cv::moments(crop, false);
+  if (m.m00 <= 0.0) return 0.0;
+  // mu11 < 0: x grows as y falls, the upper end is to the right.
+  return 0.5 * std::atan2(-2.0 * m.mu11, m.mu02 - m.mu20) * 180.0 / M_PI;
+}
+
+// The crop turned by tiltDeg about its centre so its axis is vertical, trimmed to what it holds
+// plus kCropMarginPx.
+cv::Mat straighten(const cv::Mat& crop, double tiltDeg) {
+  const int pad = int(std::ceil(0.5 * std::max(crop.cols, crop.rows) *
+                                std::sin(std::abs(tiltDeg) * M_PI / 180.0))) +
+                  kCropMarginPx;
+  cv::Mat padded;
+  cv::copyMakeBorder(crop, padded, pad, pad, pad, pad, cv::BORDER_CONSTANT, 0.0);
+  const cv::Mat m = cv::getRotationMatrix2D(
+      cv::Point2f((padded.cols - 1) * 0.5f, (padded.rows - 1) * 0.5f), tiltDeg, 1.0);
+  cv::Mat turned;
+  cv::warpAffine(padded, turned, m, padded.size(), cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0.0);
+  double peak = 0.0;
+  cv::minMaxLoc(turned, nullptr, &peak);
+  cv::Mat nonzero = turned > 1e-3 * peak;
+  const cv::Rect held = cv::boundingRect(nonzero);
+  if (held.empty()) return crop;
+  const cv::Rect keep = (held + cv::Size(2 * kCropMarginPx, 2 * kCropMarginPx) -
+                         cv::Point(kCropMarginPx, kCropMarginPx)) &
+                        cv::Rect(0, 0, turned.cols, turned.rows);
+  cv::Mat out = turned(keep).clone();
+  out.setTo(0.0f, out < 1e-3 * peak);
+  return out;
+}
+
+struct Measure {
+  double lengthPx = 0.0, widthPx = 0.0, contrast = 0.0;
+  double bendPx = 0.0;  // RMS distance of the row centres from their straight-line fit
+};
+
+// Length: rows whose peak is at least half the stroke's peak (the stroke's full length at half
+// maximum, independent of its contrast); width: its mean equivalent width across (row sum over
+// row peak) over those rows.
+Measure measureStroke(const cv::Mat& crop) {
+  Measure m;
+  std::vector<double> rowPeak(size_t(crop.rows), 0.0), rowSum(size_t(crop.rows), 0.0);
+  for (int y = 0; y < crop.rows; ++y) {
+    const float* p = crop.ptr<float>(y);
+    for (int x = 0; x < crop.cols; ++x) {
+      rowPeak[size_t(y)] = std::max(rowPeak[size_t(y)], double(p[x]));
+      rowSum[size_t(y)] += p[x];
+    }
+    m.contrast = std::max(m.contrast, rowPeak[size_t(y)]);
+  }
+  if (m.contrast <= 0.0) return m;
+  const double half = 0.5 * m.contrast;
+  // First and last rows above half maximum, with the crossings interpolated.
+  int first = -1, last = -1;
+  for (int y = 0; y < crop.rows; ++y)
+    if (rowPeak[size_t(y)] >= half) {
+      if (first < 0) first = y;
+      last = y;
+    }
+  auto crossing = [&](int inside, int outside) {
+    if (outside < 0 || outside >= crop.rows) return 0.5;
+    const double a = rowPeak[size_t(inside)], b = rowPeak[size_t(outside)];
+    return std::clamp((a - half) / std::max(a - b, 1e-12), 0.0, 1.0);
+  };
+  m.lengthPx = double(last - first) + crossing(first, first - 1) + crossing(last, last + 1);
+  double widthSum = 0.0;
+  int rows = 0;
+  for (int y = first; y <= last; ++y) {
+    if (rowPeak[size_t(y)] < half) continue;
+    widthSum += rowSum[size_t(y)] / rowPeak[size_t(y)];
+    ++rows;
+  }
+  m.widthPx = rows ? widthSum / rows : 0.0;
+  // Row centres (alpha-weighted) over the same rows, fitted by x = a + b y (weighted).
+  double sw = 0, sy = 0, sx = 0, syy = 0, sxy = 0;
+  std::vector<std::array<double, 3>> centres;  // y, x, weight
+  for (int y = first; y <= last; ++y) {
+    if (rowPeak[size_t(y)] < half) continue;
+    const float* p = crop.ptr<float>(y);
+    double xs = 0.0;
+    for (int x = 0; x < crop.cols; ++x) xs += double(x) * p[x];
+    const double w = rowSum[size_t(y)], xc = xs / w;
+    centres.push_back({double(y), xc, w});
+    sw += w, sy += w * y, sx += w * xc, syy += w * y * y, sxy += w * y * xc;
+  }
+  const double det = sw * syy - sy * sy;
+  const double b = det > 1e-12 ? (sw * sxy - sy * sx) / det : 0.0;
+  const double a = (sx - b * sy) / sw;
+  double residual = 0.0;
+  for (const auto& [y, x, w] : centres) residual += w * (x - a - b * y) * (x - a - b * y);
+  m.bendPx = std::sqrt(residual / sw);
+  return m;
+}
+
+}  // namespace
+
+StrokeCollector::StrokeCollector(StrokeExtractionSettings settings) : settings_(settings) {
+  if (settings_.count < 1) throw Error("stroke extraction: count must be at least 1");
+}
+StrokeCollector::~StrokeCollector() = default;
+StrokeCollector::StrokeCollector(StrokeCollector&&) noexcept = default;
+StrokeCollector& StrokeCollector::operator=(StrokeCollector&&) noexcept = default;
+
+size_t StrokeCollector::candidateCount() const {
+  return accepted_;
+}
+
+void StrokeCollector::addFrame(int64_t frame, const cv::Mat& matte, double angleDeg,
+                               double noiseSigma, const cv::Mat& valid) {
+  if (matte.empty()) return;
+  if (matte.type() != CV_32FC1)
+    throw Error("stroke extraction: the matte must be CV_32FC1", {"strokes", frame, {}});
+  if (!valid.empty() && (valid.size() != matte.size() || valid.type() != CV_8UC1))
+    throw Error("stroke extraction: the valid mask must be CV_8UC1 of the matte's size",
+                {"strokes", frame, {}});
+  cv::Mat clean = matte.clone();
+  cv::patchNaNs(clean, 0.0);
+  clean = cv::max(cv::min(clean, 1.0f), 0.0f);
+
+  const Upright up = rotateUpright(clean, valid, angleDeg);
+  const double noise = std::max(noiseSigma, matteNoise(up.matte, up.valid));
+  const double threshold = std::max(settings_.noiseFactor * noise, settings_.minContrast);
+
+  // Opening with a vertical line drops specks shorter than it; the vertical blur smooths the
+  // streaks along their length only.
+  cv::Mat opened, blurred;
+  const cv::Mat line = cv::getStructuringElement(
+      cv::MORPH_RECT, cv::Size(1, std::max(1, settings_.openingLengthPx)));
+  cv::morphologyEx(up.matte, opened, cv::MORPH_OPEN, line, cv::Point(-1, -1), 1,
+                   cv::BORDER_CONSTANT, 0.0);
+  const int radius = std::max(1, int(std::ceil(3.0 * settings_.blurSigmaPx)));
+  cv::GaussianBlur(opened, blurred, cv::Size(1, 2 * radius + 1), 0.0, settings_.blurSigmaPx,
+                   cv::BORDER_CONSTANT);
+  blurred.setTo(0.0f, up.valid == 0);
+
+  cv::Mat labels, stats, centroids;
+  const cv::Mat mask = blurred > threshold;
+  const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
+  if (n <= 1) return;
+
+  // Components that reach the edge zone: within a pixel of the frame's (rotated) valid area.
+  cv::Mat edgeZone;
+  cv::dilate(up.valid == 0, edgeZone, cv::Mat(), cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, 255);
+  std::vector<uint8_t> touchesEdge(size_t(n), 0);
+  std::vector<double> energy(size_t(n), 0.0);
+  for (int y = 0; y < labels.rows; ++y) {
+    const int* l = labels.ptr<int>(y);
+    const uint8_t* e = edgeZone.ptr<uint8_t>(y);
+    const float* b = blurred.ptr<float>(y);
+    for (int x = 0; x < labels.cols; ++x) {
+      if (!l[x]) continue;
+      if (e[x]) touchesEdge[size_t(l[x])] = 1;
+      energy[size_t(l[x])] += b[x];
+    }
+  }
+
+  const cv::Mat grow = cv::getStructuringElement(
+      cv::MORPH_ELLIPSE, cv::Size(2 * kCropMarginPx + 1, 2 * kCropMarginPx + 1));
+  for (int label = 1; label < n; ++label) {
+    if (touchesEdge[size_t(label)]) continue;
+    const cv::Rect box(
+        stats.at<int>(label, cv::CC_STAT_LEFT), stats.at<int>(label, cv::CC_STAT_TOP),
+        stats.at<int>(label, cv::CC_STAT_WIDTH), stats.at<int>(label, cv::CC_STAT_HEIGHT));
+    if (box.height < settings_.minLengthPx) continue;  // cheap test before cropping
+
+    // The crop: the blurred matte around the component, other components and anything further
+    // than kCropMarginPx from this one set to zero.
+    const cv::Rect cropBox = (box + cv::Size(2 * kCropMarginPx, 2 * kCropMarginPx) -
+                              cv::Point(kCropMarginPx, kCropMarginPx)) &
+                             cv::Rect(0, 0, labels.cols, labels.rows);
+    cv::Mat own = labels(cropBox) == label, near;
+    cv::dilate(own, near, grow, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, 0);
+    near &= (labels(cropBox) == label) | (labels(cropBox) == 0);
+    cv::Mat crop = cv::Mat::zeros(cropBox.size(), CV_32FC1);
+    blurred(cropBox).copyTo(crop, near);
+
+    // The stroke's contrast: the frame's own matte at the peak (rotation and blur soften a
+    // thin streak's peak), the largest value within a pixel of where the crop peaks.
+    cv::Point peakAt;
+    cv::minMaxLoc(crop, nullptr, nullptr, nullptr, &peakAt);
+    const cv::Point2d canvas(peakAt.x + cropBox.x, peakAt.y + cropBox.y);
+    const cv::Mat& t = up.toSource;
+    const cv::Point source(int(std::lround(t.at<double>(0, 0) * canvas.x +
+                                           t.at<double>(0, 1) * canvas.y + t.at<double>(0, 2))),
+                           int(std::lround(t.at<double>(1, 0) * canvas.x +
+                                           t.at<double>(1, 1) * canvas.y + t.at<double>(1, 2))));
+    double contrast = 0.0;
+    const cv::Rect near3 =
+        cv::Rect(source.x - 1, source.y - 1, 3, 3) & cv::Rect(0, 0, clean.cols, clean.rows);
+    if (!near3.empty()) cv::minMaxLoc(clean(near3), nullptr, &contrast);
+
+    // Its own axis: close to the rain's, then turned exactly upright.
+    const double tilt = principalTiltDeg(crop);
+    if (std::abs(tilt) > settings_.maxTiltDeg) continue;
+    if (std::abs(tilt) > 0.25) crop = straighten(crop, tilt);
+
+    const Measure m = measureStroke(crop);
+    if (m.contrast <= threshold || m.lengthPx < settings_.minLengthPx) continue;
+    if (m.widthPx <= 0.0 || m.lengthPx < settings_.minAspect * m.widthPx) continue;
+    if (m.bendPx > settings_.maxBendPx) continue;
+
+    // Isolation: the stroke's share of the matte energy (of thresholded components) in its box
+    // grown by isolationMarginPx: 1 alone, 1/2 with as much other rain around it.
+    const cv::Rect around =
+        (box + cv::Size(2 * settings_.isolationMarginPx, 2 * settings_.isolationMarginPx) -
+         cv::Point(settings_.isolationMarginPx, settings_.isolationMarginPx)) &
+        cv::Rect(0, 0, labels.cols, labels.rows);
+    double other = 0.0;
+    for (int y = around.y; y < around.y + around.height; ++y) {
+      const int* l = labels.ptr<int>(y);
+      const float* b = blurred.ptr<float>(y);
+      for (int x = around.x; x < around.x + around.width; ++x)
+        if (l[x] && l[x] != label) other += b[x];
+    }
+    const double isolation = energy[size_t(label)] / (energy[size_t(label)] + other);
+
+    Candidate c;
+    c.matte = crop / m.contrast;
+    c.lengthPx = m.lengthPx;
+    c.widthPx = m.widthPx;
+    c.contrast = std::max(contrast, m.contrast);
+    c.frame = frame;
+    c.x = box.x, c.y = box.y;
+    // score = contrast * sqrt(length) * isolation^2: brighter, longer and lonelier is better;
+    // the square root keeps a long streak from outranking a much clearer short one, and the
+    // square on isolation makes strokes crowded by others (likely two drops merged, or a cut
+    // that holds part of a neighbour) rank well below clean ones.
+    c.score = c.contrast * std::sqrt(m.lengthPx) * isolation * isolation;
+    candidates_.push_back(std::move(c));
+    ++accepted_;
+  }
+
+  // Keep memory bounded over long clips: only the best few times `count` can ever be chosen.
+  const size_t keep = size_t(settings_.count) * 4 + 256;
+  if (candidates_.size() > 2 * keep) {
+    std::nth_element(candidates_.begin(), candidates_.begin() + std::ptrdiff_t(keep),
+                     candidates_.end(),
+                     [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+    candidates_.resize(keep);
+  }
+}
+
+rain::StrokeLibrary StrokeCollector::finish() const {
+  std::vector<const Candidate*> best;
+  for (const auto& c : candidates_) best.push_back(&c);
+  std::sort(best.begin(), best.end(), [](const Candidate* a, const Candidate* b) {
+    if (a->score != b->score) return a->score > b->score;
+    if (a->frame != b->frame) return a->frame < b->frame;
+    return std::make_pair(a->y, a->x) < std::make_pair(b->y, b->x);
+  });
+  if (best.size() > size_t(settings_.count)) best.resize(size_t(settings_.count));
+
+  rain::StrokeLibrary library;
+  if (best.empty()) return library;
+
+  // Shelf packing: tallest first, rows left to right, kAtlasPadding zero texels between strokes
+  // and around the atlas' border. The width aims at a square atlas, at most kAtlasMaxWidth.
+  std::vector<size_t> order(best.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return best[a]->matte.rows > best[b]->matte.rows; });
+  double area = 0.0;
+  int widest = 0;
+  for (const Candidate* c : best) {
+    area += double(c->matte.cols + kAtlasPadding) * double(c->matte.rows + kAtlasPadding);
+    widest = std::max(widest, c->matte.cols + 2 * kAtlasPadding);
+  }
+  const int width = std::min(
+      kAtlasMaxWidth, std::max(widest, int(std::ceil(std::sqrt(area * 1.1))) + kAtlasPadding));
+  if (widest > kAtlasMaxWidth) throw Error("stroke extraction: a stroke is wider than the atlas");
+
+  std::vector<cv::Point> at(best.size());
+  int x = kAtlasPadding, y = kAtlasPadding, shelf = 0, usedWidth = 0;
+  for (size_t i : order) {
+    const cv::Mat& m = best[i]->matte;
+    if (x + m.cols + kAtlasPadding > width) {
+      x = kAtlasPadding;
+      y += shelf + kAtlasPadding;
+      shelf = 0;
+    }
+    at[i] = {x, y};
+    x += m.cols + kAtlasPadding;
+    usedWidth = std::max(usedWidth, x);
+    shelf = std::max(shelf, m.rows);
+  }
+  const int height = y + shelf + kAtlasPadding;
+
+  cv::Mat atlas = cv::Mat::zeros(height, usedWidth, CV_32FC1);
+  for (size_t i = 0; i < best.size(); ++i) {
+    const Candidate& c = *best[i];
+    c.matte.copyTo(atlas(cv::Rect(at[i], c.matte.size())));
+    rain::StrokeInfo info;
+    info.x = at[i].x, info.y = at[i].y, info.width = c.matte.cols, info.height = c.matte.rows;
+    info.lengthPx = c.lengthPx;
+    info.widthPx = c.widthPx;
+    info.contrast = c.contrast;
+    info.sourceFrame = c.frame;
+    info.score = c.score;
+    library.strokes.push_back(info);
+    library.atlas.rects.push_back(
+        {float(info.x), float(info.y), float(info.x + info.width), float(info.y + info.height)});
+  }
+  library.atlas.width = atlas.cols;
+  library.atlas.height = atlas.rows;
+  library.atlas.alpha.assign(atlas.begin<float>(), atlas.end<float>());
+  return library;
+}
+
+}  // namespace pluvia::derain

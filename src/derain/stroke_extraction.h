@@ -1,0 +1,60 @@
+#pragma once
+// Cutting single rain strokes out of derained mattes (Wang et al. section 2): each matte is
+// rotated so the rain is vertical, opened (erosion then dilation) to drop specks, blurred
+// vertically, thresholded above its noise and split into connected components; each component
+// is a candidate stroke, rejected when too short, not elongated or clipped by the frame edge,
+// and ranked by length, contrast and isolation (formula in stroke_extraction.cpp).
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "rain/stroke_library.h"
+
+namespace pluvia::derain {
+
+struct StrokeExtractionSettings {
+  int count = 64;          // strokes kept, best first
+  int minLengthPx = 12;    // shorter components are not strokes
+  double minAspect = 3.0;  // length over width
+  // A component's peak alpha must exceed this many times the matte's noise level (and at
+  // least minContrast), so footage without rain yields no strokes. The noise level is the
+  // larger of the solve's noiseSigma and the matte's own (from its upper quartile).
+  double noiseFactor = 6.0;
+  double minContrast = 0.02;
+  int openingLengthPx = 5;    // vertical extent of the opening's structuring element
+  double blurSigmaPx = 1.0;   // vertical Gaussian blur after the opening
+  int isolationMarginPx = 6;  // margin around a stroke's box searched for other strokes
+  // A stroke's own axis may differ from the clip's rain direction by this much (wind, the
+  // estimate's error); it is then turned upright on its own. More: not a rain stroke.
+  double maxTiltDeg = 10.0;
+  double maxBendPx = 1.0;  // RMS distance of its row centres from a straight line
+};
+
+class StrokeCollector {
+ public:
+  explicit StrokeCollector(StrokeExtractionSettings settings);
+  ~StrokeCollector();
+  StrokeCollector(StrokeCollector&&) noexcept;
+  StrokeCollector& operator=(StrokeCollector&&) noexcept;
+
+  // One frame's matte (CV_32FC1, 0..1) on the frame's grid, the rain angle and the noise level
+  // of the solve (DerainResult::noiseSigma) it came from. `valid` (optional, CV_8UC1, nonzero
+  // where the matte was solved) marks the area whose border counts as the frame's edge; empty:
+  // the whole frame.
+  void addFrame(int64_t frame, const cv::Mat& matte, double angleDeg, double noiseSigma,
+                const cv::Mat& valid = cv::Mat());
+  // Components that passed every test, over all frames so far.
+  size_t candidateCount() const;
+  // The best `count` strokes packed into one atlas (possibly fewer, possibly none: then the
+  // atlas is empty, 0 x 0).
+  rain::StrokeLibrary finish() const;
+
+ private:
+  struct Candidate;
+  StrokeExtractionSettings settings_;
+  std::vector<Candidate> candidates_;  // the best ones seen so far (a bounded number)
+  size_t accepted_ = 0;
+};
+
+}  // namespace pluvia::derain

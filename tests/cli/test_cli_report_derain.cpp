@@ -1,0 +1,129 @@
+// `pluvia report derain --quick` end to end: the table it prints, its CSV (median and solver rows
+// with finite numbers; the solver's background better than the median's), its plot and previews.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "test_support.h"
+
+using namespace pluvia;
+using namespace pluvia::test;
+namespace stdfs = std::filesystem;
+
+namespace {
+
+std::vector<std::string> splitCsv(const std::string& line) {
+  std::vector<std::string> fields(1);
+  for (char ch : line) {
+    if (ch == ',') {
+      fields.emplace_back();
+    } else {
+      fields.back() += ch;
+    }
+  }
+  return fields;
+}
+
+double parseNumber(const std::string& text, const std::string& line) {
+  size_t used = 0;
+  double value = NAN;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+  }
+  EXPECT_EQ(used, text.size()) << "'" << text << "' in: " << line;
+  return value;
+}
+
+TEST(CliReportDerain, QuickReportWritesCsvPlotAndPreviews) {
+  const auto dir = freshTempDir("report_derain");
+  const stdfs::path csv = dir / "derain.csv", plot = dir / "derain.png", images = dir / "images";
+  const auto start = std::chrono::steady_clock::now();
+  const CommandResult r = runPluvia({"report", "derain", "--quick", "--csv", csv.string(), "--plot",
+                                     plot.string(), "--images", images.string()});
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cout << r.output << "report derain --quick took " << seconds << " s\n";
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+
+  // Printed rows: the lines that start with a section name.
+  std::istringstream out(r.output);
+  int printedRows = 0;
+  for (std::string line; std::getline(out, line);) {
+    std::istringstream words(line);
+    std::string first;
+    words >> first;
+    if (first == "synthetic" || first == "iterations" || first == "window") ++printedRows;
+  }
+
+  ASSERT_TRUE(stdfs::exists(csv));
+  std::ifstream file(csv);
+  std::string header;
+  ASSERT_TRUE(std::getline(file, header));
+  const std::vector<std::string> names = splitCsv(header);
+  std::map<std::string, size_t> column;
+  for (size_t i = 0; i < names.size(); ++i) column[names[i]] = i;
+  for (const char* name : {"section", "method", "frames", "psnr_db", "ssim", "alpha_mae",
+                           "angle_deg", "angle_error_deg", "seconds"}) {
+    ASSERT_TRUE(column.count(name)) << "no column '" << name << "' in: " << header;
+  }
+  int csvRows = 0;
+  double medianPsnr = NAN, solverPsnr = NAN;
+  for (std::string line; std::getline(file, line);) {
+    if (line.empty()) continue;
+    ++csvRows;
+    const std::vector<std::string> fields = splitCsv(line);
+    ASSERT_EQ(fields.size(), names.size()) << line;
+    const std::string& method = fields[column["method"]];
+    // Real footage rows (none in --quick) have no ground truth, so no measures.
+    if (fields[column["section"]] == "real") continue;
+    if (method != "median" && method != "solver") continue;
+    // Every measure of a median or solver row is a finite number.
+    for (const char* name :
+         {"frames", "psnr_db", "ssim", "alpha_mae", "angle_deg", "angle_error_deg", "seconds"}) {
+      const double value = parseNumber(fields[column[name]], line);
+      EXPECT_TRUE(std::isfinite(value)) << name << " in: " << line;
+    }
+    const double ssim = parseNumber(fields[column["ssim"]], line);
+    EXPECT_GT(ssim, 0.0) << line;
+    EXPECT_LE(ssim, 1.0) << line;
+    const double alphaError = parseNumber(fields[column["alpha_mae"]], line);
+    EXPECT_GE(alphaError, 0.0) << line;
+    EXPECT_LE(alphaError, 1.0) << line;
+    if (fields[column["section"]] == "synthetic") {
+      (method == "median" ? medianPsnr : solverPsnr) = parseNumber(fields[column["psnr_db"]], line);
+    }
+  }
+  EXPECT_EQ(csvRows, printedRows) << r.output;
+  ASSERT_TRUE(std::isfinite(medianPsnr)) << "no synthetic median row";
+  ASSERT_TRUE(std::isfinite(solverPsnr)) << "no synthetic solver row";
+  // Eq. (1) over 20 frames recovers the background better than the per-pixel median.
+  EXPECT_GT(solverPsnr, medianPsnr) << r.output;
+
+  ASSERT_TRUE(stdfs::exists(plot));
+  const Image image = readImageFile(plot);
+  EXPECT_GT(image.width, 0);
+  EXPECT_GT(image.height, 0);
+  for (const char* name : {"synthetic_truth.png", "synthetic_median.png", "synthetic_solver.png",
+                           "synthetic_matte_solver_x4.png"}) {
+    EXPECT_TRUE(stdfs::exists(images / name)) << name;
+  }
+}
+
+TEST(CliReportDerain, RejectsAMissingDataFolder) {
+  const auto dir = freshTempDir("report_derain_errors");
+  const CommandResult r =
+      runPluvia({"report", "derain", "--quick", "--data", (dir / "missing").string()});
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find("--data"), std::string::npos) << r.output;
+}
+
+}  // namespace
