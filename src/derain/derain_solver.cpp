@@ -26,7 +26,7 @@ constexpr double kMinAlphaEnergyPerPixel = 1e-5;
 // After its solve alpha is projected onto [0, 1], and set to 0 where the rain it claims,
 // |alpha (C - S)|, is within this many noise sigmas: clipping noise at 0 alone would keep its
 // positive half as rain and bias S low by about 0.4 sigma everywhere.
-constexpr double kNoiseDeadzone = 2.0;
+constexpr double kNoiseDeadzone = 3.0;
 
 // The solver works in 8-bit code values (0..255), the units of the paper's video in which its
 // lambda and mu were chosen (mu is relative to intensity squared, so the scale matters).
@@ -215,6 +215,22 @@ int solveAlpha(const Problem& problem, const State& state, size_t k, const Derai
   return cg.iterations;
 }
 
+// Rain is transient: what alpha holds at a pixel in every frame of the window is a residual of
+// the background (its smoothing by lambda, a misregistered edge), not rain. Left in, it would
+// take away all of S's data at that pixel, and S would drift with nothing to hold it.
+void removePersistentAlpha(const Problem& problem, State& state) {
+  const size_t n = problem.grid.count();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t p = r.begin(); p < r.end(); ++p) {
+      float persistent = 1.0f;
+      for (size_t k = 0; k < problem.frames.size(); ++k)
+        if (problem.frames[k].valid[p] > 0) persistent = std::min(persistent, state.alpha[k][p]);
+      if (persistent <= 0.0f) continue;
+      for (auto& alpha : state.alpha) alpha[p] = std::max(0.0f, alpha[p] - persistent);
+    }
+  });
+}
+
 // The mattes with what stays in place through the window taken out (alpha minus its temporal
 // median): rain moves between frames, while what a misregistered edge or a compression
 // artefact leaves in alpha stays put and would otherwise pull D0 along the scene's lines.
@@ -396,6 +412,7 @@ DerainResult solveDerain(const FrameStack& stack, const DerainSettings& settings
     tbb::parallel_for(size_t(0), frames, [&](size_t k) {
       alphaIterations[k] = solveAlpha(problem, state, k, settings, deadzone, state.alpha[k]);
     });
+    removePersistentAlpha(problem, state);
     if (settings.estimateDirection) {
       const RainAngleEstimate estimate = estimateRainAngle(transientMattes(problem, state));
       if (estimate.salience >= kMinDirectionSalience) state.angleDeg = estimate.angleDeg;

@@ -8,7 +8,7 @@
 // form), then S (alpha fixed). Each quadratic sub-problem is a sparse SPD system solved by
 // Jacobi-preconditioned conjugate gradients.
 // alpha is then projected onto [0, 1] and zeroed where the rain it claims, |alpha (C - S)|,
-// lies within two noise sigmas (see registrationErrorPx; clipping noise at 0 alone would keep its
+// lies within three noise sigmas (see registrationErrorPx; clipping noise at 0 alone would keep its
 // positive half as rain and bias S low). The solver works in 8-bit code values (FrameStack's 0..1
 // times 255), the units of the paper's video: mu = 1/4 weighs (grad alpha . D0)^2 against intensity
 // squared, so the paper's values mean what they meant there only in those units.
@@ -28,7 +28,7 @@ struct DerainSettings {
   bool estimateDirection = true;  // false: D0 stays at initialAngleDeg
   double initialAngleDeg = 0.0;   // D0 starts vertical
   // Residual misregistration of the frames, pixels: 0 for a locked-off camera. Where the
-  // background has a gradient g, alpha below 2 * sqrt(noise^2 + (this * g)^2) is taken as noise.
+  // background has a gradient g, alpha below 3 * sqrt(noise^2 + (this * g)^2) is taken as noise.
   double registrationErrorPx = 0.0;
 };
 
