@@ -78,7 +78,7 @@ cv::Mat fitTo(const cv::Mat& image, cv::Size size) {
   return out;
 }
 
-// Frame `index` (position in the clip, not number) of a clip, scene-linear RGB in 0..1.
+// Frame `index` (position in the clip, not number) of a clip, scene-linear RGB clamped to 0..1.
 cv::Mat readLinear(ClipReader& reader, size_t index) {
   const ClipInfo& info = reader.info();
   static const ColorConverter fromSrgb("sRGB", "linear-rec709");
@@ -86,7 +86,7 @@ cv::Mat readLinear(ClipReader& reader, size_t index) {
   if (!info.isFloat) fromSrgb.apply(image);
   cv::Mat rgb = rgbOf(image);
   cv::patchNaNs(rgb, 0.0);
-  return cv::max(rgb, 0.0);
+  return cv::min(cv::max(rgb, 0.0), 1.0);  // the 0..1 of derain_solver.h
 }
 
 struct Background {

@@ -1,6 +1,6 @@
 // The derain report as a picture: PSNR of S against run time (log), the EM-iteration sweep and
-// the window sweep as lines, the median baseline as markers, the rained input as a floor. Same
-// canvas, margins, fonts and grid as the optics report's plot.
+// the window sweep as lines, the median baseline as markers. Same canvas, margins, fonts and
+// grid as the optics report's plot.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -23,7 +23,6 @@ const auto kFont = cv::FONT_HERSHEY_SIMPLEX;
 const cv::Scalar kIterationColour{200, 140, 60};  // BGR
 const cv::Scalar kWindowColour{40, 160, 40};
 const cv::Scalar kMedianColour{40, 40, 220};
-const cv::Scalar kInputColour{150, 150, 150};
 
 struct Point {
   double seconds, psnr;
@@ -86,7 +85,6 @@ void drawSeries(cv::Mat& canvas, const Axes& axes, const std::vector<Point>& poi
 
 void writeDerainReportPlot(const DerainReport& report, const std::string& path) {
   std::vector<Point> iterations, windows, medians;
-  double inputPsnr = NAN;
   std::string scene;
   double angle = 0.0;
   for (const DerainReportRow& row : report.rows) {
@@ -100,11 +98,6 @@ void writeDerainReportPlot(const DerainReport& report, const std::string& path) 
       medians.push_back({row.seconds, row.psnrDb, fmt::format("median, {} frames", row.frames)});
     }
   }
-  for (const DerainReportRow& row : report.rows) {
-    if (row.section == "synthetic" && row.method == "input" && row.scene == scene &&
-        row.trueAngleDeg == angle)
-      inputPsnr = row.psnrDb;
-  }
 
   double tLo = 1e300, tHi = -1e300, pLo = 1e300, pHi = -1e300;
   for (const auto* series : {&iterations, &windows, &medians}) {
@@ -115,16 +108,15 @@ void writeDerainReportPlot(const DerainReport& report, const std::string& path) 
     }
   }
   if (tLo > tHi) throw Error("the derain report has no sweep to plot", {"report", {}, path});
-  if (std::isfinite(inputPsnr)) pLo = std::min(pLo, inputPsnr);
-  const Axes axes{std::floor(std::log10(tLo) - 0.05), std::ceil(std::log10(tHi) + 0.05),
-                  std::floor(pLo - 0.5), std::ceil(pHi + 0.5)};
+  const Axes axes{std::log10(tLo) - 0.15, std::log10(tHi) + 0.15, std::floor(pLo - 0.5),
+                  std::ceil(pHi + 0.5)};
 
   cv::Mat canvas(kHeight, kWidth, CV_8UC3, cv::Scalar(255, 255, 255));
   // Time grid: 1, 2, 5 per decade.
-  for (int decade = int(axes.logLo); decade < int(axes.logHi) + 1; ++decade) {
+  for (int decade = int(std::floor(axes.logLo)); decade <= int(std::ceil(axes.logHi)); ++decade) {
     for (double m : {1.0, 2.0, 5.0}) {
       const double t = m * std::pow(10.0, decade);
-      if (std::log10(t) > axes.logHi + 1e-9) break;
+      if (std::log10(t) < axes.logLo || std::log10(t) > axes.logHi) continue;
       const int px = axes.at(t, axes.lo).x;
       cv::line(canvas, {px, kTop}, {px, kTop + kPlotH},
                m == 1.0 ? cv::Scalar(215, 215, 215) : cv::Scalar(238, 238, 238));
@@ -153,12 +145,6 @@ void writeDerainReportPlot(const DerainReport& report, const std::string& path) 
               {kLeft, 35}, kFont, 0.7, {0, 0, 0}, 2);
 
   Labeller labels;
-  if (std::isfinite(inputPsnr)) {
-    const int py = axes.at(1.0 * std::pow(10.0, axes.logLo), inputPsnr).y;
-    for (int x = kLeft; x < kLeft + kPlotW; x += 16)
-      cv::line(canvas, {x, py}, {std::min(x + 8, kLeft + kPlotW), py}, kInputColour, 1);
-    labels.draw(canvas, {kLeft + 2, py}, "rained input frame (no derain)", kInputColour);
-  }
   drawSeries(canvas, axes, iterations, kIterationColour, true, labels);
   drawSeries(canvas, axes, windows, kWindowColour, true, labels);
   drawSeries(canvas, axes, medians, kMedianColour, false, labels);
@@ -167,7 +153,7 @@ void writeDerainReportPlot(const DerainReport& report, const std::string& path) 
       {"EM iterations (full window, tolerance 0)", kIterationColour},
       {"window size (default settings)", kWindowColour},
       {"temporal median baseline", kMedianColour}};
-  int legendY = kTop + kPlotH - 120;  // above the input line, which sits at the bottom
+  int legendY = kTop + kPlotH - 70;
   for (const auto& [text, colour] : legend) {
     cv::circle(canvas, {kLeft + kPlotW - 380, legendY - 4}, 5, colour, cv::FILLED, cv::LINE_AA);
     cv::putText(canvas, text, {kLeft + kPlotW - 368, legendY}, kFont, 0.5, colour);

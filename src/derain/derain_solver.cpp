@@ -220,15 +220,18 @@ int solveAlpha(const Problem& problem, const State& state, size_t k, const Derai
 // take away all of S's data at that pixel, and S would drift with nothing to hold it.
 void removePersistentAlpha(const Problem& problem, State& state) {
   const size_t n = problem.grid.count();
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t p = r.begin(); p < r.end(); ++p) {
-      float persistent = 1.0f;
-      for (size_t k = 0; k < problem.frames.size(); ++k)
-        if (problem.frames[k].valid[p] > 0) persistent = std::min(persistent, state.alpha[k][p]);
-      if (persistent <= 0.0f) continue;
-      for (auto& alpha : state.alpha) alpha[p] = std::max(0.0f, alpha[p] - persistent);
-    }
-  });
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t p = r.begin(); p < r.end(); ++p) {
+                        float persistent = 1.0f;
+                        for (size_t k = 0; k < problem.frames.size(); ++k)
+                          if (problem.frames[k].valid[p] > 0)
+                            persistent = std::min(persistent, state.alpha[k][p]);
+                        if (persistent <= 0.0f) continue;
+                        for (auto& alpha : state.alpha)
+                          alpha[p] = std::max(0.0f, alpha[p] - persistent);
+                      }
+                    });
 }
 
 // The mattes with what stays in place through the window taken out (alpha minus its temporal

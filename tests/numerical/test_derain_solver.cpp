@@ -1,8 +1,8 @@
 // Eq. (1) on synthetic ground truth: real static images with rain of known matte, colour and
 // direction composited over them (derain/synthetic_rain.h) and sensor noise. The targets of
 // the issue: S at least 1 dB PSNR above the temporal median, the rain direction within 2 deg.
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -48,7 +48,8 @@ TEST(DerainSolver, BeatsTheMedianByOneDecibelAndFindsTheDirection) {
     // The mattes: far closer to the truth than no rain at all is.
     std::vector<cv::Mat> none;
     for (const cv::Mat& a : truth.alpha) none.push_back(cv::Mat::zeros(a.size(), CV_32F));
-    EXPECT_LT(meanAbsAlphaError(result.alpha, truth.alpha), 0.4 * meanAbsAlphaError(none, truth.alpha));
+    EXPECT_LT(meanAbsAlphaError(result.alpha, truth.alpha),
+              0.4 * meanAbsAlphaError(none, truth.alpha));
     EXPECT_NEAR(result.noiseSigma, rain.noiseSigma, 0.3 * rain.noiseSigma);
   }
 }
@@ -92,7 +93,8 @@ TEST(DerainSolver, IdenticalFramesGiveNoRainAndTheSmoothedBackground) {
     Eigen::VectorXd rhs(w * h);
     for (int p = 0; p < w * h; ++p) rhs[p] = 3.0 * frame.at<cv::Vec3f>(p / w, p % w)[c];
     const Eigen::VectorXd expected = system.llt().solve(rhs);
-    for (int p = 0; p < w * h; ++p) EXPECT_NEAR(result.background.at<cv::Vec3f>(p / w, p % w)[c], expected[p], 1e-4);
+    for (int p = 0; p < w * h; ++p)
+      EXPECT_NEAR(result.background.at<cv::Vec3f>(p / w, p % w)[c], expected[p], 1e-4);
   }
 }
 

@@ -16,7 +16,8 @@ void expectSane(const DerainResult& r, const std::string& what) {
   ASSERT_FALSE(r.background.empty()) << what;
   EXPECT_TRUE(cv::checkRange(r.background)) << what << ": S has NaN or Inf";
   for (const cv::Mat& a : r.alpha) {
-    EXPECT_TRUE(cv::checkRange(a, true, nullptr, 0.0, 1.0 + 1e-6)) << what << ": alpha outside [0, 1]";
+    EXPECT_TRUE(cv::checkRange(a, true, nullptr, 0.0, 1.0 + 1e-6))
+        << what << ": alpha outside [0, 1]";
   }
   for (const cv::Vec3f& c : r.rainColor)
     for (int i = 0; i < 3; ++i) EXPECT_TRUE(std::isfinite(c[i]) && c[i] >= 0.0f) << what;
@@ -27,7 +28,8 @@ void expectSane(const DerainResult& r, const std::string& what) {
 
 FrameStack constantStack(int frames, float value) {
   FrameStack stack;
-  for (int k = 0; k < frames; ++k) stack.frames.push_back(cv::Mat(24, 32, CV_32FC3, cv::Scalar::all(value)));
+  for (int k = 0; k < frames; ++k)
+    stack.frames.push_back(cv::Mat(24, 32, CV_32FC3, cv::Scalar::all(value)));
   return stack;
 }
 
@@ -70,7 +72,8 @@ TEST(DerainStability, LambdaAndMuFromOneMillionthToOneMillion) {
       settings.lambda = lambda;
       settings.mu = mu;
       settings.maxIterations = 3;
-      expectSane(solveDerain(truth.stack, settings), "lambda " + std::to_string(lambda) + " mu " + std::to_string(mu));
+      expectSane(solveDerain(truth.stack, settings),
+                 "lambda " + std::to_string(lambda) + " mu " + std::to_string(mu));
     }
 }
 
@@ -80,7 +83,8 @@ TEST(DerainStability, SaturatedRainHeavyNoiseAndExactlyThreeFrames) {
   saturated.minAlpha = 0.9;
   saturated.maxAlpha = 1.0;
   saturated.rainColor = {1.5f, 1.5f, 1.5f};  // clipped at 1 in the frames
-  expectSane(solveDerain(makeSyntheticRain(texturedBackground(), saturated).stack), "saturated, 3 frames");
+  expectSane(solveDerain(makeSyntheticRain(texturedBackground(), saturated).stack),
+             "saturated, 3 frames");
   SyntheticRainSettings noisy;
   noisy.frames = 5;
   noisy.noiseSigma = 0.2;

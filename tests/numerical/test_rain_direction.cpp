@@ -23,7 +23,8 @@ std::vector<cv::Mat> streakMattes(double angleDeg, int frames, uint32_t seed) {
       const double x0 = x(rng), y0 = y(rng), l = length(rng);
       // 4 fractional bits: endpoints at 1/16 pixel.
       cv::line(matte, cv::Point(int(x0 * 16), int(y0 * 16)),
-               cv::Point(int((x0 + d[0] * l) * 16), int((y0 + d[1] * l) * 16)), cv::Scalar(0.3), 1, cv::LINE_AA, 4);
+               cv::Point(int((x0 + d[0] * l) * 16), int((y0 + d[1] * l) * 16)), cv::Scalar(0.3), 1,
+               cv::LINE_AA, 4);
     }
     mattes.push_back(matte);
   }
@@ -50,14 +51,16 @@ TEST(RainDirection, FindsDrawnStreaksWithinHalfADegree) {
 TEST(RainDirection, HorizontalSceneLinesOutsideTheRangeDoNotWin) {
   std::vector<cv::Mat> mattes = streakMattes(-5.0, 6, 3);
   for (cv::Mat& m : mattes)  // strong, long horizontal lines (a railing's misregistered edge)
-    for (int y = 20; y < 240; y += 40) cv::line(m, cv::Point(0, y), cv::Point(319, y), cv::Scalar(0.6), 1);
+    for (int y = 20; y < 240; y += 40)
+      cv::line(m, cv::Point(0, y), cv::Point(319, y), cv::Scalar(0.6), 1);
   EXPECT_NEAR(estimateRainAngle(mattes).angleDeg, -5.0, 1.0);
   // Searching every direction, the lines win: that is why the range exists.
   EXPECT_NEAR(std::abs(estimateRainAngle(mattes, 90.0).angleDeg), 90.0, 1.0);
 }
 
 TEST(RainDirection, NoStructureGivesVerticalWithSalienceOne) {
-  const RainAngleEstimate e = estimateRainAngle({cv::Mat::zeros(64, 64, CV_32F), cv::Mat::zeros(64, 64, CV_32F)});
+  const RainAngleEstimate e =
+      estimateRainAngle({cv::Mat::zeros(64, 64, CV_32F), cv::Mat::zeros(64, 64, CV_32F)});
   EXPECT_EQ(e.angleDeg, 0.0);
   EXPECT_EQ(e.salience, 1.0);
 }

@@ -2,8 +2,8 @@
 // from their definitions, and conjugate gradients against Eigen's dense LLT.
 #include <random>
 
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include "derain/sparse_solve.h"
 
@@ -66,7 +66,8 @@ Eigen::VectorXd toEigen(const std::vector<float>& v) {
 }
 
 TEST(SparseSolve, DirectionalGramMatchesDenseMatrix) {
-  for (auto [dx, dy] : {std::pair{0.0, -1.0}, std::pair{0.5, -0.866}, std::pair{-0.3, 0.95}, std::pair{1.0, 0.0}}) {
+  for (auto [dx, dy] :
+       {std::pair{0.0, -1.0}, std::pair{0.5, -0.866}, std::pair{-0.3, 0.95}, std::pair{1.0, 0.0}}) {
     const Eigen::MatrixXd g = denseDirectional(dx, dy);
     const Eigen::MatrixXd gram = 0.7 * g.transpose() * g;
     const std::vector<float> x = randomVector(1);
@@ -95,7 +96,8 @@ TEST(SparseSolve, ConjugateGradientMatchesDenseSolveOnAStiffSystem) {
   // diag(data) + mu G^T G with data spanning six decades: the stiff case of the alpha step.
   const Eigen::MatrixXd g = denseDirectional(0.2, -0.98);
   std::vector<float> data = randomVector(3);
-  for (size_t i = 0; i < data.size(); ++i) data[i] = float(std::pow(10.0, -6.0 + 6.0 * std::abs(data[i])));
+  for (size_t i = 0; i < data.size(); ++i)
+    data[i] = float(std::pow(10.0, -6.0 + 6.0 * std::abs(data[i])));
   const double mu = 1e3;
   const Eigen::MatrixXd a = Eigen::MatrixXd(toEigen(data).asDiagonal()) + mu * g.transpose() * g;
   const std::vector<float> b = randomVector(4);
@@ -115,7 +117,8 @@ TEST(SparseSolve, ConjugateGradientMatchesDenseSolveOnAStiffSystem) {
 TEST(SparseSolve, ZeroRightHandSideGivesZero) {
   std::vector<float> x(kGrid.count(), 5.0f), diagonal(kGrid.count(), 1.0f), b(kGrid.count(), 0.0f);
   const CgResult result = solveConjugateGradient(
-      [](const float* in, float* out) { std::copy(in, in + kGrid.count(), out); }, diagonal, b, x, 10, 1e-6);
+      [](const float* in, float* out) { std::copy(in, in + kGrid.count(), out); }, diagonal, b, x,
+      10, 1e-6);
   EXPECT_EQ(result.iterations, 0);
   for (float v : x) EXPECT_EQ(v, 0.0f);
 }
