@@ -17,7 +17,6 @@
 #include "derain/rain_direction.h"
 #include "derain/registration.h"
 #include "derain/synthetic_rain.h"
-#include "image/color.h"
 #include "image/image_metrics.h"
 #include "io/clip_reader.h"
 #include "util/error.h"
@@ -61,7 +60,7 @@ cv::Mat rgbOf(Image& image) {
 }
 
 // Centre-cropped to the target's aspect ratio, then resampled to its size (area averaging when
-// shrinking), in linear light.
+// shrinking).
 cv::Mat fitTo(const cv::Mat& image, cv::Size size) {
   const double target = double(size.width) / size.height;
   cv::Rect crop(0, 0, image.cols, image.rows);
@@ -78,12 +77,10 @@ cv::Mat fitTo(const cv::Mat& image, cv::Size size) {
   return out;
 }
 
-// Frame `index` (position in the clip, not number) of a clip, scene-linear RGB clamped to 0..1.
-cv::Mat readLinear(ClipReader& reader, size_t index) {
-  const ClipInfo& info = reader.info();
-  static const ColorConverter fromSrgb("sRGB", "linear-rec709");
-  Image image = reader.read(info.frames.at(index));
-  if (!info.isFloat) fromSrgb.apply(image);
+// Frame `index` (position in the clip, not number) of a clip, in the file's own encoding (the
+// values the solver works on, frame_stack.h), clamped to 0..1.
+cv::Mat readFrame(ClipReader& reader, size_t index) {
+  Image image = reader.read(reader.info().frames.at(index));
   cv::Mat rgb = rgbOf(image);
   cv::patchNaNs(rgb, 0.0);
   return cv::min(cv::max(rgb, 0.0), 1.0);  // the 0..1 of derain_solver.h
@@ -91,7 +88,7 @@ cv::Mat readLinear(ClipReader& reader, size_t index) {
 
 struct Background {
   std::string scene;
-  cv::Mat linear;
+  cv::Mat pixels;
 };
 
 std::vector<Background> loadBackgrounds(const DerainReportSettings& settings, cv::Size size,
@@ -99,7 +96,7 @@ std::vector<Background> loadBackgrounds(const DerainReportSettings& settings, cv
   std::vector<Background> out;
   {
     auto reader = openClip(settings.examplePlate);
-    out.push_back({"street", fitTo(readLinear(*reader, 0), size)});
+    out.push_back({"street", fitTo(readFrame(*reader, 0), size)});
   }
   if (settings.quick) return out;
   const fs::path data = settings.sharedData;
@@ -114,7 +111,7 @@ std::vector<Background> loadBackgrounds(const DerainReportSettings& settings, cv
       continue;
     }
     auto reader = openClip((data / file).string());
-    out.push_back({scene, fitTo(readLinear(*reader, 0), size)});
+    out.push_back({scene, fitTo(readFrame(*reader, 0), size)});
   }
   return out;
 }
@@ -194,11 +191,9 @@ DerainReportRow rowFor(const std::string& section, const Case& c, const std::str
 }
 
 void measureBackground(DerainReportRow& row, const cv::Mat& estimate, const cv::Mat& truth) {
-  const cv::Mat e = linearToSrgb(estimate), t = linearToSrgb(truth);
-  row.psnrDb = psnrDb(e, t);
-  cv::Mat clamped = cv::min(cv::max(estimate, 0.0), 1.0);
-  row.psnrLinearDb = psnrDb(clamped, truth);
-  row.ssim = ssim(e, t);
+  const cv::Mat clamped = cv::min(cv::max(estimate, 0.0), 1.0);
+  row.psnrDb = psnrDb(clamped, truth);
+  row.ssim = ssim(clamped, truth);
 }
 
 std::vector<cv::Mat> trueMattes(const Case& c) {
@@ -254,9 +249,9 @@ DerainReportRow runSolver(const std::string& section, const Case& c, const Derai
   return row;
 }
 
-void writePreview(const fs::path& path, const cv::Mat& linearRgb) {
-  cv::Mat srgb = linearToSrgb(linearRgb), bgr, bytes;
-  cv::cvtColor(srgb, bgr, cv::COLOR_RGB2BGR);
+void writePreview(const fs::path& path, const cv::Mat& rgb) {
+  cv::Mat bgr, bytes;
+  cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
   bgr.convertTo(bytes, CV_8UC3, 255.0);
   if (!cv::imwrite(path.string(), bytes))
     throw Error("cannot write an image", {"report", {}, path});
@@ -287,7 +282,7 @@ void runRealFootage(const DerainReportSettings& settings, DerainReport& report) 
   }
   std::vector<cv::Mat> frames;
   for (size_t k = 0; k < n; ++k) {
-    cv::Mat frame = readLinear(*reader, k);
+    cv::Mat frame = readFrame(*reader, k);
     // Only ever shrunk, to the synthetic cases' width, keeping the aspect ratio.
     if (frame.cols > 640)
       cv::resize(frame, frame, {}, 640.0 / frame.cols, 640.0 / frame.cols, cv::INTER_AREA);
@@ -349,7 +344,7 @@ DerainReport runDerainReport(const DerainReportSettings& settings) {
       rainSettings.frames = settings.frames;
       rainSettings.angleDeg = angle;
       rainSettings.seed = settings.seed;
-      const SyntheticRain rain = makeSyntheticRain(background.linear, rainSettings);
+      const SyntheticRain rain = makeSyntheticRain(background.pixels, rainSettings);
       const Case full{background.scene, &rain, settings.frames};
       log::info(fmt::format("report derain: {} at {} degrees", background.scene, angle));
       // The sweeps and the previews use the first background at the sweep angle.
@@ -404,31 +399,33 @@ DerainReport runDerainReport(const DerainReportSettings& settings) {
 std::string formatDerainReport(const DerainReport& report) {
   std::string out = fmt::format(
       "Rain extraction (Wang et al. Eq. 1) against synthetic ground truth: {} frames of {}x{} "
-      "per case, sensor noise sigma {} (linear).\n"
-      "PSNR and SSIM of S against the true background in display encoding (clamped, sRGB "
-      "curve); 'lin': PSNR of the clamped linear values. alpha MAE: mean |alpha - truth| over "
+      "per case, sensor noise sigma {} in display encoding.\n"
+      "PSNR and SSIM of S against the true background, both in display encoding (the values "
+      "the solver works on, clamped to [0, 1]). alpha MAE: mean |alpha - truth| over "
       "all pixels and frames; the median's matte is clamp(Y(I - S) / (1 - Y(S)), 0, 1) (rain "
       "taken as white), its angle estimateRainAngle of those mattes. 'input': frame 0 as S, no "
-      "rain found. Times: wall clock, whole stack. objective: Eq. (1) per pixel per frame.\n\n",
+      "rain found. Times: wall clock, whole stack. objective: DerainIteration::objective (Eq. 1 "
+      "per "
+      "pixel per frame, in the solver's units).\n\n",
       report.frames, report.size.width, report.size.height, report.noiseSigma);
   out += fmt::format(
-      "{:<10} {:<6} {:>6} {:<6} {:>6} {:>5} {:>7} {:>7} {:>7} {:>9} {:>7} {:>6} {:>8} {:>8} "
+      "{:<10} {:<6} {:>6} {:<6} {:>6} {:>5} {:>7} {:>7} {:>9} {:>7} {:>6} {:>8} {:>8} "
       "{:>10} {:>8}\n",
-      "section", "scene", "true°", "method", "frames", "iters", "PSNR dB", "lin dB", "SSIM",
-      "alpha MAE", "angle°", "err°", "seconds", "s/frame", "objective", "data RMS");
+      "section", "scene", "true°", "method", "frames", "iters", "PSNR dB", "SSIM", "alpha MAE",
+      "angle°", "err°", "seconds", "s/frame", "objective", "data RMS");
   for (const DerainReportRow& row : report.rows) {
     out += fmt::format(
-        "{:<10} {:<6} {:>6} {:<6} {:>6} {:>5} {:>7} {:>7} {:>7} {:>9} {:>7} {:>6} {:>8} {:>8} "
+        "{:<10} {:<6} {:>6} {:<6} {:>6} {:>5} {:>7} {:>7} {:>9} {:>7} {:>6} {:>8} {:>8} "
         "{:>10} {:>8}\n",
         row.section, row.scene, number(row.trueAngleDeg, 1), row.method, row.frames,
         row.method == "solver" ? std::to_string(row.iterations) : "-", number(row.psnrDb, 2),
-        number(row.psnrLinearDb, 2), number(row.ssim, 4), number(row.alphaMae, 4),
-        number(row.angleDeg, 2), number(row.angleErrorDeg, 2), number(row.seconds, 2),
-        number(row.seconds / row.frames, 3), general(row.objective), number(row.dataRms, 5));
+        number(row.ssim, 4), number(row.alphaMae, 4), number(row.angleDeg, 2),
+        number(row.angleErrorDeg, 2), number(row.seconds, 2), number(row.seconds / row.frames, 3),
+        general(row.objective), number(row.dataRms, 5));
   }
 
   // The targets, over the synthetic cases: each solver row against the median row of its case.
-  double worstGain = 1e300, sumGain = 0.0, worstLinear = 1e300, sumLinear = 0.0;
+  double worstGain = 1e300, sumGain = 0.0;
   double worstAngle = 0.0, worstPerFrame = 0.0;
   int cases = 0;
   for (size_t i = 0; i + 1 < report.rows.size(); ++i) {
@@ -438,8 +435,6 @@ std::string formatDerainReport(const DerainReport& report) {
     ++cases;
     worstGain = std::min(worstGain, s.psnrDb - m.psnrDb);
     sumGain += s.psnrDb - m.psnrDb;
-    worstLinear = std::min(worstLinear, s.psnrLinearDb - m.psnrLinearDb);
-    sumLinear += s.psnrLinearDb - m.psnrLinearDb;
     worstAngle = std::max(worstAngle, s.angleErrorDeg);
     worstPerFrame = std::max(worstPerFrame, s.seconds / s.frames);
   }
@@ -447,12 +442,12 @@ std::string formatDerainReport(const DerainReport& report) {
     auto verdict = [](bool met) { return met ? "met" : "NOT met"; };
     out += fmt::format(
         "\nOver {} synthetic cases, solver against median: PSNR {:+.2f} dB worst, {:+.2f} dB "
-        "mean in display encoding (target >= +1 dB: {}), {:+.2f} dB worst, {:+.2f} dB mean on "
-        "linear values ({}); worst angle error {:.2f}° (target <= 2°: {}); worst {:.3f} s per "
+        "mean (target >= +1 dB: {}); worst angle error {:.2f}° (target <= 2°: {}); worst {:.3f} s "
+        "per "
         "{}x{} frame (target <= 2 s: {}).\n",
-        cases, worstGain, sumGain / cases, verdict(worstGain >= 1.0), worstLinear,
-        sumLinear / cases, verdict(worstLinear >= 1.0), worstAngle, verdict(worstAngle <= 2.0),
-        worstPerFrame, report.size.width, report.size.height, verdict(worstPerFrame <= 2.0));
+        cases, worstGain, sumGain / cases, verdict(worstGain >= 1.0), worstAngle,
+        verdict(worstAngle <= 2.0), worstPerFrame, report.size.width, report.size.height,
+        verdict(worstPerFrame <= 2.0));
   }
 
   const DerainRealFootage& real = report.real;
@@ -484,16 +479,16 @@ std::string formatDerainReport(const DerainReport& report) {
 void writeDerainReportCsv(const DerainReport& report, const std::string& path) {
   std::ofstream file(path);
   if (!file) throw Error("cannot write the report", {"report", {}, path});
-  file << "section,scene,true_angle_deg,method,frames,iterations,psnr_db,psnr_linear_db,ssim,"
+  file << "section,scene,true_angle_deg,method,frames,iterations,psnr_db,ssim,"
           "alpha_mae,angle_deg,angle_error_deg,seconds,seconds_per_frame,objective,data_rms\n";
   for (const DerainReportRow& row : report.rows) {
-    file << fmt::format(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", row.section, row.scene,
-        csvNumber(row.trueAngleDeg), row.method, row.frames,
-        row.method == "solver" ? std::to_string(row.iterations) : "", csvNumber(row.psnrDb),
-        csvNumber(row.psnrLinearDb), csvNumber(row.ssim), csvNumber(row.alphaMae),
-        csvNumber(row.angleDeg), csvNumber(row.angleErrorDeg), csvNumber(row.seconds),
-        csvNumber(row.seconds / row.frames), csvNumber(row.objective), csvNumber(row.dataRms));
+    file << fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", row.section, row.scene,
+                        csvNumber(row.trueAngleDeg), row.method, row.frames,
+                        row.method == "solver" ? std::to_string(row.iterations) : "",
+                        csvNumber(row.psnrDb), csvNumber(row.ssim), csvNumber(row.alphaMae),
+                        csvNumber(row.angleDeg), csvNumber(row.angleErrorDeg),
+                        csvNumber(row.seconds), csvNumber(row.seconds / row.frames),
+                        csvNumber(row.objective), csvNumber(row.dataRms));
   }
   if (report.real.present) {
     for (const DerainIteration& it : report.real.result.history) {

@@ -10,12 +10,9 @@
 //  (c) Real rain footage of a panning camera, registered onto its middle frame, then solved:
 //      the objective, data residual and rain angle per iteration (no ground truth there).
 //
-// Measures. S is compared with the true background in display encoding (clamped to [0, 1],
-// then the sRGB curve: image_metrics.h), where its errors are seen: PSNR (peak 1) and SSIM.
-// PSNR is also given on the linear values: the display encoding magnifies errors in the
-// near-blacks by up to 12.9 times, and there the frames' noise is clipped at 0 (as a camera's
-// is), which biases any averaging estimator upward and leaves the median unbiased, so the two
-// PSNRs can rank the methods differently.
+// Measures. Backgrounds, rain and noise are all in display encoding, the values the solver works
+// on (frame_stack.h), and S is compared with the true background there (clamped to [0, 1]):
+// PSNR (peak 1) and SSIM.
 // alpha MAE is the mean |alpha - true alpha| over every pixel of every frame. The median
 // baseline's matte is implied by its background: the positive luminance residual over the
 // headroom to white, alpha = clamp(Y(I - S) / (1 - Y(S)), 0, 1), rain taken as white as in
@@ -47,9 +44,8 @@ struct DerainReportRow {
   double trueAngleDeg = 0.0;
   std::string method;  // "input" (no derain: frame 0 as S), "median", "solver"
   int frames = 0;
-  int iterations = 0;         // EM iterations run (solver rows)
-  double psnrDb = 0.0;        // display encoding
-  double psnrLinearDb = 0.0;  // linear values, clamped to [0, 1]
+  int iterations = 0;   // EM iterations run (solver rows)
+  double psnrDb = 0.0;  // display encoding
   double ssim = 0.0;
   double alphaMae = 0.0;
   double angleDeg = 0.0;       // estimated rain angle (NaN for "input")
@@ -76,7 +72,7 @@ struct DerainRealFootage {
 struct DerainReport {
   cv::Size size;  // of the synthetic frames
   int frames = 0;
-  double noiseSigma = 0.0;  // synthetic sensor noise (linear)
+  double noiseSigma = 0.0;  // synthetic sensor noise (display encoding)
   std::vector<DerainReportRow> rows;
   DerainRealFootage real;
   std::vector<std::string> notes;  // missing data, images written

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 #include <opencv2/imgproc.hpp>
 
@@ -17,18 +19,32 @@ struct StrokeCollector::Candidate {
   int x = 0, y = 0;  // where in the rotated frame (for a deterministic order)
 };
 
+struct StrokeCollector::Frame {
+  int64_t frame = 0;
+  cv::Mat matte;  // CV_32FC1 in [0, 1], no NaN
+  cv::Mat valid;  // CV_8UC1, 255 where solved
+  double angleDeg = 0.0;
+  double threshold = 0.0;  // alpha a stroke must exceed
+  bool cut = false;
+};
+
 namespace {
 
 constexpr int kAtlasMaxWidth = 1024;
 constexpr int kAtlasPadding = 2;  // zero texels around every stroke (bilinear, clamp-to-edge)
 constexpr int kCropMarginPx = 2;  // soft edge kept around a component's mask
+constexpr double kMinMotionResponse = 0.05;  // phase correlation peak taken as camera motion
+constexpr double kMaxMotionPx = 12.0;        // larger frame-to-frame motion: not the camera's
+constexpr double kStaticShare = 0.25;
+constexpr double kMinGap = 0.25;  // a row along a stroke darker than this (of its peak): a gap
 
 // The matte rotated by angleDeg so the rain is vertical, on a canvas that holds the whole
 // frame, and the mask of the canvas pixels that lie inside the frame's valid area.
 struct Upright {
   cv::Mat matte;     // CV_32FC1
   cv::Mat valid;     // CV_8UC1, 255 inside
-  cv::Mat toSource;  // 2x3 affine: canvas pixel -> frame pixel
+  cv::Mat toCanvas;  // 2x3 affine: frame pixel -> canvas pixel
+  cv::Mat toSource;  // its inverse
 };
 
 Upright rotateUpright(const cv::Mat& matte, const cv::Mat& valid, double angleDeg) {
@@ -44,7 +60,7 @@ Upright rotateUpright(const cv::Mat& matte, const cv::Mat& valid, double angleDe
   m.at<double>(1, 2) += size.height * 0.5 - matte.rows * 0.5;
   Upright out;
   cv::warpAffine(matte, out.matte, m, size, cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0.0);
-  cv::Mat inside = valid.empty() ? cv::Mat(matte.size(), CV_8UC1, cv::Scalar(255)) : (valid != 0);
+  cv::Mat inside = valid.clone();
   // The frame's own border is an edge too: a stroke running into it is clipped.
   inside.row(0).setTo(0), inside.row(inside.rows - 1).setTo(0);
   inside.col(0).setTo(0), inside.col(inside.cols - 1).setTo(0);
@@ -52,6 +68,7 @@ Upright rotateUpright(const cv::Mat& matte, const cv::Mat& valid, double angleDe
   // Bilinear taps near the border mixed in the zeros outside: those pixels are not valid.
   cv::erode(out.valid, out.valid, cv::Mat(), cv::Point(-1, -1), 1);
   out.matte.setTo(0.0f, out.valid == 0);
+  out.toCanvas = m;
   cv::invertAffineTransform(m, out.toSource);
   return out;
 }
@@ -110,6 +127,8 @@ cv::Mat straighten(const cv::Mat& crop, double tiltDeg) {
 struct Measure {
   double lengthPx = 0.0, widthPx = 0.0, contrast = 0.0;
   double bendPx = 0.0;  // RMS distance of the row centres from their straight-line fit
+  double fill = 0.0;    // mean row peak over the stroke's length, over its peak (1: even)
+  double gap = 0.0;     // lowest row peak over the stroke's length, over its peak
 };
 
 // Length: rows whose peak is at least half the stroke's peak (the stroke's full length at half
@@ -149,6 +168,13 @@ Measure measureStroke(const cv::Mat& crop) {
     ++rows;
   }
   m.widthPx = rows ? widthSum / rows : 0.0;
+  double peakSum = 0.0;
+  m.gap = 1.0;
+  for (int y = first; y <= last; ++y) {
+    peakSum += rowPeak[size_t(y)];
+    m.gap = std::min(m.gap, rowPeak[size_t(y)] / m.contrast);
+  }
+  m.fill = peakSum / (double(last - first + 1) * m.contrast);
   // Row centres (alpha-weighted) over the same rows, fitted by x = a + b y (weighted).
   double sw = 0, sy = 0, sx = 0, syy = 0, sxy = 0;
   std::vector<std::array<double, 3>> centres;  // y, x, weight
@@ -191,13 +217,71 @@ void StrokeCollector::addFrame(int64_t frame, const cv::Mat& matte, double angle
   if (!valid.empty() && (valid.size() != matte.size() || valid.type() != CV_8UC1))
     throw Error("stroke extraction: the valid mask must be CV_8UC1 of the matte's size",
                 {"strokes", frame, {}});
-  cv::Mat clean = matte.clone();
-  cv::patchNaNs(clean, 0.0);
-  clean = cv::max(cv::min(clean, 1.0f), 0.0f);
+  Frame f;
+  f.frame = frame;
+  f.angleDeg = angleDeg;
+  f.matte = matte.clone();
+  cv::patchNaNs(f.matte, 0.0);
+  f.matte = cv::max(cv::min(f.matte, 1.0f), 0.0f);
+  f.valid = valid.empty() ? cv::Mat(matte.size(), CV_8UC1, cv::Scalar(255)) : (valid != 0);
+  const double noise = std::max(noiseSigma, matteNoise(f.matte, f.valid));
+  f.threshold = std::max(settings_.noiseFactor * noise, settings_.minContrast);
+  // A neighbour of another size (another clip) is no neighbour.
+  if (!recent_.empty() && recent_.back().matte.size() != f.matte.size()) {
+    if (!recent_.back().cut) {
+      std::vector<const Frame*> before;
+      if (recent_.size() >= 2) before.push_back(&recent_[recent_.size() - 2]);
+      cut(recent_.back(), before);
+    }
+    recent_.clear();
+  }
+  recent_.push_back(std::move(f));
+  if (recent_.size() == 2 && !recent_[0].cut) {
+    cut(recent_[0], {&recent_[1]});
+    recent_[0].cut = true;
+  }
+  if (recent_.size() == 3) {
+    cut(recent_[1], {&recent_[0], &recent_[2]});
+    recent_[1].cut = true;
+    recent_.erase(recent_.begin());
+  }
+}
 
-  const Upright up = rotateUpright(clean, valid, angleDeg);
-  const double noise = std::max(noiseSigma, matteNoise(up.matte, up.valid));
-  const double threshold = std::max(settings_.noiseFactor * noise, settings_.minContrast);
+void StrokeCollector::cut(const Frame& f, const std::vector<const Frame*>& neighbours) {
+  const int64_t frame = f.frame;
+  const double threshold = f.threshold;
+  const cv::Mat& clean = f.matte;
+  const Upright up = rotateUpright(clean, f.valid, f.angleDeg);
+
+  // Static structure: pixels where a neighbouring frame holds at least half as much matte,
+  // after the camera's motion between the two (phase correlation of the mattes, which such
+  // structure dominates) and within staticTolerancePx.
+  cv::Mat persistent;
+  if (!neighbours.empty()) {
+    const int r = std::max(0, settings_.staticTolerancePx);
+    const cv::Mat near = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * r + 1, 2 * r + 1));
+    cv::Mat window;
+    cv::createHanningWindow(window, clean.size(), CV_32F);
+    cv::Mat held = cv::Mat::zeros(clean.size(), CV_8UC1);
+    for (const Frame* n : neighbours) {
+      double response = 0.0;
+      // Copies: OpenCV multiplies the window into its inputs in place when their size needs
+      // no padding.
+      cv::Point2d shift = cv::phaseCorrelate(n->matte.clone(), clean.clone(), window, &response);
+      // A weak peak is no motion; a far one is rain falling (the same drops a frame later),
+      // not the camera.
+      if (!(response >= kMinMotionResponse) || std::hypot(shift.x, shift.y) > kMaxMotionPx)
+        shift = {0.0, 0.0};
+      const cv::Matx23d move(1, 0, shift.x, 0, 1, shift.y);
+      cv::Mat moved, reach;
+      cv::warpAffine(n->matte, moved, move, clean.size(), cv::INTER_LINEAR, cv::BORDER_CONSTANT,
+                     0.0);
+      cv::dilate(moved, reach, near);
+      held |= reach >= kStaticShare * clean;
+    }
+    cv::warpAffine(held, persistent, up.toCanvas, up.matte.size(), cv::INTER_NEAREST,
+                   cv::BORDER_CONSTANT, 0.0);
+  }
 
   // Opening with a vertical line drops specks shorter than it; the vertical blur smooths the
   // streaks along their length only.
@@ -220,15 +304,17 @@ void StrokeCollector::addFrame(int64_t frame, const cv::Mat& matte, double angle
   cv::Mat edgeZone;
   cv::dilate(up.valid == 0, edgeZone, cv::Mat(), cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, 255);
   std::vector<uint8_t> touchesEdge(size_t(n), 0);
-  std::vector<double> energy(size_t(n), 0.0);
+  std::vector<double> energy(size_t(n), 0.0), staticEnergy(size_t(n), 0.0);
   for (int y = 0; y < labels.rows; ++y) {
     const int* l = labels.ptr<int>(y);
     const uint8_t* e = edgeZone.ptr<uint8_t>(y);
+    const uint8_t* p = persistent.empty() ? nullptr : persistent.ptr<uint8_t>(y);
     const float* b = blurred.ptr<float>(y);
     for (int x = 0; x < labels.cols; ++x) {
       if (!l[x]) continue;
       if (e[x]) touchesEdge[size_t(l[x])] = 1;
       energy[size_t(l[x])] += b[x];
+      if (p && p[x]) staticEnergy[size_t(l[x])] += b[x];
     }
   }
 
@@ -236,6 +322,7 @@ void StrokeCollector::addFrame(int64_t frame, const cv::Mat& matte, double angle
       cv::MORPH_ELLIPSE, cv::Size(2 * kCropMarginPx + 1, 2 * kCropMarginPx + 1));
   for (int label = 1; label < n; ++label) {
     if (touchesEdge[size_t(label)]) continue;
+    if (staticEnergy[size_t(label)] > settings_.maxStaticFraction * energy[size_t(label)]) continue;
     const cv::Rect box(
         stats.at<int>(label, cv::CC_STAT_LEFT), stats.at<int>(label, cv::CC_STAT_TOP),
         stats.at<int>(label, cv::CC_STAT_WIDTH), stats.at<int>(label, cv::CC_STAT_HEIGHT));
@@ -276,6 +363,7 @@ void StrokeCollector::addFrame(int64_t frame, const cv::Mat& matte, double angle
     if (m.contrast <= threshold || m.lengthPx < settings_.minLengthPx) continue;
     if (m.widthPx <= 0.0 || m.lengthPx < settings_.minAspect * m.widthPx) continue;
     if (m.bendPx > settings_.maxBendPx) continue;
+    if (m.gap < kMinGap) continue;  // two strokes end to end, or one broken by noise
 
     // Isolation: the stroke's share of the matte energy (of thresholded components) in its box
     // grown by isolationMarginPx: 1 alone, 1/2 with as much other rain around it.
@@ -299,11 +387,20 @@ void StrokeCollector::addFrame(int64_t frame, const cv::Mat& matte, double angle
     c.contrast = std::max(contrast, m.contrast);
     c.frame = frame;
     c.x = box.x, c.y = box.y;
-    // score = contrast * sqrt(length) * isolation^2: brighter, longer and lonelier is better;
-    // the square root keeps a long streak from outranking a much clearer short one, and the
-    // square on isolation makes strokes crowded by others (likely two drops merged, or a cut
-    // that holds part of a neighbour) rank well below clean ones.
-    c.score = c.contrast * std::sqrt(m.lengthPx) * isolation * isolation;
+    // score = contrast * sqrt(length) * isolation^2 * fill^2: brighter, longer, lonelier and
+    // more even along its length is better. The square root keeps a long streak from
+    // outranking a much clearer short one; the squares make strokes crowded by others (a cut
+    // that holds part of a neighbour) or lumpy along their length (two drops end to end,
+    // compression blocks) rank well below clean ones.
+    c.score = c.contrast * std::sqrt(m.lengthPx) * isolation * isolation * m.fill * m.fill;
+    if (std::getenv("STRK_DEBUG") && m.lengthPx > 50) {
+      cv::Point2d cs(box.x + box.width / 2.0, box.y + box.height / 2.0);
+      const cv::Mat& T = up.toSource;
+      fprintf(stderr, "DBG frame %ld src (%.0f,%.0f) len %.1f static %.2f\n", (long)frame,
+              T.at<double>(0, 0) * cs.x + T.at<double>(0, 1) * cs.y + T.at<double>(0, 2),
+              T.at<double>(1, 0) * cs.x + T.at<double>(1, 1) * cs.y + T.at<double>(1, 2),
+              m.lengthPx, staticEnergy[size_t(label)] / energy[size_t(label)]);
+    }
     candidates_.push_back(std::move(c));
     ++accepted_;
   }
@@ -318,7 +415,14 @@ void StrokeCollector::addFrame(int64_t frame, const cv::Mat& matte, double angle
   }
 }
 
-rain::StrokeLibrary StrokeCollector::finish() const {
+rain::StrokeLibrary StrokeCollector::finish() {
+  if (!recent_.empty() && !recent_.back().cut) {
+    std::vector<const Frame*> neighbours;
+    if (recent_.size() >= 2) neighbours.push_back(&recent_[recent_.size() - 2]);
+    cut(recent_.back(), neighbours);
+    recent_.back().cut = true;
+  }
+
   std::vector<const Candidate*> best;
   for (const auto& c : candidates_) best.push_back(&c);
   std::sort(best.begin(), best.end(), [](const Candidate* a, const Candidate* b) {

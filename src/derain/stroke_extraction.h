@@ -29,6 +29,13 @@ struct StrokeExtractionSettings {
   // estimate's error); it is then turned upright on its own. More: not a rain stroke.
   double maxTiltDeg = 10.0;
   double maxBendPx = 1.0;  // RMS distance of its row centres from a straight line
+  // Static structure that leaks into the mattes (edges the registration left, thin lines of the
+  // scene) stays put from frame to frame while rain moves on: a stroke is rejected when more
+  // than maxStaticFraction of its matte lies where a neighbouring frame (the one before or the
+  // one after) holds at least half as much matte, once the camera's motion between the two is
+  // undone, within staticTolerancePx.
+  int staticTolerancePx = 3;
+  double maxStaticFraction = 0.5;
 };
 
 class StrokeCollector {
@@ -41,18 +48,24 @@ class StrokeCollector {
   // One frame's matte (CV_32FC1, 0..1) on the frame's grid, the rain angle and the noise level
   // of the solve (DerainResult::noiseSigma) it came from. `valid` (optional, CV_8UC1, nonzero
   // where the matte was solved) marks the area whose border counts as the frame's edge; empty:
-  // the whole frame.
+  // the whole frame. Frames come in clip order: each is compared with the one added before and
+  // the one added after it, so a frame's strokes are cut when the next one arrives (or in
+  // finish()).
   void addFrame(int64_t frame, const cv::Mat& matte, double angleDeg, double noiseSigma,
                 const cv::Mat& valid = cv::Mat());
-  // Components that passed every test, over all frames so far.
-  size_t candidateCount() const;
   // The best `count` strokes packed into one atlas (possibly fewer, possibly none: then the
-  // atlas is empty, 0 x 0).
-  rain::StrokeLibrary finish() const;
+  // atlas is empty, 0 x 0). Cuts the last frame first; call it once, after the last frame.
+  rain::StrokeLibrary finish();
+  // Components that passed every test, over the frames cut so far (all of them after finish).
+  size_t candidateCount() const;
 
  private:
   struct Candidate;
+  struct Frame;
+  void cut(const Frame& frame, const std::vector<const Frame*>& neighbours);
+
   StrokeExtractionSettings settings_;
+  std::vector<Frame> recent_;          // the last frames added, up to three
   std::vector<Candidate> candidates_;  // the best ones seen so far (a bounded number)
   size_t accepted_ = 0;
 };

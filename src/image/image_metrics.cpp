@@ -80,19 +80,4 @@ double ssim(const cv::Mat& result, const cv::Mat& truth) {
   return total / double(xs.size());
 }
 
-cv::Mat linearToSrgb(const cv::Mat& linear) {
-  if (linear.depth() != CV_32F) throw std::invalid_argument("linearToSrgb: CV_32F expected");
-  cv::Mat out(linear.size(), linear.type());
-  const int values = linear.cols * linear.channels();
-  for (int y = 0; y < linear.rows; ++y) {
-    const float* in = linear.ptr<float>(y);
-    float* o = out.ptr<float>(y);
-    for (int i = 0; i < values; ++i) {
-      const float v = std::clamp(std::isfinite(in[i]) ? in[i] : 0.0f, 0.0f, 1.0f);
-      o[i] = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-    }
-  }
-  return out;
-}
-
 }  // namespace pluvia

@@ -13,9 +13,4 @@ double psnrDb(const cv::Mat& result, const cv::Mat& truth);
 // border is left out); an image smaller than 11x11 is averaged over all its pixels.
 double ssim(const cv::Mat& result, const cv::Mat& truth);
 
-// Scene-linear 0..1 to display encoding: clamped to [0, 1], then the sRGB transfer curve
-// (IEC 61966-2-1: 12.92 x below 0.0031308, else 1.055 x^(1/2.4) - 0.055). CV_32F any channel
-// count in, same type out. For measuring errors where they show, and for writing previews.
-cv::Mat linearToSrgb(const cv::Mat& linear);
-
 }  // namespace pluvia

@@ -71,12 +71,12 @@ TEST(CliReportDerain, QuickReportWritesCsvPlotAndPreviews) {
   const std::vector<std::string> names = splitCsv(header);
   std::map<std::string, size_t> column;
   for (size_t i = 0; i < names.size(); ++i) column[names[i]] = i;
-  for (const char* name : {"section", "method", "frames", "psnr_db", "psnr_linear_db", "ssim",
-                           "alpha_mae", "angle_deg", "angle_error_deg", "seconds"}) {
+  for (const char* name : {"section", "method", "frames", "psnr_db", "ssim", "alpha_mae",
+                           "angle_deg", "angle_error_deg", "seconds"}) {
     ASSERT_TRUE(column.count(name)) << "no column '" << name << "' in: " << header;
   }
   int csvRows = 0;
-  double medianPsnr = NAN, solverPsnr = NAN, medianLinear = NAN, solverLinear = NAN;
+  double medianPsnr = NAN, solverPsnr = NAN;
   for (std::string line; std::getline(file, line);) {
     if (line.empty()) continue;
     ++csvRows;
@@ -87,8 +87,8 @@ TEST(CliReportDerain, QuickReportWritesCsvPlotAndPreviews) {
     if (fields[column["section"]] == "real") continue;
     if (method != "median" && method != "solver") continue;
     // Every measure of a median or solver row is a finite number.
-    for (const char* name : {"frames", "psnr_db", "psnr_linear_db", "ssim", "alpha_mae",
-                             "angle_deg", "angle_error_deg", "seconds"}) {
+    for (const char* name :
+         {"frames", "psnr_db", "ssim", "alpha_mae", "angle_deg", "angle_error_deg", "seconds"}) {
       const double value = parseNumber(fields[column[name]], line);
       EXPECT_TRUE(std::isfinite(value)) << name << " in: " << line;
     }
@@ -100,17 +100,14 @@ TEST(CliReportDerain, QuickReportWritesCsvPlotAndPreviews) {
     EXPECT_LE(alphaError, 1.0) << line;
     if (fields[column["section"]] == "synthetic") {
       (method == "median" ? medianPsnr : solverPsnr) = parseNumber(fields[column["psnr_db"]], line);
-      (method == "median" ? medianLinear : solverLinear) =
-          parseNumber(fields[column["psnr_linear_db"]], line);
     }
   }
   EXPECT_EQ(csvRows, printedRows) << r.output;
   ASSERT_TRUE(std::isfinite(medianPsnr)) << "no synthetic median row";
   ASSERT_TRUE(std::isfinite(solverPsnr)) << "no synthetic solver row";
-  // Eq. (1) over 20 frames recovers the background better than the per-pixel median, both as
-  // seen (display encoding) and on the linear values.
-  EXPECT_GT(solverPsnr, medianPsnr) << "(the table is printed above)";
-  EXPECT_GT(solverLinear, medianLinear) << "(the table is printed above)";
+  // Eq. (1) over 20 frames recovers the background at least 1 dB better than the per-pixel
+  // median (the target).
+  EXPECT_GE(solverPsnr, medianPsnr + 1.0) << "(the table is printed above)";
 
   ASSERT_TRUE(stdfs::exists(plot));
   const Image image = readImageFile(plot);

@@ -117,8 +117,8 @@ TEST(StrokeExtraction, PureNoiseYieldsNoStrokes) {
     cv::GaussianBlur(smooth, along, cv::Size(1, 31), 0.0, 5.0);
     collector.addFrame(frame, along, 0.0, 0.0);
   }
-  EXPECT_EQ(collector.candidateCount(), 0u);
   const rain::StrokeLibrary library = collector.finish();
+  EXPECT_EQ(collector.candidateCount(), 0u);
   EXPECT_TRUE(library.strokes.empty());
   EXPECT_TRUE(library.atlas.rects.empty());
 }
@@ -170,6 +170,7 @@ TEST(StrokeExtraction, ShortAndRoundComponentsAreNoStrokes) {
   drawStreak(matte, {160, 120, 14, 4.0, 0.5}, 0.0);  // long enough but about as wide as long
   StrokeCollector collector(StrokeExtractionSettings{});
   collector.addFrame(0, matte, 0.0, 0.01);
+  EXPECT_TRUE(collector.finish().strokes.empty());
   EXPECT_EQ(collector.candidateCount(), 0u);
 }
 
@@ -210,13 +211,21 @@ TEST(StrokeExtraction, AtlasIsPaddedAndAtMost1024Wide) {
   StrokeExtractionSettings settings;
   settings.count = 400;
   StrokeCollector collector(settings);
-  for (int frame = 0; frame < 6; ++frame) {
+  // Rain at random places in every frame, streaks apart from each other.
+  cv::RNG rng(5);
+  for (int frame = 0; frame < 7; ++frame) {
     cv::Mat matte = noiseMatte({640, 480}, 0.01, 20 + frame);
-    for (int i = 0; i < 80; ++i) {
-      drawStreak(matte,
-                 {30.0 + 64.0 * (i % 10), 40.0 + 55.0 * (i / 10), 20.0 + (i * 7 + frame) % 25,
-                  0.7 + 0.05 * (i % 5), 0.3 + 0.005 * i},
-                 0.0);
+    std::vector<cv::Rect> taken;
+    for (int i = 0; i < 80;) {
+      const Streak s{rng.uniform(20.0, 620.0), rng.uniform(35.0, 445.0),
+                     20.0 + (i * 7 + frame) % 25, 0.7 + 0.05 * (i % 5), 0.3 + 0.005 * i};
+      const cv::Rect box(int(s.cx) - 10, int(s.cy - s.lengthPx / 2) - 10, 20, int(s.lengthPx) + 20);
+      if (std::any_of(taken.begin(), taken.end(),
+                      [&](const cv::Rect& t) { return (t & box).area() > 0; }))
+        continue;
+      taken.push_back(box);
+      drawStreak(matte, s, 0.0);
+      ++i;
     }
     collector.addFrame(frame, matte, 0.0, 0.01);
   }
@@ -251,5 +260,23 @@ TEST(StrokeExtraction, AtlasIsPaddedAndAtMost1024Wide) {
         if (own) peak = std::max(peak, atlas.alpha[at]);
       }
     EXPECT_FLOAT_EQ(peak, 1.0f);
+  }
+}
+
+TEST(StrokeExtraction, StaticLinesThatStayPutAreNoStrokes) {
+  // Thin vertical lines of the scene leak into every frame's matte, moving as the camera pans;
+  // one rain streak falls somewhere else in every frame.
+  for (double pan : {0.0, 1.0, 7.0}) {
+    StrokeCollector collector(StrokeExtractionSettings{});
+    for (int frame = 0; frame < 5; ++frame) {
+      cv::Mat matte = noiseMatte({320, 240}, 0.01, 40 + frame);
+      for (int line = 0; line < 4; ++line)
+        drawStreak(matte, {60.0 + 30.0 * line + pan * frame, 120, 60, 0.8, 0.4}, 0.0);
+      drawStreak(matte, {220.0 + 15.0 * frame, 60.0 + 30.0 * frame, 30, 0.8, 0.5}, 0.0);
+      collector.addFrame(frame, matte, 0.0, 0.01);
+    }
+    const rain::StrokeLibrary library = collector.finish();
+    EXPECT_EQ(library.strokes.size(), 5u) << "pan " << pan;
+    for (const auto& s : library.strokes) EXPECT_NEAR(s.lengthPx, 30.0, 4.5) << "pan " << pan;
   }
 }
