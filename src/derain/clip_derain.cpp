@@ -15,10 +15,6 @@
 namespace pluvia::derain {
 namespace {
 
-// What a homography fit leaves of a panning camera's motion at edges (parallax, rolling shutter,
-// resampling), in pixels; see DerainSettings::registrationErrorPx.
-constexpr double kRegistrationErrorPx = 0.5;
-
 cv::Mat toRgbMat(const Image& image) {
   cv::Mat rgb(image.height, image.width, CV_32FC3);
   for (int y = 0; y < image.height; ++y) {
@@ -78,7 +74,7 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
                   {"derain", {}, input});
     }
     DerainSettings solver = settings.solver;
-    if (registration.moving()) solver.registrationErrorPx = kRegistrationErrorPx;
+    if (registration.moving()) solver.registrationErrorPx = kResidualMisregistrationPx;
     const DerainResult result = solveDerain(warpToReference(originals, registration), solver);
 
     ClipDerainWindow stats;

@@ -302,7 +302,9 @@ void runRealFootage(const DerainReportSettings& settings, DerainReport& report) 
   real.medianAngleDeg = estimateRainAngle(impliedMattes(stack, median)).angleDeg;
   log::info("report derain: real footage, solving");
   start = Clock::now();
-  real.result = solveDerain(stack, settings.solver);
+  DerainSettings solver = settings.solver;
+  if (registration.moving()) solver.registrationErrorPx = kResidualMisregistrationPx;
+  real.result = solveDerain(stack, solver);
   real.solveSeconds = secondsSince(start);
   real.meanAlpha = meanValue(real.result.alpha);
   if (!settings.imagesDir.empty()) {

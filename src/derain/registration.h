@@ -9,6 +9,11 @@
 
 namespace pluvia::derain {
 
+// What a homography fit leaves of a panning camera's motion at the background's edges
+// (parallax, rolling shutter, resampling), in pixels: DerainSettings::registrationErrorPx for
+// frames registered by warpToReference.
+constexpr double kResidualMisregistrationPx = 0.5;
+
 struct Registration {
   // Per frame: the homography taking reference-frame pixel coordinates to that frame's pixel
   // coordinates (identity for the reference frame itself).

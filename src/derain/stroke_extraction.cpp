@@ -35,7 +35,6 @@ constexpr int kAtlasPadding = 2;  // zero texels around every stroke (bilinear, 
 constexpr int kCropMarginPx = 2;  // soft edge kept around a component's mask
 constexpr double kMinMotionResponse = 0.05;  // phase correlation peak taken as camera motion
 constexpr double kMaxMotionPx = 12.0;        // larger frame-to-frame motion: not the camera's
-constexpr double kStaticShare = 0.25;
 constexpr double kMinGap = 0.25;  // a row along a stroke darker than this (of its peak): a gap
 
 // The matte rotated by angleDeg so the rain is vertical, on a canvas that holds the whole
@@ -196,6 +195,41 @@ Measure measureStroke(const cv::Mat& crop) {
   return m;
 }
 
+// The frame pixels under a canvas rectangle: the bounding box of its corners mapped back.
+cv::Rect sourceRect(const cv::Rect& canvas, const cv::Mat& toSource) {
+  std::vector<cv::Point2f> corners = {
+      cv::Point2f(float(canvas.x), float(canvas.y)),
+      cv::Point2f(float(canvas.x + canvas.width), float(canvas.y)),
+      cv::Point2f(float(canvas.x), float(canvas.y + canvas.height)),
+      cv::Point2f(float(canvas.x + canvas.width), float(canvas.y + canvas.height))};
+  cv::transform(corners, corners, toSource);
+  return cv::boundingRect(corners);
+}
+
+// How well the matte under `rect` is found again in any of the other mattes, shifted by up to
+// `radius` pixels: the best normalised correlation (1: the same pattern, about 0: none).
+double bestMatch(const cv::Mat& matte, const std::vector<cv::Mat>& others, cv::Rect rect,
+                 int radius) {
+  const cv::Rect frame(0, 0, matte.cols, matte.rows);
+  rect &= frame;
+  if (others.empty() || rect.width < 2 || rect.height < 2) return 0.0;
+  const cv::Mat patch = matte(rect);
+  cv::Scalar mean, stddev;
+  cv::meanStdDev(patch, mean, stddev);
+  if (stddev[0] <= 0.0) return 0.0;
+  const cv::Rect search =
+      (rect + cv::Size(2 * radius, 2 * radius) - cv::Point(radius, radius)) & frame;
+  double best = 0.0;
+  for (const cv::Mat& other : others) {
+    cv::Mat score;
+    cv::matchTemplate(other(search), patch, score, cv::TM_CCOEFF_NORMED);
+    double peak = 0.0;
+    cv::minMaxLoc(score, nullptr, &peak);
+    if (std::isfinite(peak)) best = std::max(best, peak);
+  }
+  return best;
+}
+
 }  // namespace
 
 StrokeCollector::StrokeCollector(StrokeExtractionSettings settings) : settings_(settings) {
@@ -253,16 +287,12 @@ void StrokeCollector::cut(const Frame& f, const std::vector<const Frame*>& neigh
   const cv::Mat& clean = f.matte;
   const Upright up = rotateUpright(clean, f.valid, f.angleDeg);
 
-  // Static structure: pixels where a neighbouring frame holds at least half as much matte,
-  // after the camera's motion between the two (phase correlation of the mattes, which such
-  // structure dominates) and within staticTolerancePx.
-  cv::Mat persistent;
+  // The neighbours with the camera's motion between them and this frame undone (phase
+  // correlation of the mattes, which static structure dominates).
+  std::vector<cv::Mat> aligned;
   if (!neighbours.empty()) {
-    const int r = std::max(0, settings_.staticTolerancePx);
-    const cv::Mat near = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * r + 1, 2 * r + 1));
     cv::Mat window;
     cv::createHanningWindow(window, clean.size(), CV_32F);
-    cv::Mat held = cv::Mat::zeros(clean.size(), CV_8UC1);
     for (const Frame* n : neighbours) {
       double response = 0.0;
       // Copies: OpenCV multiplies the window into its inputs in place when their size needs
@@ -273,14 +303,11 @@ void StrokeCollector::cut(const Frame& f, const std::vector<const Frame*>& neigh
       if (!(response >= kMinMotionResponse) || std::hypot(shift.x, shift.y) > kMaxMotionPx)
         shift = {0.0, 0.0};
       const cv::Matx23d move(1, 0, shift.x, 0, 1, shift.y);
-      cv::Mat moved, reach;
+      cv::Mat moved;
       cv::warpAffine(n->matte, moved, move, clean.size(), cv::INTER_LINEAR, cv::BORDER_CONSTANT,
                      0.0);
-      cv::dilate(moved, reach, near);
-      held |= reach >= kStaticShare * clean;
+      aligned.push_back(moved);
     }
-    cv::warpAffine(held, persistent, up.toCanvas, up.matte.size(), cv::INTER_NEAREST,
-                   cv::BORDER_CONSTANT, 0.0);
   }
 
   // Opening with a vertical line drops specks shorter than it; the vertical blur smooths the
@@ -304,17 +331,15 @@ void StrokeCollector::cut(const Frame& f, const std::vector<const Frame*>& neigh
   cv::Mat edgeZone;
   cv::dilate(up.valid == 0, edgeZone, cv::Mat(), cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, 255);
   std::vector<uint8_t> touchesEdge(size_t(n), 0);
-  std::vector<double> energy(size_t(n), 0.0), staticEnergy(size_t(n), 0.0);
+  std::vector<double> energy(size_t(n), 0.0);
   for (int y = 0; y < labels.rows; ++y) {
     const int* l = labels.ptr<int>(y);
     const uint8_t* e = edgeZone.ptr<uint8_t>(y);
-    const uint8_t* p = persistent.empty() ? nullptr : persistent.ptr<uint8_t>(y);
     const float* b = blurred.ptr<float>(y);
     for (int x = 0; x < labels.cols; ++x) {
       if (!l[x]) continue;
       if (e[x]) touchesEdge[size_t(l[x])] = 1;
       energy[size_t(l[x])] += b[x];
-      if (p && p[x]) staticEnergy[size_t(l[x])] += b[x];
     }
   }
 
@@ -322,7 +347,6 @@ void StrokeCollector::cut(const Frame& f, const std::vector<const Frame*>& neigh
       cv::MORPH_ELLIPSE, cv::Size(2 * kCropMarginPx + 1, 2 * kCropMarginPx + 1));
   for (int label = 1; label < n; ++label) {
     if (touchesEdge[size_t(label)]) continue;
-    if (staticEnergy[size_t(label)] > settings_.maxStaticFraction * energy[size_t(label)]) continue;
     const cv::Rect box(
         stats.at<int>(label, cv::CC_STAT_LEFT), stats.at<int>(label, cv::CC_STAT_TOP),
         stats.at<int>(label, cv::CC_STAT_WIDTH), stats.at<int>(label, cv::CC_STAT_HEIGHT));
@@ -365,6 +389,11 @@ void StrokeCollector::cut(const Frame& f, const std::vector<const Frame*>& neigh
     if (m.bendPx > settings_.maxBendPx) continue;
     if (m.gap < kMinGap) continue;  // two strokes end to end, or one broken by noise
 
+    // Static structure: the same pattern in a neighbouring frame, near the same place.
+    const double staticMatch =
+        bestMatch(clean, aligned, sourceRect(cropBox, up.toSource), settings_.staticTolerancePx);
+    if (staticMatch > settings_.maxStaticCorrelation && !std::getenv("STRK_ALL")) continue;
+
     // Isolation: the stroke's share of the matte energy (of thresholded components) in its box
     // grown by isolationMarginPx: 1 alone, 1/2 with as much other rain around it.
     const cv::Rect around =
@@ -393,13 +422,13 @@ void StrokeCollector::cut(const Frame& f, const std::vector<const Frame*>& neigh
     // that holds part of a neighbour) or lumpy along their length (two drops end to end,
     // compression blocks) rank well below clean ones.
     c.score = c.contrast * std::sqrt(m.lengthPx) * isolation * isolation * m.fill * m.fill;
-    if (std::getenv("STRK_DEBUG") && m.lengthPx > 50) {
+    if (std::getenv("STRK_DEBUG")) {
       cv::Point2d cs(box.x + box.width / 2.0, box.y + box.height / 2.0);
       const cv::Mat& T = up.toSource;
       fprintf(stderr, "DBG frame %ld src (%.0f,%.0f) len %.1f static %.2f\n", (long)frame,
               T.at<double>(0, 0) * cs.x + T.at<double>(0, 1) * cs.y + T.at<double>(0, 2),
               T.at<double>(1, 0) * cs.x + T.at<double>(1, 1) * cs.y + T.at<double>(1, 2),
-              m.lengthPx, staticEnergy[size_t(label)] / energy[size_t(label)]);
+              m.lengthPx, staticMatch);
     }
     candidates_.push_back(std::move(c));
     ++accepted_;

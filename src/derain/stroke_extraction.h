@@ -30,12 +30,12 @@ struct StrokeExtractionSettings {
   double maxTiltDeg = 10.0;
   double maxBendPx = 1.0;  // RMS distance of its row centres from a straight line
   // Static structure that leaks into the mattes (edges the registration left, thin lines of the
-  // scene) stays put from frame to frame while rain moves on: a stroke is rejected when more
-  // than maxStaticFraction of its matte lies where a neighbouring frame (the one before or the
-  // one after) holds at least half as much matte, once the camera's motion between the two is
-  // undone, within staticTolerancePx.
-  int staticTolerancePx = 3;
-  double maxStaticFraction = 0.5;
+  // scene) stays put from frame to frame while rain moves on: a stroke is rejected when its
+  // patch of matte is found again in a neighbouring frame (the one before or the one after),
+  // once the camera's motion between the two is undone, within staticTolerancePx (parallax,
+  // the motion estimate's error), with a normalised correlation above maxStaticCorrelation.
+  int staticTolerancePx = 6;
+  double maxStaticCorrelation = 0.6;
 };
 
 class StrokeCollector {
