@@ -69,7 +69,8 @@ void addStrokesCommand(CLI::App& app, Invocation& invocation) {
     size_t frames = 0;
     const derain::ClipDerainSummary summary =
         derain::derainClip(args->input, args->clip, [&](const derain::ClipDerainFrame& frame) {
-          collector.addFrame(frame.frame, frame.matte, frame.angleDeg, frame.noiseSigma);
+          collector.addFrame(frame.frame, frame.matte, frame.angleDeg, frame.noiseSigma,
+                             frame.clean, frame.covered);
           ++frames;
         });
     rain::StrokeLibrary library = collector.finish();

@@ -98,10 +98,9 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
       ClipDerainFrame out;
       out.frame = frames[i];
       out.original = originals[size_t(k)];
-      cv::Mat covered;
-      const cv::Mat background = warpToFrame(result.background, registration, k, &covered);
+      const cv::Mat background = warpToFrame(result.background, registration, k, &out.covered);
       out.clean = out.original.clone();
-      background.copyTo(out.clean, covered);
+      background.copyTo(out.clean, out.covered);
       out.matte = warpToFrame(result.alpha[size_t(k)], registration, k);
       out.rainColor = result.rainColor[size_t(k)];
       out.angleDeg = result.angleDeg;

@@ -25,6 +25,7 @@ struct ClipDerainFrame {
   cv::Mat original;       // the frame as read, CV_32FC3 RGB
   cv::Mat clean;          // S on this frame's grid; outside the window's reference frame: original
   cv::Mat matte;          // alpha on this frame's grid, CV_32FC1 (0 outside the reference frame)
+  cv::Mat covered;        // CV_8UC1, nonzero where the window's reference frame saw this pixel
   cv::Vec3f rainColor;    // C^k
   double angleDeg = 0.0;  // the window's D0
   double noiseSigma = 0.0;

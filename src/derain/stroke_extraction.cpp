@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 
 #include <opencv2/imgproc.hpp>
 
@@ -23,6 +21,7 @@ struct StrokeCollector::Frame {
   int64_t frame = 0;
   cv::Mat matte;  // CV_32FC1 in [0, 1], no NaN
   cv::Mat valid;  // CV_8UC1, 255 where solved
+  cv::Mat edges;  // CV_32FC1: gradient magnitude of the background; empty: none given
   double angleDeg = 0.0;
   double threshold = 0.0;  // alpha a stroke must exceed
   bool cut = false;
@@ -35,7 +34,10 @@ constexpr int kAtlasPadding = 2;  // zero texels around every stroke (bilinear, 
 constexpr int kCropMarginPx = 2;  // soft edge kept around a component's mask
 constexpr double kMinMotionResponse = 0.05;  // phase correlation peak taken as camera motion
 constexpr double kMaxMotionPx = 12.0;        // larger frame-to-frame motion: not the camera's
-constexpr double kMinGap = 0.25;  // a row along a stroke darker than this (of its peak): a gap
+constexpr double kTrimLevel = 0.15;      // a crop ends where its rows fall below this of the peak
+constexpr double kTrimSideLevel = 0.05;  // and at its sides where its columns do
+constexpr double kMinGap = 0.6;        // a stroke's profile dipping below this inside: two strokes
+constexpr double kMisfitScale = 0.01;  // of 1 - fidelity, in the score
 
 // The matte rotated by angleDeg so the rain is vertical, on a canvas that holds the whole
 // frame, and the mask of the canvas pixels that lie inside the frame's valid area.
@@ -123,16 +125,54 @@ cv::Mat straighten(const cv::Mat& crop, double tiltDeg) {
   return out;
 }
 
+// The crop cut down to the stroke, so its atlas rectangle hugs it (the renderer stretches the
+// rectangle over the drop's quad): the run of rows around its peak whose peak is at least
+// kTrimLevel of the stroke's (a faint tail or a neighbour's end beyond it goes) and a row
+// beyond, then the columns that hold anything above kTrimSideLevel.
+cv::Mat trimToStroke(const cv::Mat& crop) {
+  double peak = 0.0;
+  cv::Point at;
+  cv::minMaxLoc(crop, nullptr, &peak, nullptr, &at);
+  if (peak <= 0.0) return crop;
+  auto rowPeak = [&](int y) {
+    double v = 0.0;
+    cv::minMaxLoc(crop.row(y), nullptr, &v);
+    return v;
+  };
+  int top = at.y, bottom = at.y;
+  while (top > 0 && rowPeak(top - 1) >= kTrimLevel * peak) --top;
+  while (bottom + 1 < crop.rows && rowPeak(bottom + 1) >= kTrimLevel * peak) ++bottom;
+  // One row beyond, so the length's half-maximum crossings stay inside.
+  top = std::max(0, top - 1);
+  bottom = std::min(crop.rows - 1, bottom + 1);
+  cv::Mat rows = crop.rowRange(top, bottom + 1);
+  int left = crop.cols, right = -1;
+  for (int x = 0; x < crop.cols; ++x) {
+    double v = 0.0;
+    cv::minMaxLoc(rows.col(x), nullptr, &v);
+    if (v >= kTrimSideLevel * peak) left = std::min(left, x), right = std::max(right, x);
+  }
+  cv::Mat out = rows.colRange(left, right + 1).clone();
+  // The rows beyond the run keep only what lies within its columns; a last speck below the
+  // side level goes too, so the rectangle holds the stroke and little else.
+  out.setTo(0.0f, out < kTrimSideLevel * peak);
+  return out;
+}
+
 struct Measure {
   double lengthPx = 0.0, widthPx = 0.0, contrast = 0.0;
   double bendPx = 0.0;  // RMS distance of the row centres from their straight-line fit
   double fill = 0.0;    // mean row peak over the stroke's length, over its peak (1: even)
   double gap = 0.0;     // lowest row peak over the stroke's length, over its peak
+  // Normalised correlation of the crop with an ideal straight streak: its own row peaks times a
+  // Gaussian cross-section of its width centred on its fitted axis (1: a clean streak; forks,
+  // zigzags, blobs beside it lower it).
+  double fidelity = 0.0;
 };
 
-// Length: rows whose peak is at least half the stroke's peak (the stroke's full length at half
-// maximum, independent of its contrast); width: its mean equivalent width across (row sum over
-// row peak) over those rows.
+// Length: the stroke's full length at half maximum of its profile along (row sums),
+// independent of its contrast; width: its mean equivalent width across (row sum over row peak)
+// over those rows.
 Measure measureStroke(const cv::Mat& crop) {
   Measure m;
   std::vector<double> rowPeak(size_t(crop.rows), 0.0), rowSum(size_t(crop.rows), 0.0);
@@ -145,40 +185,42 @@ Measure measureStroke(const cv::Mat& crop) {
     m.contrast = std::max(m.contrast, rowPeak[size_t(y)]);
   }
   if (m.contrast <= 0.0) return m;
-  const double half = 0.5 * m.contrast;
+  // The profile along the stroke is the row sum: unlike the row peak it does not change with
+  // where a thin stroke falls between pixels.
+  const double along = *std::max_element(rowSum.begin(), rowSum.end());
+  const double half = 0.5 * along;
   // First and last rows above half maximum, with the crossings interpolated.
   int first = -1, last = -1;
   for (int y = 0; y < crop.rows; ++y)
-    if (rowPeak[size_t(y)] >= half) {
+    if (rowSum[size_t(y)] >= half) {
       if (first < 0) first = y;
       last = y;
     }
   auto crossing = [&](int inside, int outside) {
     if (outside < 0 || outside >= crop.rows) return 0.5;
-    const double a = rowPeak[size_t(inside)], b = rowPeak[size_t(outside)];
+    const double a = rowSum[size_t(inside)], b = rowSum[size_t(outside)];
     return std::clamp((a - half) / std::max(a - b, 1e-12), 0.0, 1.0);
   };
   m.lengthPx = double(last - first) + crossing(first, first - 1) + crossing(last, last + 1);
-  double widthSum = 0.0;
+  double widthSum = 0.0, profileSum = 0.0;
   int rows = 0;
+  // Gaps: the profile's lowest point inside, away from the ends (where it falls to half).
+  const int inset = std::max(1, int(std::lround(0.15 * (last - first))));
+  m.gap = 1.0;
   for (int y = first; y <= last; ++y) {
-    if (rowPeak[size_t(y)] < half) continue;
+    profileSum += rowSum[size_t(y)];
+    if (y >= first + inset && y <= last - inset) m.gap = std::min(m.gap, rowSum[size_t(y)] / along);
+    if (rowSum[size_t(y)] < half) continue;
     widthSum += rowSum[size_t(y)] / rowPeak[size_t(y)];
     ++rows;
   }
   m.widthPx = rows ? widthSum / rows : 0.0;
-  double peakSum = 0.0;
-  m.gap = 1.0;
-  for (int y = first; y <= last; ++y) {
-    peakSum += rowPeak[size_t(y)];
-    m.gap = std::min(m.gap, rowPeak[size_t(y)] / m.contrast);
-  }
-  m.fill = peakSum / (double(last - first + 1) * m.contrast);
+  m.fill = profileSum / (double(last - first + 1) * along);
   // Row centres (alpha-weighted) over the same rows, fitted by x = a + b y (weighted).
   double sw = 0, sy = 0, sx = 0, syy = 0, sxy = 0;
   std::vector<std::array<double, 3>> centres;  // y, x, weight
   for (int y = first; y <= last; ++y) {
-    if (rowPeak[size_t(y)] < half) continue;
+    if (rowSum[size_t(y)] < half) continue;
     const float* p = crop.ptr<float>(y);
     double xs = 0.0;
     for (int x = 0; x < crop.cols; ++x) xs += double(x) * p[x];
@@ -192,7 +234,35 @@ Measure measureStroke(const cv::Mat& crop) {
   double residual = 0.0;
   for (const auto& [y, x, w] : centres) residual += w * (x - a - b * y) * (x - a - b * y);
   m.bendPx = std::sqrt(residual / sw);
+  const double sigma = std::max(m.widthPx / std::sqrt(2.0 * M_PI), 0.3);
+  double cross = 0.0, modelEnergy = 0.0, cropEnergy = 0.0;
+  for (int y = 0; y < crop.rows; ++y) {
+    const float* p = crop.ptr<float>(y);
+    const double centre = a + b * y;
+    for (int x = 0; x < crop.cols; ++x) {
+      const double model =
+          rowPeak[size_t(y)] * std::exp(-0.5 * (x - centre) * (x - centre) / (sigma * sigma));
+      cross += model * p[x];
+      modelEnergy += model * model;
+      cropEnergy += double(p[x]) * p[x];
+    }
+  }
+  m.fidelity = cross / std::sqrt(std::max(modelEnergy * cropEnergy, 1e-24));
   return m;
+}
+
+// The mean over the rows of `rect` of the largest gradient magnitude in the row: about the
+// edge's gradient when an edge runs along the rect, the noise's when the area is flat.
+double backgroundEdge(const cv::Mat& edges, cv::Rect rect) {
+  if (edges.empty()) return 0.0;
+  rect &= cv::Rect(0, 0, edges.cols, edges.rows);
+  if (rect.empty()) return 0.0;
+  double sum = 0.0;
+  for (int y = rect.y; y < rect.y + rect.height; ++y) {
+    const float* e = edges.ptr<float>(y);
+    sum += *std::max_element(e + rect.x, e + rect.x + rect.width);
+  }
+  return sum / rect.height;
 }
 
 // The frame pixels under a canvas rectangle: the bounding box of its corners mapped back.
@@ -206,26 +276,26 @@ cv::Rect sourceRect(const cv::Rect& canvas, const cv::Mat& toSource) {
   return cv::boundingRect(corners);
 }
 
-// How well the matte under `rect` is found again in any of the other mattes, shifted by up to
-// `radius` pixels: the best normalised correlation (1: the same pattern, about 0: none).
-double bestMatch(const cv::Mat& matte, const std::vector<cv::Mat>& others, cv::Rect rect,
-                 int radius) {
+// How much of the matte under `rect` one of the other mattes holds too, shifted by up to
+// `radius` pixels: 1 - (least squared difference) / (patch energy). 1: the same pattern at the
+// same strength, 0 (or less): nothing like it there.
+double staticShare(const cv::Mat& matte, const std::vector<cv::Mat>& others, cv::Rect rect,
+                   int radius) {
   const cv::Rect frame(0, 0, matte.cols, matte.rows);
   rect &= frame;
-  if (others.empty() || rect.width < 2 || rect.height < 2) return 0.0;
+  if (others.empty() || rect.empty()) return 0.0;
   const cv::Mat patch = matte(rect);
-  cv::Scalar mean, stddev;
-  cv::meanStdDev(patch, mean, stddev);
-  if (stddev[0] <= 0.0) return 0.0;
+  const double energy = patch.dot(patch);
+  if (energy <= 0.0) return 0.0;
   const cv::Rect search =
       (rect + cv::Size(2 * radius, 2 * radius) - cv::Point(radius, radius)) & frame;
   double best = 0.0;
   for (const cv::Mat& other : others) {
-    cv::Mat score;
-    cv::matchTemplate(other(search), patch, score, cv::TM_CCOEFF_NORMED);
-    double peak = 0.0;
-    cv::minMaxLoc(score, nullptr, &peak);
-    if (std::isfinite(peak)) best = std::max(best, peak);
+    cv::Mat difference;
+    cv::matchTemplate(other(search), patch, difference, cv::TM_SQDIFF);
+    double least = 0.0;
+    cv::minMaxLoc(difference, &least);
+    best = std::max(best, 1.0 - std::max(least, 0.0) / energy);
   }
   return best;
 }
@@ -244,7 +314,7 @@ size_t StrokeCollector::candidateCount() const {
 }
 
 void StrokeCollector::addFrame(int64_t frame, const cv::Mat& matte, double angleDeg,
-                               double noiseSigma, const cv::Mat& valid) {
+                               double noiseSigma, const cv::Mat& background, const cv::Mat& valid) {
   if (matte.empty()) return;
   if (matte.type() != CV_32FC1)
     throw Error("stroke extraction: the matte must be CV_32FC1", {"strokes", frame, {}});
@@ -258,6 +328,22 @@ void StrokeCollector::addFrame(int64_t frame, const cv::Mat& matte, double angle
   cv::patchNaNs(f.matte, 0.0);
   f.matte = cv::max(cv::min(f.matte, 1.0f), 0.0f);
   f.valid = valid.empty() ? cv::Mat(matte.size(), CV_8UC1, cv::Scalar(255)) : (valid != 0);
+  if (!background.empty()) {
+    if (background.size() != matte.size() ||
+        (background.type() != CV_32FC3 && background.type() != CV_32FC1))
+      throw Error(
+          "stroke extraction: the background must be CV_32FC3 or CV_32FC1 of the matte's size",
+          {"strokes", frame, {}});
+    cv::Mat gray, dx, dy;
+    if (background.channels() == 3)
+      cv::transform(background, gray, cv::Matx13f(1.0f / 3, 1.0f / 3, 1.0f / 3));
+    else
+      gray = background.clone();
+    cv::patchNaNs(gray, 0.0);
+    cv::Sobel(gray, dx, CV_32F, 1, 0, 3, 1.0 / 8.0);
+    cv::Sobel(gray, dy, CV_32F, 0, 1, 3, 1.0 / 8.0);
+    cv::magnitude(dx, dy, f.edges);
+  }
   const double noise = std::max(noiseSigma, matteNoise(f.matte, f.valid));
   f.threshold = std::max(settings_.noiseFactor * noise, settings_.minContrast);
   // A neighbour of another size (another clip) is no neighbour.
@@ -383,16 +469,22 @@ void StrokeCollector::cut(const Frame& f, const std::vector<const Frame*>& neigh
     if (std::abs(tilt) > settings_.maxTiltDeg) continue;
     if (std::abs(tilt) > 0.25) crop = straighten(crop, tilt);
 
+    crop = trimToStroke(crop);
     const Measure m = measureStroke(crop);
     if (m.contrast <= threshold || m.lengthPx < settings_.minLengthPx) continue;
     if (m.widthPx <= 0.0 || m.lengthPx < settings_.minAspect * m.widthPx) continue;
     if (m.bendPx > settings_.maxBendPx) continue;
     if (m.gap < kMinGap) continue;  // two strokes end to end, or one broken by noise
+    if (m.fidelity < settings_.minFidelity) continue;
+
+    // On an edge of the scene: the background's gradient along the stroke.
+    const double edge = backgroundEdge(f.edges, sourceRect(cropBox, up.toSource));
+    if (edge > settings_.maxBackgroundEdge * std::max(contrast, m.contrast)) continue;
 
     // Static structure: the same pattern in a neighbouring frame, near the same place.
-    const double staticMatch =
-        bestMatch(clean, aligned, sourceRect(cropBox, up.toSource), settings_.staticTolerancePx);
-    if (staticMatch > settings_.maxStaticCorrelation && !std::getenv("STRK_ALL")) continue;
+    const double held =
+        staticShare(clean, aligned, sourceRect(cropBox, up.toSource), settings_.staticTolerancePx);
+    if (held > settings_.maxStaticShare) continue;
 
     // Isolation: the stroke's share of the matte energy (of thresholded components) in its box
     // grown by isolationMarginPx: 1 alone, 1/2 with as much other rain around it.
@@ -416,20 +508,15 @@ void StrokeCollector::cut(const Frame& f, const std::vector<const Frame*>& neigh
     c.contrast = std::max(contrast, m.contrast);
     c.frame = frame;
     c.x = box.x, c.y = box.y;
-    // score = contrast * sqrt(length) * isolation^2 * fill^2: brighter, longer, lonelier and
-    // more even along its length is better. The square root keeps a long streak from
-    // outranking a much clearer short one; the squares make strokes crowded by others (a cut
-    // that holds part of a neighbour) or lumpy along their length (two drops end to end,
-    // compression blocks) rank well below clean ones.
-    c.score = c.contrast * std::sqrt(m.lengthPx) * isolation * isolation * m.fill * m.fill;
-    if (std::getenv("STRK_DEBUG")) {
-      cv::Point2d cs(box.x + box.width / 2.0, box.y + box.height / 2.0);
-      const cv::Mat& T = up.toSource;
-      fprintf(stderr, "DBG frame %ld src (%.0f,%.0f) len %.1f static %.2f\n", (long)frame,
-              T.at<double>(0, 0) * cs.x + T.at<double>(0, 1) * cs.y + T.at<double>(0, 2),
-              T.at<double>(1, 0) * cs.x + T.at<double>(1, 1) * cs.y + T.at<double>(1, 2),
-              m.lengthPx, staticMatch);
-    }
+    // score = contrast * sqrt(length * aspect) * isolation^2 * fill^2
+    //         * exp(-(1 - fidelity) / kMisfitScale),   aspect = length / width:
+    // brighter, longer, thinner, lonelier, more even along its length and closer to a clean
+    // straight streak is better. The square root keeps a long streak from outranking a much
+    // clearer short one; the squares make strokes crowded by others (a cut that holds part of a
+    // neighbour) or lumpy along their length (two drops end to end, compression blocks) rank
+    // well below clean ones; each 0.01 of misfit (forks, zigzags) costs a factor e.
+    c.score = c.contrast * m.lengthPx / std::sqrt(std::max(m.widthPx, 1.0)) * isolation *
+              isolation * m.fill * m.fill * std::exp(-(1.0 - m.fidelity) / kMisfitScale);
     candidates_.push_back(std::move(c));
     ++accepted_;
   }

@@ -1,9 +1,12 @@
 #pragma once
 // Cutting single rain strokes out of derained mattes (Wang et al. section 2): each matte is
 // rotated so the rain is vertical, opened (erosion then dilation) to drop specks, blurred
-// vertically, thresholded above its noise and split into connected components; each component
-// is a candidate stroke, rejected when too short, not elongated or clipped by the frame edge,
-// and ranked by length, contrast and isolation (formula in stroke_extraction.cpp).
+// vertically, thresholded above its noise and split into connected components. Each component
+// is a candidate stroke, turned exactly upright and trimmed, and rejected when it is too short,
+// not elongated, tilted, bent, broken, unlike a clean streak, clipped by the frame edge, lying
+// on an edge of the scene or still there in a neighbouring frame (static structure the solve
+// left in the matte); the rest are ranked by contrast, length, slimness, isolation and
+// cleanness (formula in stroke_extraction.cpp).
 #include <cstdint>
 #include <vector>
 
@@ -15,8 +18,8 @@ namespace pluvia::derain {
 
 struct StrokeExtractionSettings {
   int count = 64;          // strokes kept, best first
-  int minLengthPx = 12;    // shorter components are not strokes
-  double minAspect = 3.0;  // length over width
+  int minLengthPx = 9;     // shorter components are not strokes
+  double minAspect = 2.4;  // length over width
   // A component's peak alpha must exceed this many times the matte's noise level (and at
   // least minContrast), so footage without rain yields no strokes. The noise level is the
   // larger of the solve's noiseSigma and the matte's own (from its upper quartile).
@@ -29,13 +32,23 @@ struct StrokeExtractionSettings {
   // estimate's error); it is then turned upright on its own. More: not a rain stroke.
   double maxTiltDeg = 10.0;
   double maxBendPx = 1.0;  // RMS distance of its row centres from a straight line
+  // Normalised correlation with an ideal straight streak of its own length profile and width
+  // (forks, zigzags, a blob beside it lower it); below this: not one clean stroke.
+  double minFidelity = 0.97;
   // Static structure that leaks into the mattes (edges the registration left, thin lines of the
-  // scene) stays put from frame to frame while rain moves on: a stroke is rejected when its
-  // patch of matte is found again in a neighbouring frame (the one before or the one after),
-  // once the camera's motion between the two is undone, within staticTolerancePx (parallax,
-  // the motion estimate's error), with a normalised correlation above maxStaticCorrelation.
+  // scene) stays put from frame to frame while rain moves on: a stroke is rejected when a
+  // neighbouring frame (the one before or the one after), once the camera's motion between the
+  // two is undone, holds more than maxStaticShare of its patch of matte (1 - least squared
+  // difference over the patch's energy) within staticTolerancePx (parallax, the motion
+  // estimate's error).
   int staticTolerancePx = 6;
-  double maxStaticCorrelation = 0.6;
+  double maxStaticShare = 0.5;
+  // A matte the solver leaves on an edge of the scene (a registration error of a pixel times the
+  // edge's gradient) lies along that edge; rain falls over edges and flat areas alike. With a
+  // background given, a stroke is rejected when the background's gradient along it (the mean
+  // over its rows of the largest gradient magnitude across the row, intensity per pixel)
+  // exceeds maxBackgroundEdge times its contrast.
+  double maxBackgroundEdge = 0.1;
 };
 
 class StrokeCollector {
@@ -46,13 +59,15 @@ class StrokeCollector {
   StrokeCollector& operator=(StrokeCollector&&) noexcept;
 
   // One frame's matte (CV_32FC1, 0..1) on the frame's grid, the rain angle and the noise level
-  // of the solve (DerainResult::noiseSigma) it came from. `valid` (optional, CV_8UC1, nonzero
-  // where the matte was solved) marks the area whose border counts as the frame's edge; empty:
-  // the whole frame. Frames come in clip order: each is compared with the one added before and
+  // of the solve (DerainResult::noiseSigma) it came from. `background` (optional, CV_32FC3 or
+  // CV_32FC1: the derained frame S on the same grid) lets strokes that lie on edges of the
+  // scene be told from rain (see maxBackgroundEdge). `valid` (optional, CV_8UC1, nonzero where
+  // the matte was solved) marks the area whose border counts as the frame's edge; empty: the
+  // whole frame. Frames come in clip order: each is compared with the one added before and
   // the one added after it, so a frame's strokes are cut when the next one arrives (or in
   // finish()).
   void addFrame(int64_t frame, const cv::Mat& matte, double angleDeg, double noiseSigma,
-                const cv::Mat& valid = cv::Mat());
+                const cv::Mat& background = cv::Mat(), const cv::Mat& valid = cv::Mat());
   // The best `count` strokes packed into one atlas (possibly fewer, possibly none: then the
   // atlas is empty, 0 x 0). Cuts the last frame first; call it once, after the last frame.
   rain::StrokeLibrary finish();

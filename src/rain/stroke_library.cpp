@@ -52,6 +52,25 @@ T required(const nlohmann::json& object, const char* key, const std::string& pat
   }
 }
 
+// The document with one key per line and one stroke per line (small diffs, easy to read).
+std::string formatLibraryJson(const nlohmann::json& doc) {
+  std::string text = "{\n";
+  size_t i = 0;
+  for (const auto& [key, value] : doc.items()) {
+    text += "  " + nlohmann::json(key).dump() + ": ";
+    if (key == "strokes") {
+      text += "[\n";
+      for (size_t s = 0; s < value.size(); ++s)
+        text += "    " + value[s].dump() + (s + 1 < value.size() ? ",\n" : "\n");
+      text += "  ]";
+    } else {
+      text += value.dump();
+    }
+    text += ++i < doc.size() ? ",\n" : "\n";
+  }
+  return text + "}\n";
+}
+
 stdfs::path executableDir() {
   std::error_code ec;
   stdfs::path exe = stdfs::read_symlink("/proc/self/exe", ec);
@@ -115,7 +134,7 @@ void saveStrokeLibrary(const StrokeLibrary& library, const std::string& jsonPath
   }
   fs::commitTemporary(tmp, png);
   // The JSON last: a library whose JSON exists always has its atlas beside it.
-  fs::writeTextFile(json, doc.dump(1) + "\n");
+  fs::writeTextFile(json, formatLibraryJson(doc));
 }
 
 StrokeLibrary loadStrokeLibrary(const std::string& jsonPath) {

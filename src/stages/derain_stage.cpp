@@ -68,7 +68,8 @@ class DerainStage : public Stage {
     derain::StrokeCollector collector(extraction);
     const derain::ClipDerainSummary summary =
         derain::derainClip(input, settings, [&](const derain::ClipDerainFrame& frame) {
-          collector.addFrame(frame.frame, frame.matte, frame.angleDeg, frame.noiseSigma);
+          collector.addFrame(frame.frame, frame.matte, frame.angleDeg, frame.noiseSigma,
+                             frame.clean, frame.covered);
         });
     rain::StrokeLibrary library = collector.finish();
     if (library.strokes.empty()) {

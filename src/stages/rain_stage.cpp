@@ -104,14 +104,18 @@ class RainStage : public Stage {
  private:
   gpu::StrokeAtlas loadAtlas(ClipContext& clip) const {
     const std::string strokes = preset_.string("rain.strokes");
-    if (strokes == "builtin")
-      return rain::loadStrokeLibrary(rain::builtinStrokeLibraryPath()).atlas;
     if (strokes == "derain") {
       if (!clip.footageStrokes)
         throw Error("rain.strokes is \"derain\" but no strokes were extracted", {"rain"});
       return *clip.footageStrokes;
     }
-    return rain::loadStrokeLibrary(strokes).atlas;
+    // "builtin": the library shipped with pluvia (assets/strokes/builtin.json); else a path.
+    const std::string path = strokes == "builtin" ? rain::builtinStrokeLibraryPath() : strokes;
+    try {
+      return rain::loadStrokeLibrary(path).atlas;
+    } catch (const Error& e) {
+      throw Error(std::string("rain.strokes: ") + e.what(), {"rain", {}, e.context().file});
+    }
   }
 
   const Preset& preset_;

@@ -127,7 +127,7 @@ TEST(StrokeExtraction, StreaksClippedByTheFrameEdgeAreRejected) {
   const StrokeExtractionSettings settings;
   auto strokesIn = [&](const cv::Mat& matte, double angle, const cv::Mat& valid = cv::Mat()) {
     StrokeCollector collector(settings);
-    collector.addFrame(0, matte, angle, 0.01, valid);
+    collector.addFrame(0, matte, angle, 0.01, cv::Mat(), valid);
     return collector.finish().strokes.size();
   };
   const cv::Size size(320, 240);

@@ -234,7 +234,7 @@ TEST(StrokeLibrary, BuiltinHoldsUprightElongatedStrokes) {
     const double major = 0.5 * (m.mu20 + m.mu02 + spread), minor = 0.5 * (m.mu20 + m.mu02 - spread);
     EXPECT_GT(major, 4.0 * minor) << "stroke " << i;  // axes' ratio above 2
     EXPECT_GT(s.height, s.width) << "stroke " << i;
-    EXPECT_GE(s.lengthPx, 12.0) << "stroke " << i;
+    EXPECT_GE(s.lengthPx, 9.0) << "stroke " << i;  // StrokeExtractionSettings::minLengthPx
     EXPECT_GT(s.contrast, 0.0) << "stroke " << i;
     if (i > 0) EXPECT_LE(s.score, library.strokes[i - 1].score) << "stroke " << i;
   }
