@@ -190,14 +190,7 @@ TEST(CliOptics, ReportWritesAConsistentCsvAndAPlot) {
 
   // Printed rows: the lines that start with a group name.
   const std::set<std::string> groups = {"default", "map", "terms", "sh", "paper", "reference"};
-  std::istringstream out(r.output);
-  int printedRows = 0;
-  for (std::string line; std::getline(out, line);) {
-    std::istringstream words(line);
-    std::string first;
-    words >> first;
-    if (groups.count(first)) ++printedRows;
-  }
+  const int printedRows = countLinesStartingWith(r.output, groups);
 
   ASSERT_TRUE(stdfs::exists(csv));
   std::ifstream file(csv);

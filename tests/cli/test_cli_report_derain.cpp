@@ -55,14 +55,7 @@ TEST(CliReportDerain, QuickReportWritesCsvPlotAndPreviews) {
   ASSERT_EQ(r.exitCode, 0) << r.output;
 
   // Printed rows: the lines that start with a section name.
-  std::istringstream out(r.output);
-  int printedRows = 0;
-  for (std::string line; std::getline(out, line);) {
-    std::istringstream words(line);
-    std::string first;
-    words >> first;
-    if (first == "synthetic" || first == "iterations" || first == "window") ++printedRows;
-  }
+  const int printedRows = countLinesStartingWith(r.output, {"synthetic", "iterations", "window"});
 
   ASSERT_TRUE(stdfs::exists(csv));
   std::ifstream file(csv);

@@ -2,18 +2,25 @@
 
 #include <unistd.h>
 
-#include <cstdlib>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
+#include <cstdlib>
+#include <sstream>
 
 #include "util/subprocess.h"
 
 namespace pluvia::test {
 namespace stdfs = std::filesystem;
 
-stdfs::path sourceDir() { return PLUVIA_SOURCE_DIR; }
-stdfs::path pluviaBinary() { return PLUVIA_BINARY_PATH; }
-stdfs::path exampleClip() { return sourceDir() / "examples/street/street_plate.mp4"; }
+stdfs::path sourceDir() {
+  return PLUVIA_SOURCE_DIR;
+}
+stdfs::path pluviaBinary() {
+  return PLUVIA_BINARY_PATH;
+}
+stdfs::path exampleClip() {
+  return sourceDir() / "examples/street/street_plate.mp4";
+}
 
 stdfs::path sharedData() {
   if (const char* env = std::getenv("PLUVIA_SHARED_DATA")) {
@@ -25,7 +32,8 @@ stdfs::path sharedData() {
 }
 
 stdfs::path freshTempDir(const std::string& name) {
-  stdfs::path dir = stdfs::temp_directory_path() / ("pluvia-test-" + std::to_string(::getpid())) / name;
+  stdfs::path dir =
+      stdfs::temp_directory_path() / ("pluvia-test-" + std::to_string(::getpid())) / name;
   stdfs::remove_all(dir);
   stdfs::create_directories(dir);
   return dir;
@@ -40,7 +48,8 @@ CommandResult runPluvia(const std::vector<std::string>& args) {
 
 Image readImageFile(const stdfs::path& path) {
   OIIO::ImageBuf buf(path.string());
-  if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) throw std::runtime_error("cannot read " + path.string());
+  if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT))
+    throw std::runtime_error("cannot read " + path.string());
   const auto& spec = buf.spec();
   Image image(spec.width, spec.height);
   std::vector<float> pixels(image.pixelCount() * spec.nchannels);
@@ -62,6 +71,18 @@ void writeImageFile(const stdfs::path& path, const Image& image, int channels) {
     for (int c = 0; c < channels; ++c) pixels[i * channels + c] = image.rgba[i * 4 + c];
   buf.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, pixels.data());
   if (!buf.write(path.string())) throw std::runtime_error("cannot write " + path.string());
+}
+
+int countLinesStartingWith(const std::string& text, const std::set<std::string>& firstWords) {
+  std::istringstream lines(text);
+  int count = 0;
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream words(line);
+    std::string first;
+    words >> first;
+    count += firstWords.count(first) ? 1 : 0;
+  }
+  return count;
 }
 
 }  // namespace pluvia::test

@@ -1,6 +1,7 @@
 #pragma once
 // Paths and small helpers shared by the tests.
 #include <filesystem>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -8,9 +9,9 @@
 
 namespace pluvia::test {
 
-std::filesystem::path sourceDir();        // the repository root
-std::filesystem::path pluviaBinary();     // build/pluvia
-std::filesystem::path exampleClip();      // examples/street/street_plate.mp4
+std::filesystem::path sourceDir();     // the repository root
+std::filesystem::path pluviaBinary();  // build/pluvia
+std::filesystem::path exampleClip();   // examples/street/street_plate.mp4
 // ../shared/data beside the checkout (or $PLUVIA_SHARED_DATA); empty when absent, in which
 // case tests that need it call GTEST_SKIP().
 std::filesystem::path sharedData();
@@ -23,6 +24,9 @@ struct CommandResult {
 };
 // Runs build/pluvia with the arguments (no shell).
 CommandResult runPluvia(const std::vector<std::string>& args);
+
+// How many lines of `text` start with one of `firstWords` (a report's table rows).
+int countLinesStartingWith(const std::string& text, const std::set<std::string>& firstWords);
 
 // Reads an image file with OpenImageIO as float RGBA (no colour conversion).
 Image readImageFile(const std::filesystem::path& path);
