@@ -81,3 +81,25 @@ TEST(CliDerain, RefusesToOverwriteTheFootage) {
   EXPECT_NE(r.output.find("refusing to overwrite"), std::string::npos) << r.output;
   EXPECT_EQ(hashOfFile(dir / "rain.0002.png"), before);
 }
+
+TEST(CliDerain, RenderCarriesStrokesCutFromTheGivenRainFootage) {
+  if (sharedData().empty()) GTEST_SKIP() << "../shared/data absent";
+  const auto rain = sharedData() / "rain_real/nturain_ra1_real_rain_panning/%05d.jpg";
+  const auto dir = freshTempDir("cli_derain_render");
+  const CommandResult r =
+      runPluvia({"-q", "render", exampleClip().string(), "-p", "moderate", "-o",
+                 (dir / "f.####.png").string(), "--frames", "5-5", "--set", "rain.strokes=derain",
+                 "--set", "derain.input=" + rain.string(), "--set", "derain.frames=6", "--cache",
+                 (dir / "cache").string()});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_TRUE(stdfs::exists(dir / "f.0005.png"));
+  // The strokes went to the cache, as an atlas of real (non-empty) mattes.
+  int cached = 0;
+  for (const auto& e : stdfs::directory_iterator(dir / "cache")) {
+    if (e.path().filename().string().rfind("derain-", 0) != 0) continue;
+    const auto atlas = nlohmann::json::parse(fs::readTextFile(e.path()));
+    EXPECT_GE(atlas.at("rects").size(), 4u);
+    ++cached;
+  }
+  EXPECT_EQ(cached, 1);
+}
