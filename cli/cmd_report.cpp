@@ -1,11 +1,13 @@
 // `pluvia report optics`: the table of error against run time of the drop-shading methods.
 // `pluvia report derain`: rain extraction against synthetic ground truth and on real footage.
+// `pluvia report envmap`: environments stitched from a pan against the full HDR.
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
 
 #include "commands.h"
 #include "derain/derain_report.h"
+#include "envmap/envmap_report.h"
 #include "optics/environment_file.h"
 #include "optics/optics_report.h"
 #include "optics/test_environment.h"
@@ -58,6 +60,49 @@ void addReportDerain(CLI::App& report, Invocation& invocation) {
   });
 }
 
+void addReportEnvmap(CLI::App& report, Invocation& invocation) {
+  auto* envmap = report.add_subcommand(
+      "envmap", "environments stitched from a pan: SH and drop colour error vs frames and time");
+  struct Args {
+    std::string env, csv, plot, images, data;
+    envmap::EnvmapReportSettings settings;
+  };
+  auto args = std::make_shared<Args>();
+  envmap->add_option("--env", args->env,
+                     "equirect HDR (default: every HDR in the shared data's hdr/, else a "
+                     "built-in test environment with a sun)");
+  envmap->add_option("--csv", args->csv, "also write the table as CSV");
+  envmap->add_option("--plot", args->plot, "also write drop colour error vs time as a PNG");
+  envmap->add_option("--images", args->images,
+                     "write panoramas here (PNG; the real photos' also as EXR)");
+  envmap->add_option("--data", args->data,
+                     "shared data folder (default: $PLUVIA_SHARED_DATA, else ../shared/data "
+                     "beside the source tree); without it only the built-in environment is used");
+  envmap->add_flag("--quick", args->settings.quick,
+                   "the built-in environment, 640x360 frames, 3 and 12 frames, no photos (for "
+                   "tests)");
+  envmap->callback([=, &invocation] {
+    envmap::EnvmapReportSettings settings = args->settings;
+    if (!args->env.empty() && !std::filesystem::is_regular_file(args->env))
+      throw UsageError("--env: no such file: " + args->env);
+    settings.environment = args->env;
+    if (!args->data.empty()) {
+      if (!std::filesystem::is_directory(args->data))
+        throw UsageError("--data: no such folder: " + args->data);
+      settings.sharedData = args->data;
+    } else if (const char* env = std::getenv("PLUVIA_SHARED_DATA"); env && *env) {
+      settings.sharedData = env;
+    } else if (std::filesystem::is_directory(sourceRoot() / "../shared/data")) {
+      settings.sharedData = (sourceRoot() / "../shared/data").lexically_normal().string();
+    }
+    settings.imagesDir = args->images;
+    const envmap::EnvmapReport result = envmap::runEnvmapReport(settings);
+    std::cout << envmap::formatEnvmapReport(result);
+    if (!args->csv.empty()) envmap::writeEnvmapReportCsv(result, args->csv);
+    if (!args->plot.empty()) envmap::writeEnvmapReportPlot(result, args->plot);
+    invocation.exitCode = 0;
+  });
+}
 }  // namespace
 
 void addReportCommand(CLI::App& app, Invocation& invocation) {
@@ -97,6 +142,7 @@ void addReportCommand(CLI::App& app, Invocation& invocation) {
     invocation.exitCode = 0;
   });
   addReportDerain(*cmd, invocation);
+  addReportEnvmap(*cmd, invocation);
 }
 
 }  // namespace pluvia::cli

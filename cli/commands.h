@@ -21,5 +21,6 @@ void addShadeDropCommand(CLI::App& app, Invocation& invocation);
 void addReportCommand(CLI::App& app, Invocation& invocation);
 void addDerainCommand(CLI::App& app, Invocation& invocation);
 void addStrokesCommand(CLI::App& app, Invocation& invocation);
+void addEnvmapCommand(CLI::App& app, Invocation& invocation);
 
 }  // namespace pluvia::cli

@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   cli::addReportCommand(app, invocation);
   cli::addDerainCommand(app, invocation);
   cli::addStrokesCommand(app, invocation);
+  cli::addEnvmapCommand(app, invocation);
   app.parse_complete_callback([&] { log::setLevel(quiet ? log::Level::Warning : log::Level::Info); });
 
   // CLI11 would only say "a subcommand is required" for a mistyped command: name it.

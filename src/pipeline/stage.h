@@ -32,17 +32,20 @@ class ArtifactCache;
 struct Environment {
   EquirectMap radiance;
   std::array<float, 3> averageRgb{0, 0, 0};  // solid-angle mean of radiance
+  // A looming or dollying camera: environments at key frames (in frame order), to interpolate
+  // between per frame; `radiance` is then the middle key's. Empty: one environment for the clip.
+  std::vector<std::pair<int64_t, EquirectMap>> keys;
 };
 
 // Per-clip state, filled by per-clip stages in prepare() and read by per-frame stages.
 struct ClipContext {
   const Preset* preset = nullptr;
   const ClipInfo* clip = nullptr;
-  ClipReader* reader = nullptr;            // frames in the file's encoding
+  ClipReader* reader = nullptr;               // frames in the file's encoding
   std::function<Image(int64_t)> readWorking;  // a frame converted to the working space
   Camera camera;
   double fps = 24.0;
-  ArtifactCache* cache = nullptr;          // null without --cache
+  ArtifactCache* cache = nullptr;  // null without --cache
   StageTimes* times = nullptr;
   std::optional<Environment> environment;
   std::optional<gpu::StrokeAtlas> footageStrokes;
@@ -64,8 +67,8 @@ class Stage {
 };
 
 struct StageInfo {
-  SectionSpec spec;       // name = preset section; params; static reads/writes for describe
-  bool perClip = false;   // per-clip analysis (cacheable) rather than per-frame work
+  SectionSpec spec;      // name = preset section; params; static reads/writes for describe
+  bool perClip = false;  // per-clip analysis (cacheable) rather than per-frame work
   // Why these parameters make the stage do nothing ("density is 0"), or "" when it does work.
   std::function<std::string(const Preset&)> noOpReason;
   // What it reads with these parameters (a subset of spec.inputs).

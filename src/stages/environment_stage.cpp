@@ -1,11 +1,12 @@
-// Lighting: the environment the drops refract, as an equirect radiance map: an HDR the user
-// gives (lighting.hdr), a constant radiance, or the clip's average colour in every direction
-// (PLACEHOLDER for frame_average until the environment issue stitches panoramas).
+// Lighting: the environment the drops refract, as an equirect radiance map: the shot's own
+// frames stitched into a panorama (stitch, Wang et al. section 4.1), an HDR the user gives
+// (lighting.hdr), a constant radiance, or the clip's average colour in every direction.
 #include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
 
+#include "envmap/clip_environment.h"
 #include "optics/environment_file.h"
 #include "pipeline/cache.h"
 #include "pluvia/version.h"
@@ -17,7 +18,7 @@
 namespace pluvia {
 namespace {
 
-constexpr const char* kStageVersion = "2";
+constexpr const char* kStageVersion = "3";
 // A uniform environment needs no detail; an HDR is kept at most this wide (area-resampled, so
 // the power of a sun is kept): the drop shading resamples it to 256 x 128 anyway.
 constexpr int kUniformWidth = 8;
@@ -43,6 +44,30 @@ std::array<float, 3> solidAngleMean(const EquirectMap& map) {
   return {float(sum[0] / total), float(sum[1] / total), float(sum[2] / total)};
 }
 
+nlohmann::json equirectJson(const EquirectMap& map) {
+  return {{"width", map.width}, {"height", map.height}, {"rgb", map.rgb}};
+}
+
+EquirectMap equirectFromJson(const nlohmann::json& json) {
+  EquirectMap map(json.at("width").get<int>(), json.at("height").get<int>());
+  map.rgb = json.at("rgb").get<std::vector<float>>();
+  if (map.rgb.size() != size_t(map.width) * map.height * 3)
+    throw Error("cached panorama has the wrong size");
+  return map;
+}
+
+// The clip's environment from its stitched panoramas (envmap/clip_environment.h): one for a pan
+// or a static camera; keys every lighting.every frames for a looming one.
+Environment stitchedEnvironment(const nlohmann::json& keys) {
+  Environment env;
+  for (const auto& key : keys)
+    env.keys.emplace_back(key.at("frame").get<int64_t>(), equirectFromJson(key));
+  env.radiance = env.keys[env.keys.size() / 2].second;
+  env.averageRgb = solidAngleMean(env.radiance);
+  if (env.keys.size() == 1) env.keys.clear();
+  return env;
+}
+
 Environment hdrEnvironment(const std::string& path, double intensity) {
   EquirectMap map = optics::loadEnvironment(path);
   if (map.width > kMaxHdrWidth) map = resampleEquirect(map, kMaxHdrWidth, kMaxHdrWidth / 2);
@@ -60,7 +85,14 @@ class EnvironmentStage : public Stage {
         color_(p.color("lighting.color")),
         hdr_(p.string("lighting.hdr")),
         intensity_(p.number("lighting.intensity")),
-        sampleFrames_(int(p.number("lighting.sample_frames"))) {}
+        sampleFrames_(int(p.number("lighting.sample_frames"))) {
+    stitch_.horizontalFovDeg = p.number("camera.fov_deg");
+    stitch_.motion = p.string("lighting.motion");
+    stitch_.every = int(p.number("lighting.every"));
+    stitch_.maxPanFrames = int(p.number("lighting.pan_frames"));
+    stitch_.inputSpace = p.string("color.input");
+    stitch_.lights = envmap::parseLights(p.at("lighting.lights"), "lighting.lights");
+  }
 
   void prepare(ClipContext& clip) override {
     if (source_ == "hdr") {
@@ -76,12 +108,34 @@ class EnvironmentStage : public Stage {
     const std::string key = environmentCacheKey(*clip.preset, *clip.clip);
     if (clip.cache) {
       if (auto cached = clip.cache->load("lighting", key)) {
+        if (cached->contains("stitched")) {
+          clip.environment = stitchedEnvironment(cached->at("stitched"));
+          log::info("lighting: stitched panorama from cache");
+          return;
+        }
         auto rgb = (*cached)["average_rgb"];
         clip.environment =
             uniformEnvironment({rgb[0].get<float>(), rgb[1].get<float>(), rgb[2].get<float>()});
         log::info("lighting: from cache");
         return;
       }
+    }
+    if (source_ == "stitch") {
+      nlohmann::json keys = nlohmann::json::array();
+      const envmap::ClipEnvironment built =
+          envmap::buildClipEnvironment(*clip.reader, clip.clip->frames, stitch_);
+      for (const envmap::EnvironmentKey& key : built.keys) {
+        nlohmann::json k = equirectJson(key.radiance);
+        k["frame"] = key.frame;
+        keys.push_back(std::move(k));
+      }
+      clip.environment = stitchedEnvironment(keys);
+      log::info(fmt::format(
+          "lighting: stitched ({}, {} panorama{}, {:.0f} % of the sphere seen) in {:.1f} s",
+          built.motion, built.keys.size(), built.keys.size() == 1 ? "" : "s",
+          100.0 * built.keys.front().coveredFraction, built.seconds));
+      if (clip.cache) clip.cache->store("lighting", key, {{"stitched", keys}});
+      return;
     }
     std::array<float, 3> radiance = color_;
     if (source_ == "frame_average") radiance = averageOfFrames(clip);
@@ -98,6 +152,7 @@ class EnvironmentStage : public Stage {
         .add(kVersion)
         .add(p.at("lighting").dump())
         .add(p.at("color").dump())
+        .add(p.at("camera").dump())
         .add(clipIdentity(clip))
         .hex();
   }
@@ -122,9 +177,39 @@ class EnvironmentStage : public Stage {
   std::string hdr_;
   double intensity_;
   int sampleFrames_;
+  envmap::ClipEnvironmentSettings stitch_;
 };
 
 }  // namespace
+
+ParamSpec lightsSpec() {
+  auto field = [](const char* key, ParamType type, nlohmann::json value, const char* units,
+                  const char* help) {
+    return ParamSpec{key, type, std::move(value), -1e9, 1e9, {}, units, help};
+  };
+  ParamSpec lights{"lights",
+                   ParamType::List,
+                   nlohmann::json::array(),
+                   {},
+                   {},
+                   {},
+                   "",
+                   "stitch: light sources the footage saturated, given their measured radiance"};
+  const ParamSpec radiance = field("radiance", ParamType::Color3, nlohmann::json::array({1, 1, 1}),
+                                   "linear", "measured radiance");
+  lights.itemTypes = {
+      {"direction",
+       {field("yaw_deg", ParamType::Number, 0.0, "deg", "to the right of the first frame's view"),
+        field("pitch_deg", ParamType::Number, 45.0, "deg", "above the horizon"),
+        field("radius_deg", ParamType::Number, 0.5, "deg", "angular radius"), radiance}},
+      {"region",
+       {field("frame", ParamType::Integer, 0, "", "index of the frame among those stitched"),
+        field("x", ParamType::Integer, 0, "px", "left edge in that frame"),
+        field("y", ParamType::Integer, 0, "px", "top edge in that frame"),
+        field("width", ParamType::Integer, 1, "px", "width"),
+        field("height", ParamType::Integer, 1, "px", "height"), radiance}}};
+  return lights;
+}
 
 StageInfo environmentStageInfo() {
   StageInfo info;
@@ -140,10 +225,36 @@ StageInfo environmentStageInfo() {
        "frame_average",
        {},
        {},
-       {"frame_average", "constant", "hdr"},
+       {"frame_average", "constant", "hdr", "stitch"},
        "",
-       "frame_average: mean radiance of sampled frames; constant: lighting.color; hdr: "
-       "lighting.hdr"},
+       "stitch: the shot's frames stitched into a panorama (Wang et al. 4.1); frame_average: mean "
+       "radiance of sampled frames; constant: lighting.color; hdr: lighting.hdr"},
+      {"motion",
+       ParamType::Enum,
+       "auto",
+       {},
+       {},
+       {"auto", "pan", "loom", "static"},
+       "",
+       "stitch: the camera's motion (auto: rotation found by the features makes a pan, a changing "
+       "view a loom)"},
+      {"every",
+       ParamType::Integer,
+       5,
+       1,
+       10000,
+       {},
+       "frames",
+       "stitch, loom: a panorama every N frames"},
+      {"pan_frames",
+       ParamType::Integer,
+       24,
+       1,
+       500,
+       {},
+       "frames",
+       "stitch, pan: frames stitched, evenly over the clip"},
+      lightsSpec(),
       {"hdr",
        ParamType::String,
        "",

@@ -88,6 +88,8 @@ class RainStage : public Stage {
     streakParams_.seed = uint64_t(p.number("rain.seed"));
     if (!clip.environment) throw Error("rain needs the lighting stage's environment", {"rain"});
     shading_ = dropShading(p, clip.environment->radiance);
+    for (const auto& [keyFrame, radiance] : clip.environment->keys)
+      keyShading_.emplace_back(keyFrame, dropShading(p, radiance));
     renderer_ = std::make_unique<gpu::RainRenderer>(clip.camera.width, clip.camera.height);
     renderer_->setStrokeAtlas(atlas_);
     log::info(fmt::format("rain: {} drops in a {:.1f} x {:.1f} x {:.1f} m box, {} strokes, GPU: {}",
@@ -98,7 +100,11 @@ class RainStage : public Stage {
 
   void process(ClipContext& clip, FrameContext& frame) override {
     auto streaks = rain::buildStreaks(*volume_, clip.camera, frame.timeSeconds, streakParams_);
-    renderer_->render(frame.image, streaks, shading_);
+    if (keyShading_.empty()) {
+      renderer_->render(frame.image, streaks, shading_);
+    } else {
+      renderer_->render(frame.image, streaks, shadingAt(frame.frame));
+    }
   }
 
  private:
@@ -118,11 +124,33 @@ class RainStage : public Stage {
     }
   }
 
+  // A looming camera's environment changes over the shot: the shading of the key frames around
+  // `frame`, blended linearly (both terms are linear in the environment), the nearest key's
+  // beyond the first and last.
+  gpu::ShadingParams shadingAt(int64_t frame) const {
+    if (frame <= keyShading_.front().first) return keyShading_.front().second;
+    if (frame >= keyShading_.back().first) return keyShading_.back().second;
+    size_t next = 1;
+    while (keyShading_[next].first < frame) ++next;
+    const auto& [frameA, a] = keyShading_[next - 1];
+    const auto& [frameB, b] = keyShading_[next];
+    const float t = float(frame - frameA) / float(frameB - frameA);
+    gpu::ShadingParams mixed = a;
+    for (size_t i = 0; i < mixed.radianceMap.rgb.size(); ++i)
+      mixed.radianceMap.rgb[i] = (1 - t) * a.radianceMap.rgb[i] + t * b.radianceMap.rgb[i];
+    for (size_t i = 0; i < mixed.envSh.size(); ++i)
+      for (int c = 0; c < 3; ++c)
+        mixed.envSh[i][size_t(c)] = (1 - t) * a.envSh[i][size_t(c)] + t * b.envSh[i][size_t(c)];
+    return mixed;
+  }
+
   const Preset& preset_;
   std::unique_ptr<rain::DropVolume> volume_;
   gpu::StrokeAtlas atlas_;
   rain::StreakParams streakParams_;
   gpu::ShadingParams shading_;
+  std::vector<std::pair<int64_t, gpu::ShadingParams>>
+      keyShading_;  // empty: shading_ for every frame
   std::unique_ptr<gpu::RainRenderer> renderer_;
 };
 

@@ -1,0 +1,110 @@
+#pragma once
+// `pluvia report envmap`: how well an environment stitched from a panning shot (panorama.h)
+// stands in for the full HDR it was cut from, against the number of frames and the run time.
+//
+//  (a) Per HDR: an exposure puts the sky's median (solid-angle weighted luminance of the upper
+//      hemisphere) at mid-grey 0.18, so bright skies and the sun clip as in a real camera.
+//      Frames are recorded along a level-yawing pan (recordView: 8-bit sRGB with clipping),
+//      yaw step min(hfov / 2, 360 / N) (about 50 % overlap, a full turn from 12 frames of 60°),
+//      placed by placeFrames (true field of view given) and rendered by renderEquirect. The
+//      stitcher places frame 0 level; the placement is turned onto frame 0's true orientation
+//      (the camera's tilt is known on set) before rendering. Then, in the HDR's units (the
+//      stitched map divided by the exposure):
+//        SH error: relative L2 of the order-3 SH coefficients (16 per channel, R G B together);
+//        drop colour error: buildDropRadianceMap (pluvia's default shading, eta 1.333, 20 terms)
+//          of the stitched map against that of the HDR, looked up along view directions the pan
+//          covered (a Fibonacci set inside the coverage); per direction the mean over R, G, B
+//          of |stitched - full| / full, then mean and worst over the directions;
+//        pose error: worst rotation angle between a placed and the true camera; focal error:
+//          mean |f - f_true| / f_true.
+//      The "+ sun" row re-renders the most frames with the clipped sun restored as a
+//      LightSource (the paper's light-source replacement): direction of the HDR's brightest
+//      texel, disc of the solid angle of the connected texels around it above
+//      max(clip level, 25 % of the peak), radiance their mean (power kept).
+//  (b) Real photos (stitching/weir): placed with an unknown field of view (the focal is
+//      estimated), the estimated yaws, pitches and field of view and the covered fraction.
+#include <array>
+#include <string>
+#include <vector>
+
+namespace pluvia::envmap {
+
+struct EnvmapReportSettings {
+  std::string environment;  // one HDR; empty: every .exr/.hdr in sharedData/hdr, else built-in
+  std::string sharedData;   // ../shared/data; empty or missing: the built-in environment only
+  std::string imagesDir;    // when set: panoramas written here (PNG, EXR)
+  bool quick = false;       // built-in environment, 640x360 frames, N = 3 and 12, no photos
+  int frameWidth = 1280;
+  int frameHeight = 720;
+  double horizontalFovDeg = 60.0;
+  double pitchDeg = 10.0;
+  std::vector<int> frameCounts = {1, 3, 6, 12, 24};
+  int panoramaWidth = 1024;  // of the stitched equirect map
+  int directions = 200;      // view directions sampled inside the coverage
+  double midGrey = 0.18;     // the sky's median after exposure
+};
+
+struct EnvmapReportRow {
+  std::string environment;  // file stem, or "builtin"
+  int frames = 0;
+  bool sunRestored = false;  // the "+ sun" row
+  double yawStepDeg = 0.0;
+  bool fromFeatures = false;  // placement from matched features (false: the fallback)
+  double poseErrorDeg = 0.0;
+  double focalError = 0.0;  // fraction
+  double coveredFraction = 0.0;
+  double shError = 0.0;  // fraction
+  double dropMeanError = 0.0;
+  double dropMaxError = 0.0;
+  int directions = 0;  // sampled in the covered band
+  double placementSeconds = 0.0;
+  double renderSeconds = 0.0;
+};
+
+struct EnvmapEnvironment {
+  std::string name, path;
+  int width = 0, height = 0;
+  double exposure = 0.0;         // radiance x exposure = 1 is the camera's white
+  double peak = 0.0;             // brightest texel's luminance, HDR units
+  double clippedFraction = 0.0;  // of the sphere (solid angle) above the clip level
+  bool sun = false;              // something clipped: a light source to restore
+  double sunElevationDeg = 0.0, sunAzimuthDeg = 0.0, sunRadiusDeg = 0.0;
+  std::array<float, 3> sunRadiance{0, 0, 0};  // HDR units
+  bool sunSeen = false;                       // inside the widest pan's coverage
+};
+
+struct EnvmapRealPhotos {
+  bool present = false;
+  std::string folder;
+  int frames = 0;
+  int width = 0, height = 0;
+  bool fromFeatures = false;
+  std::string note;
+  std::vector<double> yawDeg, pitchDeg, focalPx, hfovDeg;
+  double coveredFraction = 0.0;
+  double placementSeconds = 0.0, renderSeconds = 0.0;
+  double saturatedFraction = 0.0;  // of the photos' pixels
+};
+
+struct EnvmapReport {
+  int frameWidth = 0, frameHeight = 0;
+  double horizontalFovDeg = 0.0, pitchDeg = 0.0;
+  int panoramaWidth = 0;
+  std::vector<EnvmapEnvironment> environments;
+  std::vector<EnvmapReportRow> rows;
+  EnvmapRealPhotos real;
+  std::vector<std::string> notes;  // missing data, images written
+};
+
+// Throws pluvia::Error naming the file when an HDR cannot be read or an image cannot be
+// written. Missing shared data is not an error: a note says what was left out.
+EnvmapReport runEnvmapReport(const EnvmapReportSettings& settings);
+
+std::string formatEnvmapReport(const EnvmapReport& report);
+// One line per row.
+void writeEnvmapReportCsv(const EnvmapReport& report, const std::string& path);
+// Mean drop colour error (log) against stitching time (placement + rendering, log), one line
+// per environment through its frame counts, the "+ sun" rows as markers.
+void writeEnvmapReportPlot(const EnvmapReport& report, const std::string& path);
+
+}  // namespace pluvia::envmap
