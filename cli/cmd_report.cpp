@@ -15,11 +15,26 @@
 #include "util/error.h"
 
 namespace pluvia::cli {
+
 namespace {
 
 // The repository root, from where the shipped presets are (version.h).
 std::filesystem::path sourceRoot() {
   return std::filesystem::path(kSourcePresetDir).parent_path();
+}
+
+// The folder of shared test data: --data, else $PLUVIA_SHARED_DATA, else ../shared/data beside
+// the checkout; empty when none is there (the reports then skip what needs it).
+std::string sharedDataFolder(const std::string& option) {
+  if (!option.empty()) {
+    if (!std::filesystem::is_directory(option))
+      throw UsageError("--data: no such folder: " + option);
+    return option;
+  }
+  if (const char* env = std::getenv("PLUVIA_SHARED_DATA"); env && *env) return env;
+  if (std::filesystem::is_directory(sourceRoot() / "../shared/data"))
+    return (sourceRoot() / "../shared/data").lexically_normal().string();
+  return "";
 }
 
 void addReportDerain(CLI::App& report, Invocation& invocation) {
@@ -42,15 +57,7 @@ void addReportDerain(CLI::App& report, Invocation& invocation) {
   derain->callback([=, &invocation] {
     derain::DerainReportSettings settings = args->settings;
     settings.examplePlate = (sourceRoot() / "examples/street/street_plate.mp4").string();
-    if (!args->data.empty()) {
-      if (!std::filesystem::is_directory(args->data))
-        throw UsageError("--data: no such folder: " + args->data);
-      settings.sharedData = args->data;
-    } else if (const char* env = std::getenv("PLUVIA_SHARED_DATA"); env && *env) {
-      settings.sharedData = env;
-    } else if (std::filesystem::is_directory(sourceRoot() / "../shared/data")) {
-      settings.sharedData = (sourceRoot() / "../shared/data").lexically_normal().string();
-    }
+    settings.sharedData = sharedDataFolder(args->data);
     settings.imagesDir = args->images;
     const derain::DerainReport result = derain::runDerainReport(settings);
     std::cout << derain::formatDerainReport(result);
@@ -86,15 +93,7 @@ void addReportEnvmap(CLI::App& report, Invocation& invocation) {
     if (!args->env.empty() && !std::filesystem::is_regular_file(args->env))
       throw UsageError("--env: no such file: " + args->env);
     settings.environment = args->env;
-    if (!args->data.empty()) {
-      if (!std::filesystem::is_directory(args->data))
-        throw UsageError("--data: no such folder: " + args->data);
-      settings.sharedData = args->data;
-    } else if (const char* env = std::getenv("PLUVIA_SHARED_DATA"); env && *env) {
-      settings.sharedData = env;
-    } else if (std::filesystem::is_directory(sourceRoot() / "../shared/data")) {
-      settings.sharedData = (sourceRoot() / "../shared/data").lexically_normal().string();
-    }
+    settings.sharedData = sharedDataFolder(args->data);
     settings.imagesDir = args->images;
     const envmap::EnvmapReport result = envmap::runEnvmapReport(settings);
     std::cout << envmap::formatEnvmapReport(result);

@@ -19,29 +19,6 @@ namespace stdfs = std::filesystem;
 
 namespace {
 
-std::vector<std::string> splitCsv(const std::string& line) {
-  std::vector<std::string> fields(1);
-  for (char ch : line) {
-    if (ch == ',') {
-      fields.emplace_back();
-    } else {
-      fields.back() += ch;
-    }
-  }
-  return fields;
-}
-
-double parseNumber(const std::string& text, const std::string& line) {
-  size_t used = 0;
-  double value = NAN;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-  }
-  EXPECT_EQ(used, text.size()) << "'" << text << "' in: " << line;
-  return value;
-}
-
 TEST(CliReportDerain, QuickReportWritesCsvPlotAndPreviews) {
   const auto dir = freshTempDir("report_derain");
   const stdfs::path csv = dir / "derain.csv", plot = dir / "derain.png", images = dir / "images";

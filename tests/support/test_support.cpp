@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include <gtest/gtest.h>
 #include "util/subprocess.h"
 
 namespace pluvia::test {
@@ -83,6 +84,29 @@ int countLinesStartingWith(const std::string& text, const std::set<std::string>&
     count += firstWords.count(first) ? 1 : 0;
   }
   return count;
+}
+
+std::vector<std::string> splitCsv(const std::string& line) {
+  std::vector<std::string> fields(1);
+  for (char ch : line) {
+    if (ch == ',') {
+      fields.emplace_back();
+    } else {
+      fields.back() += ch;
+    }
+  }
+  return fields;
+}
+
+double parseNumber(const std::string& text, const std::string& line) {
+  size_t used = 0;
+  double value = NAN;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+  }
+  EXPECT_EQ(used, text.size()) << "'" << text << "' in: " << line;
+  return value;
 }
 
 }  // namespace pluvia::test

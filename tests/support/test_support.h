@@ -25,6 +25,11 @@ struct CommandResult {
 // Runs build/pluvia with the arguments (no shell).
 CommandResult runPluvia(const std::vector<std::string>& args);
 
+// A CSV line's fields (no quoting: the reports write none).
+std::vector<std::string> splitCsv(const std::string& line);
+// A CSV field as a number; a field that is not wholly a number fails the test, naming `line`.
+double parseNumber(const std::string& text, const std::string& line);
+
 // How many lines of `text` start with one of `firstWords` (a report's table rows).
 int countLinesStartingWith(const std::string& text, const std::set<std::string>& firstWords);
 
