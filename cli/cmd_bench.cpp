@@ -23,11 +23,15 @@ namespace {
 
 // The bundled example scaled to 1920x1080 when no clip is given.
 std::string makeBenchClip(const stdfs::path& folder, int frames) {
-  stdfs::path example = stdfs::path(kSourcePresetDir).parent_path() / "examples/street/street_plate.mp4";
-  if (!stdfs::exists(example)) throw UsageError("give a clip to bench: the bundled example was not found at " + example.string());
+  stdfs::path example =
+      stdfs::path(kSourcePresetDir).parent_path() / "examples/street/street_plate.mp4";
+  if (!stdfs::exists(example))
+    throw UsageError("give a clip to bench: the bundled example was not found at " +
+                     example.string());
   stdfs::path clip = folder / "bench_1080p.mp4";
-  auto r = runProcess({"ffmpeg", "-y", "-v", "error", "-i", example.string(), "-frames:v", std::to_string(frames), "-vf",
-                       "scale=1920:1080", "-c:v", "libx264", "-preset", "veryfast", "-crf", "18", clip.string()});
+  auto r = runProcess({"ffmpeg", "-y", "-v", "error", "-i", example.string(), "-frames:v",
+                       std::to_string(frames), "-vf", "scale=1920:1080", "-c:v", "libx264",
+                       "-preset", "veryfast", "-crf", "18", clip.string()});
   if (r.exitCode != 0) throw Error("ffmpeg could not make the benchmark clip: " + r.output);
   return clip.string();
 }
@@ -35,7 +39,8 @@ std::string makeBenchClip(const stdfs::path& folder, int frames) {
 }  // namespace
 
 void addBenchCommand(CLI::App& app, Invocation& invocation) {
-  auto* cmd = app.add_subcommand("bench", "benchmark a render against ffmpeg's decode+encode of the same clip");
+  auto* cmd = app.add_subcommand(
+      "bench", "benchmark a render against ffmpeg's decode+encode of the same clip");
   struct Args {
     std::string input, preset = "moderate";
     std::vector<std::string> sets;
@@ -54,9 +59,10 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
 
     // ffmpeg alone: decode and encode with the settings pluvia's movie writer uses.
     auto started = std::chrono::steady_clock::now();
-    auto r = runProcess({"ffmpeg", "-y", "-v", "error", "-i", input, "-frames:v", std::to_string(args->frames), "-c:v",
-                         "libx264", "-preset", "medium", "-crf", "16", "-pix_fmt", "yuv420p",
-                         (folder / "ffmpeg_passthrough.mp4").string()});
+    auto r =
+        runProcess({"ffmpeg", "-y", "-v", "error", "-i", input, "-frames:v",
+                    std::to_string(args->frames), "-c:v", "libx264", "-preset", "medium", "-crf",
+                    "16", "-pix_fmt", "yuv420p", (folder / "ffmpeg_passthrough.mp4").string()});
     const double ffmpegSeconds = secondsSince(started);
     if (r.exitCode != 0) throw Error("ffmpeg passthrough failed: " + r.output);
 
@@ -84,7 +90,8 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     log::setLevel(log);
     const int frames = summary.framesWritten;
 
-    std::cout << fmt::format("bench: {} frames of {} with preset {}\n", frames, input, preset.source());
+    std::cout << fmt::format("bench: {} frames of {} with preset {}\n", frames, input,
+                             preset.source());
     std::cout << fmt::format("{:<22} {:>10} {:>10}\n", "stage", "ms/frame", "frames/s");
     for (const auto& [stage, entry] : times.snapshot()) {
       const double ms = 1000.0 * entry.first / std::max(1, frames);
@@ -93,12 +100,15 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
         std::cout << fmt::format("{:<22} {:>10.2f} ms once\n", stage, 1000.0 * entry.first);
         continue;
       }
-      std::cout << fmt::format("{:<22} {:>10.2f} {:>10.1f}\n", stage, ms, ms > 0 ? 1000.0 / ms : 0.0);
+      std::cout << fmt::format("{:<22} {:>10.2f} {:>10.1f}\n", stage, ms,
+                               ms > 0 ? 1000.0 / ms : 0.0);
     }
     const double pluviaFps = frames / pluviaSeconds;
     const double ffmpegFps = args->frames / ffmpegSeconds;
-    std::cout << fmt::format("pluvia end to end:      {:.2f} frames/s ({:.1f} s)\n", pluviaFps, pluviaSeconds);
-    std::cout << fmt::format("ffmpeg decode+encode:   {:.2f} frames/s ({:.1f} s)\n", ffmpegFps, ffmpegSeconds);
+    std::cout << fmt::format("pluvia end to end:      {:.2f} frames/s ({:.1f} s)\n", pluviaFps,
+                             pluviaSeconds);
+    std::cout << fmt::format("ffmpeg decode+encode:   {:.2f} frames/s ({:.1f} s)\n", ffmpegFps,
+                             ffmpegSeconds);
     std::cout << fmt::format("ratio pluvia / ffmpeg:  {:.3f}\n", pluviaFps / ffmpegFps);
     std::cout << "(stage times overlap: decode and encode run on their own threads)\n";
     stdfs::remove_all(folder);

@@ -1,7 +1,6 @@
 // `pluvia derain`: the clean background and per-frame rain mattes of real rain footage
 // (Wang et al. Eq. 1), written as sequences, with a JSON report of the solve.
 #include <iostream>
-#include <set>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -37,19 +36,11 @@ Image grayImage(const cv::Mat& plane) {
   return image;
 }
 
-// Every path a writer would produce for the frames, checked against the clip's files before
-// anything is written: an output pattern that names an input frame is refused.
-void refuseOverwritingInput(const ClipInfo& clip, const ClipWriter& writer,
-                            const std::vector<int64_t>& frames, const std::string& what) {
-  std::set<std::string> outputs;
-  for (int64_t f : frames) outputs.insert(writer.pathFor(f));
-  for (const auto& out : outputs)
-    for (const auto& in : clip.files)
-      if (fs::samePath(out, in))
-        throw UsageError(
-            fmt::format("{} {} is the input file {}: refusing to overwrite the footage", what, out,
-                        in),
-            {"derain", {}, in});
+// Every path a writer would produce for the frames.
+std::vector<std::string> outputPaths(const ClipWriter& writer, const std::vector<int64_t>& frames) {
+  std::vector<std::string> paths;
+  for (int64_t f : frames) paths.push_back(writer.pathFor(f));
+  return paths;
 }
 
 nlohmann::json reportJson(const derain::ClipDerainSummary& summary,
@@ -145,13 +136,13 @@ void addDerainCommand(CLI::App& app, Invocation& invocation) {
     auto cleanWriter = openClipWriter(args->clean, clip.width, clip.height, options);
     if (cleanWriter->isMovie())
       throw UsageError(fmt::format("-o {}: write a sequence pattern, not a movie", args->clean));
-    refuseOverwritingInput(clip, *cleanWriter, frames, "-o");
+    refuseOverwritingInput(clip.files, "-o", outputPaths(*cleanWriter, frames));
     std::unique_ptr<ClipWriter> matteWriter;
     if (!args->matte.empty()) {
       matteWriter = openClipWriter(args->matte, clip.width, clip.height, options);
       if (matteWriter->isMovie())
         throw UsageError(fmt::format("--matte-out {}: write a sequence pattern", args->matte));
-      refuseOverwritingInput(clip, *matteWriter, frames, "--matte-out");
+      refuseOverwritingInput(clip.files, "--matte-out", outputPaths(*matteWriter, frames));
     }
     // The solver keeps the file's encoding; convert only where the output's differs.
     const bool inputLinear = clip.isFloat, outputLinear = outputIsLinear(args->clean);

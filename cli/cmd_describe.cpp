@@ -9,7 +9,8 @@
 namespace pluvia::cli {
 
 void addDescribeCommand(CLI::App& app, Invocation& invocation) {
-  auto* cmd = app.add_subcommand("describe", "list the stages and their parameters (type, default, range, units)");
+  auto* cmd = app.add_subcommand(
+      "describe", "list the stages and their parameters (type, default, range, units)");
   auto stage = std::make_shared<std::string>();
   cmd->add_option("STAGE", *stage, "one stage or section (rain, fog, camera, ...)");
   cmd->callback([=] {
@@ -28,9 +29,10 @@ void addDescribeCommand(CLI::App& app, Invocation& invocation) {
       }
     }
     std::string nearest = nearestWord(*stage, names);
-    throw UsageError(fmt::format("no stage named '{}'{} (stages: {})", *stage,
-                                 nearest.empty() ? "" : fmt::format(", did you mean '{}'?", nearest),
-                                 fmt::join(names, ", ")));
+    throw UsageError(
+        fmt::format("no stage named '{}'{} (stages: {})", *stage,
+                    nearest.empty() ? "" : fmt::format(", did you mean '{}'?", nearest),
+                    fmt::join(names, ", ")));
   });
 }
 

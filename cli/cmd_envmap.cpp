@@ -60,7 +60,18 @@ void addEnvmapCommand(CLI::App& app, Invocation& invocation) {
           nlohmann::json::parse(fs::readTextFile(args->lights), nullptr, false), args->lights);
     envmap::ClipEnvironment environment;
     std::vector<int64_t> frames;
+    // Nothing this command writes may be a file it reads.
+    auto refuseOutputsOnto = [&](const std::vector<std::string>& inputs,
+                                 const std::vector<int64_t>& keyFrames) {
+      refuseOverwritingInput(inputs, "-o", {args->output});
+      if (args->panorama.empty()) return;
+      std::vector<std::string> panoramas = {args->panorama};
+      if (const auto pattern = SequencePattern::parse(args->panorama))
+        for (int64_t f : keyFrames) panoramas.push_back(pattern->pathFor(f));
+      refuseOverwritingInput(inputs, "--panorama-out", panoramas);
+    };
     if (!args->hdr.empty()) {
+      refuseOutputsOnto({args->hdr}, {0});
       envmap::EnvironmentKey key;
       key.radiance = optics::loadEnvironment(args->hdr);
       key.sh = optics::projectEnvironment(key.radiance, settings.shOrder);
@@ -77,6 +88,7 @@ void addEnvmapCommand(CLI::App& app, Invocation& invocation) {
       if (frames.empty())
         throw Error(fmt::format("no frames of {} in {}", args->input, args->frames),
                     {"lighting", {}, args->input});
+      refuseOutputsOnto(reader->info().files, frames);
       environment = envmap::buildClipEnvironment(*reader, frames, settings);
     }
     nlohmann::json json = envmap::clipEnvironmentJson(environment, frames);

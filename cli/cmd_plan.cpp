@@ -10,14 +10,16 @@
 namespace pluvia::cli {
 
 void addPlanCommand(CLI::App& app, Invocation& invocation) {
-  auto* cmd = app.add_subcommand("plan", "say what a render would run and what it leaves out, and why");
+  auto* cmd =
+      app.add_subcommand("plan", "say what a render would run and what it leaves out, and why");
   struct Args {
     std::string input, preset, cache;
     std::vector<std::string> sets;
     bool resolved = false;
   };
   auto args = std::make_shared<Args>();
-  cmd->add_option("INPUT", args->input, "movie, image sequence (plate.####.exr) or image")->required();
+  cmd->add_option("INPUT", args->input, "movie, image sequence (plate.####.exr) or image")
+      ->required();
   cmd->add_option("-p,--preset", args->preset, "preset name or path")->required();
   cmd->add_option("--set", args->sets, "override KEY=VALUE (dotted key path)");
   cmd->add_option("--cache", args->cache, "cache folder for per-clip analysis");
@@ -30,9 +32,10 @@ void addPlanCommand(CLI::App& app, Invocation& invocation) {
     }
     ClipInfo clip;
     Plan plan = planJob(args->input, preset, args->cache, allStages(), &clip);
-    std::cout << fmt::format("plan for {} ({}x{}, {} frames {}-{}, {} fps) with preset {} (hash {}):\n", clip.path,
-                             clip.width, clip.height, clip.frames.size(), clip.frames.front(), clip.frames.back(),
-                             clip.fps, preset.source(), preset.hash());
+    std::cout << fmt::format(
+        "plan for {} ({}x{}, {} frames {}-{}, {} fps) with preset {} (hash {}):\n", clip.path,
+        clip.width, clip.height, clip.frames.size(), clip.frames.front(), clip.frames.back(),
+        clip.fps, preset.source(), preset.hash());
     std::cout << plan.text();
   });
 }

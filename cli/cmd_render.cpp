@@ -20,16 +20,22 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
     bool skipExisting = false, stats = false;
   };
   auto args = std::make_shared<Args>();
-  cmd->add_option("INPUT", args->input, "movie (mp4/mov/avi), image sequence (plate.####.exr, plate.%04d.png) or image")
+  cmd->add_option("INPUT", args->input,
+                  "movie (mp4/mov/avi), image sequence (plate.####.exr, plate.%04d.png) or image")
       ->required();
-  cmd->add_option("-p,--preset", args->preset, "preset name (drizzle, moderate, heavy, storm) or path")->required();
-  cmd->add_option("-o,--output", args->output, "sequence pattern (out.####.exr/png/tif/dpx) or movie (out.mp4)")
+  cmd->add_option("-p,--preset", args->preset,
+                  "preset name (drizzle, moderate, heavy, storm) or path")
+      ->required();
+  cmd->add_option("-o,--output", args->output,
+                  "sequence pattern (out.####.exr/png/tif/dpx) or movie (out.mp4)")
       ->required();
   cmd->add_option("--frames", args->frames, "FIRST-LAST, in the clip's frame numbers");
-  cmd->add_option("--set", args->sets, "override KEY=VALUE (dotted key path, e.g. rain.rate_mm_h=40)");
+  cmd->add_option("--set", args->sets,
+                  "override KEY=VALUE (dotted key path, e.g. rain.rate_mm_h=40)");
   cmd->add_option("--threads", args->threads, "writer threads")->check(CLI::Range(1, 64));
   cmd->add_option("--cache", args->cache, "cache folder for per-clip analysis");
-  cmd->add_flag("--skip-existing", args->skipExisting, "leave frames that already exist (resume a job)");
+  cmd->add_flag("--skip-existing", args->skipExisting,
+                "leave frames that already exist (resume a job)");
   cmd->add_flag("--stats", args->stats, "print a per-stage timing summary");
   cmd->add_option("--aov", args->aov, "extra outputs: rain,matte,depth");
   cmd->callback([=, &invocation] {
@@ -49,7 +55,8 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
       size_t comma = args->aov.find(',', start);
       std::string aov = args->aov.substr(start, comma - start);
       if (aov != "rain" && aov != "matte" && aov != "depth") {
-        throw UsageError(fmt::format("--aov: unknown output '{}' (known: rain, matte, depth)", aov));
+        throw UsageError(
+            fmt::format("--aov: unknown output '{}' (known: rain, matte, depth)", aov));
       }
       request.aovs.push_back(aov);
       if (comma == std::string::npos) break;
@@ -60,8 +67,10 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
     auto started = std::chrono::steady_clock::now();
     RenderSummary summary = renderJob(request, preset, allStages(), times);
     const double seconds = secondsSince(started);
-    log::info(fmt::format("wrote {} frames to {} in {:.1f} s{}", summary.framesWritten, request.output, seconds,
-                          summary.framesSkipped ? fmt::format(" ({} existing frames skipped)", summary.framesSkipped) : ""));
+    log::info(fmt::format(
+        "wrote {} frames to {} in {:.1f} s{}", summary.framesWritten, request.output, seconds,
+        summary.framesSkipped ? fmt::format(" ({} existing frames skipped)", summary.framesSkipped)
+                              : ""));
     if (args->stats) std::cout << times.summary(summary.framesWritten);
   });
 }

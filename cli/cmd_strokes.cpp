@@ -17,18 +17,10 @@
 namespace pluvia::cli {
 namespace {
 
-// The library's two files must not be any file of the input.
-void refuseOverwritingInput(const std::string& input, const std::string& library) {
+// The library's two files, LIBRARY.json and the atlas beside it.
+std::vector<std::string> libraryFiles(const std::string& library) {
   const std::filesystem::path json(library);
-  const std::filesystem::path png = json.parent_path() / (json.stem().string() + ".png");
-  const auto reader = openClip(input);
-  for (const std::string& file : reader->info().files) {
-    for (const auto& out : {json, png}) {
-      if (fs::samePath(out, file)) {
-        throw UsageError(fmt::format("-o {} would overwrite the input file {}", library, file));
-      }
-    }
-  }
+  return {library, (json.parent_path() / (json.stem().string() + ".png")).string()};
 }
 
 }  // namespace
@@ -63,7 +55,7 @@ void addStrokesCommand(CLI::App& app, Invocation& invocation) {
     if (!args->frames.empty()) {
       std::tie(args->clip.firstFrame, args->clip.lastFrame) = parseFrameRange(args->frames);
     }
-    refuseOverwritingInput(args->input, args->output);
+    refuseOverwritingInput(openClip(args->input)->info().files, "-o", libraryFiles(args->output));
 
     derain::StrokeCollector collector(args->strokes);
     size_t frames = 0;

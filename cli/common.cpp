@@ -1,5 +1,7 @@
 #include "common.h"
 
+#include "util/fs.h"
+
 #include <fmt/format.h>
 
 #include "stages/registry.h"
@@ -16,13 +18,15 @@ std::pair<int64_t, int64_t> parseFrameRange(const std::string& text) {
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used == 0 || used != s.size()) throw UsageError(fmt::format("--frames '{}': expected FIRST-LAST, e.g. 1001-1048", text));
+    if (used == 0 || used != s.size())
+      throw UsageError(fmt::format("--frames '{}': expected FIRST-LAST, e.g. 1001-1048", text));
     return value;
   };
   size_t dash = text.find('-', 1);
   int64_t first = parseNumber(text.substr(0, dash));
   int64_t last = dash == std::string::npos ? first : parseNumber(text.substr(dash + 1));
-  if (last < first) throw UsageError(fmt::format("--frames '{}': the last frame comes before the first", text));
+  if (last < first)
+    throw UsageError(fmt::format("--frames '{}': the last frame comes before the first", text));
   return {first, last};
 }
 
@@ -43,6 +47,16 @@ std::string joinCommandLine(int argc, char** argv) {
     line += (i ? " " : "") + arg;
   }
   return line;
+}
+
+void refuseOverwritingInput(const std::vector<std::string>& inputFiles, const std::string& option,
+                            const std::vector<std::string>& outputs) {
+  for (const std::string& out : outputs)
+    for (const std::string& in : inputFiles)
+      if (fs::samePath(out, in))
+        throw UsageError(
+            fmt::format("{} {} is the input file {}: refusing to overwrite it", option, out, in),
+            {"write", {}, in});
 }
 
 }  // namespace pluvia::cli

@@ -14,6 +14,10 @@ namespace pluvia::cli {
 std::pair<int64_t, int64_t> parseFrameRange(const std::string& text);
 // Resolves a preset against the full schema (every stage's table).
 Preset loadPreset(const std::string& nameOrPath, const std::vector<std::string>& overrides);
+// Throws UsageError when any of `outputs` is one of `inputFiles` ("OPTION OUT is the input file
+// IN: refusing to overwrite it"), before anything is written.
+void refuseOverwritingInput(const std::vector<std::string>& inputFiles, const std::string& option,
+                            const std::vector<std::string>& outputs);
 // The command line as one shell-quoted string, for logs and metadata.
 std::string joinCommandLine(int argc, char** argv);
 

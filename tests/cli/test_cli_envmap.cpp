@@ -93,3 +93,21 @@ TEST(CliEnvmap, BadLightsNameTheItem) {
   EXPECT_NE(r.output.find("lights.json"), std::string::npos) << r.output;
   EXPECT_FALSE(stdfs::exists(dir / "env.json"));
 }
+
+TEST(CliEnvmap, RefusesToOverwriteTheFootage) {
+  const auto dir = freshTempDir("cli_envmap_overwrite");
+  Image plate(48, 32);
+  writeImageFile(dir / "plate.png", plate);
+  const std::string before = fs::readTextFile(dir / "plate.png");
+  for (const std::vector<std::string>& outputs :
+       {std::vector<std::string>{"-o", (dir / "plate.png").string()},
+        std::vector<std::string>{"-o", (dir / "env.json").string(), "--panorama-out",
+                                 (dir / "plate.png").string()}}) {
+    std::vector<std::string> args = {"envmap", (dir / "plate.png").string()};
+    args.insert(args.end(), outputs.begin(), outputs.end());
+    const CommandResult r = runPluvia(args);
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find("refusing to overwrite"), std::string::npos) << r.output;
+    EXPECT_EQ(fs::readTextFile(dir / "plate.png"), before);
+  }
+}
