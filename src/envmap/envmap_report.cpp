@@ -272,6 +272,18 @@ void runEnvironment(const EquirectMap& env, EnvmapEnvironment info,
   std::optional<PanoramaResult> widest;
   std::vector<PanoramaFrame> widestFrames;
   Placement widestPlacement;
+  // The stitched map back in the HDR's units, measured against it: SH and drop-colour error in
+  // the directions the panorama saw.
+  auto measureStitched = [&](EnvmapReportRow& row, const PanoramaResult& result) {
+    const EquirectMap stitched = scaled(result.radiance, 1.0 / info.exposure);
+    row.shError =
+        shRelativeError(optics::projectEnvironment(stitched, optics::kPaperShOrder), referenceSh);
+    const std::vector<Direction> directions =
+        coveredDirections(result.coverage, settings.directions);
+    row.directions = int(directions.size());
+    std::tie(row.dropMeanError, row.dropMaxError) =
+        dropError(dropMap(stitched), referenceDrops, directions);
+  };
   for (int count : counts) {
     EnvmapReportRow row;
     row.environment = info.name;
@@ -316,14 +328,7 @@ void runEnvironment(const EquirectMap& env, EnvmapEnvironment info,
     row.renderSeconds = secondsSince(renderStart);
     row.coveredFraction = result.coveredFraction;
 
-    const EquirectMap stitched = scaled(result.radiance, 1.0 / info.exposure);
-    row.shError =
-        shRelativeError(optics::projectEnvironment(stitched, optics::kPaperShOrder), referenceSh);
-    const std::vector<Direction> directions =
-        coveredDirections(result.coverage, settings.directions);
-    row.directions = int(directions.size());
-    std::tie(row.dropMeanError, row.dropMaxError) =
-        dropError(dropMap(stitched), referenceDrops, directions);
+    measureStitched(row, result);
     report.rows.push_back(row);
 
     if (count == counts.back()) {
@@ -348,14 +353,7 @@ void runEnvironment(const EquirectMap& env, EnvmapEnvironment info,
     const auto renderStart = Clock::now();
     const PanoramaResult result = renderEquirect(widestFrames, widestPlacement, render);
     row.renderSeconds = secondsSince(renderStart);
-    const EquirectMap stitched = scaled(result.radiance, 1.0 / info.exposure);
-    row.shError =
-        shRelativeError(optics::projectEnvironment(stitched, optics::kPaperShOrder), referenceSh);
-    const std::vector<Direction> directions =
-        coveredDirections(result.coverage, settings.directions);
-    row.directions = int(directions.size());
-    std::tie(row.dropMeanError, row.dropMaxError) =
-        dropError(dropMap(stitched), referenceDrops, directions);
+    measureStitched(row, result);
     report.rows.push_back(row);
     if (!settings.imagesDir.empty())
       writePng(result.radiance, 1.0,
