@@ -19,23 +19,6 @@
 namespace pluvia::cli {
 namespace {
 
-Image rgbImage(const cv::Mat& rgb) {
-  Image image(rgb.cols, rgb.rows);
-  for (int y = 0; y < rgb.rows; ++y) {
-    const cv::Vec3f* row = rgb.ptr<cv::Vec3f>(y);
-    for (int x = 0; x < rgb.cols; ++x) std::copy(&row[x][0], &row[x][0] + 3, image.pixel(x, y));
-  }
-  return image;
-}
-
-Image grayImage(const cv::Mat& plane) {
-  Image image(plane.cols, plane.rows);
-  for (int y = 0; y < plane.rows; ++y)
-    for (int x = 0; x < plane.cols; ++x)
-      std::fill(image.pixel(x, y), image.pixel(x, y) + 3, plane.at<float>(y, x));
-  return image;
-}
-
 // Every path a writer would produce for the frames.
 std::vector<std::string> outputPaths(const ClipWriter& writer, const std::vector<int64_t>& frames) {
   std::vector<std::string> paths;
@@ -165,10 +148,10 @@ void addDerainCommand(CLI::App& app, Invocation& invocation) {
                 p = (p - a * f.rainColor) / (1.0f - a);
               }
           }
-          Image image = rgbImage(clean);
+          Image image = imageFromMat(clean);
           if (convert) convert->apply(image);
           cleanWriter->write(f.frame, image);
-          if (matteWriter) matteWriter->write(f.frame, grayImage(f.matte));
+          if (matteWriter) matteWriter->write(f.frame, imageFromMat(f.matte));
         });
     cleanWriter->close();
     if (matteWriter) matteWriter->close();

@@ -15,18 +15,6 @@
 namespace pluvia::derain {
 namespace {
 
-cv::Mat toRgbMat(const Image& image) {
-  cv::Mat rgb(image.height, image.width, CV_32FC3);
-  for (int y = 0; y < image.height; ++y) {
-    cv::Vec3f* row = rgb.ptr<cv::Vec3f>(y);
-    for (int x = 0; x < image.width; ++x) {
-      const float* p = image.pixel(x, y);
-      row[x] = {p[0], p[1], p[2]};
-    }
-  }
-  return rgb;
-}
-
 // Windows of `window` frames over `count` frames: 0, window, 2 window, ..., the last one moved
 // back so it is full. Each frame is emitted by the first window that holds it.
 std::vector<size_t> windowStarts(size_t count, size_t window) {
@@ -62,7 +50,7 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
   for (size_t start : windowStarts(frames.size(), window)) {
     std::vector<cv::Mat> originals;
     for (size_t i = start; i < start + window; ++i)
-      originals.push_back(toRgbMat(reader->read(frames[i])));
+      originals.push_back(rgbMat(reader->read(frames[i])));
     const int reference = int(window / 2);
     Registration registration;
     registration.referenceToFrame.assign(window, cv::Matx33d::eye());

@@ -52,13 +52,6 @@ Plan planFor(const DerainReportSettings& settings) {
   return {{640, 480}, {0.0, kSweepAngleDeg, -25.0}, {0, 1, 2, 4, 8}, windows, true};
 }
 
-// An Image's RGB as CV_32FC3 (R, G, B order kept).
-cv::Mat rgbOf(Image& image) {
-  cv::Mat rgb;
-  cv::cvtColor(image.rgbaMat(), rgb, cv::COLOR_RGBA2RGB);
-  return rgb;
-}
-
 // Centre-cropped to the target's aspect ratio, then resampled to its size (area averaging when
 // shrinking).
 cv::Mat fitTo(const cv::Mat& image, cv::Size size) {
@@ -81,7 +74,7 @@ cv::Mat fitTo(const cv::Mat& image, cv::Size size) {
 // values the solver works on, frame_stack.h), clamped to 0..1.
 cv::Mat readFrame(ClipReader& reader, size_t index) {
   Image image = reader.read(reader.info().frames.at(index));
-  cv::Mat rgb = rgbOf(image);
+  cv::Mat rgb = rgbMat(image);
   cv::patchNaNs(rgb, 0.0);
   return cv::min(cv::max(rgb, 0.0), 1.0);  // the 0..1 of derain_solver.h
 }

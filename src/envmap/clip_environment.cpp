@@ -37,12 +37,7 @@ struct FrameReader {
         }
     }
     toLinear.apply(image);
-    out.linearRgb = cv::Mat(image.height, image.width, CV_32FC3);
-    for (int y = 0; y < image.height; ++y)
-      for (int x = 0; x < image.width; ++x) {
-        const float* p = image.pixel(x, y);
-        out.linearRgb.at<cv::Vec3f>(y, x) = {p[0], p[1], p[2]};
-      }
+    out.linearRgb = rgbMat(image);
     return out;
   }
 };

@@ -1,5 +1,7 @@
 #include "image/image.h"
 
+#include <opencv2/imgproc.hpp>
+
 #include <cmath>
 
 namespace pluvia {
@@ -19,9 +21,28 @@ const std::vector<float>* Image::findPlane(const std::string& name) const {
   return it == planes.end() ? nullptr : &it->second;
 }
 
-cv::Mat Image::rgbaMat() { return cv::Mat(height, width, CV_32FC4, rgba.data()); }
+cv::Mat Image::rgbaMat() {
+  return cv::Mat(height, width, CV_32FC4, rgba.data());
+}
 
-cv::Mat Image::planeMat(const std::string& name) { return cv::Mat(height, width, CV_32FC1, plane(name).data()); }
+cv::Mat rgbMat(const Image& image) {
+  const cv::Mat rgba(image.height, image.width, CV_32FC4, const_cast<float*>(image.rgba.data()));
+  cv::Mat rgb;
+  cv::cvtColor(rgba, rgb, cv::COLOR_RGBA2RGB);
+  return rgb;
+}
+
+Image imageFromMat(const cv::Mat& rgbOrGray) {
+  cv::Mat rgb = rgbOrGray;
+  if (rgbOrGray.channels() == 1) cv::cvtColor(rgbOrGray, rgb, cv::COLOR_GRAY2RGB);
+  Image image(rgb.cols, rgb.rows);
+  cv::cvtColor(rgb, image.rgbaMat(), cv::COLOR_RGB2RGBA);
+  return image;
+}
+
+cv::Mat Image::planeMat(const std::string& name) {
+  return cv::Mat(height, width, CV_32FC1, plane(name).data());
+}
 
 std::array<double, 3> meanRgb(const Image& image) {
   std::array<double, 3> sum{0, 0, 0};

@@ -19,8 +19,8 @@ namespace pluvia {
 struct Image {
   int width = 0;
   int height = 0;
-  std::vector<float> rgba;                            // width * height * 4
-  std::map<std::string, std::vector<float>> planes;   // each width * height
+  std::vector<float> rgba;                           // width * height * 4
+  std::map<std::string, std::vector<float>> planes;  // each width * height
 
   Image() = default;
   Image(int w, int h);  // RGBA zeros, alpha 1
@@ -28,7 +28,9 @@ struct Image {
   bool empty() const { return width <= 0 || height <= 0; }
   size_t pixelCount() const { return static_cast<size_t>(width) * static_cast<size_t>(height); }
   float* pixel(int x, int y) { return rgba.data() + (static_cast<size_t>(y) * width + x) * 4; }
-  const float* pixel(int x, int y) const { return rgba.data() + (static_cast<size_t>(y) * width + x) * 4; }
+  const float* pixel(int x, int y) const {
+    return rgba.data() + (static_cast<size_t>(y) * width + x) * 4;
+  }
   std::vector<float>& plane(const std::string& name);  // created (zeros) if absent
   const std::vector<float>* findPlane(const std::string& name) const;
 
@@ -36,6 +38,11 @@ struct Image {
   cv::Mat rgbaMat();
   cv::Mat planeMat(const std::string& name);
 };
+
+// R, G, B as a CV_32FC3 copy (channel order R, G, B kept; alpha and planes dropped).
+cv::Mat rgbMat(const Image& image);
+// An image from CV_32FC3 R, G, B, or from CV_32FC1 (the value in all three); alpha 1.
+Image imageFromMat(const cv::Mat& rgbOrGray);
 
 // Mean of R, G, B over all pixels (finite values only).
 std::array<double, 3> meanRgb(const Image& image);
