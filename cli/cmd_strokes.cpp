@@ -57,19 +57,12 @@ void addStrokesCommand(CLI::App& app, Invocation& invocation) {
     }
     refuseOverwritingInput(openClip(args->input)->info().files, "-o", libraryFiles(args->output));
 
-    derain::StrokeCollector collector(args->strokes);
-    size_t frames = 0;
-    const derain::ClipDerainSummary summary =
-        derain::derainClip(args->input, args->clip, [&](const derain::ClipDerainFrame& frame) {
-          collector.addFrame(frame.frame, frame.matte, frame.angleDeg, frame.noiseSigma,
-                             frame.clean, frame.covered);
-          ++frames;
-        });
-    rain::StrokeLibrary library = collector.finish();
+    derain::ClipStrokes cut = derain::cutStrokesFromClip(args->input, args->clip, args->strokes);
+    rain::StrokeLibrary& library = cut.library;
     if (library.strokes.empty()) {
       throw Error(fmt::format("no rain strokes found in {} ({} frames, rain angle {:.1f} deg): "
                               "nothing written",
-                              args->input, frames, summary.angleDeg),
+                              args->input, cut.frames, cut.angleDeg),
                   {"strokes", {}, args->input});
     }
     library.source = args->input;
@@ -78,7 +71,7 @@ void addStrokesCommand(CLI::App& app, Invocation& invocation) {
     std::cout << fmt::format(
         "strokes: kept {} of {} candidates from {} frames of {}, rain angle {:.1f} deg, atlas "
         "{}x{} -> {}\n",
-        library.strokes.size(), collector.candidateCount(), frames, args->input, summary.angleDeg,
+        library.strokes.size(), cut.candidates, cut.frames, args->input, cut.angleDeg,
         library.atlas.width, library.atlas.height, args->output);
     invocation.exitCode = 0;
   });

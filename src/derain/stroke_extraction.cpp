@@ -604,4 +604,19 @@ rain::StrokeLibrary StrokeCollector::finish() {
   return library;
 }
 
+ClipStrokes cutStrokesFromClip(const std::string& input, const ClipDerainSettings& clip,
+                               const StrokeExtractionSettings& extraction) {
+  StrokeCollector collector(extraction);
+  ClipStrokes out;
+  const ClipDerainSummary summary = derainClip(input, clip, [&](const ClipDerainFrame& frame) {
+    collector.addFrame(frame.frame, frame.matte, frame.angleDeg, frame.noiseSigma, frame.clean,
+                       frame.covered);
+    ++out.frames;
+  });
+  out.library = collector.finish();
+  out.candidates = collector.candidateCount();
+  out.angleDeg = summary.angleDeg;
+  return out;
+}
+
 }  // namespace pluvia::derain

@@ -8,10 +8,12 @@
 // left in the matte); the rest are ranked by contrast, length, slimness, isolation and
 // cleanness (formula in stroke_extraction.cpp).
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
+#include "derain/clip_derain.h"
 #include "rain/stroke_library.h"
 
 namespace pluvia::derain {
@@ -84,5 +86,15 @@ class StrokeCollector {
   std::vector<Candidate> candidates_;  // the best ones seen so far (a bounded number)
   size_t accepted_ = 0;
 };
+
+// Derain a clip (clip_derain.h) and cut strokes from every frame's matte.
+struct ClipStrokes {
+  rain::StrokeLibrary library;  // possibly empty: the caller says what that means
+  size_t candidates = 0;
+  size_t frames = 0;
+  double angleDeg = 0.0;
+};
+ClipStrokes cutStrokesFromClip(const std::string& input, const ClipDerainSettings& clip,
+                               const StrokeExtractionSettings& extraction);
 
 }  // namespace pluvia::derain

@@ -65,26 +65,20 @@ class DerainStage : public Stage {
 
     derain::StrokeExtractionSettings extraction;
     extraction.count = count_;
-    derain::StrokeCollector collector(extraction);
-    const derain::ClipDerainSummary summary =
-        derain::derainClip(input, settings, [&](const derain::ClipDerainFrame& frame) {
-          collector.addFrame(frame.frame, frame.matte, frame.angleDeg, frame.noiseSigma,
-                             frame.clean, frame.covered);
-        });
-    rain::StrokeLibrary library = collector.finish();
-    if (library.strokes.empty()) {
+    derain::ClipStrokes cut = derain::cutStrokesFromClip(input, settings, extraction);
+    if (cut.library.strokes.empty()) {
       throw Error(fmt::format("no rain strokes found in {} (frames {}-{}, rain angle {:.1f} deg); "
                               "set derain.input to rain footage, or rain.strokes to builtin",
-                              input, settings.firstFrame, settings.lastFrame, summary.angleDeg),
+                              input, settings.firstFrame, settings.lastFrame, cut.angleDeg),
                   {"derain", {}, input});
     }
     log::info(
         fmt::format("derain: {} strokes kept of {} candidates from frames {}-{} of {}, rain "
                     "angle {:.1f} deg",
-                    library.strokes.size(), collector.candidateCount(), settings.firstFrame,
-                    settings.lastFrame, input, summary.angleDeg));
-    if (clip.cache) clip.cache->store("derain", key, rain::strokeAtlasToJson(library.atlas));
-    clip.footageStrokes = std::move(library.atlas);
+                    cut.library.strokes.size(), cut.candidates, settings.firstFrame,
+                    settings.lastFrame, input, cut.angleDeg));
+    if (clip.cache) clip.cache->store("derain", key, rain::strokeAtlasToJson(cut.library.atlas));
+    clip.footageStrokes = std::move(cut.library.atlas);
   }
 
  private:

@@ -87,7 +87,8 @@ class RainStage : public Stage {
     streakParams_.meanMatte = rain::meanMatte(atlas_);
     streakParams_.seed = uint64_t(p.number("rain.seed"));
     if (!clip.environment) throw Error("rain needs the lighting stage's environment", {"rain"});
-    shading_ = dropShading(p, clip.environment->radiance);
+    // One shading for the clip, or one per key environment of a looming camera.
+    if (clip.environment->keys.empty()) shading_ = dropShading(p, clip.environment->radiance);
     for (const auto& [keyFrame, radiance] : clip.environment->keys)
       keyShading_.emplace_back(keyFrame, dropShading(p, radiance));
     renderer_ = std::make_unique<gpu::RainRenderer>(clip.camera.width, clip.camera.height);
