@@ -51,24 +51,44 @@ double maxChannel(const float* rgb) {
   return std::max({rgb[0], rgb[1], rgb[2]});
 }
 
-// Median luminance of the upper hemisphere, each texel weighted by its solid angle.
-double skyMedian(const EquirectMap& env) {
-  std::vector<std::pair<double, double>> samples;  // luminance, solid angle
-  double total = 0.0;
-  for (int y = 0; y < env.height / 2; ++y) {
-    const double omega = equirectTexelSolidAngle(env.width, env.height, y);
-    for (int x = 0; x < env.width; ++x) {
-      samples.emplace_back(luminance(env.texel(x, y)), omega);
-      total += omega;
+// The camera's exposure, locked for the shot: average metering, as a reflected-light meter
+// does. Over a full turn at the report's pitch (frames every hfov / 2), the mean luminance of
+// what an 8-bit camera records (each channel clipped at white) is put at mid-grey; bisection
+// on log exposure (the clipped mean rises monotonically with the exposure).
+double meterExposure(const EquirectMap& env, const EnvmapReportSettings& settings) {
+  constexpr int kGridW = 64, kGridH = 36;  // metering samples per frame
+  const double fov = settings.horizontalFovDeg;
+  const int frames = int(std::ceil(360.0 / (fov / 2.0)));
+  std::vector<std::array<float, 3>> samples;
+  for (int i = 0; i < frames; ++i) {
+    const CameraPose pose = panPose(i * 360.0 / frames, settings.pitchDeg, fov, kGridW);
+    const double gridH = double(kGridW) * settings.frameHeight / settings.frameWidth;
+    for (int y = 0; y < kGridH; ++y) {
+      for (int x = 0; x < kGridW; ++x) {
+        const cv::Vec3d cam((x + 0.5 - 0.5 * kGridW) / pose.focalPx,
+                            -((y + 0.5) / kGridH - 0.5) * gridH / pose.focalPx, -1.0);
+        cv::Vec3d d = pose.cameraToWorld * cam;
+        d /= cv::norm(d);
+        samples.push_back(sampleEquirect(env, float(d[0]), float(d[1]), float(d[2])));
+      }
     }
   }
-  std::sort(samples.begin(), samples.end());
-  double walked = 0.0;
-  for (const auto& [lum, omega] : samples) {
-    walked += omega;
-    if (walked >= 0.5 * total) return lum;
+  auto meanRecorded = [&](double exposure) {
+    double sum = 0.0;
+    for (const auto& s : samples) {
+      const float clipped[3] = {float(std::min(1.0, s[0] * exposure)),
+                                float(std::min(1.0, s[1] * exposure)),
+                                float(std::min(1.0, s[2] * exposure))};
+      sum += luminance(clipped);
+    }
+    return sum / double(samples.size());
+  };
+  double lo = -40.0, hi = 40.0;  // log exposure
+  for (int it = 0; it < 80; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (meanRecorded(std::exp(mid)) < settings.midGrey ? lo : hi) = mid;
   }
-  return samples.empty() ? 0.0 : samples.back().first;
+  return std::exp(0.5 * (lo + hi));
 }
 
 EquirectMap scaled(const EquirectMap& map, double factor) {
@@ -78,11 +98,11 @@ EquirectMap scaled(const EquirectMap& map, double factor) {
 }
 
 // What the camera would clip, and the clipped sun as a light source (envmap_report.h).
-void measureEnvironment(const EquirectMap& env, double midGrey, EnvmapEnvironment& info) {
+void measureEnvironment(const EquirectMap& env, const EnvmapReportSettings& settings,
+                        EnvmapEnvironment& info) {
   info.width = env.width;
   info.height = env.height;
-  const double median = skyMedian(env);
-  info.exposure = median > 0.0 ? midGrey / median : 1.0;
+  info.exposure = meterExposure(env, settings);
   const double clip = 1.0 / info.exposure;
   int px = 0, py = 0;
   double peakMax = -1.0, clipped = 0.0;
@@ -244,10 +264,52 @@ std::vector<fs::path> hdrFiles(const EnvmapReportSettings& settings, EnvmapRepor
   return files;
 }
 
-// One environment: the frame-count sweep and the "+ sun" row.
+// Each connected region of clipped pixels in each frame as a frame-region light, its radiance
+// the mean of the HDR over the region's pixels (times the exposure: the stitched map's units).
+std::vector<LightSource> clippedRegionLights(const EquirectMap& env,
+                                             const std::vector<PanoramaFrame>& frames,
+                                             const std::vector<CameraPose>& poses,
+                                             double exposure) {
+  std::vector<LightSource> lights;
+  for (size_t k = 0; k < frames.size() && k < poses.size(); ++k) {
+    const cv::Mat& mask = frames[k].saturated;
+    if (mask.empty() || cv::countNonZero(mask) == 0) continue;
+    cv::Mat labels, stats, centroids;
+    const int count = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
+    std::vector<std::array<double, 3>> sum(size_t(count), {0, 0, 0});
+    std::vector<double> pixels(size_t(count), 0.0);
+    const CameraPose& pose = poses[k];
+    for (int y = 0; y < mask.rows; ++y) {
+      const int* label = labels.ptr<int>(y);
+      for (int x = 0; x < mask.cols; ++x) {
+        if (label[x] <= 0) continue;
+        const cv::Vec3d cam((x + 0.5 - 0.5 * mask.cols) / pose.focalPx,
+                            -(y + 0.5 - 0.5 * mask.rows) / pose.focalPx, -1.0);
+        cv::Vec3d d = pose.cameraToWorld * cam;
+        d /= cv::norm(d);
+        const auto radiance = sampleEquirect(env, float(d[0]), float(d[1]), float(d[2]));
+        for (size_t c = 0; c < 3; ++c) sum[size_t(label[x])][c] += radiance[c];
+        pixels[size_t(label[x])] += 1.0;
+      }
+    }
+    for (int i = 1; i < count; ++i) {
+      LightSource light;
+      light.frame = int(k);
+      light.region =
+          cv::Rect(stats.at<int>(i, cv::CC_STAT_LEFT), stats.at<int>(i, cv::CC_STAT_TOP),
+                   stats.at<int>(i, cv::CC_STAT_WIDTH), stats.at<int>(i, cv::CC_STAT_HEIGHT));
+      for (size_t c = 0; c < 3; ++c)
+        light.radiance[c] = float(sum[size_t(i)][c] / pixels[size_t(i)] * exposure);
+      lights.push_back(light);
+    }
+  }
+  return lights;
+}
+
+// One environment: the frame-count sweep and the "+ lights" row.
 void runEnvironment(const EquirectMap& env, EnvmapEnvironment info,
                     const EnvmapReportSettings& settings, EnvmapReport& report) {
-  measureEnvironment(env, settings.midGrey, info);
+  measureEnvironment(env, settings, info);
   log::info(fmt::format("report envmap: {} (exposure {:.4g})", info.name, info.exposure));
   const optics::ShCoefficients referenceSh = optics::projectEnvironment(env, optics::kPaperShOrder);
   const EquirectMap referenceDrops = dropMap(env);
@@ -340,16 +402,26 @@ void runEnvironment(const EquirectMap& env, EnvmapEnvironment info,
   if (!widest) return;
   info.sunSeen = info.sun && covers(widest->coverage, sunDirection(info));
 
-  if (info.sun) {
+  {
+    // The paper's light-source replacement, with the radiances "measured when we captured the
+    // video" taken from the HDR: each clipped region of each frame, and the sun where the pan
+    // did not see it.
     EnvmapReportRow row = report.rows.back();
-    row.sunRestored = true;
+    row.lightsRestored = true;
     EquirectSettings render;
     render.width = settings.panoramaWidth;
-    LightSource sun;
-    sun.direction = sunDirection(info);
-    sun.radiusDeg = info.sunRadiusDeg;
-    for (size_t c = 0; c < 3; ++c) sun.radiance[c] = float(info.sunRadiance[c] * info.exposure);
-    render.lights.push_back(sun);
+    std::vector<CameraPose> truth;
+    for (int i = 0; i < counts.back(); ++i)
+      truth.push_back(panPose(i * row.yawStepDeg, settings.pitchDeg, fov, w));
+    render.lights = clippedRegionLights(env, widestFrames, truth, info.exposure);
+    if (info.sun && !info.sunSeen) {
+      LightSource sun;
+      sun.direction = sunDirection(info);
+      sun.radiusDeg = info.sunRadiusDeg;
+      for (size_t c = 0; c < 3; ++c) sun.radiance[c] = float(info.sunRadiance[c] * info.exposure);
+      render.lights.push_back(sun);
+    }
+    row.lights = int(render.lights.size());
     const auto renderStart = Clock::now();
     const PanoramaResult result = renderEquirect(widestFrames, widestPlacement, render);
     row.renderSeconds = secondsSince(renderStart);
@@ -358,7 +430,7 @@ void runEnvironment(const EquirectMap& env, EnvmapEnvironment info,
     if (!settings.imagesDir.empty())
       writePng(result.radiance, 1.0,
                fs::path(settings.imagesDir) /
-                   fmt::format("{}_stitched_{}_sun.png", info.name, counts.back()));
+                   fmt::format("{}_stitched_{}_lights.png", info.name, counts.back()));
   }
   if (!settings.imagesDir.empty()) {
     const fs::path dir(settings.imagesDir);
@@ -457,7 +529,7 @@ std::string csvNumber(double value) {
 }
 
 std::string rowLabel(const EnvmapReportRow& row) {
-  return row.sunRestored ? fmt::format("{}+sun", row.frames) : std::to_string(row.frames);
+  return row.lightsRestored ? fmt::format("{}+lights", row.frames) : std::to_string(row.frames);
 }
 
 }  // namespace
@@ -508,13 +580,15 @@ std::string formatEnvmapReport(const EnvmapReport& report) {
   std::string out = fmt::format(
       "Environment maps stitched from a pan against the full HDR: frames of {}x{}, {:g}° "
       "horizontal field of view, pitch {:+g}°, yaw step min(hfov/2, 360°/N), 8-bit sRGB with "
-      "clipping at an exposure putting the sky's median at mid-grey; placed by placeFrames (true "
+      "clipping at one exposure for the shot (average metering: the recorded mean luminance over a "
+      "full turn at mid-grey); placed by placeFrames (true "
       "field of view given; placement turned onto frame 0's true tilt), rendered at {}x{}.\n"
       "SH err: relative L2 of the order-3 SH coefficients. drop mean/max: relative error of the "
       "default drop colour (radiance map, eta 1.333) along view directions inside the coverage. "
       "pose°: worst rotation error of a placed camera; focal: mean relative focal error. "
-      "feat: placed from features (else the fallback). '+sun': the clipped sun restored as a "
-      "LightSource.\n\n",
+      "feat: placed from features (else the fallback). '+lights': the clipped regions of each "
+      "frame given the HDR's mean radiance over them as frame-region lights, and the sun as a "
+      "direction light where the pan did not see it (the paper's light-source replacement).\n\n",
       report.frameWidth, report.frameHeight, report.horizontalFovDeg, report.pitchDeg,
       report.panoramaWidth, report.panoramaWidth / 2);
   for (const EnvmapEnvironment& env : report.environments) {
@@ -547,19 +621,19 @@ std::string formatEnvmapReport(const EnvmapReport& report) {
   }
 
   // The targets, at the most frames of each environment.
-  int environments = 0, meanMet = 0, maxMet = 0, sunRows = 0, sunMeanMet = 0, sunMaxMet = 0;
-  double worstMean = 0.0, worstSunMean = 0.0, slowest = 0.0;
+  int environments = 0, meanMet = 0, maxMet = 0, lightRows = 0, lightMeanMet = 0, lightMaxMet = 0;
+  double worstMean = 0.0, worstLightMean = 0.0, slowest = 0.0;
   int mostFrames = 0;
   for (size_t i = 0; i < report.rows.size(); ++i) {
     const EnvmapReportRow& row = report.rows[i];
     const bool last = i + 1 == report.rows.size() ||
                       report.rows[i + 1].environment != row.environment ||
-                      report.rows[i + 1].sunRestored;
-    if (row.sunRestored) {
-      ++sunRows;
-      sunMeanMet += row.dropMeanError < kTarget;
-      sunMaxMet += row.dropMaxError < kTarget;
-      worstSunMean = std::max(worstSunMean, row.dropMeanError);
+                      report.rows[i + 1].lightsRestored;
+    if (row.lightsRestored) {
+      ++lightRows;
+      lightMeanMet += row.dropMeanError < kTarget;
+      lightMaxMet += row.dropMaxError < kTarget;
+      worstLightMean = std::max(worstLightMean, row.dropMeanError);
     } else if (last) {
       ++environments;
       meanMet += row.dropMeanError < kTarget;
@@ -575,11 +649,12 @@ std::string formatEnvmapReport(const EnvmapReport& report) {
         "directions for {} of {} environments on the mean, {} of {} at every direction (worst "
         "mean {:.1f} %).\n",
         mostFrames, meanMet, environments, maxMet, environments, 100.0 * worstMean);
-    if (sunRows > 0) {
+    if (lightRows > 0) {
       out += fmt::format(
-          "With the sun restored as a light source: {} of {} on the mean, {} of {} at every "
+          "With the clipped light sources given their measured radiance: {} of {} on the mean, {} "
+          "of {} at every "
           "direction (worst mean {:.1f} %).\n",
-          sunMeanMet, sunRows, sunMaxMet, sunRows, 100.0 * worstSunMean);
+          lightMeanMet, lightRows, lightMaxMet, lightRows, 100.0 * worstLightMean);
     }
     out += fmt::format("Slowest stitch of {} frames of {}x{} (placement + rendering): {:.2f} s",
                        mostFrames, report.frameWidth, report.frameHeight, slowest);
@@ -612,13 +687,13 @@ std::string formatEnvmapReport(const EnvmapReport& report) {
 void writeEnvmapReportCsv(const EnvmapReport& report, const std::string& path) {
   std::ofstream file(path);
   if (!file) throw Error("cannot write the report", {"report", {}, path});
-  file << "environment,frames,sun_restored,yaw_step_deg,from_features,pose_error_deg,"
+  file << "environment,frames,lights_restored,lights,yaw_step_deg,from_features,pose_error_deg,"
           "focal_error,covered_fraction,sh_error,drop_mean_error,drop_max_error,directions,"
           "placement_seconds,render_seconds,total_seconds\n";
   for (const EnvmapReportRow& row : report.rows) {
     file << fmt::format(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", row.environment, row.frames,
-        row.sunRestored ? 1 : 0, csvNumber(row.yawStepDeg), row.fromFeatures ? 1 : 0,
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", row.environment, row.frames,
+        row.lightsRestored ? 1 : 0, row.lights, csvNumber(row.yawStepDeg), row.fromFeatures ? 1 : 0,
         csvNumber(row.poseErrorDeg), csvNumber(row.focalError), csvNumber(row.coveredFraction),
         csvNumber(row.shError), csvNumber(row.dropMeanError), csvNumber(row.dropMaxError),
         row.directions, csvNumber(row.placementSeconds), csvNumber(row.renderSeconds),
@@ -694,7 +769,7 @@ void writeEnvmapReportPlot(const EnvmapReport& report, const std::string& path) 
     if (!colourOf.count(row.environment)) colourOf.emplace(row.environment, colourOf.size());
     const cv::Scalar colour = palette[colourOf[row.environment] % std::size(palette)];
     const cv::Point p = at(t, e);
-    if (row.sunRestored) {
+    if (row.lightsRestored) {
       cv::drawMarker(canvas, p, colour, cv::MARKER_DIAMOND, 14, 2, cv::LINE_AA);
     } else {
       if (previous.count(row.environment))
@@ -711,7 +786,7 @@ void writeEnvmapReportPlot(const EnvmapReport& report, const std::string& path) 
     cv::putText(canvas, name, {kLeft + kPlotW - 318, legendY}, font, 0.5, colour);
     legendY += 22;
   }
-  cv::putText(canvas, "diamonds: sun restored as a light source", {kLeft + kPlotW - 330, legendY},
+  cv::putText(canvas, "diamonds: clipped light sources restored", {kLeft + kPlotW - 330, legendY},
               font, 0.5, {0, 0, 0});
   if (!cv::imwrite(path, canvas))
     throw Error("cannot write the plot (is it a .png path?)", {"report", {}, path});

@@ -2,8 +2,9 @@
 // `pluvia report envmap`: how well an environment stitched from a panning shot (panorama.h)
 // stands in for the full HDR it was cut from, against the number of frames and the run time.
 //
-//  (a) Per HDR: an exposure puts the sky's median (solid-angle weighted luminance of the upper
-//      hemisphere) at mid-grey 0.18, so bright skies and the sun clip as in a real camera.
+//  (a) Per HDR: one exposure for the shot, by average metering as a camera's meter does: over
+//      a full turn at the report's pitch, the mean luminance of what the 8-bit camera records
+//      (clipped) is put at mid-grey 0.18, so the sun, lamps and bright sky clip as they would.
 //      Frames are recorded along a level-yawing pan (recordView: 8-bit sRGB with clipping),
 //      yaw step min(hfov / 2, 360 / N) (about 50 % overlap, a full turn from 12 frames of 60°),
 //      placed by placeFrames (true field of view given) and rendered by renderEquirect. The
@@ -17,10 +18,13 @@
 //          of |stitched - full| / full, then mean and worst over the directions;
 //        pose error: worst rotation angle between a placed and the true camera; focal error:
 //          mean |f - f_true| / f_true.
-//      The "+ sun" row re-renders the most frames with the clipped sun restored as a
-//      LightSource (the paper's light-source replacement): direction of the HDR's brightest
-//      texel, disc of the solid angle of the connected texels around it above
-//      max(clip level, 25 % of the peak), radiance their mean (power kept).
+//      The "+ lights" row re-renders the most frames with the paper's light-source replacement,
+//      the radiances "measured when we captured the video" taken from the HDR: every connected
+//      region of clipped pixels of every frame becomes a frame-region LightSource with the HDR's
+//      mean radiance over those pixels; and where the pan did not see the sun, the sun becomes a
+//      direction LightSource (direction of the HDR's brightest texel, disc of the solid angle
+//      of the connected texels around it above max(clip level, 25 % of the peak), radiance
+//      their mean: power kept).
 //  (b) Real photos (stitching/weir): placed with an unknown field of view (the focal is
 //      estimated), the estimated yaws, pitches and field of view and the covered fraction.
 #include <array>
@@ -41,13 +45,14 @@ struct EnvmapReportSettings {
   std::vector<int> frameCounts = {1, 3, 6, 12, 24};
   int panoramaWidth = 1024;  // of the stitched equirect map
   int directions = 200;      // view directions sampled inside the coverage
-  double midGrey = 0.18;     // the sky's median after exposure
+  double midGrey = 0.18;     // the recorded mean luminance over a full turn
 };
 
 struct EnvmapReportRow {
   std::string environment;  // file stem, or "builtin"
   int frames = 0;
-  bool sunRestored = false;  // the "+ sun" row
+  bool lightsRestored = false;  // the "+ lights" row
+  int lights = 0;               // light sources given in that row
   double yawStepDeg = 0.0;
   bool fromFeatures = false;  // placement from matched features (false: the fallback)
   double poseErrorDeg = 0.0;

@@ -63,16 +63,18 @@ struct EquirectSettings {
 };
 
 struct PanoramaResult {
-  EquirectMap radiance;       // filled everywhere
-  cv::Mat coverage;           // CV_8UC1 width x height: nonzero where a frame saw the direction
+  EquirectMap radiance;          // filled everywhere
+  cv::Mat coverage;              // CV_8UC1 width x height: nonzero where a frame saw the direction
   double coveredFraction = 0.0;  // of the sphere's solid angle
-  std::vector<float> gains;   // per frame exposure gain applied (1 for frame 0)
+  std::vector<float> gains;      // per frame exposure gain applied (1 for frame 0)
 };
 
 // Renders the placed frames into an equirect map: per texel direction, a feather-weighted mean
 // of the frames that see it (after per-frame exposure gains matched on the overlaps); unseen
 // texels take the nearest seen colour (wrapping in longitude); saturated pixels take the
-// radiance of the light covering them (lights), else keep their clipped value.
+// radiance of the light covering them (lights), else keep their clipped value. The fill copies
+// what the footage recorded (clipped values included), never a light's radiance: a lamp at the
+// edge of the frames is not smeared over the unseen sky.
 PanoramaResult renderEquirect(const std::vector<PanoramaFrame>& frames, const Placement& placement,
                               const EquirectSettings& settings);
 

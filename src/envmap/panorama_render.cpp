@@ -201,6 +201,10 @@ PanoramaResult renderEquirect(const std::vector<PanoramaFrame>& frames, const Pl
   const int height = width / 2;
   result.radiance = EquirectMap(width, height);
   result.coverage = cv::Mat(height, width, CV_8UC1, cv::Scalar(0));
+  // The frame-region light a texel's saturated pixel lies in; applied after the fill, so the
+  // unseen directions take the footage's colours, not copies of a light (which would multiply
+  // its power).
+  std::vector<const LightSource*> texelLight(size_t(width) * size_t(height), nullptr);
 
   static const cv::Mat kNoMask;
   std::vector<FrameView> views;
@@ -255,10 +259,8 @@ PanoramaResult renderEquirect(const std::vector<PanoramaFrame>& frames, const Pl
         }
       }
       float* out = result.radiance.texel(x, y);
-      if (hitLight) {
-        // A saturated pixel inside a frame's light region: the light's measured radiance.
-        for (int c = 0; c < 3; ++c) out[c] = hitLight->radiance[c];
-      } else if (weight > 0) {
+      texelLight[size_t(y) * size_t(width) + size_t(x)] = hitLight;
+      if (weight > 0) {
         // Unsaturated samples are the measurement; clipped ones only a lower bound.
         for (int c = 0; c < 3; ++c) out[c] = float(sum[c] / weight);
       } else if (satWeight > 0) {
@@ -275,6 +277,13 @@ PanoramaResult renderEquirect(const std::vector<PanoramaFrame>& frames, const Pl
   }
   result.coveredFraction = covered / (4.0 * CV_PI);
   if (covered > 0) fillNearest(result.radiance, result.coverage);
+  // A saturated pixel inside a frame's light region: the light's measured radiance.
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      if (const LightSource* l = texelLight[size_t(y) * size_t(width) + size_t(x)]) {
+        float* out = result.radiance.texel(x, y);
+        for (int c = 0; c < 3; ++c) out[c] = l->radiance[c];
+      }
 
   // Direction lights: their radiance is measured, so every texel whose centre lies within the
   // disc takes it, seen or not, saturated or not (the footage only bounds it from below). A disc

@@ -406,6 +406,46 @@ TEST(Panorama, BrightSunClipsAndTakesTheLightsRadiance) {
   EXPECT_FLOAT_EQ(byRegion.radiance.texel(sx, sy)[1], 5e4f);
 }
 
+// A lamp at the top edge of the frames, given its radiance as a frame-region light: the light
+// replaces the saturated pixels it covers, and the unseen sky above is filled from what the
+// footage recorded (the clipped value), never with copies of the light, which would multiply
+// its power over the whole unseen cap.
+TEST(Panorama, RegionLightAtTheEdgeIsNotSpreadByTheFill) {
+  EquirectMap env = uniformEquirect(512, 256, {0.2f, 0.2f, 0.2f});
+  // Frames of 60 deg x about 36 deg at pitch 0: the top edge at about 18 deg elevation.
+  for (int y = 0; y < env.height; ++y)
+    for (int x = 0; x < env.width; ++x) {
+      const auto d = equirectTexelDirection(env.width, env.height, x, y);
+      const double elevation = std::asin(d[1]) / kDeg, azimuth = std::atan2(d[0], -d[2]) / kDeg;
+      if (elevation > 12.0 && elevation < 30.0 && std::abs(azimuth) < 8.0)
+        for (int c = 0; c < 3; ++c) env.texel(x, y)[c] = 1e3f;
+    }
+  const std::vector<double> yaws = {-20, 0, 20};
+  const int w = 320, h = 180;
+  const auto frames = cutFrames(env, yaws, 0.0, 60.0, w, h, {1.0});
+  EquirectSettings settings;
+  settings.width = 512;
+  LightSource lamp;
+  lamp.frame = 1;
+  lamp.region = cv::Rect(0, 0, w, h / 4);
+  lamp.radiance = {1e3f, 1e3f, 1e3f};
+  settings.lights.push_back(lamp);
+  const PanoramaResult pano = renderEquirect(frames, knownPlacement(yaws, 0.0, 60.0, w), settings);
+  ASSERT_TRUE(allFinite(pano.radiance));
+  int seenLamp = 0;
+  float unseenMax = 0.0f;
+  for (int y = 0; y < pano.radiance.height; ++y)
+    for (int x = 0; x < pano.radiance.width; ++x) {
+      const float v = pano.radiance.texel(x, y)[1];
+      if (pano.coverage.at<uchar>(y, x))
+        seenLamp += v == 1e3f;
+      else
+        unseenMax = std::max(unseenMax, v);
+    }
+  EXPECT_GT(seenLamp, 10) << "the lamp's saturated pixels take its radiance";
+  EXPECT_LE(unseenMax, 1.0f) << "the fill spread the lamp over the unseen directions";
+}
+
 TEST(Panorama, WeirPhotosPlaceLeftToRight) {
   const auto dir = test::sharedData();
   const auto weir = dir / "stitching" / "weir";
