@@ -1,25 +1,28 @@
 #version 430 core
-// Matte, depth test and PRT compositing of one streak fragment (Wang et al., Eq. 2). Coverage
-// is decided here from the exact quad at the pixel centre, the same test renderRainCpu()
-// makes (src/gpu/rain_cpu.cpp), so the two agree on every pixel not within rounding of an
-// edge.
-layout(binding = 0) uniform sampler2D uAtlas;        // R32F, GL_LINEAR, CLAMP_TO_EDGE
-layout(binding = 1) uniform sampler2D uBackground;   // RGBA32F, texelFetch only
-layout(binding = 2) uniform sampler2D uSceneDepth;   // R32F metres, far = 3e38, texelFetch only
+// Matte and depth test of one streak fragment; writes the rain layer of the streaks' own
+// radiance, alpha * C, premultiplied. The background never enters here: render() finishes
+// Eq. 2 on the read-back layer (see rain_renderer.h), which saves the background upload, its
+// per-fragment fetch and a second blended attachment. Coverage is decided here from the exact
+// quad at the pixel centre, the same test renderRainCpu() makes (src/gpu/rain_cpu.cpp), so the
+// two agree on every pixel not within rounding of an edge.
+//
+// Compiled twice: with SCENE_DEPTH defined (the frame has a "depth" plane) and without (every
+// streak is in front of an infinitely far scene, so the fetch is skipped).
+layout(binding = 0) uniform sampler2D uAtlas;  // R32F, GL_LINEAR, CLAMP_TO_EDGE
+#ifdef SCENE_DEPTH
+layout(binding = 2) uniform sampler2D uSceneDepth;  // R32F metres, far = 3e38, texelFetch only
+#endif
 
 uniform vec2 uAtlasSizePx;
-uniform float uBackgroundWeight;  // c in C' = C + c * B
 
 flat in vec4 vFrame;
 flat in vec4 vStreak;
 flat in vec4 vRectPx;
 flat in vec3 vRadiance;
 
-// Attachment 0 (starts as the background): blended (SRC_ALPHA, ONE_MINUS_SRC_ALPHA) on RGB,
-// (ZERO, ONE) on alpha, so the composite keeps the background's alpha.
-layout(location = 0) out vec4 oComposite;
-// Attachment 1 (starts transparent black): premultiplied, (ONE, ONE_MINUS_SRC_ALPHA).
-layout(location = 1) out vec4 oRain;
+// The rain layer (starts transparent black): premultiplied, (ONE, ONE_MINUS_SRC_ALPHA) on all
+// four channels.
+layout(location = 0) out vec4 oRain;
 
 void main() {
   vec2 head = vFrame.xy;
@@ -32,8 +35,9 @@ void main() {
   float v = (along + 0.5 * widthPx) / (vStreak.y + widthPx);
   if (u < 0.0 || u > 1.0 || v < 0.0 || v > 1.0) discard;
 
-  ivec2 pixel = ivec2(gl_FragCoord.xy);
-  if (vStreak.w > texelFetch(uSceneDepth, pixel, 0).r) discard;
+#ifdef SCENE_DEPTH
+  if (vStreak.w > texelFetch(uSceneDepth, ivec2(gl_FragCoord.xy), 0).r) discard;
+#endif
 
   vec2 atlasPx = vec2(vRectPx.x + u * (vRectPx.z - vRectPx.x),
                       vRectPx.y + v * (vRectPx.w - vRectPx.y));
@@ -41,7 +45,5 @@ void main() {
   float alpha = clamp(matte * vStreak.z, 0.0, 1.0);
   if (alpha <= 0.0) discard;
 
-  vec3 shaded = vRadiance + uBackgroundWeight * texelFetch(uBackground, pixel, 0).rgb;
-  oComposite = vec4(shaded, alpha);
-  oRain = vec4(alpha * shaded, alpha);
+  oRain = vec4(alpha * vRadiance, alpha);
 }

@@ -1,16 +1,22 @@
 #version 430 core
-// One instance per streak: a quad from head to tail, widened by widthPx / 2 at both ends and
-// widthPx across, built from gl_VertexID (triangle strip of 4 vertices). The per-streak
-// colour C (SH term + radiance map term) is computed here once, not per fragment: it is
-// constant over a streak and this halves the shading cost on software rasterisers. The CPU
+// One quad per streak, from head to tail, widened by widthPx / 2 at both ends and widthPx
+// across. The streaks are pulled from a storage buffer, not fed as instances: one indexed draw
+// of two triangles per streak (index 4 * streak + corner, see streak_stream.cpp), because
+// llvmpipe's draw module runs its whole vertex pipeline once per instance. The per-streak
+// colour C (SH term + radiance map term) is computed here, not per fragment: it is constant
+// over a streak and this halves the shading cost on software rasterisers. The CPU
 // twin of the geometry is src/gpu/streak_quad.h, of the colour src/gpu/streak_radiance.cpp:
 // keep them in step.
 #include "common_sh.glsl"
 #include "common_trig.glsl"
 
-layout(location = 0) in vec4 aEndsPx;   // headX, headY, tailX, tailY; pixels, y down
-layout(location = 1) in vec4 aStreak;   // widthPx, alpha, depthMeters, strokeIndex
-layout(location = 2) in vec3 aView;     // unit direction camera -> drop
+// StreakInstance of rain_renderer.h, 12 floats.
+struct Streak {
+  vec4 endsPx;  // headX, headY, tailX, tailY; pixels, y down
+  vec4 streak;  // widthPx, alpha, depthMeters, strokeIndex
+  vec4 view;    // unit direction camera -> drop, padding
+};
+layout(std430, binding = 1) readonly buffer Streaks { Streak streaks[]; };
 
 // Stroke rectangles in atlas pixels: x0, y0, x1, y1.
 layout(std430, binding = 0) readonly buffer StrokeRects { vec4 strokeRects[]; };
@@ -93,6 +99,9 @@ vec3 streakRadiance(vec3 view) {
 }
 
 void main() {
+  Streak instance = streaks[gl_VertexID >> 2];
+  vec4 aEndsPx = instance.endsPx;
+  vec4 aStreak = instance.streak;
   float widthPx = aStreak.x;
   float alpha = aStreak.y;
   // Zero (or NaN) width or alpha covers nothing: collapse the quad to one point outside the
@@ -113,7 +122,7 @@ void main() {
 
   // Corner s (0 left, 1 right seen from head to tail on screen), t (0 head end, 1 tail end).
   int s = gl_VertexID & 1;
-  int t = gl_VertexID >> 1;
+  int t = (gl_VertexID >> 1) & 1;
   float halfWidth = 0.5 * widthPx + kCoverageMarginPx;
   float along = t == 0 ? -halfWidth : lengthPx + halfWidth;
   float across = s == 0 ? -halfWidth : halfWidth;
@@ -126,5 +135,5 @@ void main() {
   vFrame = vec4(head, axis);
   vStreak = vec4(widthPx, lengthPx, alpha, aStreak.z);
   vRectPx = strokeRects[int(aStreak.w)];
-  vRadiance = streakRadiance(aView);
+  vRadiance = streakRadiance(instance.view.xyz);
 }

@@ -24,16 +24,13 @@ FrameTargets::FrameTargets(int width, int height) : width_(width), height_(heigh
                                std::min(maxTextureSize, maxViewport[1])));
   }
   // 32-bit float throughout: the CPU twin and the tests compare against float arithmetic.
-  background_ = makeTexture2D(GL_RGBA32F, width, height);
   depth_ = makeTexture2D(GL_R32F, width, height);
-  composite_ = makeTexture2D(GL_RGBA32F, width, height);
   rain_ = makeTexture2D(GL_RGBA32F, width, height);
   framebuffer_ = genFramebuffer();
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, composite_.id(), 0);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, rain_.id(), 0);
-  const GLenum drawBuffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-  glDrawBuffers(2, drawBuffers);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, rain_.id(), 0);
+  const GLenum drawBuffers[] = {GL_COLOR_ATTACHMENT0};
+  glDrawBuffers(1, drawBuffers);
   const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
   if (status != GL_FRAMEBUFFER_COMPLETE) {
     throwRainError(fmt::format("RGBA32F framebuffer of {}x{} is incomplete (status 0x{:04x})",
@@ -42,43 +39,28 @@ FrameTargets::FrameTargets(int width, int height) : width_(width), height_(heigh
   checkGl(fmt::format("creating {}x{} render targets", width, height));
 }
 
-void FrameTargets::begin(const std::vector<float>& backgroundRgba,
-                         const std::vector<float>& depthMeters) {
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glBindTexture(GL_TEXTURE_2D, background_.id());
-  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RGBA, GL_FLOAT,
-                  backgroundRgba.data());
-  glBindTexture(GL_TEXTURE_2D, depth_.id());
-  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RED, GL_FLOAT, depthMeters.data());
-  glBindTexture(GL_TEXTURE_2D, 0);
-  // The composite starts as B: a copy on the GPU rather than a second upload.
-  glCopyImageSubData(background_.id(), GL_TEXTURE_2D, 0, 0, 0, 0, composite_.id(), GL_TEXTURE_2D, 0,
-                     0, 0, 0, width_, height_, 1);
+void FrameTargets::begin(const std::vector<float>* depthMeters) {
+  if (depthMeters) {
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glBindTexture(GL_TEXTURE_2D, depth_.id());
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RED, GL_FLOAT, depthMeters->data());
+    glBindTexture(GL_TEXTURE_2D, 0);
+  }
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   const GLfloat transparent[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-  glClearBufferfv(GL_COLOR, 1, transparent);
+  glClearBufferfv(GL_COLOR, 0, transparent);
   glViewport(0, 0, width_, height_);
-  checkGl("uploading the background and depth");
+  checkGl("uploading the scene depth");
 }
 
-void FrameTargets::bindInputs(GLuint backgroundUnit, GLuint depthUnit) const {
-  glActiveTexture(GL_TEXTURE0 + backgroundUnit);
-  glBindTexture(GL_TEXTURE_2D, background_.id());
+void FrameTargets::bindSceneDepth(GLuint depthUnit) const {
   glActiveTexture(GL_TEXTURE0 + depthUnit);
   glBindTexture(GL_TEXTURE_2D, depth_.id());
 }
 
-void FrameTargets::readComposite(float* rgba) const {
-  readAttachment(GL_COLOR_ATTACHMENT0, rgba);
-}
-
 void FrameTargets::readRainLayer(float* rgba) const {
-  readAttachment(GL_COLOR_ATTACHMENT1, rgba);
-}
-
-void FrameTargets::readAttachment(GLenum attachment, float* rgba) const {
   glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer_.id());
-  glReadBuffer(attachment);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
   glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, rgba);
   checkGl("reading back the rain render");

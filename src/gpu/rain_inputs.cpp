@@ -123,6 +123,29 @@ void storeRainLayer(const std::vector<float>& rainRgba, Image& frame) {
   frame.planes["matte"] = *channels[3];
 }
 
+void compositeRainLayer(const std::vector<float>& radianceLayer, float backgroundWeight,
+                        Image& frame) {
+  float* planes[4] = {frame.plane("rain.R").data(), frame.plane("rain.G").data(),
+                      frame.plane("rain.B").data(), frame.plane("rain.A").data()};
+  const size_t pixels = frame.pixelCount();
+  const float c = backgroundWeight;
+  for (size_t i = 0; i < pixels; ++i) {
+    const float* layer = radianceLayer.data() + i * 4;
+    float* background = frame.rgba.data() + i * 4;
+    const float coverage = layer[3];
+    for (int ch = 0; ch < 3; ++ch) {
+      // c = 0 (the default shading) adds nothing, not even 0 * an infinite background.
+      const float rain = c == 0.0f ? layer[ch] : layer[ch] + c * background[ch] * coverage;
+      planes[ch][i] = rain;
+      if (coverage != 0.0f || rain != 0.0f) {
+        background[ch] = rain + (1.0f - coverage) * background[ch];
+      }
+    }
+    planes[3][i] = coverage;
+  }
+  frame.planes["matte"] = frame.planes["rain.A"];
+}
+
 void clearRainLayer(Image& frame) {
   for (const char* name : {"rain.R", "rain.G", "rain.B", "rain.A", "matte"}) {
     frame.plane(name).assign(frame.pixelCount(), 0.0f);

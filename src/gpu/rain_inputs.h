@@ -25,6 +25,15 @@ void comparableSceneDepth(const Image& frame, std::vector<float>& depthMeters);
 // RGBA rain layer of frame.pixelCount() pixels.
 void storeRainLayer(const std::vector<float>& rainRgba, Image& frame);
 
+// Finishes Eq. 2 of rain_renderer.h from the layer of the streaks' own radiance, L = (rgb, A):
+// the premultiplied over-composite of alpha_i * C_i, read back from the GPU. Since C' = C + c*B
+// with one B per pixel and sum_i alpha_i * prod_{j>i} (1 - alpha_j) = A, the rain layer is
+// L.rgb + c * B * A and the composite is rain + (1 - A) * B: the same maths as blending C'
+// streak by streak, in a different order. Sets frame.rgba's RGB (its alpha is kept) and the
+// planes "rain.R", "rain.G", "rain.B", "rain.A" and "matte"; pixels with no rain keep B.
+void compositeRainLayer(const std::vector<float>& radianceLayer, float backgroundWeight,
+                        Image& frame);
+
 // Sets the rain planes to zero: the result when no streak is drawn.
 void clearRainLayer(Image& frame);
 

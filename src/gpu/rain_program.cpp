@@ -7,21 +7,23 @@
 
 namespace pluvia::gpu {
 
-RainProgram::RainProgram() : program_(buildProgram("rain_stroke.vert", "rain_stroke.frag")) {
-  const GLuint id = program_.id();
-  targetSize_ = glGetUniformLocation(id, "uTargetSizePx");
-  hasSh_ = glGetUniformLocation(id, "uHasSh");
-  shOrder_ = glGetUniformLocation(id, "uShOrder");
-  envSh_ = glGetUniformLocation(id, "uEnvSh");
-  transferZonal_ = glGetUniformLocation(id, "uTransferZonal");
-  hasRadianceMap_ = glGetUniformLocation(id, "uHasRadianceMap");
-  atlasSize_ = glGetUniformLocation(id, "uAtlasSizePx");
-  backgroundWeight_ = glGetUniformLocation(id, "uBackgroundWeight");
+RainProgram::Variant::Variant(const char* defines)
+    : program(buildProgram("rain_stroke.vert", "rain_stroke.frag", defines)) {
+  const GLuint id = program.id();
+  targetSize = glGetUniformLocation(id, "uTargetSizePx");
+  hasSh = glGetUniformLocation(id, "uHasSh");
+  shOrder = glGetUniformLocation(id, "uShOrder");
+  envSh = glGetUniformLocation(id, "uEnvSh");
+  transferZonal = glGetUniformLocation(id, "uTransferZonal");
+  hasRadianceMap = glGetUniformLocation(id, "uHasRadianceMap");
+  atlasSize = glGetUniformLocation(id, "uAtlasSizePx");
   checkGl("looking up the rain shader's uniforms");
 }
 
-void RainProgram::setShUniforms(const ShadingParams& shading) const {
-  glUniform1i(shOrder_, shading.shOrder);
+RainProgram::RainProgram() : farScene_(""), withDepth_("#define SCENE_DEPTH\n") {}
+
+void RainProgram::setShUniforms(const Variant& variant, const ShadingParams& shading) {
+  glUniform1i(variant.shOrder, shading.shOrder);
   // Always all 16 / 4 entries: the shader reads only up to shOrder, the rest are zeros.
   std::array<float, 16 * 3> envSh{};
   for (size_t i = 0; i < shading.envSh.size(); ++i) {
@@ -29,28 +31,27 @@ void RainProgram::setShUniforms(const ShadingParams& shading) const {
   }
   std::array<float, 4> zonal{};
   for (size_t l = 0; l < shading.transferZonal.size(); ++l) zonal[l] = shading.transferZonal[l];
-  glUniform3fv(envSh_, 16, envSh.data());
-  glUniform1fv(transferZonal_, 4, zonal.data());
+  glUniform3fv(variant.envSh, 16, envSh.data());
+  glUniform1fv(variant.transferZonal, 4, zonal.data());
 }
 
-void RainProgram::use(const ShadingParams& shading, int targetWidth, int targetHeight,
-                      int atlasWidth, int atlasHeight) const {
-  glUseProgram(program_.id());
-  glUniform2f(targetSize_, static_cast<float>(targetWidth), static_cast<float>(targetHeight));
-  glUniform2f(atlasSize_, static_cast<float>(atlasWidth), static_cast<float>(atlasHeight));
-  glUniform1f(backgroundWeight_, shading.backgroundWeight);
+void RainProgram::use(const ShadingParams& shading, bool sceneDepth, int targetWidth,
+                      int targetHeight, int atlasWidth, int atlasHeight) const {
+  const Variant& variant = sceneDepth ? withDepth_ : farScene_;
+  glUseProgram(variant.program.id());
+  glUniform2f(variant.targetSize, static_cast<float>(targetWidth),
+              static_cast<float>(targetHeight));
+  glUniform2f(variant.atlasSize, static_cast<float>(atlasWidth), static_cast<float>(atlasHeight));
   const bool hasSh = !shading.envSh.empty();
-  glUniform1i(hasSh_, hasSh ? 1 : 0);
+  glUniform1i(variant.hasSh, hasSh ? 1 : 0);
   // Without the SH term its inputs are unchecked (validateShading) and the shader skips them.
-  if (hasSh) setShUniforms(shading);
-  glUniform1i(hasRadianceMap_, shading.radianceMap.empty() ? 0 : 1);
+  if (hasSh) setShUniforms(variant, shading);
+  glUniform1i(variant.hasRadianceMap, shading.radianceMap.empty() ? 0 : 1);
 
+  // The premultiplied rain layer: out = src + (1 - src.a) * dst on all four channels.
   glEnablei(GL_BLEND, 0);
   glBlendEquationSeparatei(0, GL_FUNC_ADD, GL_FUNC_ADD);
-  glBlendFuncSeparatei(0, GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
-  glEnablei(GL_BLEND, 1);
-  glBlendEquationSeparatei(1, GL_FUNC_ADD, GL_FUNC_ADD);
-  glBlendFuncSeparatei(1, GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  glBlendFuncSeparatei(0, GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
   checkGl("setting the rain shader's uniforms");
 }
 

@@ -1,32 +1,38 @@
 #pragma once
-// shaders/rain_stroke.vert + .frag, linked once, with its uniforms and blend state.
+// shaders/rain_stroke.vert + .frag, linked once per variant (with and without a scene depth
+// plane), with their uniforms and the blend state.
 #include "gpu/gl_objects.h"
 #include "gpu/rain_renderer.h"
 
 namespace pluvia::gpu {
 
-// Texture units and the storage binding the shaders declare (layout(binding = ...)).
+// Texture units and the storage bindings the shaders declare (layout(binding = ...)).
 inline constexpr GLuint kAtlasUnit = 0;
-inline constexpr GLuint kBackgroundUnit = 1;
 inline constexpr GLuint kSceneDepthUnit = 2;
 inline constexpr GLuint kRadianceMapUnit = 3;
 inline constexpr GLuint kStrokeRectBinding = 0;
+inline constexpr GLuint kStreakBinding = 1;
 
 class RainProgram {
  public:
   RainProgram();
 
-  // Binds the program, sets its uniforms and the blending of both attachments.
-  void use(const ShadingParams& shading, int targetWidth, int targetHeight, int atlasWidth,
-           int atlasHeight) const;
+  // Binds the variant for a frame with or without a scene depth plane, sets its uniforms and
+  // the blending of the rain layer.
+  void use(const ShadingParams& shading, bool sceneDepth, int targetWidth, int targetHeight,
+           int atlasWidth, int atlasHeight) const;
 
  private:
+  struct Variant {
+    explicit Variant(const char* defines);
+    GlProgram program;
+    GLint targetSize, hasSh, shOrder, envSh, transferZonal, hasRadianceMap, atlasSize;
+  };
   // uShOrder, uEnvSh, uTransferZonal from a validated SH term.
-  void setShUniforms(const ShadingParams& shading) const;
+  static void setShUniforms(const Variant& variant, const ShadingParams& shading);
 
-  GlProgram program_;
-  GLint targetSize_, hasSh_, shOrder_, envSh_, transferZonal_, hasRadianceMap_, atlasSize_,
-      backgroundWeight_;
+  Variant farScene_;   // no depth plane: no depth fetch
+  Variant withDepth_;  // SCENE_DEPTH
 };
 
 }  // namespace pluvia::gpu

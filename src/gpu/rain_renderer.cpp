@@ -46,7 +46,7 @@ struct RainRenderer::Impl {
   HeadlessGlContext context;
   std::unique_ptr<GpuObjects> gpu = std::make_unique<GpuObjects>();
   std::vector<float> sceneDepth;  // scratch, kept to avoid a per-frame allocation
-  std::vector<float> rainRgba;    // scratch for the read-back rain layer
+  std::vector<float> rainRgba;    // scratch for the read-back layer of the streaks' radiance
 
   // GL objects are deleted by their owners' destructors, which needs this context current.
   ~Impl() {
@@ -84,22 +84,24 @@ void RainRenderer::render(Image& frame, const std::vector<StreakInstance>& strea
   }
   impl_->context.makeCurrent();
   gpu.ensureTargets(frame.width, frame.height);
-  comparableSceneDepth(frame, impl_->sceneDepth);
-  gpu.targets->begin(frame.rgba, impl_->sceneDepth);
+  // Without a depth plane every streak is in front (of kFarDepthMeters): the variant without
+  // the depth fetch gives the same result.
+  const bool hasDepth = frame.findPlane("depth") != nullptr;
+  if (hasDepth) comparableSceneDepth(frame, impl_->sceneDepth);
+  gpu.targets->begin(hasDepth ? &impl_->sceneDepth : nullptr);
   gpu.streaks.upload(streaks);
   if (!shading.radianceMap.empty()) gpu.radianceMap.update(shading.radianceMap);
-  gpu.program.use(shading, frame.width, frame.height, gpu.atlas.width(), gpu.atlas.height());
+  gpu.program.use(shading, hasDepth, frame.width, frame.height, gpu.atlas.width(),
+                  gpu.atlas.height());
   gpu.atlas.bind(kAtlasUnit, kStrokeRectBinding);
   gpu.radianceMap.bind(kRadianceMapUnit);
-  gpu.targets->bindInputs(kBackgroundUnit, kSceneDepthUnit);
-  gpu.streaks.draw();
+  if (hasDepth) gpu.targets->bindSceneDepth(kSceneDepthUnit);
+  gpu.streaks.draw(kStreakBinding);
 
-  // Blending with (ZERO, ONE) on alpha keeps the background's alpha exactly, so the composite
-  // is read straight into the frame.
-  gpu.targets->readComposite(frame.rgba.data());
+  // The GPU drew alpha * C over transparent black; B and c enter on the CPU (rain_inputs.h).
   impl_->rainRgba.resize(frame.pixelCount() * 4);
   gpu.targets->readRainLayer(impl_->rainRgba.data());
-  storeRainLayer(impl_->rainRgba, frame);
+  compositeRainLayer(impl_->rainRgba, shading.backgroundWeight, frame);
 }
 
 std::string RainRenderer::deviceDescription() const {

@@ -13,6 +13,10 @@
 //   out = alpha * C' + (1 - alpha) * dst                      (drawn in instance order)
 // alpha = matte(u, v) * streak.alpha, and the fragment is dropped when the streak lies behind
 // the scene (streak.depthMeters > depth plane at that pixel).
+// Evaluation order (same maths, not the same float operations): the GPU blends only
+// L = (alpha * C, alpha) premultiplied over transparent black; with A = L.alpha the CPU then
+// sets rain = L.rgb + c * B * A and out = rain + (1 - A) * B, which expands to the two lines
+// above because sum_i alpha_i * prod_{j>i} (1 - alpha_j) = A. So B never goes to the GPU.
 #include <array>
 #include <memory>
 #include <string>
@@ -23,11 +27,11 @@
 
 namespace pluvia::gpu {
 
-// One streak, 12 floats (laid out for an instanced vertex buffer).
+// One streak, 12 floats (laid out for the shaders' streak storage buffer, std430).
 struct StreakInstance {
-  float headX, headY, tailX, tailY;          // pixels; origin at the top-left corner, y down
+  float headX, headY, tailX, tailY;  // pixels; origin at the top-left corner, y down
   float widthPx, alpha, depthMeters, strokeIndex;
-  float viewX, viewY, viewZ, padding;        // unit direction camera -> drop (world space)
+  float viewX, viewY, viewZ, padding;  // unit direction camera -> drop (world space)
 };
 static_assert(sizeof(StreakInstance) == 12 * sizeof(float));
 
@@ -39,8 +43,8 @@ static_assert(sizeof(StreakInstance) == 12 * sizeof(float));
 struct StrokeAtlas {
   int width = 0;
   int height = 0;
-  std::vector<float> alpha;                   // width * height, row 0 at the top
-  std::vector<std::array<float, 4>> rects;    // per stroke: x0, y0, x1, y1 in atlas pixels
+  std::vector<float> alpha;                 // width * height, row 0 at the top
+  std::vector<std::array<float, 4>> rects;  // per stroke: x0, y0, x1, y1 in atlas pixels
 };
 
 // Shading inputs: the two terms of C (see above), at least one of them present, and c.
@@ -77,7 +81,8 @@ class RainRenderer {
   // planes "rain.R", "rain.G", "rain.B", "rain.A" hold the premultiplied rain layer alone (rain
   // over transparent black), "matte" = rain.A. Throws pluvia::Error (stage "rain") on
   // inconsistent inputs, shading included.
-  void render(Image& frame, const std::vector<StreakInstance>& streaks, const ShadingParams& shading);
+  void render(Image& frame, const std::vector<StreakInstance>& streaks,
+              const ShadingParams& shading);
 
   // "llvmpipe (LLVM 15.0.6, 256 bits)", "NVIDIA H100 ..."
   std::string deviceDescription() const;
@@ -87,9 +92,11 @@ class RainRenderer {
   std::unique_ptr<Impl> impl_;
 };
 
-// The CPU twin of RainRenderer::render: the same arithmetic, evaluated at pixel centres, for
-// tests on tiny targets. Bilinear matte sampling with clamp-to-edge, as the GPU's sampler.
-void renderRainCpu(Image& frame, const std::vector<StreakInstance>& streaks, const ShadingParams& shading,
-                   const StrokeAtlas& atlas);
+// The CPU twin of RainRenderer::render: the same maths, evaluated at pixel centres, for tests
+// on tiny targets. It blends C' streak by streak as written above (not in the GPU's order), so
+// the tests also check the reordering. Bilinear matte sampling with clamp-to-edge, as the GPU's
+// sampler.
+void renderRainCpu(Image& frame, const std::vector<StreakInstance>& streaks,
+                   const ShadingParams& shading, const StrokeAtlas& atlas);
 
 }  // namespace pluvia::gpu

@@ -61,8 +61,17 @@ std::string shaderSourceWithIncludes(const std::string& name) {
   return out;
 }
 
-GlShader compileShader(GLenum stage, const std::string& name) {
-  const std::string source = shaderSourceWithIncludes(name);
+// `defines` inserted after the first line (#version), then a #line that restores numbering.
+std::string withDefines(const std::string& source, const std::string& defines) {
+  if (defines.empty()) return source;
+  const size_t endOfVersion = source.find('\n');
+  if (endOfVersion == std::string::npos) return source + "\n" + defines;
+  return source.substr(0, endOfVersion + 1) + defines + "#line 2 0\n" +
+         source.substr(endOfVersion + 1);
+}
+
+GlShader compileShader(GLenum stage, const std::string& name, const std::string& defines) {
+  const std::string source = withDefines(shaderSourceWithIncludes(name), defines);
   GlShader shader(glCreateShader(stage));
   const char* text = source.c_str();
   glShaderSource(shader.id(), 1, &text, nullptr);
@@ -82,9 +91,10 @@ GlShader compileShader(GLenum stage, const std::string& name) {
 
 }  // namespace
 
-GlProgram buildProgram(const std::string& vertexName, const std::string& fragmentName) {
-  const GlShader vertex = compileShader(GL_VERTEX_SHADER, vertexName);
-  const GlShader fragment = compileShader(GL_FRAGMENT_SHADER, fragmentName);
+GlProgram buildProgram(const std::string& vertexName, const std::string& fragmentName,
+                       const std::string& defines) {
+  const GlShader vertex = compileShader(GL_VERTEX_SHADER, vertexName, defines);
+  const GlShader fragment = compileShader(GL_FRAGMENT_SHADER, fragmentName, defines);
   GlProgram program(glCreateProgram());
   glAttachShader(program.id(), vertex.id());
   glAttachShader(program.id(), fragment.id());

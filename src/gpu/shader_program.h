@@ -7,7 +7,9 @@
 
 namespace pluvia::gpu {
 
-// Compiles and links a vertex + fragment program. Throws pluvia::Error with the info log.
-GlProgram buildProgram(const std::string& vertexName, const std::string& fragmentName);
+// Compiles and links a vertex + fragment program. `defines` ("#define NAME\n" lines) go into
+// both stages right after their #version line. Throws pluvia::Error with the info log.
+GlProgram buildProgram(const std::string& vertexName, const std::string& fragmentName,
+                       const std::string& defines = "");
 
 }  // namespace pluvia::gpu

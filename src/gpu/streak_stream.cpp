@@ -1,57 +1,55 @@
 #include "gpu/streak_stream.h"
 
-#include <cstddef>
+#include <cstdint>
+
+#include <fmt/format.h>
 
 #include "gpu/gl_check.h"
+#include "gpu/rain_error.h"
 
 namespace pluvia::gpu {
-namespace {
 
-// Attribute locations of shaders/rain_stroke.vert and where each starts in a StreakInstance.
-struct InstanceAttribute {
-  GLuint location;
-  GLint components;
-  size_t offset;
-};
-constexpr InstanceAttribute kAttributes[] = {
-    {0, 4, offsetof(StreakInstance, headX)},    // head, tail
-    {1, 4, offsetof(StreakInstance, widthPx)},  // width, alpha, depth, stroke index
-    {2, 3, offsetof(StreakInstance, viewX)},    // view direction
-};
-
-}  // namespace
-
-StreakStream::StreakStream() : vertexArray_(genVertexArray()), buffer_(genBuffer()) {
-  glBindVertexArray(vertexArray_.id());
-  glBindBuffer(GL_ARRAY_BUFFER, buffer_.id());
-  for (const InstanceAttribute& attribute : kAttributes) {
-    glEnableVertexAttribArray(attribute.location);
-    glVertexAttribPointer(attribute.location, attribute.components, GL_FLOAT, GL_FALSE,
-                          sizeof(StreakInstance), reinterpret_cast<const void*>(attribute.offset));
-    glVertexAttribDivisor(attribute.location, 1);
-  }
-  glBindVertexArray(0);
-  glBindBuffer(GL_ARRAY_BUFFER, 0);
-  checkGl("setting up the streak vertex array");
-}
+StreakStream::StreakStream()
+    : vertexArray_(genVertexArray()), streaks_(genBuffer()), indices_(genBuffer()) {}
 
 void StreakStream::upload(const std::vector<StreakInstance>& streaks) {
-  glBindBuffer(GL_ARRAY_BUFFER, buffer_.id());
   const auto bytes = static_cast<GLsizeiptr>(streaks.size() * sizeof(StreakInstance));
+  GLint64 maxBytes = 0;
+  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBytes);
+  if (bytes > maxBytes) {
+    throwRainError(fmt::format("{} streaks need {} bytes, more than the GPU's {} per draw",
+                               streaks.size(), bytes, maxBytes));
+  }
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, streaks_.id());
   if (streaks.size() > capacity_) {
-    glBufferData(GL_ARRAY_BUFFER, bytes, streaks.data(), GL_STREAM_DRAW);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, bytes, streaks.data(), GL_STREAM_DRAW);
+    // Corners 0 1 2 3 are (left, head), (right, head), (left, tail), (right, tail): the
+    // triangles (0, 1, 2) and (2, 1, 3), the two of a 4-vertex strip.
+    std::vector<uint32_t> indices(streaks.size() * 6);
+    for (size_t i = 0; i < streaks.size(); ++i) {
+      const auto base = static_cast<uint32_t>(4 * i);
+      const uint32_t quad[6] = {base, base + 1, base + 2, base + 2, base + 1, base + 3};
+      std::copy(quad, quad + 6, indices.begin() + static_cast<std::ptrdiff_t>(6 * i));
+    }
+    glBindVertexArray(vertexArray_.id());
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices_.id());
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+                 static_cast<GLsizeiptr>(indices.size() * sizeof(uint32_t)), indices.data(),
+                 GL_STATIC_DRAW);
+    glBindVertexArray(0);
     capacity_ = streaks.size();
   } else {
-    glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, streaks.data());
+    glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, bytes, streaks.data());
   }
-  glBindBuffer(GL_ARRAY_BUFFER, 0);
+  glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
   count_ = streaks.size();
   checkGl("uploading the streaks");
 }
 
-void StreakStream::draw() const {
+void StreakStream::draw(GLuint binding) const {
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, streaks_.id());
   glBindVertexArray(vertexArray_.id());
-  glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, static_cast<GLsizei>(count_));
+  glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * count_), GL_UNSIGNED_INT, nullptr);
   glBindVertexArray(0);
   checkGl("drawing the streaks");
 }

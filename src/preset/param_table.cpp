@@ -9,13 +9,22 @@ namespace pluvia {
 
 const char* paramTypeName(ParamType type) {
   switch (type) {
-    case ParamType::Number: return "number";
-    case ParamType::Integer: return "integer";
-    case ParamType::Boolean: return "boolean";
-    case ParamType::String: return "string";
-    case ParamType::Enum: return "enum";
-    case ParamType::Color3: return "rgb";
-    case ParamType::List: return "list";
+    case ParamType::Number:
+      return "number";
+    case ParamType::Integer:
+      return "integer";
+    case ParamType::Boolean:
+      return "boolean";
+    case ParamType::String:
+      return "string";
+    case ParamType::Enum:
+      return "enum";
+    case ParamType::Color3:
+      return "rgb";
+    case ParamType::List:
+      return "list";
+    case ParamType::Vector3:
+      return "xyz";
   }
   return "?";
 }
@@ -66,18 +75,38 @@ std::string rangeText(const ParamSpec& p) {
     for (const auto& c : p.choices) s += (s.empty() ? "" : "|") + c;
     return s;
   }
-  if (p.type != ParamType::Number && p.type != ParamType::Integer) return "";
-  auto num = [](double v) { return std::isinf(v) ? std::string(v < 0 ? "-inf" : "inf") : fmt::format("{:g}", v); };
+  if (p.type != ParamType::Number && p.type != ParamType::Integer && p.type != ParamType::Vector3)
+    return "";
+  auto num = [](double v) {
+    return std::isinf(v) ? std::string(v < 0 ? "-inf" : "inf") : fmt::format("{:g}", v);
+  };
   return "[" + num(p.minValue) + ", " + num(p.maxValue) + "]";
 }
 
-void describeParams(std::string& text, const std::vector<ParamSpec>& params, const std::string& indent) {
+bool isNumeric(const ParamSpec& p) {
+  return p.type == ParamType::Number || p.type == ParamType::Integer;
+}
+
+// sectionLevel: the parameters of a section, which accept keyframes; false for list item fields.
+void describeParams(std::string& text, const std::vector<ParamSpec>& params,
+                    const std::string& indent, bool sectionLevel) {
   for (const auto& p : params) {
-    text += fmt::format("{}{:<22} {:<8} default {:<12} {:<16} {:<6} {}\n", indent, p.key, paramTypeName(p.type),
-                        p.defaultValue.is_null() ? "-" : p.defaultValue.dump(), rangeText(p), p.units, p.help);
+    std::string type = paramTypeName(p.type);
+    if (sectionLevel && isNumeric(p)) type += "|keys";
+    std::string defaultText = p.required                 ? "(required)"
+                              : p.defaultValue.is_null() ? "-"
+                                                         : p.defaultValue.dump();
+    text += fmt::format("{}{:<22} {:<12} default {:<12} {:<16} {:<6} {}\n", indent, p.key, type,
+                        defaultText, rangeText(p), p.units, p.help);
+    if (!p.orderedBy.empty())
+      text += fmt::format("{}  items in strictly increasing \"{}\"\n", indent, p.orderedBy);
     for (const auto& [itemType, fields] : p.itemTypes) {
-      text += fmt::format("{}  item type \"{}\":\n", indent, itemType);
-      describeParams(text, fields, indent + "    ");
+      if (itemType.empty()) {
+        text += fmt::format("{}  each item:\n", indent);
+      } else {
+        text += fmt::format("{}  item type \"{}\":\n", indent, itemType);
+      }
+      describeParams(text, fields, indent + "    ", false);
     }
   }
 }
@@ -93,7 +122,12 @@ std::string describeSection(const SectionSpec& section) {
     };
     text += fmt::format("  reads: {}   writes: {}\n", join(section.inputs), join(section.outputs));
   }
-  describeParams(text, section.params, "  ");
+  describeParams(text, section.params, "  ", true);
+  if (std::any_of(section.params.begin(), section.params.end(), isNumeric)) {
+    text +=
+        "  number|keys: a number, or keyframes over clip frames: "
+        "{\"keys\": [[frame, value], ...], \"interpolation\": \"linear|smooth|hold\"}\n";
+  }
   return text;
 }
 

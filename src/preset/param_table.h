@@ -1,6 +1,8 @@
 #pragma once
 // Parameters declared as data (FFmpeg AVOption style): one table drives validation, defaults,
 // `pluvia describe` and the docs. A section is one top-level key of the preset ("rain", "fog").
+// Number and Integer parameters of a section (not fields of list items) also accept keyframes
+// (see preset/ramp.h).
 #include <limits>
 #include <map>
 #include <string>
@@ -10,7 +12,8 @@
 
 namespace pluvia {
 
-enum class ParamType { Number, Integer, Boolean, String, Enum, Color3, List };
+// Vector3: [x, y, z], three finite numbers, each within [minValue, maxValue].
+enum class ParamType { Number, Integer, Boolean, String, Enum, Color3, List, Vector3 };
 const char* paramTypeName(ParamType type);
 
 struct ParamSpec {
@@ -22,8 +25,13 @@ struct ParamSpec {
   std::vector<std::string> choices;  // Enum
   std::string units;                 // "mm/h", "m", "1/m", "px", "s", "deg"
   std::string help;
-  // List: the fields allowed in an item, by the item's "type" value. Every item has "type".
+  // List: the fields allowed in an item, by the item's "type" value. Every item has "type",
+  // except in a list whose only item type is "" (items of one kind, without "type").
   std::map<std::string, std::vector<ParamSpec>> itemTypes;
+  // A field of a list item: the item must give it (it has no default).
+  bool required = false;
+  // List: the items must be in strictly increasing order of this Number field ("frame").
+  std::string orderedBy = {};
 };
 
 struct SectionSpec {
@@ -42,7 +50,8 @@ size_t editDistance(const std::string& a, const std::string& b);
 // The candidate nearest to `word`, or "" when none is reasonably close.
 std::string nearestWord(const std::string& word, const std::vector<std::string>& candidates);
 
-// One line per parameter: key, type, default, range or choices, units, help.
+// One line per parameter: key, type, default, range or choices, units, help. A numeric section
+// parameter's type reads "number|keys" / "integer|keys": it may be keyframed.
 std::string describeSection(const SectionSpec& section);
 
 }  // namespace pluvia

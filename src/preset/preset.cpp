@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "pluvia/version.h"
+#include "preset/ramp.h"
 #include "util/fs.h"
 #include "util/hash.h"
 
@@ -60,7 +61,8 @@ void mergeInto(json& base, const json& over) {
 json loadWithExtends(const stdfs::path& file, std::vector<std::string>& chain) {
   std::string canonical = stdfs::weakly_canonical(file).string();
   for (const auto& c : chain) {
-    if (c == canonical) throw PresetError(file.string(), {"\"extends\" forms a cycle through " + canonical});
+    if (c == canonical)
+      throw PresetError(file.string(), {"\"extends\" forms a cycle through " + canonical});
   }
   chain.push_back(canonical);
   json document;
@@ -71,9 +73,11 @@ json loadWithExtends(const stdfs::path& file, std::vector<std::string>& chain) {
   } catch (const Error& e) {
     throw PresetError(file.string(), {e.what()});
   }
-  if (!document.is_object()) throw PresetError(file.string(), {"/: a preset must be a JSON object"});
+  if (!document.is_object())
+    throw PresetError(file.string(), {"/: a preset must be a JSON object"});
   if (document.contains("extends")) {
-    if (!document["extends"].is_string()) throw PresetError(file.string(), {"/extends: must be a preset name or path"});
+    if (!document["extends"].is_string())
+      throw PresetError(file.string(), {"/extends: must be a preset name or path"});
     std::string parentName = document["extends"];
     stdfs::path parent = file.parent_path() / parentName;
     if (!stdfs::is_regular_file(parent)) parent = findPreset(parentName);
@@ -85,14 +89,25 @@ json loadWithExtends(const stdfs::path& file, std::vector<std::string>& chain) {
   return document;
 }
 
-std::string pointer(const std::string& parent, const std::string& key) { return parent + "/" + key; }
+std::string pointer(const std::string& parent, const std::string& key) {
+  return parent + "/" + key;
+}
 
-std::string numberText(double v) { return fmt::format("{:g}", v); }
+std::string numberText(double v) {
+  return fmt::format("{:g}", v);
+}
 
-void checkValue(const ParamSpec& spec, const json& value, const std::string& where, std::vector<std::string>& problems);
+// allowKeys: Number and Integer values may be keyframes (section parameters, not list item fields).
+void checkValue(const ParamSpec& spec, const json& value, const std::string& where,
+                std::vector<std::string>& problems, bool allowKeys);
 
-void checkObjectFields(const std::vector<ParamSpec>& params, const json& object, const std::string& where,
-                       const std::string& prefix, std::vector<std::string>& problems,
+bool isNumeric(const ParamSpec& spec) {
+  return spec.type == ParamType::Number || spec.type == ParamType::Integer;
+}
+
+void checkObjectFields(const std::vector<ParamSpec>& params, const json& object,
+                       const std::string& where, const std::string& prefix,
+                       std::vector<std::string>& problems, bool allowKeys,
                        const std::set<std::string>& extraKeys = {}) {
   for (auto it = object.begin(); it != object.end(); ++it) {
     const std::string key = prefix.empty() ? it.key() : prefix + "." + it.key();
@@ -111,29 +126,101 @@ void checkObjectFields(const std::vector<ParamSpec>& params, const json& object,
       }
     }
     if (spec) {
-      checkValue(*spec, it.value(), path, problems);
+      checkValue(*spec, it.value(), path, problems, allowKeys);
     } else if (isPrefix) {
       if (!it.value().is_object()) {
         problems.push_back(fmt::format("{}: expected an object, got {}", path, it.value().dump()));
       } else {
-        checkObjectFields(params, it.value(), path, key, problems);
+        checkObjectFields(params, it.value(), path, key, problems, allowKeys);
       }
     } else {
       std::string nearest = nearestWord(it.key(), siblings);
-      problems.push_back(fmt::format("{}: unknown key '{}'{}", path, it.key(),
-                                     nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest)));
+      problems.push_back(
+          fmt::format("{}: unknown key '{}'{}", path, it.key(),
+                      nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest)));
     }
   }
 }
 
-void checkValue(const ParamSpec& spec, const json& value, const std::string& where, std::vector<std::string>& problems) {
+// A keyframed number: {"keys": [[frame, value], ...], "interpolation": "linear"} or the bare list
+// of pairs. Each value is checked like a plain one, at its own path (/rain/rate_mm_h/keys/1/1).
+void checkKeys(const ParamSpec& spec, const json& value, const std::string& where,
+               std::vector<std::string>& problems) {
+  const json* keys = &value;
+  std::string keysWhere = where;
+  if (value.is_object()) {
+    for (auto it = value.begin(); it != value.end(); ++it) {
+      if (it.key() == "keys" || it.key() == "interpolation") continue;
+      std::string nearest = nearestWord(it.key(), {"keys", "interpolation"});
+      problems.push_back(
+          fmt::format("{}/{}: unknown key '{}' in keyframes{}", where, it.key(), it.key(),
+                      nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest)));
+    }
+    if (value.contains("interpolation")) {
+      RampInterpolation unused;
+      const json& interpolation = value["interpolation"];
+      if (!interpolation.is_string() ||
+          !parseRampInterpolation(interpolation.get<std::string>(), unused)) {
+        std::string nearest =
+            interpolation.is_string()
+                ? nearestWord(interpolation.get<std::string>(), {"linear", "smooth", "hold"})
+                : "";
+        problems.push_back(
+            fmt::format("{}/interpolation: expected one of: linear, smooth, hold{} (got {})", where,
+                        nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest),
+                        interpolation.dump()));
+      }
+    }
+    if (!value.contains("keys")) {
+      problems.push_back(fmt::format(
+          "{}/keys: missing; keyframes are {{\"keys\": [[frame, value], ...]}}", where));
+      return;
+    }
+    keys = &value["keys"];
+    keysWhere = where + "/keys";
+  }
+  if (!keys->is_array() || keys->empty()) {
+    problems.push_back(
+        fmt::format("{}: expected a list of at least one [frame, value] key (got {})", keysWhere,
+                    keys->dump()));
+    return;
+  }
+  double previousFrame = -std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < keys->size(); ++i) {
+    const json& key = (*keys)[i];
+    std::string keyWhere = fmt::format("{}/{}", keysWhere, i);
+    if (!key.is_array() || key.size() != 2) {
+      problems.push_back(fmt::format("{}: expected [frame, value] (got {})", keyWhere, key.dump()));
+      continue;
+    }
+    if (!key[0].is_number() || !std::isfinite(key[0].get<double>())) {
+      problems.push_back(
+          fmt::format("{}/0: expected a frame number (got {})", keyWhere, key[0].dump()));
+    } else {
+      double frame = key[0].get<double>();
+      if (!(frame > previousFrame)) {
+        problems.push_back(
+            fmt::format("{}/0: key frames must increase strictly; key {} is at frame {} (got {})",
+                        keyWhere, i - 1, numberText(previousFrame), key[0].dump()));
+      }
+      previousFrame = std::max(previousFrame, frame);
+    }
+    checkValue(spec, key[1], keyWhere + "/1", problems, false);
+  }
+}
+
+void checkValue(const ParamSpec& spec, const json& value, const std::string& where,
+                std::vector<std::string>& problems, bool allowKeys) {
+  if (allowKeys && isNumeric(spec) && (value.is_object() || value.is_array())) {
+    return checkKeys(spec, value, where, problems);
+  }
   auto bad = [&](const std::string& what) {
     problems.push_back(fmt::format("{}: {} (got {})", where, what, value.dump()));
   };
   auto checkRange = [&](double v) {
     if (!std::isfinite(v) || v < spec.minValue || v > spec.maxValue) {
-      bad(fmt::format("must be between {} and {}{}", numberText(spec.minValue), numberText(spec.maxValue),
-                      spec.units.empty() ? "" : " " + spec.units));
+      bad(fmt::format("must be between {} and {}{}", numberText(spec.minValue),
+                      numberText(spec.maxValue), spec.units.empty() ? "" : " " + spec.units));
     }
   };
   switch (spec.type) {
@@ -160,7 +247,8 @@ void checkValue(const ParamSpec& spec, const json& value, const std::string& whe
       std::string v = value.get<std::string>();
       if (std::find(spec.choices.begin(), spec.choices.end(), v) == spec.choices.end()) {
         std::string nearest = nearestWord(v, spec.choices);
-        bad("expected one of: " + allowed + (nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest)));
+        bad("expected one of: " + allowed +
+            (nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest)));
       }
       return;
     }
@@ -171,13 +259,55 @@ void checkValue(const ParamSpec& spec, const json& value, const std::string& whe
           return bad("expected three finite numbers >= 0");
       }
       return;
+    case ParamType::Vector3:
+      if (!value.is_array() || value.size() != 3) return bad("expected [x, y, z]");
+      for (const auto& c : value) {
+        if (!c.is_number()) return bad("expected three numbers");
+      }
+      for (const auto& c : value) {
+        double v = c.get<double>();
+        if (!std::isfinite(v) || v < spec.minValue || v > spec.maxValue) {
+          return bad(fmt::format("each must be between {} and {}{}", numberText(spec.minValue),
+                                 numberText(spec.maxValue),
+                                 spec.units.empty() ? "" : " " + spec.units));
+        }
+      }
+      return;
     case ParamType::List: {
       if (!value.is_array()) return bad("expected a list");
       std::vector<std::string> types;
       for (const auto& [t, fields] : spec.itemTypes) types.push_back(t);
+      const bool untyped = spec.itemTypes.size() == 1 && spec.itemTypes.begin()->first.empty();
+      double previousOrder = -std::numeric_limits<double>::infinity();
       for (size_t i = 0; i < value.size(); ++i) {
         const json& item = value[i];
         std::string itemWhere = fmt::format("{}/{}", where, i);
+        if (untyped) {
+          if (!item.is_object()) {
+            problems.push_back(
+                fmt::format("{}: expected an object (got {})", itemWhere, item.dump()));
+            continue;
+          }
+          const auto& fields = spec.itemTypes.begin()->second;
+          checkObjectFields(fields, item, itemWhere, "", problems, false);
+          for (const auto& field : fields) {
+            if (field.required && !item.contains(field.key))
+              problems.push_back(
+                  fmt::format("{}/{}: missing (each item needs it)", itemWhere, field.key));
+          }
+          if (!spec.orderedBy.empty() && item.contains(spec.orderedBy) &&
+              item[spec.orderedBy].is_number()) {
+            double order = item[spec.orderedBy].get<double>();
+            if (!(order > previousOrder)) {
+              problems.push_back(fmt::format(
+                  "{}/{}: must increase strictly from item to item; item {} has {} (got {})",
+                  itemWhere, spec.orderedBy, i - 1, numberText(previousOrder),
+                  item[spec.orderedBy].dump()));
+            }
+            previousOrder = std::max(previousOrder, order);
+          }
+          continue;
+        }
         if (!item.is_object() || !item.contains("type") || !item["type"].is_string()) {
           problems.push_back(fmt::format("{}: each item needs a \"type\" (one of: {})", itemWhere,
                                          fmt::format("{}", fmt::join(types, ", "))));
@@ -186,19 +316,27 @@ void checkValue(const ParamSpec& spec, const json& value, const std::string& whe
         auto found = spec.itemTypes.find(item["type"].get<std::string>());
         if (found == spec.itemTypes.end()) {
           std::string nearest = nearestWord(item["type"].get<std::string>(), types);
-          problems.push_back(fmt::format("{}/type: unknown item type {} (one of: {}){}", itemWhere, item["type"].dump(),
-                                         fmt::join(types, ", "),
-                                         nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest)));
+          problems.push_back(
+              fmt::format("{}/type: unknown item type {} (one of: {}){}", itemWhere,
+                          item["type"].dump(), fmt::join(types, ", "),
+                          nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest)));
           continue;
         }
-        checkObjectFields(found->second, item, itemWhere, "", problems, {"type"});
+        checkObjectFields(found->second, item, itemWhere, "", problems, false, {"type"});
+        for (const auto& field : found->second) {
+          if (field.required && !item.contains(field.key))
+            problems.push_back(fmt::format("{}/{}: missing (each \"{}\" item needs it)", itemWhere,
+                                           field.key, found->first));
+        }
       }
       return;
     }
   }
 }
 
-void setDefaults(json& object, const std::vector<ParamSpec>& params) {
+// Fills defaults; for section parameters (sectionLevel) also writes keyframes in their full form:
+// a bare [[frame, value], ...] becomes {"keys": [...], "interpolation": "linear"}.
+void setDefaults(json& object, const std::vector<ParamSpec>& params, bool sectionLevel) {
   for (const auto& p : params) {
     json* node = &object;
     auto parts = splitDots(p.key);
@@ -210,11 +348,33 @@ void setDefaults(json& object, const std::vector<ParamSpec>& params) {
       (*node)[parts.back()] = p.defaultValue;
     }
     json& value = (*node)[parts.back()];
+    if (sectionLevel && isNumeric(p) && Ramp::looksLikeKeys(value)) {
+      if (value.is_array()) value = json{{"keys", value}};
+      if (!value.contains("interpolation")) value["interpolation"] = "linear";
+    }
     if (p.type == ParamType::List && value.is_array()) {
       for (auto& item : value) {
+        if (!item.is_object()) continue;
         auto found = p.itemTypes.find(item.value("type", ""));
-        if (found != p.itemTypes.end()) setDefaults(item, found->second);
+        if (found != p.itemTypes.end()) setDefaults(item, found->second, false);
       }
+    }
+  }
+}
+
+// A bare list of [frame, value] pairs given for a section's number becomes {"keys": [...]}, so
+// that later overrides can address rain.rate_mm_h.keys.1.1 or rain.rate_mm_h.interpolation.
+void wrapKeyShorthand(json& document, const Schema& schema) {
+  for (const auto& section : schema) {
+    if (!document.contains(section.name) || !document[section.name].is_object()) continue;
+    for (const auto& p : section.params) {
+      if (!isNumeric(p)) continue;
+      json* node = &document[section.name];
+      for (const auto& part : splitDots(p.key)) {
+        node = node->is_object() && node->contains(part) ? &(*node)[part] : nullptr;
+        if (!node) break;
+      }
+      if (node && node->is_array() && Ramp::looksLikeKeys(*node)) *node = json{{"keys", *node}};
     }
   }
 }
@@ -236,7 +396,8 @@ const json* walk(const json& document, const std::string& dottedPath) {
 }  // namespace
 
 PresetError::PresetError(const std::string& source, std::vector<std::string> problems)
-    : Error(fmt::format("invalid preset {}:{}", source, joinLines(problems)), {"preset", {}, source}),
+    : Error(fmt::format("invalid preset {}:{}", source, joinLines(problems)),
+            {"preset", {}, source}),
       problems_(std::move(problems)) {}
 
 std::vector<stdfs::path> presetSearchPath() {
@@ -274,15 +435,18 @@ stdfs::path findPreset(const std::string& nameOrPath) {
   }
   auto names = shippedPresetNames();
   std::string nearest = nearestWord(nameOrPath, names);
-  throw PresetError(nameOrPath, {fmt::format("no preset file or shipped preset named '{}'{} (shipped: {})", nameOrPath,
-                                             nearest.empty() ? "" : fmt::format(", did you mean '{}'?", nearest),
-                                             fmt::join(names, ", "))});
+  throw PresetError(
+      nameOrPath,
+      {fmt::format("no preset file or shipped preset named '{}'{} (shipped: {})", nameOrPath,
+                   nearest.empty() ? "" : fmt::format(", did you mean '{}'?", nearest),
+                   fmt::join(names, ", "))});
 }
 
 void applyOverride(json& document, const std::string& assignment) {
   size_t eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0) {
-    throw PresetError("--set", {fmt::format("'{}' is not KEY=VALUE (for example rain.rate_mm_h=40)", assignment)});
+    throw PresetError("--set", {fmt::format("'{}' is not KEY=VALUE (for example rain.rate_mm_h=40)",
+                                            assignment)});
   }
   std::string key = assignment.substr(0, eq);
   std::string text = assignment.substr(eq + 1);
@@ -300,7 +464,8 @@ void applyOverride(json& document, const std::string& assignment) {
     if (node->is_array() && isIndex(part)) {
       size_t index = std::stoul(part);
       if (index >= node->size())
-        throw PresetError("--set", {fmt::format("{}: index {} is past the end of a list of {}", key, index, node->size())});
+        throw PresetError("--set", {fmt::format("{}: index {} is past the end of a list of {}", key,
+                                                index, node->size())});
       node = &(*node)[index];
     } else if (node->is_object() || node->is_null()) {
       if (last) {
@@ -319,10 +484,12 @@ void applyOverride(json& document, const std::string& assignment) {
 std::vector<std::string> validatePreset(const json& document, const Schema& schema) {
   std::vector<std::string> problems;
   if (!document.contains("pluvia")) {
-    problems.push_back(fmt::format("/pluvia: missing schema version (add \"pluvia\": {})", kPresetSchemaVersion));
+    problems.push_back(
+        fmt::format("/pluvia: missing schema version (add \"pluvia\": {})", kPresetSchemaVersion));
   } else if (document["pluvia"] != kPresetSchemaVersion) {
-    problems.push_back(fmt::format("/pluvia: schema version {} is not supported (this pluvia reads {})",
-                                   document["pluvia"].dump(), kPresetSchemaVersion));
+    problems.push_back(
+        fmt::format("/pluvia: schema version {} is not supported (this pluvia reads {})",
+                    document["pluvia"].dump(), kPresetSchemaVersion));
   }
   std::vector<std::string> topKeys{"pluvia", "extends", "description"};
   for (const auto& s : schema) topKeys.push_back(s.name);
@@ -333,18 +500,20 @@ std::vector<std::string> validatePreset(const json& document, const Schema& sche
       if (!it.value().is_string()) problems.push_back("/description: expected a string");
       continue;
     }
-    auto section = std::find_if(schema.begin(), schema.end(), [&](const SectionSpec& s) { return s.name == key; });
+    auto section = std::find_if(schema.begin(), schema.end(),
+                                [&](const SectionSpec& s) { return s.name == key; });
     if (section == schema.end()) {
       std::string nearest = nearestWord(key, topKeys);
-      problems.push_back(fmt::format("/{}: unknown section '{}'{}", key, key,
-                                     nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest)));
+      problems.push_back(
+          fmt::format("/{}: unknown section '{}'{}", key, key,
+                      nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest)));
       continue;
     }
     if (!it.value().is_object()) {
       problems.push_back(fmt::format("/{}: expected an object, got {}", key, it.value().dump()));
       continue;
     }
-    checkObjectFields(section->params, it.value(), "/" + key, "", problems);
+    checkObjectFields(section->params, it.value(), "/" + key, "", problems, true);
   }
   return problems;
 }
@@ -352,22 +521,26 @@ std::vector<std::string> validatePreset(const json& document, const Schema& sche
 void fillDefaults(json& document, const Schema& schema) {
   for (const auto& section : schema) {
     if (!document.contains(section.name)) document[section.name] = json::object();
-    setDefaults(document[section.name], section.params);
+    setDefaults(document[section.name], section.params, true);
   }
 }
 
-Preset Preset::resolve(const std::string& nameOrPath, const std::vector<std::string>& overrides, const Schema& schema) {
+Preset Preset::resolve(const std::string& nameOrPath, const std::vector<std::string>& overrides,
+                       const Schema& schema) {
   stdfs::path file = findPreset(nameOrPath);
   std::vector<std::string> chain;
   nlohmann::json document = loadWithExtends(file, chain);
   std::vector<std::string> problems;
   for (const auto& assignment : overrides) {
     try {
+      wrapKeyShorthand(document, schema);
       applyOverride(document, assignment);
     } catch (const PresetError& e) {
       problems.insert(problems.end(), e.problems().begin(), e.problems().end());
     }
   }
+  wrapKeyShorthand(document,
+                   schema);  // problems name the full form's paths (/rain/rate_mm_h/keys/1/1)
   auto found = validatePreset(document, schema);
   problems.insert(problems.end(), found.begin(), found.end());
   if (!problems.empty()) throw PresetError(file.string(), problems);
@@ -379,7 +552,9 @@ Preset Preset::resolve(const std::string& nameOrPath, const std::vector<std::str
   return preset;
 }
 
-std::string Preset::hash() const { return Hasher().add(resolved_.dump()).hex(); }
+std::string Preset::hash() const {
+  return Hasher().add(resolved_.dump()).hex();
+}
 
 const nlohmann::json& Preset::at(const std::string& dottedPath) const {
   const nlohmann::json* node = walk(resolved_, dottedPath);
@@ -387,10 +562,35 @@ const nlohmann::json& Preset::at(const std::string& dottedPath) const {
   return *node;
 }
 
-bool Preset::has(const std::string& dottedPath) const { return walk(resolved_, dottedPath) != nullptr; }
-double Preset::number(const std::string& p) const { return at(p).get<double>(); }
-bool Preset::boolean(const std::string& p) const { return at(p).get<bool>(); }
-std::string Preset::string(const std::string& p) const { return at(p).get<std::string>(); }
+bool Preset::has(const std::string& dottedPath) const {
+  return walk(resolved_, dottedPath) != nullptr;
+}
+double Preset::number(const std::string& p) const {
+  const nlohmann::json& v = at(p);
+  return v.is_number() ? v.get<double>() : ramp(p).firstValue();
+}
+double Preset::number(const std::string& p, double frame) const {
+  const nlohmann::json& v = at(p);
+  return v.is_number() ? v.get<double>() : ramp(p).valueAt(frame);
+}
+bool Preset::isAnimated(const std::string& p) const {
+  const nlohmann::json& v = at(p);
+  return !v.is_number() && ramp(p).animated();
+}
+Ramp Preset::ramp(const std::string& p) const {
+  try {
+    return Ramp::fromJson(at(p));
+  } catch (const Error& e) {
+    throw Error(fmt::format("preset key {} is not a number or keyframes: {}", p, e.what()),
+                {"preset", {}, source_});
+  }
+}
+bool Preset::boolean(const std::string& p) const {
+  return at(p).get<bool>();
+}
+std::string Preset::string(const std::string& p) const {
+  return at(p).get<std::string>();
+}
 std::array<float, 3> Preset::color(const std::string& p) const {
   const nlohmann::json& v = at(p);
   return {v[0].get<float>(), v[1].get<float>(), v[2].get<float>()};

@@ -3,6 +3,10 @@
 // path) and sections validated against the Schema. `--set key.path=value` overrides any key.
 // Validation reports every problem at once, each naming its JSON Pointer path; nothing is
 // rendered from an invalid preset.
+//
+// Number and Integer section parameters may be keyframed over clip frame numbers (preset/ramp.h):
+//   "rate_mm_h": {"keys": [[0, 0], [48, 40]], "interpolation": "linear"}   (or "smooth", "hold")
+// and `--set rain.rate_mm_h=[[0,0],[48,40]]` is shorthand for {"keys": [[0,0],[48,40]]}.
 #include <array>
 #include <filesystem>
 #include <string>
@@ -11,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "preset/param_table.h"
+#include "preset/ramp.h"
 #include "util/error.h"
 
 namespace pluvia {
@@ -48,7 +53,16 @@ class Preset {
 
   // Typed access by dotted path ("rain.wind.speed_m_s"); the value exists after resolve().
   const nlohmann::json& at(const std::string& dottedPath) const;
+  // A plain number, or for a keyframed value the value at its first key (what a consumer that
+  // does not animate the parameter sees).
   double number(const std::string& dottedPath) const;
+  // The value at clip frame `frame` (fractional frames interpolate); a plain number whatever the
+  // frame.
+  double number(const std::string& dottedPath, double frame) const;
+  // True when the value is keyframed and changes over frames.
+  bool isAnimated(const std::string& dottedPath) const;
+  // The value as a Ramp (a constant for a plain number).
+  Ramp ramp(const std::string& dottedPath) const;
   bool boolean(const std::string& dottedPath) const;
   std::string string(const std::string& dottedPath) const;
   std::array<float, 3> color(const std::string& dottedPath) const;
@@ -67,7 +81,8 @@ void applyOverride(nlohmann::json& document, const std::string& assignment);
 // Checks a merged preset document against the schema; returns every problem found.
 std::vector<std::string> validatePreset(const nlohmann::json& document, const Schema& schema);
 
-// Fills every missing key with its default (objects created as needed).
+// Fills every missing key with its default (objects created as needed) and writes keyframes in
+// their full form ({"keys": [...], "interpolation": "linear"} for a bare list of pairs).
 void fillDefaults(nlohmann::json& document, const Schema& schema);
 
 }  // namespace pluvia

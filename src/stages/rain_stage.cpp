@@ -6,7 +6,8 @@
 #include <fmt/format.h>
 
 #include "optics/drop_shading.h"
-#include "rain/drop_volume.h"
+#include "preset/camera_path_preset.h"
+#include "rain/drop_simulation.h"
 #include "rain/stroke_library.h"
 #include "stages/registry.h"
 #include "util/error.h"
@@ -16,22 +17,72 @@
 namespace pluvia {
 namespace {
 
-rain::DropVolumeParams volumeParams(const Preset& p) {
-  rain::DropVolumeParams v;
-  v.rainRateMmPerHour = p.number("rain.rate_mm_h");
-  v.minDiameterMm = p.number("rain.min_diameter_mm");
-  v.densityScale = p.number("rain.density_scale");
-  v.sizeScale = p.number("rain.size_scale");
-  v.nearMeters = p.number("rain.near_m");
-  v.farMeters = p.number("rain.far_m");
-  v.maxDrops = int64_t(p.number("rain.max_drops"));
-  v.seed = uint64_t(p.number("rain.seed"));
-  // Wind direction: degrees counter-clockwise from the camera's right seen from above
-  // (0 right, 90 away from the camera); the world here is the camera's yaw frame.
-  const double speed = p.number("rain.wind.speed_m_s");
-  const double dir = p.number("rain.wind.dir_deg") * M_PI / 180.0;
-  v.windMetersPerSecond = Eigen::Vector3d(speed * std::cos(dir), 0.0, -speed * std::sin(dir));
-  return v;
+// Rain parameters the simulation takes once for the shot: keyframing them would change the
+// box, the pool or the random streams mid-shot.
+const char* const kFixedOverTheShot[] = {"rain.min_diameter_mm",
+                                         "rain.near_m",
+                                         "rain.far_m",
+                                         "rain.max_drops",
+                                         "rain.seed",
+                                         "rain.spread_m_s",
+                                         "rain.wind.gustiness",
+                                         "rain.wind.turbulence",
+                                         "rain.cells.count",
+                                         "rain.cells.radius_m",
+                                         "rain.cells.peak_density",
+                                         "rain.cells.size_scale",
+                                         "camera.fps",
+                                         "camera.shutter_angle_deg",
+                                         "camera.focus_m",
+                                         "camera.f_number",
+                                         "camera.sensor_width_mm"};
+
+rain::DropSimulationSettings simulationSettings(const Preset& p, const ClipContext& clip) {
+  for (const char* key : kFixedOverTheShot)
+    if (p.isAnimated(key))
+      throw Error(fmt::format("{} cannot be keyframed: it is fixed over the shot", key), {"rain"});
+  rain::DropSimulationSettings s;
+  s.distribution = p.string("rain.distribution") == "gamma"
+                       ? rain::SizeDistribution::Gamma
+                       : rain::SizeDistribution::MarshallPalmer;
+  s.velocityModel = p.string("rain.velocity") == "gunn_kinzer" ? rain::VelocityModel::GunnKinzer
+                                                               : rain::VelocityModel::Atlas;
+  s.minDiameterMm = p.number("rain.min_diameter_mm");
+  s.nearMeters = p.number("rain.near_m");
+  s.farMeters = p.number("rain.far_m");
+  s.maxDrops = int64_t(p.number("rain.max_drops"));
+  s.seed = uint64_t(p.number("rain.seed"));
+  s.spreadMetersPerSecond = p.number("rain.spread_m_s");
+  s.stepSeconds = 1.0 / clip.fps;
+  s.firstFrame = clip.clip && !clip.clip->frames.empty() ? clip.clip->frames.front() : 0;
+  s.lastFrame = clip.clip && !clip.clip->frames.empty() ? clip.clip->frames.back() : 0;
+  s.wind.gustiness = p.number("rain.wind.gustiness");
+  s.wind.turbulence = p.number("rain.wind.turbulence");
+  s.wind.seed = s.seed;
+  s.cells.count = int(p.number("rain.cells.count"));
+  s.cells.radiusMeters = p.number("rain.cells.radius_m");
+  s.cells.peakDensity = p.number("rain.cells.peak_density");
+  s.cells.sizeScale = p.number("rain.cells.size_scale");
+  s.cells.seed = s.seed;
+  return s;
+}
+
+// Wind direction: degrees counter-clockwise from world +X seen from above (0 the camera's right
+// for the default camera, 90 away from it), as in WindSettings.
+rain::RainAtFrame rainAt(const Preset& p, double frame) {
+  rain::RainAtFrame r;
+  r.rateMmPerHour = p.number("rain.rate_mm_h", frame);
+  r.densityScale = p.number("rain.density_scale", frame);
+  r.sizeScale = p.number("rain.size_scale", frame);
+  r.windSpeedMetersPerSecond = p.number("rain.wind.speed_m_s", frame);
+  r.windDirectionDeg = p.number("rain.wind.dir_deg", frame);
+  return r;
+}
+
+// Shutter: the angle when given (angle / 360 / fps), else the exposure time.
+double exposureSeconds(const Preset& p, double fps, double frame) {
+  const double angle = p.number("camera.shutter_angle_deg");
+  return angle > 0.0 ? angle / 360.0 / fps : p.number("camera.exposure_s", frame);
 }
 
 // How the drops are shaded (src/optics/drop_shading.h): "default" looks the drop's radiance up
@@ -73,19 +124,25 @@ class RainStage : public Stage {
     const Preset& p = preset_;
     if (p.number("rain.min_diameter_mm") >= 6.0)
       throw Error("rain.min_diameter_mm must be below 6 mm", {"rain"});
-    volume_ = std::make_unique<rain::DropVolume>(clip.camera, volumeParams(p));
-    if (volume_->physicalCount() > double(volume_->drops().size()) + 0.5) {
+    fps_ = clip.fps;
+    const CameraPath path = cameraPathFromPreset(p, clip.camera);
+    simulation_ = std::make_unique<rain::DropSimulation>(
+        simulationSettings(p, clip), [path](double frame) { return path.cameraAt(frame); },
+        [&p](double frame) { return rainAt(p, frame); });
+    const double physical =
+        simulation_->physicalDensityPerCubicMeter() * simulation_->boxVolumeCubicMeters();
+    if (physical > double(simulation_->poolSize()) + 0.5) {
       log::info(
           fmt::format("rain: {:.0f} drops at this rate in the volume, drawing rain.max_drops = {}",
-                      volume_->physicalCount(), volume_->drops().size()));
+                      physical, simulation_->poolSize()));
     }
     atlas_ = loadAtlas(clip);
-    streakParams_.exposureSeconds = p.number("camera.exposure_s");
-    streakParams_.opacity = p.number("rain.opacity");
+    streakParams_.focusMeters = p.number("camera.focus_m");
+    streakParams_.fNumber = p.number("camera.f_number");
+    streakParams_.sensorWidthMm = p.number("camera.sensor_width_mm");
     streakParams_.fogDensityPerMeter = p.boolean("fog.enabled") ? p.number("fog.density") : 0.0;
     streakParams_.strokeCount = int(atlas_.rects.size());
     streakParams_.meanMatte = rain::meanMatte(atlas_);
-    streakParams_.seed = uint64_t(p.number("rain.seed"));
     if (!clip.environment) throw Error("rain needs the lighting stage's environment", {"rain"});
     // One shading for the clip, or one per key environment of a looming camera.
     if (clip.environment->keys.empty()) shading_ = dropShading(p, clip.environment->radiance);
@@ -93,14 +150,16 @@ class RainStage : public Stage {
       keyShading_.emplace_back(keyFrame, dropShading(p, radiance));
     renderer_ = std::make_unique<gpu::RainRenderer>(clip.camera.width, clip.camera.height);
     renderer_->setStrokeAtlas(atlas_);
-    log::info(fmt::format("rain: {} drops in a {:.1f} x {:.1f} x {:.1f} m box, {} strokes, GPU: {}",
-                          volume_->drops().size(), volume_->boxSize().x(), volume_->boxSize().y(),
-                          volume_->boxSize().z(), atlas_.rects.size(),
-                          renderer_->deviceDescription()));
+    log::info(fmt::format("rain: {} drops in a {:.0f} m^3 box, {} strokes, GPU: {}",
+                          simulation_->poolSize(), simulation_->boxVolumeCubicMeters(),
+                          atlas_.rects.size(), renderer_->deviceDescription()));
   }
 
   void process(ClipContext& clip, FrameContext& frame) override {
-    auto streaks = rain::buildStreaks(*volume_, clip.camera, frame.timeSeconds, streakParams_);
+    simulation_->advanceTo(frame.frame);
+    streakParams_.exposureSeconds = exposureSeconds(preset_, fps_, double(frame.frame));
+    streakParams_.opacity = preset_.number("rain.opacity", double(frame.frame));
+    const auto streaks = simulation_->buildStreaks(streakParams_);
     if (keyShading_.empty()) {
       renderer_->render(frame.image, streaks, shading_);
     } else {
@@ -146,9 +205,10 @@ class RainStage : public Stage {
   }
 
   const Preset& preset_;
-  std::unique_ptr<rain::DropVolume> volume_;
+  std::unique_ptr<rain::DropSimulation> simulation_;
+  double fps_ = 24.0;
   gpu::StrokeAtlas atlas_;
-  rain::StreakParams streakParams_;
+  rain::StreakSettings streakParams_;
   gpu::ShadingParams shading_;
   std::vector<std::pair<int64_t, gpu::ShadingParams>>
       keyShading_;  // empty: shading_ for every frame
@@ -253,7 +313,79 @@ StageInfo rainStageInfo() {
        {},
        "",
        "c in C' = C + c B (Wang et al. Eq. 2); used by shading paper only"},
+      {"distribution",
+       ParamType::Enum,
+       "marshall_palmer",
+       {},
+       {},
+       {"marshall_palmer", "gamma"},
+       "",
+       "drop size distribution for the rate: Marshall-Palmer (1948) or a Gamma (Ulbrich)"},
+      {"velocity",
+       ParamType::Enum,
+       "atlas",
+       {},
+       {},
+       {"atlas", "gunn_kinzer"},
+       "",
+       "terminal velocity by diameter: Atlas et al. (1973) fit or Gunn-Kinzer (1949) table"},
+      {"spread_m_s",
+       ParamType::Number,
+       0.0,
+       0.0,
+       20.0,
+       {},
+       "m/s",
+       "artist spread: each drop's own random horizontal speed (std dev) on the wind"},
       {"wind.speed_m_s", ParamType::Number, 0.0, 0.0, 60.0, {}, "m/s", "horizontal wind speed"},
+      {"wind.gustiness",
+       ParamType::Number,
+       0.0,
+       0.0,
+       1.0,
+       {},
+       "",
+       "relative amplitude of gusts (a few seconds long) on the wind speed"},
+      {"wind.turbulence",
+       ParamType::Number,
+       0.0,
+       0.0,
+       1.0,
+       {},
+       "",
+       "unsteady 2-D wind field (stable fluids) over the ground: RMS over the wind speed"},
+      {"cells.count",
+       ParamType::Integer,
+       0,
+       0,
+       64,
+       {},
+       "",
+       "local high-density rain cells carried by the wind (Mizukami)"},
+      {"cells.radius_m",
+       ParamType::Number,
+       10.0,
+       0.1,
+       1000.0,
+       {},
+       "m",
+       "Gaussian radius of a cell"},
+      {"cells.peak_density",
+       ParamType::Number,
+       4.0,
+       1.0,
+       100.0,
+       {},
+       "",
+       "drop density at a cell's centre over the rate's"},
+      {"cells.size_scale",
+       ParamType::Number,
+       1.3,
+       1.0,
+       3.0,
+       {},
+       "",
+       "drop diameter at a cell's centre over the rate's (heavier drops)"},
       {"wind.dir_deg",
        ParamType::Number,
        0.0,

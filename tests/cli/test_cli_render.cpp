@@ -16,7 +16,8 @@ namespace {
 const std::string kExamplePreset = (sourceDir() / "examples/street/street.json").string();
 
 // A small textured plate sequence, frames first..last, written as PNG.
-std::string writePlateSequence(const stdfs::path& dir, int first, int last, int w = 64, int h = 48) {
+std::string writePlateSequence(const stdfs::path& dir, int first, int last, int w = 64,
+                               int h = 48) {
   for (int f = first; f <= last; ++f) {
     Image image(w, h);
     for (int y = 0; y < h; ++y)
@@ -43,17 +44,21 @@ double meanAbsDifference(const Image& a, const Image& b) {
 TEST(CliRender, ExampleGetsVisibleRainAndTheStatsTable) {
   auto dir = freshTempDir("render_example");
   auto out = (dir / "rain.####.png").string();
-  auto r = runPluvia({"render", exampleClip().string(), "-p", kExamplePreset, "-o", out, "--frames", "10-12", "--stats"});
+  auto r = runPluvia({"render", exampleClip().string(), "-p", kExamplePreset, "-o", out, "--frames",
+                      "10-12", "--stats"});
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("rain"), std::string::npos);
-  EXPECT_NE(r.output.find("ms/frame"), std::string::npos);  // --stats
+  EXPECT_NE(r.output.find("ms/frame"), std::string::npos);   // --stats
   EXPECT_NE(r.output.find("command: "), std::string::npos);  // command line in the log
   EXPECT_NE(r.output.find("preset (resolved): "), std::string::npos);
-  for (int f = 10; f <= 12; ++f) EXPECT_TRUE(stdfs::exists(dir / ("rain.00" + std::to_string(f) + ".png")));
+  for (int f = 10; f <= 12; ++f)
+    EXPECT_TRUE(stdfs::exists(dir / ("rain.00" + std::to_string(f) + ".png")));
   // The same frame without rain: the rain changes many pixels, most of them brighter.
   auto dry = (dir / "dry.####.png").string();
-  ASSERT_EQ(runPluvia({"render", exampleClip().string(), "-p", kExamplePreset, "-o", dry, "--frames", "11-11",
-                       "--set", "rain.enabled=false"}).exitCode, 0);
+  ASSERT_EQ(runPluvia({"render", exampleClip().string(), "-p", kExamplePreset, "-o", dry,
+                       "--frames", "11-11", "--set", "rain.enabled=false"})
+                .exitCode,
+            0);
   Image wet = readImageFile(dir / "rain.0011.png"), plain = readImageFile(dir / "dry.0011.png");
   size_t brighter = 0, darker = 0;
   for (size_t i = 0; i < wet.pixelCount(); ++i) {
@@ -64,14 +69,16 @@ TEST(CliRender, ExampleGetsVisibleRainAndTheStatsTable) {
   EXPECT_GT(brighter, wet.pixelCount() / 50) << "rain should touch at least 2% of the pixels";
   EXPECT_GT(brighter, 3 * darker);
   // No temporary files are left behind.
-  for (const auto& e : stdfs::directory_iterator(dir)) EXPECT_EQ(e.path().string().find("pluvia-tmp"), std::string::npos);
+  for (const auto& e : stdfs::directory_iterator(dir))
+    EXPECT_EQ(e.path().string().find("pluvia-tmp"), std::string::npos);
 }
 
 TEST(CliRender, NoOpPresetReproducesThePlateExactly) {
   auto dir = freshTempDir("render_identity");
   auto plate = writePlateSequence(dir, 1001, 1002);
-  auto r = runPluvia({"render", plate, "-p", "moderate", "-o", (dir / "out.####.png").string(), "--set",
-                      "rain.rate_mm_h=0", "--set", "fog.density=0", "--set", "blur.sigma_px=0", "--set", "darken.amount=0"});
+  auto r = runPluvia({"render", plate, "-p", "moderate", "-o", (dir / "out.####.png").string(),
+                      "--set", "rain.rate_mm_h=0", "--set", "fog.density=0", "--set",
+                      "blur.sigma_px=0", "--set", "darken.amount=0"});
   ASSERT_EQ(r.exitCode, 0) << r.output;
   // Frame numbers are kept, and sRGB in -> linear -> sRGB out returns every 8-bit code.
   Image in = readImageFile(dir / "plate.1002.png"), out = readImageFile(dir / "out.1002.png");
@@ -81,9 +88,30 @@ TEST(CliRender, NoOpPresetReproducesThePlateExactly) {
 TEST(CliRender, ChunksAndThreadCountsGiveIdenticalFrames) {
   auto dir = freshTempDir("render_determinism");
   auto plate = writePlateSequence(dir, 1, 6, 96, 64);
-  const std::vector<std::string> common{"-p", "heavy", "--set", "rain.seed=5", "--set", "camera.exposure_s=0.04"};
+  // The whole rain model: a ramped gusty wind with a stable-fluids field, rain cells, spread,
+  // and a camera walking forward while it turns.
+  const std::vector<std::string> common{
+      "-p",
+      "heavy",
+      "--set",
+      "rain.seed=5",
+      "--set",
+      "camera.exposure_s=0.04",
+      "--set",
+      "rain.wind.speed_m_s=[[1,2],[6,10]]",
+      "--set",
+      "rain.wind.turbulence=0.5",
+      "--set",
+      "rain.wind.gustiness=0.5",
+      "--set",
+      "rain.cells.count=2",
+      "--set",
+      "rain.spread_m_s=0.5",
+      "--set",
+      R"(camera.path=[{"frame":1,"position_m":[0,1.6,0]},{"frame":6,"position_m":[0,1.6,-3],"yaw_deg":10}])"};
   auto run = [&](const std::string& out, const std::string& frames, const std::string& threads) {
-    std::vector<std::string> args{"render", plate, "-o", (dir / out).string(), "--frames", frames, "--threads", threads};
+    std::vector<std::string> args{"render",   plate,  "-o",        (dir / out).string(),
+                                  "--frames", frames, "--threads", threads};
     args.insert(args.end(), common.begin(), common.end());
     auto r = runPluvia(args);
     ASSERT_EQ(r.exitCode, 0) << r.output;
@@ -99,14 +127,17 @@ TEST(CliRender, ChunksAndThreadCountsGiveIdenticalFrames) {
   }
   EXPECT_EQ(readImageFile(dir / "full.0005.exr").rgba, readImageFile(dir / "alone.0005.exr").rgba);
   // Different frames differ (the rain moves).
-  EXPECT_GT(meanAbsDifference(readImageFile(dir / "full.0002.exr"), readImageFile(dir / "full.0003.exr")), 1e-4);
+  EXPECT_GT(
+      meanAbsDifference(readImageFile(dir / "full.0002.exr"), readImageFile(dir / "full.0003.exr")),
+      1e-4);
 }
 
 TEST(CliRender, SkipExistingResumesWithoutRewriting) {
   auto dir = freshTempDir("render_skip");
   auto plate = writePlateSequence(dir, 1, 3);
   auto out = (dir / "out.####.png").string();
-  ASSERT_EQ(runPluvia({"render", plate, "-p", "drizzle", "-o", out, "--frames", "1-2"}).exitCode, 0);
+  ASSERT_EQ(runPluvia({"render", plate, "-p", "drizzle", "-o", out, "--frames", "1-2"}).exitCode,
+            0);
   auto before = stdfs::last_write_time(dir / "out.0001.png");
   auto r = runPluvia({"render", plate, "-p", "drizzle", "-o", out, "--skip-existing"});
   ASSERT_EQ(r.exitCode, 0) << r.output;
@@ -118,11 +149,13 @@ TEST(CliRender, SkipExistingResumesWithoutRewriting) {
 TEST(CliRender, MovieOutputAndAovs) {
   auto dir = freshTempDir("render_movie");
   auto movie = (dir / "rain.mp4").string();
-  auto r = runPluvia({"render", exampleClip().string(), "-p", "drizzle", "-o", movie, "--frames", "0-5"});
+  auto r = runPluvia(
+      {"render", exampleClip().string(), "-p", "drizzle", "-o", movie, "--frames", "0-5"});
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_GT(stdfs::file_size(movie), 1000u);
   auto exr = (dir / "aov.####.exr").string();
-  r = runPluvia({"render", exampleClip().string(), "-p", "moderate", "-o", exr, "--frames", "3-3", "--aov", "rain,matte,depth"});
+  r = runPluvia({"render", exampleClip().string(), "-p", "moderate", "-o", exr, "--frames", "3-3",
+                 "--aov", "rain,matte,depth"});
   ASSERT_EQ(r.exitCode, 0) << r.output;
   auto channels = runProcess({"oiiotool", "--info", "-v", (dir / "aov.0003.exr").string()});
   EXPECT_NE(channels.output.find("rain.A"), std::string::npos) << channels.output;

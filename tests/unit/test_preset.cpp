@@ -1,21 +1,28 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <iostream>
 
+#include "geometry/camera.h"
+#include "preset/camera_path_preset.h"
 #include "preset/preset.h"
+#include "preset/ramp.h"
+#include "rain/rain_types.h"
 #include "stages/registry.h"
 #include "test_support.h"
 
 using namespace pluvia;
 
 namespace {
-std::filesystem::path writePreset(const std::filesystem::path& dir, const std::string& name, const std::string& text) {
+std::filesystem::path writePreset(const std::filesystem::path& dir, const std::string& name,
+                                  const std::string& text) {
   auto path = dir / name;
   std::ofstream(path) << text;
   return path;
 }
 
-std::vector<std::string> problemsOf(const std::string& preset, const std::vector<std::string>& sets = {}) {
+std::vector<std::string> problemsOf(const std::string& preset,
+                                    const std::vector<std::string>& sets = {}) {
   try {
     Preset::resolve(preset, sets, presetSchema());
   } catch (const PresetError& e) {
@@ -40,15 +47,24 @@ TEST(Preset, EveryShippedPresetIsValid) {
   EXPECT_TRUE(problemsOf((test::sourceDir() / "examples/street/street.json").string()).empty());
 }
 
+// Mizukami et al.'s Table 1 rain types ship as presets of the same name at the table's rate.
+TEST(Preset, RainTypesShipAtTheirTableRate) {
+  for (const std::string& name : rain::rainTypeNames()) {
+    const Preset p = Preset::resolve(name, {}, presetSchema());
+    EXPECT_DOUBLE_EQ(p.number("rain.rate_mm_h"), rain::findRainType(name)->rateMmH) << name;
+  }
+}
+
 TEST(Preset, ExtendsMergesAndOverridesApply) {
   auto dir = test::freshTempDir("preset_extends");
-  auto path = writePreset(dir, "mine.json", R"({"pluvia": 1, "extends": "heavy", "fog": {"density": 0.5}})");
+  auto path = writePreset(dir, "mine.json",
+                          R"({"pluvia": 1, "extends": "heavy", "fog": {"density": 0.5}})");
   Preset p = Preset::resolve(path.string(), {"rain.seed=3", "blur.sigma_px=2.5"}, presetSchema());
   EXPECT_DOUBLE_EQ(p.number("fog.density"), 0.5);      // own value wins
   EXPECT_DOUBLE_EQ(p.number("rain.rate_mm_h"), 40.0);  // from heavy
   EXPECT_DOUBLE_EQ(p.number("rain.seed"), 3.0);        // --set
   EXPECT_DOUBLE_EQ(p.number("blur.sigma_px"), 2.5);
-  EXPECT_DOUBLE_EQ(p.number("camera.fov_deg"), 36.0);  // from base
+  EXPECT_DOUBLE_EQ(p.number("camera.fov_deg"), 36.0);      // from base
   EXPECT_EQ(p.string("fog.color_source"), "environment");  // default filled
   EXPECT_FALSE(p.has("extends"));
 }
@@ -63,7 +79,8 @@ TEST(Preset, ReportsEveryProblemAtOnceWithPathsAndSuggestions) {
     "depth": {"layers": [{"type": "card", "distanse_m": 4}, {"type": "wall"}]}
   })");
   auto problems = problemsOf(path.string(), {"blur.sigma=2"});
-  EXPECT_TRUE(anyContains(problems, "/rain/rate_mm_hr: unknown key 'rate_mm_hr' (did you mean 'rate_mm_h'?)"));
+  EXPECT_TRUE(anyContains(
+      problems, "/rain/rate_mm_hr: unknown key 'rate_mm_hr' (did you mean 'rate_mm_h'?)"));
   EXPECT_TRUE(anyContains(problems, "/rain/seed: expected an integer"));
   EXPECT_TRUE(anyContains(problems, "/rain/wind/speed_m_s: must be between 0 and 60 m/s (got -3)"));
   EXPECT_TRUE(anyContains(problems, "/fogg: unknown section 'fogg' (did you mean 'fog'?)"));
@@ -81,14 +98,16 @@ TEST(Preset, SchemaVersionCycleAndMissingPresetAreErrors) {
   writePreset(dir, "b.json", R"({"pluvia": 1, "extends": "a.json"})");
   EXPECT_TRUE(anyContains(problemsOf((dir / "a.json").string()), "cycle"));
   writePreset(dir, "v2.json", R"({"pluvia": 2})");
-  EXPECT_TRUE(anyContains(problemsOf((dir / "v2.json").string()), "schema version 2 is not supported"));
+  EXPECT_TRUE(
+      anyContains(problemsOf((dir / "v2.json").string()), "schema version 2 is not supported"));
   writePreset(dir, "broken.json", R"({"pluvia": 1, )");
   EXPECT_TRUE(anyContains(problemsOf((dir / "broken.json").string()), "not valid JSON"));
   EXPECT_TRUE(anyContains(problemsOf("moderat"), "did you mean 'moderate'?"));
 }
 
 TEST(Preset, OverrideParsesJsonValuesAndIndexesLists) {
-  nlohmann::json doc = nlohmann::json::parse(R"({"depth": {"layers": [{"type": "card", "distance_m": 3}]}})");
+  nlohmann::json doc =
+      nlohmann::json::parse(R"({"depth": {"layers": [{"type": "card", "distance_m": 3}]}})");
   applyOverride(doc, "depth.layers.0.distance_m=12.5");
   applyOverride(doc, "fog.color=[0.1,0.2,0.3]");
   applyOverride(doc, "rain.strokes=my library.json");
@@ -105,4 +124,184 @@ TEST(Preset, HashChangesWithAnyValue) {
   Preset c = Preset::resolve("moderate", {}, presetSchema());
   EXPECT_NE(a.hash(), b.hash());
   EXPECT_EQ(a.hash(), c.hash());
+}
+
+TEST(Ramp, InterpolatesHoldsAndSmooths) {
+  Ramp linear({{0, 0}, {48, 40}, {96, 10}});
+  EXPECT_DOUBLE_EQ(linear.valueAt(-5), 0.0);  // before the first key: the first value
+  EXPECT_DOUBLE_EQ(linear.valueAt(0), 0.0);
+  EXPECT_DOUBLE_EQ(linear.valueAt(12), 10.0);
+  EXPECT_DOUBLE_EQ(linear.valueAt(24.5), 40.0 * 24.5 / 48.0);  // fractional frames
+  EXPECT_DOUBLE_EQ(linear.valueAt(48), 40.0);
+  EXPECT_DOUBLE_EQ(linear.valueAt(72), 25.0);
+  EXPECT_DOUBLE_EQ(linear.valueAt(96), 10.0);
+  EXPECT_DOUBLE_EQ(linear.valueAt(1000), 10.0);  // after the last key: the last value
+  EXPECT_TRUE(linear.animated());
+
+  Ramp smooth({{0, 0}, {48, 40}}, RampInterpolation::Smooth);
+  EXPECT_DOUBLE_EQ(smooth.valueAt(0), 0.0);
+  EXPECT_DOUBLE_EQ(smooth.valueAt(24), 20.0);  // smoothstep is symmetric about the middle
+  EXPECT_DOUBLE_EQ(smooth.valueAt(12), 40.0 * (0.25 * 0.25 * (3 - 2 * 0.25)));
+  EXPECT_LT(smooth.valueAt(6), linear.valueAt(6));  // eases in
+  EXPECT_DOUBLE_EQ(smooth.valueAt(48), 40.0);
+
+  Ramp hold({{10, 1}, {20, 5}, {30, 2}}, RampInterpolation::Hold);
+  EXPECT_DOUBLE_EQ(hold.valueAt(0), 1.0);
+  EXPECT_DOUBLE_EQ(hold.valueAt(19.99), 1.0);
+  EXPECT_DOUBLE_EQ(hold.valueAt(20), 5.0);
+  EXPECT_DOUBLE_EQ(hold.valueAt(29), 5.0);
+  EXPECT_DOUBLE_EQ(hold.valueAt(31), 2.0);
+
+  EXPECT_FALSE(Ramp(3.0).animated());
+  EXPECT_DOUBLE_EQ(Ramp(3.0).valueAt(100), 3.0);
+  EXPECT_FALSE(Ramp({{0, 2}, {10, 2}}).animated());
+  EXPECT_THROW(Ramp({{10, 0}, {5, 1}}), Error);
+  EXPECT_THROW(Ramp(std::vector<RampKey>{}), Error);
+}
+
+TEST(Preset, NumbersAcceptKeyframes) {
+  auto dir = test::freshTempDir("preset_keys");
+  auto path = writePreset(dir, "ramp.json", R"({"pluvia": 1, "extends": "moderate",
+    "rain": {"rate_mm_h": {"keys": [[0, 0], [48, 40]], "interpolation": "linear"},
+             "wind": {"speed_m_s": {"keys": [[10, 2], [20, 8]], "interpolation": "hold"},
+                      "dir_deg": {"keys": [[0, 0], [100, 90]], "interpolation": "smooth"}}},
+    "camera": {"exposure_s": {"keys": [[0, 0.01]]}}})");
+  Preset p = Preset::resolve(path.string(), {}, presetSchema());
+  EXPECT_TRUE(p.isAnimated("rain.rate_mm_h"));
+  EXPECT_DOUBLE_EQ(p.number("rain.rate_mm_h"), 0.0);  // the first key's value
+  EXPECT_DOUBLE_EQ(p.number("rain.rate_mm_h", -10), 0.0);
+  EXPECT_DOUBLE_EQ(p.number("rain.rate_mm_h", 24), 20.0);
+  EXPECT_DOUBLE_EQ(p.number("rain.rate_mm_h", 48), 40.0);
+  EXPECT_DOUBLE_EQ(p.number("rain.rate_mm_h", 1e6), 40.0);
+  EXPECT_DOUBLE_EQ(p.number("rain.wind.speed_m_s", 15), 2.0);
+  EXPECT_DOUBLE_EQ(p.number("rain.wind.speed_m_s", 20), 8.0);
+  EXPECT_DOUBLE_EQ(p.number("rain.wind.dir_deg", 50), 45.0);
+  EXPECT_LT(p.number("rain.wind.dir_deg", 25), 22.5);
+  EXPECT_FALSE(p.isAnimated("camera.exposure_s"));  // one key: constant
+  EXPECT_DOUBLE_EQ(p.number("camera.exposure_s", 99), 0.01);
+  // Plain numbers are the same at every frame.
+  EXPECT_FALSE(p.isAnimated("camera.fov_deg"));
+  EXPECT_DOUBLE_EQ(p.number("camera.fov_deg", 17), p.number("camera.fov_deg"));
+  // Interpolation defaults to linear and is written out in the resolved JSON.
+  Preset q = Preset::resolve("moderate", {"rain.rate_mm_h={\"keys\": [[0, 0], [10, 10]]}"},
+                             presetSchema());
+  EXPECT_EQ(q.at("rain.rate_mm_h")["interpolation"], "linear");
+  EXPECT_DOUBLE_EQ(q.number("rain.rate_mm_h", 5), 5.0);
+}
+
+TEST(Preset, SetAcceptsKeyShorthandAndConstants) {
+  Preset p = Preset::resolve(
+      "moderate", {"rain.rate_mm_h=[[0,0],[48,40]]", "rain.wind.speed_m_s=25"}, presetSchema());
+  EXPECT_TRUE(p.isAnimated("rain.rate_mm_h"));
+  EXPECT_DOUBLE_EQ(p.number("rain.rate_mm_h", 12), 10.0);
+  EXPECT_EQ(p.at("rain.rate_mm_h"),
+            nlohmann::json::parse(R"({"keys": [[0, 0], [48, 40]], "interpolation": "linear"})"));
+  EXPECT_FALSE(p.isAnimated("rain.wind.speed_m_s"));
+  EXPECT_DOUBLE_EQ(p.number("rain.wind.speed_m_s"), 25.0);
+  EXPECT_DOUBLE_EQ(p.number("rain.wind.speed_m_s", 30), 25.0);
+  // Keys can be edited one by one once they exist.
+  Preset q = Preset::resolve("moderate",
+                             {"rain.rate_mm_h=[[0,0],[48,40]]", "rain.rate_mm_h.keys.1.1=20",
+                              "rain.rate_mm_h.interpolation=hold"},
+                             presetSchema());
+  EXPECT_DOUBLE_EQ(q.number("rain.rate_mm_h", 47), 0.0);
+  EXPECT_DOUBLE_EQ(q.number("rain.rate_mm_h", 48), 20.0);
+}
+
+TEST(Preset, KeyframeProblemsNameTheirPaths) {
+  auto dir = test::freshTempDir("preset_bad_keys");
+  auto path = writePreset(dir, "bad.json", R"({"pluvia": 1,
+    "rain": {"rate_mm_h": {"keys": [[0, 0], [48, 4000], [40, 1]], "interpolation": "cubic"},
+             "seed": {"keys": [[0, 1], [10, 2.5]]},
+             "wind": {"speed_m_s": {"keys": []}, "dir_deg": {"key": [[0, 1]]}}},
+    "camera": {"exposure_s": {"keys": [[0, 0.01], [0, 0.02], ["a", 0.01], [5]]}},
+    "fog": {"density": "thick"}})");
+  auto problems = problemsOf(path.string(), {"blur.sigma_px=[[0,1],[0,2]]"});
+  for (const auto& line : problems) std::cerr << line << "\n";
+  EXPECT_TRUE(anyContains(problems, "/rain/rate_mm_h/keys/1/1: must be between 0 and"));
+  EXPECT_TRUE(anyContains(problems, "/rain/rate_mm_h/keys/2/0: key frames must increase strictly"));
+  EXPECT_TRUE(anyContains(problems,
+                          "/rain/rate_mm_h/interpolation: expected one of: linear, smooth, hold"));
+  EXPECT_TRUE(anyContains(problems, "/rain/seed/keys/1/1: expected an integer (got 2.5)"));
+  EXPECT_TRUE(anyContains(
+      problems, "/rain/wind/speed_m_s/keys: expected a list of at least one [frame, value] key"));
+  EXPECT_TRUE(anyContains(
+      problems, "/rain/wind/dir_deg/key: unknown key 'key' in keyframes (did you mean 'keys'?)"));
+  EXPECT_TRUE(anyContains(problems, "/rain/wind/dir_deg/keys: missing"));
+  EXPECT_TRUE(
+      anyContains(problems, "/camera/exposure_s/keys/1/0: key frames must increase strictly"));
+  EXPECT_TRUE(anyContains(problems, "/camera/exposure_s/keys/2/0: expected a frame number"));
+  EXPECT_TRUE(anyContains(problems, "/camera/exposure_s/keys/3: expected [frame, value]"));
+  EXPECT_TRUE(anyContains(
+      problems, "/blur/sigma_px/keys/1/0: key frames must increase strictly"));  // --set shorthand
+  EXPECT_TRUE(anyContains(problems, "/fog/density: expected a number"));
+  // List item fields take plain numbers only (the stages read them directly).
+  auto items = problemsOf(
+      "moderate", {"depth.layers=[{\"type\": \"card\", \"distance_m\": [[0, 1], [10, 2]]}]"});
+  EXPECT_TRUE(anyContains(items, "/depth/layers/0/distance_m: expected a number"));
+}
+
+TEST(Preset, HashChangesWithKeys) {
+  Preset a = Preset::resolve("moderate", {"rain.rate_mm_h=[[0,0],[48,40]]"}, presetSchema());
+  Preset b = Preset::resolve("moderate", {"rain.rate_mm_h=[[0,0],[48,41]]"}, presetSchema());
+  Preset c = Preset::resolve("moderate", {"rain.rate_mm_h=[[0,0],[47,40]]"}, presetSchema());
+  Preset d = Preset::resolve(
+      "moderate", {"rain.rate_mm_h={\"keys\": [[0,0],[48,40]], \"interpolation\": \"smooth\"}"},
+      presetSchema());
+  Preset same =
+      Preset::resolve("moderate", {"rain.rate_mm_h={\"keys\": [[0,0],[48,40]]}"}, presetSchema());
+  EXPECT_NE(a.hash(), b.hash());
+  EXPECT_NE(a.hash(), c.hash());
+  EXPECT_NE(a.hash(), d.hash());
+  EXPECT_EQ(a.hash(), same.hash());  // the shorthand resolves to the same document
+}
+
+TEST(Preset, CameraPathAndLensKeys) {
+  Preset plain = Preset::resolve("moderate", {}, presetSchema());
+  EXPECT_TRUE(plain.at("camera.path").empty());
+  EXPECT_DOUBLE_EQ(plain.number("camera.shutter_angle_deg"), 0.0);
+  EXPECT_DOUBLE_EQ(plain.number("camera.focus_m"), 0.0);
+  EXPECT_DOUBLE_EQ(plain.number("camera.f_number"), 0.0);
+  EXPECT_DOUBLE_EQ(plain.number("camera.sensor_width_mm"), 36.0);
+  Camera base = Camera::fromFieldOfView(640, 360, 40, 0, 1.6);
+  EXPECT_FALSE(cameraPathFromPreset(plain, base).moving());
+
+  Preset moving = Preset::resolve(
+      "moderate",
+      {R"(camera.path=[{"frame": 0, "position_m": [0, 1.6, 0]}, {"frame": 10, "position_m": [2, 1.6, 0], "yaw_deg": 20}])"},
+      presetSchema());
+  EXPECT_DOUBLE_EQ(moving.number("camera.path.1.pitch_deg"), 0.0);  // defaults filled
+  CameraPath path = cameraPathFromPreset(moving, base);
+  EXPECT_TRUE(path.moving());
+  EXPECT_NEAR(path.cameraAt(5).positionMeters.x(), 1.0, 1e-12);
+  EXPECT_DOUBLE_EQ(path.cameraAt(5).focalPx, base.focalPx);
+
+  auto problems = problemsOf(
+      "moderate",
+      {R"(camera.path=[{"frame": 5, "position_m": [0, 1, 0]}, {"frame": 5, "position_m": [0, 1]}, {"position_m": [0, 1, 0], "pitch_deg": 120}, {"type": "key", "frame": 9, "position_m": [0, 1, 0]}, 3])",
+       "camera.shutter_angle_deg=400"});
+  for (const auto& line : problems) std::cerr << line << "\n";
+  EXPECT_TRUE(anyContains(problems, "/camera/path/1/frame: must increase strictly"));
+  EXPECT_TRUE(anyContains(problems, "/camera/path/1/position_m: expected [x, y, z]"));
+  EXPECT_TRUE(anyContains(problems, "/camera/path/2/frame: missing"));
+  EXPECT_TRUE(anyContains(problems, "/camera/path/2/pitch_deg: must be between -90 and 90 deg"));
+  EXPECT_TRUE(anyContains(problems, "/camera/path/3/type: unknown key"));
+  EXPECT_TRUE(anyContains(problems, "/camera/path/4: expected an object"));
+  EXPECT_TRUE(anyContains(problems, "/camera/shutter_angle_deg: must be between 0 and 360 deg"));
+}
+
+TEST(Preset, DescribeMentionsKeyframes) {
+  const Schema schema = presetSchema();
+  auto rain = std::find_if(schema.begin(), schema.end(),
+                           [](const SectionSpec& s) { return s.name == "rain"; });
+  ASSERT_NE(rain, schema.end());
+  std::string text = describeSection(*rain);
+  EXPECT_NE(text.find("rate_mm_h"), std::string::npos);
+  EXPECT_NE(text.find("number|keys"), std::string::npos) << text;
+  EXPECT_NE(text.find("\"interpolation\": \"linear|smooth|hold\""), std::string::npos) << text;
+  auto camera = std::find_if(schema.begin(), schema.end(),
+                             [](const SectionSpec& s) { return s.name == "camera"; });
+  std::string cameraText = describeSection(*camera);
+  EXPECT_NE(cameraText.find("each item:"), std::string::npos) << cameraText;
+  EXPECT_NE(cameraText.find("position_m"), std::string::npos);
 }

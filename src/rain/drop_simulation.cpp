@@ -1,0 +1,276 @@
+#include "rain/drop_simulation.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Geometry>
+
+#include "util/hash.h"
+
+namespace pluvia::rain {
+namespace {
+
+constexpr double kGravity = 9.81;            // m/s^2
+constexpr int64_t kMaxScannedFrames = 4096;  // frames sampled to size the pool and the box
+
+// The camera's heading frame: a rotation about +Y taking the frame's -Z to the camera's
+// forward direction projected on the ground (the box follows the heading, not pitch or roll,
+// so that drops keep falling along the box's -Y).
+Eigen::Matrix3d headingOf(const Camera& camera) {
+  const Eigen::Vector3d forward = camera.worldFromCamera * Eigen::Vector3d(0, 0, -1);
+  const double yaw = std::atan2(forward.x(), -forward.z());  // 0 when looking along -Z
+  return Eigen::AngleAxisd(-yaw, Eigen::Vector3d::UnitY()).toRotationMatrix();
+}
+
+// Frames first..last, every one when few, else evenly spread (both ends included).
+std::vector<double> scannedFrames(int64_t first, int64_t last) {
+  std::vector<double> frames;
+  const int64_t count = std::max<int64_t>(1, last - first + 1);
+  const int64_t samples = std::min(count, kMaxScannedFrames);
+  for (int64_t k = 0; k < samples; ++k)
+    frames.push_back(samples == 1
+                         ? double(first)
+                         : double(first) + double(count - 1) * double(k) / double(samples - 1));
+  return frames;
+}
+
+double physicalDensity(const DropSimulationSettings& s, const RainAtFrame& rain) {
+  return dropsPerCubicMeter(s.distribution, rain.rateMmPerHour, s.minDiameterMm, s.maxDiameterMm) *
+         rain.densityScale;
+}
+
+}  // namespace
+
+DropSimulation::DropSimulation(const DropSimulationSettings& settings, CameraAtFrame cameraAt,
+                               RainAt rainAt)
+    : settings_(settings), cameraAt_(std::move(cameraAt)), rainAt_(std::move(rainAt)) {
+  settings_.lastFrame = std::max(settings_.lastFrame, settings_.firstFrame);
+  // The box: the union over the shot of the frustum between near and far, each in its camera's
+  // heading frame, grown by the margin.
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e30), hi = Eigen::Vector3d::Constant(-1e30);
+  double densest = 0.0;
+  for (double f : scannedFrames(settings_.firstFrame, settings_.lastFrame)) {
+    const Camera camera = cameraAt_(f);
+    const Eigen::Matrix3d toHeading = headingOf(camera).transpose();
+    for (double distance : {settings_.nearMeters, settings_.farMeters})
+      for (double px : {0.0, double(camera.width)})
+        for (double py : {0.0, double(camera.height)}) {
+          const Eigen::Vector3d corner =
+              toHeading * (camera.worldFromCamera * (camera.rayCamera(px, py) * distance));
+          lo = lo.cwiseMin(corner);
+          hi = hi.cwiseMax(corner);
+        }
+    densest = std::max(densest, physicalDensity(settings_, rainAt_(f)));
+  }
+  const Eigen::Vector3d margin = (hi - lo) * std::max(0.0, settings_.boxMarginFraction);
+  boxLo_ = lo - margin;
+  boxSize_ = (hi - lo + 2.0 * margin).cwiseMax(Eigen::Vector3d::Constant(1e-3));
+  cells_ = std::make_unique<RainCells>(settings_.cells, Eigen::Vector2d::Zero());
+  densest *= cells_->maxDensityFactor();
+  const double wanted = std::ceil(densest * boxVolumeCubicMeters());
+  const double pool = std::min(wanted, double(std::max<int64_t>(0, settings_.maxDrops)));
+  positions_.resize(size_t(pool));
+  horizontalSpeed_.resize(positions_.size());
+  sizeUniform_.resize(positions_.size());
+  activeUniform_.resize(positions_.size());
+  ownSpeed_.resize(positions_.size());
+  poolDensity_ = double(positions_.size()) / boxVolumeCubicMeters();
+  restart();
+}
+
+DropSimulation::~DropSimulation() = default;
+
+double DropSimulation::boxVolumeCubicMeters() const {
+  return boxSize_.prod();
+}
+
+void DropSimulation::restart() {
+  frame_ = settings_.firstFrame;
+  const RainAtFrame first = rainAt_(double(frame_));
+  WindSettings wind = settings_.wind;
+  wind.speedMetersPerSecond = first.windSpeedMetersPerSecond;
+  wind.directionDeg = first.windDirectionDeg;
+  wind_ = std::make_unique<WindField>(wind);
+  const Camera camera = cameraAt_(double(frame_));
+  cells_ = std::make_unique<RainCells>(
+      settings_.cells, Eigen::Vector2d(camera.positionMeters.x(), camera.positionMeters.z()));
+  const Eigen::Matrix3d heading = headingOf(camera);
+  tbb::parallel_for(size_t(0), positions_.size(), [&](size_t i) {
+    CounterRng rng(settings_.seed, i);
+    const Eigen::Vector3d u(rng.uniform(), rng.uniform(), rng.uniform());
+    const Eigen::Vector3d p = camera.positionMeters + heading * (boxLo_ + u.cwiseProduct(boxSize_));
+    positions_[i] = p.cast<float>();
+    sizeUniform_[i] = float(rng.uniform());
+    activeUniform_[i] = float(rng.uniform());
+    // Spread: a Gaussian horizontal speed of its own (Box-Muller), on top of the wind.
+    const double radius = std::sqrt(-2.0 * std::log(1.0 - rng.uniform()));
+    const double angle = 2.0 * M_PI * rng.uniform();
+    ownSpeed_[i] =
+        Eigen::Vector2f(float(settings_.spreadMetersPerSecond * radius * std::cos(angle)),
+                        float(settings_.spreadMetersPerSecond * radius * std::sin(angle)));
+    const Eigen::Vector3d w = wind_->velocityAt(p.x(), p.z());
+    horizontalSpeed_[i] = Eigen::Vector2f(float(w.x()), float(w.z())) + ownSpeed_[i];
+  });
+  baseDiameterMm_.clear();  // the sizes follow from the uniforms just drawn
+  setRain(first);
+}
+
+void DropSimulation::advanceTo(int64_t frame) {
+  if (frame < frame_) restart();
+  while (frame_ < frame) step();
+}
+
+// A drop's diameter and fall speed: cached per drop for the current rate; a rain cell scales
+// the diameter where it passes, and the speed is then recomputed.
+std::pair<double, double> DropSimulation::sizeAndFall(size_t i, double x, double z) const {
+  const double cellSizeFactor = cells_->sizeFactor(x, z);
+  if (cellSizeFactor == 1.0) return {double(baseDiameterMm_[i]), double(baseFall_[i])};
+  const double d = double(baseDiameterMm_[i]) * cellSizeFactor;
+  return {d, terminalVelocity(settings_.velocityModel, d)};
+}
+
+void DropSimulation::step() {
+  const double dt = settings_.stepSeconds;
+  // The parameters at the start of the step hold over it.
+  wind_->setBase(rain_.windSpeedMetersPerSecond, rain_.windDirectionDeg);
+  wind_->advance(dt);
+  cells_->advance(dt, *wind_);
+  const Camera camera = cameraAt_(double(frame_ + 1));
+  const Eigen::Matrix3d heading = headingOf(camera);
+  const Eigen::Matrix3d toHeading = heading.transpose();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, positions_.size(), 4096),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t i = range.begin(); i != range.end(); ++i) {
+                        Eigen::Vector3d p = positions_[i].cast<double>();
+                        const double fall = sizeAndFall(i, p.x(), p.z()).second;
+                        // Horizontal speed relaxes toward the wind with tau = v_t / g; exact for a
+                        // wind held over the step, so any step is stable.
+                        const double tau = std::max(fall / kGravity, 1e-3);
+                        const double a = -std::expm1(-dt / tau);
+                        const Eigen::Vector3d w = wind_->velocityAt(p.x(), p.z());
+                        Eigen::Vector2d v = horizontalSpeed_[i].cast<double>();
+                        const Eigen::Vector2d wh =
+                            Eigen::Vector2d(w.x(), w.z()) + ownSpeed_[i].cast<double>();
+                        const Eigen::Vector2d travelled = wh * dt + (v - wh) * tau * a;
+                        v = wh + (v - wh) * (1.0 - a);
+                        p += Eigen::Vector3d(travelled.x(), -fall * dt, travelled.y());
+                        // 3-D wrap-around in the box that follows the camera.
+                        Eigen::Vector3d local = toHeading * (p - camera.positionMeters) - boxLo_;
+                        for (int axis = 0; axis < 3; ++axis) {
+                          local[axis] -= boxSize_[axis] * std::floor(local[axis] / boxSize_[axis]);
+                        }
+                        p = camera.positionMeters + heading * (local + boxLo_);
+                        positions_[i] = p.cast<float>();
+                        horizontalSpeed_[i] = v.cast<float>();
+                      }
+                    });
+  ++frame_;
+  setRain(rainAt_(double(frame_)));
+}
+
+void DropSimulation::setRain(const RainAtFrame& rain) {
+  const bool sizesChange = rain.rateMmPerHour != rain_.rateMmPerHour || baseDiameterMm_.empty();
+  rain_ = rain;
+  if (sizesChange) {
+    baseDiameterMm_.resize(positions_.size());
+    baseFall_.resize(positions_.size());
+    tbb::parallel_for(size_t(0), positions_.size(), [&](size_t i) {
+      const double d =
+          sampleDiameterMm(settings_.distribution, double(sizeUniform_[i]), rain_.rateMmPerHour,
+                           settings_.minDiameterMm, settings_.maxDiameterMm);
+      baseDiameterMm_[i] = float(d);
+      baseFall_[i] = float(terminalVelocity(settings_.velocityModel, d));
+    });
+  }
+  drawnFraction_ = poolDensity_ > 0.0 ? physicalDensityPerCubicMeter() / poolDensity_ : 0.0;
+}
+
+double DropSimulation::physicalDensityPerCubicMeter() const {
+  return physicalDensity(settings_, rain_);
+}
+
+// Drop i is drawn while its threshold lies below the local density over the pool's.
+bool DropSimulation::isActive(size_t i) const {
+  return double(activeUniform_[i]) <
+         drawnFraction_ * cells_->densityFactor(positions_[i].x(), positions_[i].z());
+}
+
+size_t DropSimulation::activeCount() const {
+  size_t count = 0;
+  for (size_t i = 0; i < positions_.size(); ++i) count += isActive(i);
+  return count;
+}
+
+bool DropSimulation::insideBox(const Eigen::Vector3d& worldMeters) const {
+  const Camera camera = cameraAt_(double(frame_));
+  const Eigen::Vector3d local =
+      headingOf(camera).transpose() * (worldMeters - camera.positionMeters) - boxLo_;
+  for (int axis = 0; axis < 3; ++axis)
+    if (local[axis] < -1e-4 || local[axis] > boxSize_[axis] + 1e-4) return false;
+  return true;
+}
+
+std::vector<gpu::StreakInstance> DropSimulation::buildStreaks(const StreakSettings& s) const {
+  const Camera start = cameraAt_(double(frame_));
+  const Camera end = cameraAt_(double(frame_) + s.exposureSeconds / settings_.stepSeconds);
+  // Thin lens: focal length in mm from the pixel focal and the sensor width; circle of
+  // confusion c = A |d - s| / d * f / (s - f) on the sensor, A = f / N.
+  const double focalMm = start.focalPx * s.sensorWidthMm / std::max(1, start.width);
+  const bool defocus = s.focusMeters > 0.0 && s.fNumber > 0.0 && s.focusMeters * 1e3 > focalMm;
+  const double pxPerMm = double(start.width) / s.sensorWidthMm;
+  constexpr double kMarginPx = 8.0, kMinDepthMeters = 0.05;
+
+  std::vector<gpu::StreakInstance> streaks;
+  streaks.reserve(positions_.size() / 2);
+  for (size_t i = 0; i < positions_.size(); ++i) {
+    const Eigen::Vector3d p = positions_[i].cast<double>();
+    if (!isActive(i)) continue;
+    const auto [d, fall] = sizeAndFall(i, p.x(), p.z());
+    const Eigen::Vector3d v(horizontalSpeed_[i].x(), -fall, horizontalSpeed_[i].y());
+    const Eigen::Vector3d q = p + v * s.exposureSeconds;
+    double hx, hy, hz, tx, ty, tz;
+    if (!start.project(p, hx, hy, hz, kMinDepthMeters) ||
+        !end.project(q, tx, ty, tz, kMinDepthMeters))
+      continue;
+    if (std::max(hx, tx) < -kMarginPx || std::min(hx, tx) > start.width + kMarginPx) continue;
+    if (std::max(hy, ty) < -kMarginPx || std::min(hy, ty) > start.height + kMarginPx) continue;
+    const double depthMeters = 0.5 * (hz + tz);
+    const double widthPx = start.focalPx * d * rain_.sizeScale * 1e-3 / depthMeters;
+    double blurPx = 0.0;
+    if (defocus) {
+      const double focusMm = s.focusMeters * 1e3, depthMm = depthMeters * 1e3;
+      blurPx = focalMm / s.fNumber * std::abs(depthMm - focusMm) / depthMm * focalMm /
+               (focusMm - focalMm) * pxPerMm;
+    }
+    const double lengthPx = std::hypot(tx - hx, ty - hy);
+    const double drawnWidthPx = std::max(widthPx + blurPx, s.minWidthPx);
+    const double timeFraction = widthPx / std::max(lengthPx, widthPx);
+    const double coverage = widthPx / drawnWidthPx;
+    const double fog = std::exp(-s.fogDensityPerMeter * depthMeters);
+    const double alpha = std::min(1.0, s.opacity * timeFraction * coverage * fog / s.meanMatte);
+    if (!(alpha >= 1.0 / 1024.0)) continue;  // invisible in any 10-bit output (and never NaN)
+    const Eigen::Vector3d view = (p - start.positionMeters).normalized();
+    CounterRng rng(settings_.seed ^ 0x5712u, i);
+    gpu::StreakInstance streak{};
+    streak.headX = float(hx);
+    streak.headY = float(hy);
+    streak.tailX = float(tx);
+    streak.tailY = float(ty);
+    streak.widthPx = float(drawnWidthPx);
+    streak.alpha = float(alpha);
+    streak.depthMeters = float(depthMeters);
+    streak.strokeIndex =
+        float(std::min<uint64_t>(uint64_t(std::max(1, s.strokeCount)) - 1,
+                                 rng.nextU64() % uint64_t(std::max(1, s.strokeCount))));
+    streak.viewX = float(view.x());
+    streak.viewY = float(view.y());
+    streak.viewZ = float(view.z());
+    streaks.push_back(streak);
+  }
+  return streaks;
+}
+
+}  // namespace pluvia::rain
