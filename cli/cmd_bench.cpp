@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 
 #include "bench_drops.h"
+#include "bench_streaks.h"
 #include "commands.h"
 #include "common.h"
 #include "gpu/rain_renderer.h"
@@ -49,48 +50,6 @@ std::string makeBenchClip(const stdfs::path& folder, int frames) {
 }
 
 // ---- stroke benchmark -----------------------------------------------------------------------
-
-// The streak population of one benchmark frame: seeded, so every run and every build draws the
-// same streaks. Rain falls with a common wind slant (8 degrees from vertical, +-3 jitter).
-// Far drops (92 %): width 1.5-3 px, length 10-60 px, depth 4-40 m. Near drops (8 %): width
-// 3-7 px, length 60-200 px, depth 0.5-4 m. Alpha 0.05-0.3. Head positions uniform over the
-// frame (streaks may leave it, as real ones do); view directions from a 60 degree pinhole.
-constexpr const char* kStrokePopulation =
-    "92% far: width 1.5-3 px, length 10-60 px; 8% near: width 3-7 px, length 60-200 px; "
-    "alpha 0.05-0.3; slant 8+-3 deg; heads uniform over the frame";
-
-std::vector<gpu::StreakInstance> benchStreaks(int count, int width, int height, int strokeCount,
-                                              double& pixelsCovered) {
-  std::mt19937 random(20060101u + static_cast<unsigned>(count));
-  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  const float focalPx =
-      0.5f * static_cast<float>(width) / std::tan(0.5f * 60.0f * 3.14159265f / 180.0f);
-  std::vector<gpu::StreakInstance> streaks;
-  streaks.reserve(static_cast<size_t>(count));
-  pixelsCovered = 0.0;
-  for (int i = 0; i < count; ++i) {
-    const bool near = unit(random) < 0.08f;
-    const float widthPx = near ? 3.0f + 4.0f * unit(random) : 1.5f + 1.5f * unit(random);
-    const float lengthPx = near ? 60.0f + 140.0f * unit(random) : 10.0f + 50.0f * unit(random);
-    const float depth = near ? 0.5f + 3.5f * unit(random) : 4.0f + 36.0f * unit(random);
-    const float slant = (8.0f + 6.0f * (unit(random) - 0.5f)) * 3.14159265f / 180.0f;
-    const float headX = static_cast<float>(width) * unit(random);
-    const float headY = static_cast<float>(height) * unit(random) - 0.5f * lengthPx;
-    const float alpha = 0.05f + 0.25f * unit(random);
-    const float stroke = std::min(static_cast<float>(strokeCount - 1),
-                                  std::floor(unit(random) * static_cast<float>(strokeCount)));
-    // Camera looks down -z, y up; image y grows downward.
-    float vx = headX - 0.5f * static_cast<float>(width);
-    float vy = 0.5f * static_cast<float>(height) - headY;
-    float vz = -focalPx;
-    const float n = std::sqrt(vx * vx + vy * vy + vz * vz);
-    streaks.push_back({headX, headY, headX + lengthPx * std::sin(slant),
-                       headY + lengthPx * std::cos(slant), widthPx, alpha, depth, stroke, vx / n,
-                       vy / n, vz / n, 0.0f});
-    pixelsCovered += static_cast<double>(lengthPx + widthPx) * widthPx;
-  }
-  return streaks;
-}
 
 std::vector<int> parseCounts(const std::string& list) {
   std::vector<int> counts;
@@ -199,25 +158,32 @@ void runStrokeBench(const std::string& strokeList, const std::string& size, int 
                            strokeCount, library.atlas.width, library.atlas.height,
                            shading.radianceMap.width, shading.radianceMap.height,
                            depthPlane ? "plane 3-50 m" : "none (far)");
-  std::cout << fmt::format("streaks: {}\n", kStrokePopulation);
   std::cout << "timing: RainRenderer::render end to end (streak upload, draw, read-back, planes)\n";
 
-  double unused = 0.0;
-  const RenderTiming overhead = timeRenders(
-      renderer, background, benchStreaks(1, width, height, strokeCount, unused), shading, frames);
+  const RenderTiming overhead =
+      timeRenders(renderer, background, syntheticStreaks(1, width, height, strokeCount).streaks,
+                  shading, frames);
   std::cout << fmt::format(
       "fixed cost per frame (1 streak: uploads, read-back, planes): {:.2f} ms ({:.2f} ms CPU)\n",
       overhead.wallMs, overhead.cpuMs);
-  std::cout << fmt::format("{:>9} {:>10} {:>9} {:>12} {:>9} {:>12}\n", "strokes", "ms/frame", "fps",
-                           "Mpx covered", "Mpx/s", "CPU ms/frame");
-  for (int count : counts) {
-    double pixels = 0.0;
-    const auto streaks = benchStreaks(count, width, height, strokeCount, pixels);
-    const RenderTiming t = timeRenders(renderer, background, streaks, shading, frames);
-    std::cout << fmt::format("{:>9} {:>10.2f} {:>9.1f} {:>12.2f} {:>9.1f} {:>12.2f}\n", count,
-                             t.wallMs, 1000.0 / t.wallMs, pixels / 1e6,
-                             pixels / 1e6 / (t.wallMs / 1000.0), t.cpuMs);
-    std::cout.flush();
+  for (bool simulated : {false, true}) {
+    std::cout << fmt::format("\n{:>9} {:>10} {:>9} {:>12} {:>9} {:>12}  {}\n", "strokes",
+                             "ms/frame", "fps", "Mpx covered", "Mpx/s", "CPU ms/frame",
+                             simulated ? "simulated rain" : "synthetic stress test");
+    std::string description;
+    for (int count : counts) {
+      const StreakPopulation population =
+          simulated ? simulatedStreaks(count, width, height, library.atlas)
+                    : syntheticStreaks(count, width, height, strokeCount);
+      description = population.description;
+      const RenderTiming t = timeRenders(renderer, background, population.streaks, shading, frames);
+      const double megapixels = population.pixelsCovered / 1e6;
+      std::cout << fmt::format("{:>9} {:>10.2f} {:>9.1f} {:>12.2f} {:>9.1f} {:>12.2f}\n",
+                               population.streaks.size(), t.wallMs, 1000.0 / t.wallMs, megapixels,
+                               megapixels / (t.wallMs / 1000.0), t.cpuMs);
+      std::cout.flush();
+    }
+    std::cout << "  (" << description << ")\n";
   }
   std::cout << "(CPU ms/frame: all threads of the process, llvmpipe's included; on a shared "
                "machine it varies less than the wall time)\n";

@@ -1,8 +1,10 @@
 #version 430 core
-// One quad per streak, from head to tail, widened by widthPx / 2 at both ends and widthPx
-// across. The streaks are pulled from a storage buffer, not fed as instances: one indexed draw
-// of two triangles per streak (index 4 * streak + corner, see streak_stream.cpp), because
-// llvmpipe's draw module runs its whole vertex pipeline once per instance. The per-streak
+// The primitive that holds one streak's quad (from head to tail, widened by widthPx / 2 at both
+// ends and widthPx across): a wide line (uLines, vertex 2 * streak + end; the width is draw
+// state, chosen by src/gpu/streak_batches.cpp) or two triangles (index 4 * streak + corner, see
+// streak_stream.cpp). The fragment shader decides coverage from the exact quad either way. The
+// streaks are pulled from a storage buffer, not fed as instances, because llvmpipe's draw
+// module runs its whole vertex pipeline once per instance. The per-streak
 // colour C (SH term + radiance map term) is computed here, not per fragment: it is constant
 // over a streak and this halves the shading cost on software rasterisers. The CPU
 // twin of the geometry is src/gpu/streak_quad.h, of the colour src/gpu/streak_radiance.cpp:
@@ -25,6 +27,7 @@ layout(std430, binding = 0) readonly buffer StrokeRects { vec4 strokeRects[]; };
 layout(binding = 3) uniform sampler2D uRadianceMap;  // RGB32F, texelFetch only
 
 uniform vec2 uTargetSizePx;
+uniform bool uLines;  // one line per streak, else two triangles
 uniform bool uHasSh;  // the SH term of C: uShOrder, uEnvSh, uTransferZonal
 uniform int uShOrder;
 uniform vec3 uEnvSh[16];
@@ -39,10 +42,13 @@ flat out vec3 vRadiance;  // C
 // Same threshold as kDegenerateStreakLengthPx: a shorter streak is a still drop, drawn as a
 // square with a vertical axis.
 const float kDegenerateLengthPx = 1e-4;
-// The rasterised quad is this much larger than the streak's quad on every side: the fragment
-// shader decides coverage from the exact quad, so snapping of the vertices to the
-// rasteriser's sub-pixel grid (1/256 px or finer) can never lose a pixel centre.
+// kCoverageMarginPx of src/gpu/streak_batches.h: the primitive reaches this far past the quad.
 const float kCoverageMarginPx = 1.0 / 16.0;
+// kViewportGuardBandPx of src/gpu/streak_batches.h: the viewport reaches this far past the
+// frame on every side.
+const float kViewportGuardBandPx = 64.0;
+// GL's diamond-exit rule may pull a line's end in by up to half a pixel.
+const float kLineEndSlackPx = 1.0;
 
 // The SH (PRT) term, clamped to >= 0.
 vec3 shRadiance(vec3 view) {
@@ -99,17 +105,11 @@ vec3 streakRadiance(vec3 view) {
 }
 
 void main() {
-  Streak instance = streaks[gl_VertexID >> 2];
+  Streak instance = streaks[uLines ? gl_VertexID >> 1 : gl_VertexID >> 2];
   vec4 aEndsPx = instance.endsPx;
   vec4 aStreak = instance.streak;
   float widthPx = aStreak.x;
-  float alpha = aStreak.y;
-  // Zero (or NaN) width or alpha covers nothing: collapse the quad to one point outside the
-  // viewport, so the rasteriser drops it without running a fragment.
-  if (!(widthPx > 0.0) || !(alpha > 0.0)) {
-    gl_Position = vec4(-2.0, -2.0, 0.0, 1.0);
-    return;
-  }
+  // Streaks of zero (or NaN) width or alpha never get here: orderForDrawing() drops them.
   vec2 head = aEndsPx.xy;
   vec2 toTail = aEndsPx.zw - head;
   float lengthPx = sqrt(toTail.x * toTail.x + toTail.y * toTail.y);
@@ -120,20 +120,33 @@ void main() {
     lengthPx = 0.0;
   }
 
-  // Corner s (0 left, 1 right seen from head to tail on screen), t (0 head end, 1 tail end).
-  int s = gl_VertexID & 1;
-  int t = (gl_VertexID >> 1) & 1;
-  float halfWidth = 0.5 * widthPx + kCoverageMarginPx;
-  float along = t == 0 ? -halfWidth : lengthPx + halfWidth;
-  float across = s == 0 ? -halfWidth : halfWidth;
-  vec2 cornerPx = vec2(head.x + axis.x * along - axis.y * across,
-                       head.y + axis.y * along + axis.x * across);
+  float halfWidth = 0.5 * widthPx;
+  vec2 cornerPx;
+  if (uLines) {
+    // GL widens a line along its minor axis (x or y) and ends it square to that axis: a quad
+    // corner sits halfWidth * minor / major further along the line than the quad's end, so
+    // the line's ends reach that far past head and tail, plus the slack of the end rule.
+    float major = max(abs(axis.x), abs(axis.y));
+    float minor = min(abs(axis.x), abs(axis.y));
+    float reach = halfWidth * (1.0 + minor / major) + kLineEndSlackPx + kCoverageMarginPx;
+    cornerPx = (gl_VertexID & 1) == 0 ? head - axis * reach : head + axis * (lengthPx + reach);
+  } else {
+    // Corner s (0 left, 1 right seen from head to tail on screen), t (0 head end, 1 tail end).
+    int s = gl_VertexID & 1;
+    int t = (gl_VertexID >> 1) & 1;
+    float grown = halfWidth + kCoverageMarginPx;
+    float along = t == 0 ? -grown : lengthPx + grown;
+    float across = s == 0 ? -grown : grown;
+    cornerPx = vec2(head.x + axis.x * along - axis.y * across,
+                    head.y + axis.y * along + axis.x * across);
+  }
   // Image rows go to GL rows unflipped (row 0 of the image is GL's y = 0): the framebuffer
   // holds the picture upside down in GL terms and reads back top row first, as Image wants.
-  gl_Position = vec4(cornerPx / uTargetSizePx * 2.0 - 1.0, 0.0, 1.0);
+  vec2 viewportPx = uTargetSizePx + 2.0 * kViewportGuardBandPx;
+  gl_Position = vec4((cornerPx + kViewportGuardBandPx) / viewportPx * 2.0 - 1.0, 0.0, 1.0);
 
   vFrame = vec4(head, axis);
-  vStreak = vec4(widthPx, lengthPx, alpha, aStreak.z);
+  vStreak = vec4(widthPx, lengthPx, aStreak.y, aStreak.z);
   vRectPx = strokeRects[int(aStreak.w)];
   vRadiance = streakRadiance(instance.view.xyz);
 }

@@ -6,6 +6,7 @@
 
 #include "gpu/gl_check.h"
 #include "gpu/rain_error.h"
+#include "gpu/streak_batches.h"
 
 namespace pluvia::gpu {
 
@@ -17,8 +18,9 @@ FrameTargets::FrameTargets(int width, int height) : width_(width), height_(heigh
   GLint maxViewport[2] = {0, 0};
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTextureSize);
   glGetIntegerv(GL_MAX_VIEWPORT_DIMS, maxViewport);
-  if (width > maxTextureSize || height > maxTextureSize || width > maxViewport[0] ||
-      height > maxViewport[1]) {
+  const int guard = 2 * kViewportGuardBandPx;
+  if (width > maxTextureSize || height > maxTextureSize || width + guard > maxViewport[0] ||
+      height + guard > maxViewport[1]) {
     throwRainError(fmt::format("frame of {}x{} pixels exceeds the GPU's limit of {}x{}", width,
                                height, std::min(maxTextureSize, maxViewport[0]),
                                std::min(maxTextureSize, maxViewport[1])));
@@ -49,7 +51,8 @@ void FrameTargets::begin(const std::vector<float>* depthMeters) {
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   const GLfloat transparent[4] = {0.0f, 0.0f, 0.0f, 0.0f};
   glClearBufferfv(GL_COLOR, 0, transparent);
-  glViewport(0, 0, width_, height_);
+  glViewport(-kViewportGuardBandPx, -kViewportGuardBandPx, width_ + 2 * kViewportGuardBandPx,
+             height_ + 2 * kViewportGuardBandPx);
   checkGl("uploading the scene depth");
 }
 

@@ -1,12 +1,14 @@
 // renderRainCpu: RainRenderer::render evaluated on the CPU at pixel centres, for tests on tiny
 // targets. Every step mirrors the GPU path: the quad frame and matte coordinates of the
 // shaders (streak_quad.h), GL_LINEAR + CLAMP_TO_EDGE sampling of the atlas, the depth test and
-// the two blend equations, all in float and in instance order.
+// the two blend equations, all in float and in the drawing order of
+// streak_batches.h.
 #include <algorithm>
 #include <cmath>
 
 #include "gpu/rain_inputs.h"
 #include "gpu/rain_renderer.h"
+#include "gpu/streak_batches.h"
 #include "gpu/streak_quad.h"
 #include "gpu/streak_radiance.h"
 
@@ -74,8 +76,7 @@ void renderRainCpu(Image& frame, const std::vector<StreakInstance>& streaks,
   const float atlasWidth = static_cast<float>(atlas.width);
   const float atlasHeight = static_cast<float>(atlas.height);
 
-  for (const StreakInstance& streak : streaks) {
-    if (isInvisible(streak)) continue;
+  for (const StreakInstance& streak : orderForDrawing(streaks).streaks) {
     const StreakQuad quad = StreakQuad::of(streak);
     const std::array<float, 3> radiance = streakRadiance(shading, streak);
     const std::array<float, 4>& rect = atlas.rects[static_cast<size_t>(streak.strokeIndex)];

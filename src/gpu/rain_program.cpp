@@ -11,6 +11,7 @@ RainProgram::Variant::Variant(const char* defines)
     : program(buildProgram("rain_stroke.vert", "rain_stroke.frag", defines)) {
   const GLuint id = program.id();
   targetSize = glGetUniformLocation(id, "uTargetSizePx");
+  lines = glGetUniformLocation(id, "uLines");
   hasSh = glGetUniformLocation(id, "uHasSh");
   shOrder = glGetUniformLocation(id, "uShOrder");
   envSh = glGetUniformLocation(id, "uEnvSh");
@@ -38,6 +39,7 @@ void RainProgram::setShUniforms(const Variant& variant, const ShadingParams& sha
 void RainProgram::use(const ShadingParams& shading, bool sceneDepth, int targetWidth,
                       int targetHeight, int atlasWidth, int atlasHeight) const {
   const Variant& variant = sceneDepth ? withDepth_ : farScene_;
+  inUse_ = &variant;
   glUseProgram(variant.program.id());
   glUniform2f(variant.targetSize, static_cast<float>(targetWidth),
               static_cast<float>(targetHeight));
@@ -53,6 +55,10 @@ void RainProgram::use(const ShadingParams& shading, bool sceneDepth, int targetW
   glBlendEquationSeparatei(0, GL_FUNC_ADD, GL_FUNC_ADD);
   glBlendFuncSeparatei(0, GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
   checkGl("setting the rain shader's uniforms");
+}
+
+void RainProgram::setLines(bool lines) const {
+  glUniform1i(inUse_->lines, lines ? 1 : 0);
 }
 
 }  // namespace pluvia::gpu

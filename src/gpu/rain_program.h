@@ -21,18 +21,22 @@ class RainProgram {
   // the blending of the rain layer.
   void use(const ShadingParams& shading, bool sceneDepth, int targetWidth, int targetHeight,
            int atlasWidth, int atlasHeight) const;
+  // Switches the vertex shader of the variant in use between one line and two triangles per
+  // streak (see streak_batches.h).
+  void setLines(bool lines) const;
 
  private:
   struct Variant {
     explicit Variant(const char* defines);
     GlProgram program;
-    GLint targetSize, hasSh, shOrder, envSh, transferZonal, hasRadianceMap, atlasSize;
+    GLint targetSize, lines, hasSh, shOrder, envSh, transferZonal, hasRadianceMap, atlasSize;
   };
   // uShOrder, uEnvSh, uTransferZonal from a validated SH term.
   static void setShUniforms(const Variant& variant, const ShadingParams& shading);
 
   Variant farScene_;   // no depth plane: no depth fetch
   Variant withDepth_;  // SCENE_DEPTH
+  mutable const Variant* inUse_ = nullptr;
 };
 
 }  // namespace pluvia::gpu

@@ -2,6 +2,8 @@
 // every frame (re-made only when the size changes), so a long clip holds steady memory.
 #include "gpu/rain_renderer.h"
 
+#include <malloc.h>
+
 #include <optional>
 
 #include <epoxy/gl.h>
@@ -14,6 +16,7 @@
 #include "gpu/gpu_stroke_atlas.h"
 #include "gpu/rain_inputs.h"
 #include "gpu/rain_program.h"
+#include "gpu/streak_batches.h"
 #include "gpu/streak_stream.h"
 #include "util/error.h"
 #include "util/log.h"
@@ -61,7 +64,30 @@ struct RainRenderer::Impl {
   }
 };
 
+namespace {
+
+// llvmpipe mallocs and frees its vertex and binning buffers (megabytes) on every draw. glibc
+// gives a block above its mmap threshold back to the kernel when it is freed, so every frame
+// faulted those pages in again: 20 ms of a 720x480 frame of 80k streaks, and most of the
+// fixed cost of a frame. Raising the thresholds keeps freed blocks in the heap for the next
+// frame; the heap then holds its high-water mark, which a clip of steady rain reaches on its
+// first frame (memory stays flat). Process-wide, once: it only changes when memory returns to
+// the kernel.
+void keepFreedBlocksForTheNextFrame() {
+  static const bool once = [] {
+    constexpr int kMmapThresholdBytes = 32 << 20;  // glibc's largest on 64-bit
+    constexpr int kTrimThresholdBytes = 512 << 20;
+    mallopt(M_MMAP_THRESHOLD, kMmapThresholdBytes);
+    mallopt(M_TRIM_THRESHOLD, kTrimThresholdBytes);
+    return true;
+  }();
+  (void)once;
+}
+
+}  // namespace
+
 RainRenderer::RainRenderer(int width, int height) : impl_(std::make_unique<Impl>()) {
+  keepFreedBlocksForTheNextFrame();
   impl_->gpu->ensureTargets(width, height);
 }
 
@@ -78,7 +104,8 @@ void RainRenderer::render(Image& frame, const std::vector<StreakInstance>& strea
   validateShading(shading);
   GpuObjects& gpu = *impl_->gpu;
   validateStreaks(streaks, gpu.atlas.strokeCount());
-  if (streaks.empty()) {
+  const OrderedStreaks ordered = orderForDrawing(streaks);
+  if (ordered.streaks.empty()) {
     clearRainLayer(frame);
     return;
   }
@@ -89,14 +116,24 @@ void RainRenderer::render(Image& frame, const std::vector<StreakInstance>& strea
   const bool hasDepth = frame.findPlane("depth") != nullptr;
   if (hasDepth) comparableSceneDepth(frame, impl_->sceneDepth);
   gpu.targets->begin(hasDepth ? &impl_->sceneDepth : nullptr);
-  gpu.streaks.upload(streaks);
+  gpu.streaks.upload(ordered.streaks);
   if (!shading.radianceMap.empty()) gpu.radianceMap.update(shading.radianceMap);
   gpu.program.use(shading, hasDepth, frame.width, frame.height, gpu.atlas.width(),
                   gpu.atlas.height());
   gpu.atlas.bind(kAtlasUnit, kStrokeRectBinding);
   gpu.radianceMap.bind(kRadianceMapUnit);
   if (hasDepth) gpu.targets->bindSceneDepth(kSceneDepthUnit);
-  gpu.streaks.draw(kStreakBinding);
+  gpu.streaks.bind(kStreakBinding);
+  for (const StreakBatch& batch : ordered.batches) {
+    const bool lines =
+        batch.lineWidthPx > 0.0f && batch.lineWidthPx <= gpu.streaks.maxLineWidthPx();
+    gpu.program.setLines(lines);
+    if (lines) {
+      gpu.streaks.drawLines(batch.first, batch.count, batch.lineWidthPx);
+    } else {
+      gpu.streaks.drawTriangles(batch.first, batch.count);
+    }
+  }
 
   // The GPU drew alpha * C over transparent black; B and c enter on the CPU (rain_inputs.h).
   impl_->rainRgba.resize(frame.pixelCount() * 4);

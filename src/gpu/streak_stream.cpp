@@ -10,7 +10,12 @@
 namespace pluvia::gpu {
 
 StreakStream::StreakStream()
-    : vertexArray_(genVertexArray()), streaks_(genBuffer()), indices_(genBuffer()) {}
+    : vertexArray_(genVertexArray()), streaks_(genBuffer()), indices_(genBuffer()) {
+  GLfloat range[2] = {1.0f, 1.0f};
+  glGetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, range);
+  maxLineWidthPx_ = range[1];
+  checkGl("querying the line width range");
+}
 
 void StreakStream::upload(const std::vector<StreakInstance>& streaks) {
   const auto bytes = static_cast<GLsizeiptr>(streaks.size() * sizeof(StreakInstance));
@@ -42,16 +47,25 @@ void StreakStream::upload(const std::vector<StreakInstance>& streaks) {
     glBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, bytes, streaks.data());
   }
   glBindBuffer(GL_SHADER_STORAGE_BUFFER, 0);
-  count_ = streaks.size();
   checkGl("uploading the streaks");
 }
 
-void StreakStream::draw(GLuint binding) const {
+void StreakStream::bind(GLuint binding) const {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, streaks_.id());
   glBindVertexArray(vertexArray_.id());
-  glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * count_), GL_UNSIGNED_INT, nullptr);
-  glBindVertexArray(0);
-  checkGl("drawing the streaks");
+}
+
+void StreakStream::drawLines(size_t first, size_t count, float widthPx) const {
+  glLineWidth(widthPx);
+  glDrawArrays(GL_LINES, static_cast<GLint>(2 * first), static_cast<GLsizei>(2 * count));
+  checkGl(fmt::format("drawing {} streaks as lines {} px wide", count, widthPx));
+}
+
+void StreakStream::drawTriangles(size_t first, size_t count) const {
+  const auto offset = static_cast<uintptr_t>(6 * first * sizeof(uint32_t));
+  glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(6 * count), GL_UNSIGNED_INT,
+                 reinterpret_cast<const void*>(offset));
+  checkGl(fmt::format("drawing {} streaks as triangles", count));
 }
 
 }  // namespace pluvia::gpu

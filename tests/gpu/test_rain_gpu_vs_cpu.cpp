@@ -306,13 +306,14 @@ class GpuVsCpu : public ::testing::Test {
 
   // Renders `background` both ways and checks they agree; returns the comparison.
   static Comparison renderBoth(const Image& background, const std::vector<StreakInstance>& streaks,
-                               const ShadingParams& shading) {
+                               const ShadingParams& shading,
+                               int maxSkippedNearEdges = kWidth * kHeight / 100) {
     Image gpu = background, cpu = background;
     renderer_->render(gpu, streaks, shading);
     renderRainCpu(cpu, streaks, shading, threeStrokeAtlas());
     const Comparison result = compare(gpu, cpu, streaks);
     EXPECT_EQ(result.mismatches, 0) << "first mismatch at " << result.firstMismatch;
-    EXPECT_LT(result.skippedNearEdges, kWidth * kHeight / 100) << "the edge rule hides too much";
+    EXPECT_LT(result.skippedNearEdges, maxSkippedNearEdges) << "the edge rule hides too much";
     return result;
   }
 
@@ -355,6 +356,33 @@ TEST_F(GpuVsCpu, ManyThinStreaksAtSubPixelOffsets) {
                        0.9f, 1.0f, static_cast<float>(i % 3), 0.0f, 0.6f, 0.8f, 0.0f});
   }
   renderBoth(gradientBackground(), streaks, orderThreeShading());
+}
+
+TEST_F(GpuVsCpu, EveryLineWidthClassTrianglesAndTheFrameEdges) {
+  // Widths from sub-pixel to wider than the widest line (drawn as triangles), at angles on
+  // both sides of 45 degrees (where GL switches the line's major axis), with heads on and
+  // beyond all four edges of the frame: a wide line whose centre leaves the viewport must
+  // still cover the pixels its width reaches inside (the guard band).
+  std::vector<StreakInstance> streaks;
+  const float widths[] = {0.6f, 1.0f, 1.9f, 2.2f, 3.1f, 4.5f, 7.0f, 11.0f, 20.0f, 70.0f};
+  const float angles[] = {90.0f, 44.0f, 46.0f, 135.0f, 3.0f, 178.0f, 270.0f, 61.0f};
+  const float heads[][2] = {{-2.5f, 10.3f}, {50.2f, 20.7f}, {20.4f, -3.1f}, {30.6f, 33.8f},
+                            {12.3f, 14.9f}, {47.4f, 0.6f}, {0.4f, 31.2f}, {35.5f, 16.1f}};
+  int k = 0;
+  for (float width : widths) {
+    for (int j = 0; j < 2; ++j, ++k) {
+      const float radians = angles[k % 8] * 3.14159265f / 180.0f;
+      const float x = heads[(k * 3) % 8][0], y = heads[(k * 3) % 8][1];
+      const float length = 3.0f + 2.5f * (k % 7);
+      streaks.push_back({x, y, x + length * std::cos(radians), y + length * std::sin(radians),
+                         width, width > 10.0f ? 0.08f : 0.3f, 1.0f, static_cast<float>(k % 3),
+                         0.0f, 0.6f, 0.8f, 0.0f});
+    }
+  }
+  // The widest streaks run edges across the whole frame: allow 3 % of pixels near an edge.
+  const Comparison result =
+      renderBoth(gradientBackground(), streaks, orderThreeShading(), kWidth * kHeight * 3 / 100);
+  EXPECT_GT(result.rainPixels, kWidth * kHeight / 2);
 }
 
 TEST_F(GpuVsCpu, SceneDepthHidesTheFarStreaksOnTheLeft) {
