@@ -1,6 +1,7 @@
 // `pluvia bench --drops N`: CPU time of the drop simulation per frame (one step and the
 // streaks it projects), still air against the full model (gusts, a stable-fluids wind field,
-// rain cells), measured in the same run.
+// rain cells), measured in the same run; and the step again after frame 1000, which must cost
+// the same (nothing grows with the clip's length).
 #include "bench_drops.h"
 
 #include <algorithm>
@@ -16,21 +17,40 @@
 namespace pluvia {
 namespace {
 
-struct DropTimes {
-  double stepMs = 0.0, streaksMs = 0.0;
-  size_t streaks = 0;
-};
-
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
 }
 
+struct DropTimes {
+  double stepMs = 0.0, streaksMs = 0.0;
+  double lateStepMs = 0.0;  // the same steps after frame 1000: cost must not grow with the clip
+  size_t streaks = 0;
+};
+
+// Median step and streak times of `frames` frames from `firstFrame` on.
+void timeFrames(rain::DropSimulation& sim, int64_t firstFrame, int frames, double& stepMs,
+                double& streaksMs, size_t& streakCount) {
+  std::vector<double> step, streaks;
+  for (int64_t f = firstFrame; f < firstFrame + frames; ++f) {
+    auto started = std::chrono::steady_clock::now();
+    sim.advanceTo(f);
+    step.push_back(secondsSince(started) * 1e3);
+    started = std::chrono::steady_clock::now();
+    streakCount = sim.buildStreaks(rain::StreakSettings{}).size();
+    streaks.push_back(secondsSince(started) * 1e3);
+  }
+  stepMs = median(step);
+  streaksMs = median(streaks);
+}
+
+constexpr int64_t kLateFrame = 1000;
+
 DropTimes timeSimulation(int64_t drops, int frames, bool fullModel) {
   rain::DropSimulationSettings s;
   s.maxDrops = drops;
   s.farMeters = 15.0;
-  s.lastFrame = frames + 3;
+  s.lastFrame = kLateFrame + frames;
   if (fullModel) {
     s.wind.gustiness = 0.5;
     s.wind.turbulence = 0.5;
@@ -47,18 +67,12 @@ DropTimes timeSimulation(int64_t drops, int frames, bool fullModel) {
         return r;
       });
   sim.advanceTo(3);  // warm-up
-  std::vector<double> step, streaks;
   DropTimes t;
-  for (int f = 4; f < 4 + frames; ++f) {
-    auto started = std::chrono::steady_clock::now();
-    sim.advanceTo(f);
-    step.push_back(secondsSince(started) * 1e3);
-    started = std::chrono::steady_clock::now();
-    t.streaks = sim.buildStreaks(rain::StreakSettings{}).size();
-    streaks.push_back(secondsSince(started) * 1e3);
-  }
-  t.stepMs = median(step);
-  t.streaksMs = median(streaks);
+  timeFrames(sim, 4, frames, t.stepMs, t.streaksMs, t.streaks);
+  sim.advanceTo(kLateFrame - 1);
+  double lateStreaksMs = 0.0;
+  size_t lateStreaks = 0;
+  timeFrames(sim, kLateFrame, frames, t.lateStepMs, lateStreaksMs, lateStreaks);
   return t;
 }
 
@@ -68,15 +82,15 @@ void runDropBench(int64_t drops, int frames) {
   std::cout << fmt::format(
       "bench drops: {} drops at 1920x1080, median of {} frames (CPU, all threads)\n", drops,
       frames);
-  std::cout << fmt::format("{:<44} {:>10} {:>12} {:>9}\n", "model", "step ms", "streaks ms",
-                           "streaks");
+  std::cout << fmt::format("{:<44} {:>10} {:>12} {:>9} {:>16}\n", "model", "step ms", "streaks ms",
+                           "streaks", "step ms @1000");
   const DropTimes still = timeSimulation(drops, frames, false);
   const DropTimes full = timeSimulation(drops, frames, true);
-  std::cout << fmt::format("{:<44} {:>10.2f} {:>12.2f} {:>9}\n", "still air (baseline)",
-                           still.stepMs, still.streaksMs, still.streaks);
-  std::cout << fmt::format("{:<44} {:>10.2f} {:>12.2f} {:>9}\n",
+  std::cout << fmt::format("{:<44} {:>10.2f} {:>12.2f} {:>9} {:>16.2f}\n", "still air (baseline)",
+                           still.stepMs, still.streaksMs, still.streaks, still.lateStepMs);
+  std::cout << fmt::format("{:<44} {:>10.2f} {:>12.2f} {:>9} {:>16.2f}\n",
                            "gusts + stable-fluids wind + 3 rain cells", full.stepMs, full.streaksMs,
-                           full.streaks);
+                           full.streaks, full.lateStepMs);
   std::cout << fmt::format("full model / baseline: step x{:.2f}, step + streaks x{:.2f}\n",
                            full.stepMs / still.stepMs,
                            (full.stepMs + full.streaksMs) / (still.stepMs + still.streaksMs));

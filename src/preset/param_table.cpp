@@ -1,6 +1,7 @@
 #include "preset/param_table.h"
 
 #include <algorithm>
+#include <stdexcept>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -83,16 +84,15 @@ std::string rangeText(const ParamSpec& p) {
   return "[" + num(p.minValue) + ", " + num(p.maxValue) + "]";
 }
 
-bool isNumeric(const ParamSpec& p) {
-  return p.type == ParamType::Number || p.type == ParamType::Integer;
+bool isKeyframable(const ParamSpec& p) {
+  return p.keyframes;
 }
 
-// sectionLevel: the parameters of a section, which accept keyframes; false for list item fields.
 void describeParams(std::string& text, const std::vector<ParamSpec>& params,
-                    const std::string& indent, bool sectionLevel) {
+                    const std::string& indent) {
   for (const auto& p : params) {
     std::string type = paramTypeName(p.type);
-    if (sectionLevel && isNumeric(p)) type += "|keys";
+    if (p.keyframes) type += "|keys";
     std::string defaultText = p.required                 ? "(required)"
                               : p.defaultValue.is_null() ? "-"
                                                          : p.defaultValue.dump();
@@ -106,7 +106,7 @@ void describeParams(std::string& text, const std::vector<ParamSpec>& params,
       } else {
         text += fmt::format("{}  item type \"{}\":\n", indent, itemType);
       }
-      describeParams(text, fields, indent + "    ", false);
+      describeParams(text, fields, indent + "    ");
     }
   }
 }
@@ -122,13 +122,23 @@ std::string describeSection(const SectionSpec& section) {
     };
     text += fmt::format("  reads: {}   writes: {}\n", join(section.inputs), join(section.outputs));
   }
-  describeParams(text, section.params, "  ", true);
-  if (std::any_of(section.params.begin(), section.params.end(), isNumeric)) {
+  describeParams(text, section.params, "  ");
+  if (std::any_of(section.params.begin(), section.params.end(), isKeyframable)) {
     text +=
         "  number|keys: a number, or keyframes over clip frames: "
         "{\"keys\": [[frame, value], ...], \"interpolation\": \"linear|smooth|hold\"}\n";
   }
   return text;
+}
+
+void allowKeyframes(std::vector<ParamSpec>& params, const std::vector<std::string>& keys) {
+  for (const auto& key : keys) {
+    auto it = std::find_if(params.begin(), params.end(),
+                           [&](const ParamSpec& p) { return p.key == key; });
+    if (it == params.end() || (it->type != ParamType::Number && it->type != ParamType::Integer))
+      throw std::logic_error("allowKeyframes: '" + key + "' is not a number parameter");
+    it->keyframes = true;
+  }
 }
 
 }  // namespace pluvia

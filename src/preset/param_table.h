@@ -1,8 +1,8 @@
 #pragma once
 // Parameters declared as data (FFmpeg AVOption style): one table drives validation, defaults,
 // `pluvia describe` and the docs. A section is one top-level key of the preset ("rain", "fog").
-// Number and Integer parameters of a section (not fields of list items) also accept keyframes
-// (see preset/ramp.h).
+// Number and Integer parameters of a section marked `keyframes` (the ones a stage reads frame by
+// frame) also accept keyframes (see preset/ramp.h); every other value is fixed over the shot.
 #include <limits>
 #include <map>
 #include <string>
@@ -32,7 +32,13 @@ struct ParamSpec {
   bool required = false;
   // List: the items must be in strictly increasing order of this Number field ("frame").
   std::string orderedBy = {};
+  // Number or Integer section parameter that may be keyframed over clip frames.
+  bool keyframes = false;
 };
+
+// Marks the named Number/Integer parameters as keyframable; throws std::logic_error for a key
+// that is not one of them (a programming error in a stage's table).
+void allowKeyframes(std::vector<ParamSpec>& params, const std::vector<std::string>& keys);
 
 struct SectionSpec {
   std::string name;  // top-level preset key
@@ -50,8 +56,8 @@ size_t editDistance(const std::string& a, const std::string& b);
 // The candidate nearest to `word`, or "" when none is reasonably close.
 std::string nearestWord(const std::string& word, const std::vector<std::string>& candidates);
 
-// One line per parameter: key, type, default, range or choices, units, help. A numeric section
-// parameter's type reads "number|keys" / "integer|keys": it may be keyframed.
+// One line per parameter: key, type, default, range or choices, units, help. A keyframable
+// parameter's type reads "number|keys" / "integer|keys".
 std::string describeSection(const SectionSpec& section);
 
 }  // namespace pluvia

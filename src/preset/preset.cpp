@@ -97,7 +97,8 @@ std::string numberText(double v) {
   return fmt::format("{:g}", v);
 }
 
-// allowKeys: Number and Integer values may be keyframes (section parameters, not list item fields).
+// allowKeys: section parameters (not list item fields), where a keyframable number may be keys
+// and any other number given as keys is told it is fixed over the shot.
 void checkValue(const ParamSpec& spec, const json& value, const std::string& where,
                 std::vector<std::string>& problems, bool allowKeys);
 
@@ -211,8 +212,13 @@ void checkKeys(const ParamSpec& spec, const json& value, const std::string& wher
 
 void checkValue(const ParamSpec& spec, const json& value, const std::string& where,
                 std::vector<std::string>& problems, bool allowKeys) {
-  if (allowKeys && isNumeric(spec) && (value.is_object() || value.is_array())) {
+  if (allowKeys && spec.keyframes && (value.is_object() || value.is_array())) {
     return checkKeys(spec, value, where, problems);
+  }
+  if (allowKeys && isNumeric(spec) && Ramp::looksLikeKeys(value)) {
+    problems.push_back(fmt::format(
+        "{}: cannot be keyframed, it is fixed over the shot; give one number", where));
+    return;
   }
   auto bad = [&](const std::string& what) {
     problems.push_back(fmt::format("{}: {} (got {})", where, what, value.dump()));
@@ -348,7 +354,7 @@ void setDefaults(json& object, const std::vector<ParamSpec>& params, bool sectio
       (*node)[parts.back()] = p.defaultValue;
     }
     json& value = (*node)[parts.back()];
-    if (sectionLevel && isNumeric(p) && Ramp::looksLikeKeys(value)) {
+    if (sectionLevel && p.keyframes && Ramp::looksLikeKeys(value)) {
       if (value.is_array()) value = json{{"keys", value}};
       if (!value.contains("interpolation")) value["interpolation"] = "linear";
     }
@@ -368,7 +374,7 @@ void wrapKeyShorthand(json& document, const Schema& schema) {
   for (const auto& section : schema) {
     if (!document.contains(section.name) || !document[section.name].is_object()) continue;
     for (const auto& p : section.params) {
-      if (!isNumeric(p)) continue;
+      if (!p.keyframes) continue;
       json* node = &document[section.name];
       for (const auto& part : splitDots(p.key)) {
         node = node->is_object() && node->contains(part) ? &(*node)[part] : nullptr;
@@ -572,10 +578,6 @@ double Preset::number(const std::string& p) const {
 double Preset::number(const std::string& p, double frame) const {
   const nlohmann::json& v = at(p);
   return v.is_number() ? v.get<double>() : ramp(p).valueAt(frame);
-}
-bool Preset::isAnimated(const std::string& p) const {
-  const nlohmann::json& v = at(p);
-  return !v.is_number() && ramp(p).animated();
 }
 Ramp Preset::ramp(const std::string& p) const {
   try {

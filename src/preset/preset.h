@@ -4,7 +4,8 @@
 // Validation reports every problem at once, each naming its JSON Pointer path; nothing is
 // rendered from an invalid preset.
 //
-// Number and Integer section parameters may be keyframed over clip frame numbers (preset/ramp.h):
+// Number and Integer section parameters marked keyframable may be keyframed over clip frame
+// numbers (preset/ramp.h; `pluvia describe` shows them as number|keys):
 //   "rate_mm_h": {"keys": [[0, 0], [48, 40]], "interpolation": "linear"}   (or "smooth", "hold")
 // and `--set rain.rate_mm_h=[[0,0],[48,40]]` is shorthand for {"keys": [[0,0],[48,40]]}.
 #include <array>
@@ -59,8 +60,6 @@ class Preset {
   // The value at clip frame `frame` (fractional frames interpolate); a plain number whatever the
   // frame.
   double number(const std::string& dottedPath, double frame) const;
-  // True when the value is keyframed and changes over frames.
-  bool isAnimated(const std::string& dottedPath) const;
   // The value as a Ramp (a constant for a plain number).
   Ramp ramp(const std::string& dottedPath) const;
   bool boolean(const std::string& dottedPath) const;

@@ -46,6 +46,12 @@ Ramp::Ramp(std::vector<RampKey> keys, RampInterpolation interpolation)
   }
 }
 
+double Ramp::maxValue() const {
+  double largest = keys_.front().value;
+  for (const RampKey& key : keys_) largest = std::max(largest, key.value);
+  return largest;
+}
+
 bool Ramp::looksLikeKeys(const nlohmann::json& value) {
   if (value.is_object()) return value.contains("keys");
   if (!value.is_array() || value.empty()) return false;

@@ -1,6 +1,7 @@
 #pragma once
-// Keyframed numbers ("ramps"). Every Number or Integer parameter of a preset section may be given
-// as a plain number or as keys over clip frame numbers (the numbers the renderer calls `frame`):
+// Keyframed numbers ("ramps"). A Number or Integer parameter of a preset section marked keyframable
+// (ParamSpec::keyframes) may be given as a plain number or as keys over clip frame numbers (the
+// numbers the renderer calls `frame`):
 //
 //   "rate_mm_h": {"keys": [[0, 0], [48, 40]], "interpolation": "linear"}
 //
@@ -42,6 +43,8 @@ class Ramp {
 
   double valueAt(double frame) const;
   double firstValue() const { return keys_.front().value; }
+  // The largest value the ramp takes: every interpolation stays between neighbouring keys.
+  double maxValue() const;
   // True when the value changes with the frame (two or more keys with different values).
   bool animated() const;
   const std::vector<RampKey>& keys() const { return keys_; }

@@ -17,30 +17,7 @@
 namespace pluvia {
 namespace {
 
-// Rain parameters the simulation takes once for the shot: keyframing them would change the
-// box, the pool or the random streams mid-shot.
-const char* const kFixedOverTheShot[] = {"rain.min_diameter_mm",
-                                         "rain.near_m",
-                                         "rain.far_m",
-                                         "rain.max_drops",
-                                         "rain.seed",
-                                         "rain.spread_m_s",
-                                         "rain.wind.gustiness",
-                                         "rain.wind.turbulence",
-                                         "rain.cells.count",
-                                         "rain.cells.radius_m",
-                                         "rain.cells.peak_density",
-                                         "rain.cells.size_scale",
-                                         "camera.fps",
-                                         "camera.shutter_angle_deg",
-                                         "camera.focus_m",
-                                         "camera.f_number",
-                                         "camera.sensor_width_mm"};
-
 rain::DropSimulationSettings simulationSettings(const Preset& p, const ClipContext& clip) {
-  for (const char* key : kFixedOverTheShot)
-    if (p.isAnimated(key))
-      throw Error(fmt::format("{} cannot be keyframed: it is fixed over the shot", key), {"rain"});
   rain::DropSimulationSettings s;
   s.distribution = p.string("rain.distribution") == "gamma"
                        ? rain::SizeDistribution::Gamma
@@ -395,10 +372,15 @@ StageInfo rainStageInfo() {
        "deg",
        "direction the wind blows toward: 0 camera right, 90 away from the camera"},
   };
+  // What the simulation reads frame by frame (drop_simulation.h's RainAtFrame, and the streaks'
+  // opacity); the rest sizes the box, the pool and the random streams once for the shot.
+  allowKeyframes(info.spec.params, {"rate_mm_h", "density_scale", "size_scale", "opacity",
+                                    "wind.speed_m_s", "wind.dir_deg"});
   info.noOpReason = [](const Preset& p) -> std::string {
-    if (p.number("rain.rate_mm_h") == 0.0) return "rate_mm_h is 0";
-    if (p.number("rain.density_scale") == 0.0) return "density_scale is 0";
-    if (p.number("rain.opacity") == 0.0) return "opacity is 0";
+    // A ramp is 0 throughout only when every key is (interpolation stays between keys).
+    if (p.ramp("rain.rate_mm_h").maxValue() == 0.0) return "rate_mm_h is 0";
+    if (p.ramp("rain.density_scale").maxValue() == 0.0) return "density_scale is 0";
+    if (p.ramp("rain.opacity").maxValue() == 0.0) return "opacity is 0";
     if (p.number("rain.max_drops") == 0.0) return "max_drops is 0";
     return "";
   };

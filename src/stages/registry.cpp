@@ -58,6 +58,8 @@ SectionSpec cameraSection() {
              "sensor width; with fov_deg gives the focal length (defocus)"),
       path,
   };
+  // The exposure may ramp (the rain stage reads it per frame); the rest is fixed for the shot.
+  allowKeyframes(s.params, {"exposure_s"});
   return s;
 }
 

@@ -45,6 +45,14 @@ TEST(Planner, NoOpParametersAreLeftOutWithReasons) {
   EXPECT_TRUE(plan.runs("lighting"));  // the rain still reads it
 }
 
+TEST(Planner, RainRampingUpFromZeroIsNotANoOp) {
+  // The first key is 0 mm/h, but the rain reaches 40: the stage must run.
+  EXPECT_TRUE(planWith({"rain.rate_mm_h=[[0,0],[48,40]]"}).runs("rain"));
+  Plan dry = planWith({"rain.rate_mm_h=[[0,0],[48,0]]"});
+  EXPECT_FALSE(dry.runs("rain"));
+  EXPECT_EQ(entry(dry, "rain").reason, "no-op: rate_mm_h is 0");
+}
+
 TEST(Planner, StagesWhoseOutputNobodyReadsAreLeftOut) {
   // No rain and a constant fog colour: nothing reads the environment; depth still feeds fog.
   Plan plan = planWith({"rain.rate_mm_h=0", "fog.color_source=constant"});

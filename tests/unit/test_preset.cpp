@@ -167,7 +167,7 @@ TEST(Preset, NumbersAcceptKeyframes) {
                       "dir_deg": {"keys": [[0, 0], [100, 90]], "interpolation": "smooth"}}},
     "camera": {"exposure_s": {"keys": [[0, 0.01]]}}})");
   Preset p = Preset::resolve(path.string(), {}, presetSchema());
-  EXPECT_TRUE(p.isAnimated("rain.rate_mm_h"));
+  EXPECT_TRUE(p.ramp("rain.rate_mm_h").animated());
   EXPECT_DOUBLE_EQ(p.number("rain.rate_mm_h"), 0.0);  // the first key's value
   EXPECT_DOUBLE_EQ(p.number("rain.rate_mm_h", -10), 0.0);
   EXPECT_DOUBLE_EQ(p.number("rain.rate_mm_h", 24), 20.0);
@@ -177,10 +177,10 @@ TEST(Preset, NumbersAcceptKeyframes) {
   EXPECT_DOUBLE_EQ(p.number("rain.wind.speed_m_s", 20), 8.0);
   EXPECT_DOUBLE_EQ(p.number("rain.wind.dir_deg", 50), 45.0);
   EXPECT_LT(p.number("rain.wind.dir_deg", 25), 22.5);
-  EXPECT_FALSE(p.isAnimated("camera.exposure_s"));  // one key: constant
+  EXPECT_FALSE(p.ramp("camera.exposure_s").animated());  // one key: constant
   EXPECT_DOUBLE_EQ(p.number("camera.exposure_s", 99), 0.01);
   // Plain numbers are the same at every frame.
-  EXPECT_FALSE(p.isAnimated("camera.fov_deg"));
+  EXPECT_FALSE(p.ramp("camera.fov_deg").animated());
   EXPECT_DOUBLE_EQ(p.number("camera.fov_deg", 17), p.number("camera.fov_deg"));
   // Interpolation defaults to linear and is written out in the resolved JSON.
   Preset q = Preset::resolve("moderate", {"rain.rate_mm_h={\"keys\": [[0, 0], [10, 10]]}"},
@@ -192,11 +192,11 @@ TEST(Preset, NumbersAcceptKeyframes) {
 TEST(Preset, SetAcceptsKeyShorthandAndConstants) {
   Preset p = Preset::resolve(
       "moderate", {"rain.rate_mm_h=[[0,0],[48,40]]", "rain.wind.speed_m_s=25"}, presetSchema());
-  EXPECT_TRUE(p.isAnimated("rain.rate_mm_h"));
+  EXPECT_TRUE(p.ramp("rain.rate_mm_h").animated());
   EXPECT_DOUBLE_EQ(p.number("rain.rate_mm_h", 12), 10.0);
   EXPECT_EQ(p.at("rain.rate_mm_h"),
             nlohmann::json::parse(R"({"keys": [[0, 0], [48, 40]], "interpolation": "linear"})"));
-  EXPECT_FALSE(p.isAnimated("rain.wind.speed_m_s"));
+  EXPECT_FALSE(p.ramp("rain.wind.speed_m_s").animated());
   EXPECT_DOUBLE_EQ(p.number("rain.wind.speed_m_s"), 25.0);
   EXPECT_DOUBLE_EQ(p.number("rain.wind.speed_m_s", 30), 25.0);
   // Keys can be edited one by one once they exist.
@@ -222,7 +222,8 @@ TEST(Preset, KeyframeProblemsNameTheirPaths) {
   EXPECT_TRUE(anyContains(problems, "/rain/rate_mm_h/keys/2/0: key frames must increase strictly"));
   EXPECT_TRUE(anyContains(problems,
                           "/rain/rate_mm_h/interpolation: expected one of: linear, smooth, hold"));
-  EXPECT_TRUE(anyContains(problems, "/rain/seed/keys/1/1: expected an integer (got 2.5)"));
+  // Values the shot fixes once (the seed, a blur radius) say so rather than take keys.
+  EXPECT_TRUE(anyContains(problems, "/rain/seed: cannot be keyframed, it is fixed over the shot"));
   EXPECT_TRUE(anyContains(
       problems, "/rain/wind/speed_m_s/keys: expected a list of at least one [frame, value] key"));
   EXPECT_TRUE(anyContains(
@@ -232,8 +233,7 @@ TEST(Preset, KeyframeProblemsNameTheirPaths) {
       anyContains(problems, "/camera/exposure_s/keys/1/0: key frames must increase strictly"));
   EXPECT_TRUE(anyContains(problems, "/camera/exposure_s/keys/2/0: expected a frame number"));
   EXPECT_TRUE(anyContains(problems, "/camera/exposure_s/keys/3: expected [frame, value]"));
-  EXPECT_TRUE(anyContains(
-      problems, "/blur/sigma_px/keys/1/0: key frames must increase strictly"));  // --set shorthand
+  EXPECT_TRUE(anyContains(problems, "/blur/sigma_px: cannot be keyframed"));  // --set shorthand
   EXPECT_TRUE(anyContains(problems, "/fog/density: expected a number"));
   // List item fields take plain numbers only (the stages read them directly).
   auto items = problemsOf(
