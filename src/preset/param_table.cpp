@@ -1,8 +1,8 @@
 #include "preset/param_table.h"
 
 #include <algorithm>
-#include <stdexcept>
 #include <cmath>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
