@@ -1,9 +1,17 @@
 #pragma once
 // One function per subcommand: registers its options on `app` and its action, which sets
 // `exitCode`. Actions throw pluvia::Error / UsageError; main() turns them into exit codes.
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
+
+namespace pluvia {
+struct ClipInfo;
+struct SequencePattern;
+class Preset;
+}  // namespace pluvia
 
 namespace pluvia::cli {
 
@@ -22,5 +30,11 @@ void addReportCommand(CLI::App& app, Invocation& invocation);
 void addDerainCommand(CLI::App& app, Invocation& invocation);
 void addStrokesCommand(CLI::App& app, Invocation& invocation);
 void addEnvmapCommand(CLI::App& app, Invocation& invocation);
+void addDepthCommand(CLI::App& app, Invocation& invocation);
+
+// `pluvia depth --source colmap`: writes one depth EXR per frame from a COLMAP reconstruction
+// (src/sfm). Throws pluvia::Error until issue 7 wires it.
+void writeColmapDepth(const ClipInfo& clip, const std::vector<int64_t>& frames,
+                      const SequencePattern& output, const Preset& preset);
 
 }  // namespace pluvia::cli

@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
   cli::addDerainCommand(app, invocation);
   cli::addStrokesCommand(app, invocation);
   cli::addEnvmapCommand(app, invocation);
+  cli::addDepthCommand(app, invocation);
   app.parse_complete_callback(
       [&] { log::setLevel(quiet ? log::Level::Warning : log::Level::Info); });
 
@@ -50,10 +51,11 @@ int main(int argc, char** argv) {
     for (const auto* sub : app.get_subcommands({})) names.push_back(sub->get_name());
     if (std::find(names.begin(), names.end(), word) == names.end()) {
       std::string nearest = nearestWord(word, names);
-      log::error("unknown command '" + word + "'" +
-                 (nearest.empty() ? "" : ", did you mean '" + nearest + "'?") +
-                 " (commands: render, plan, validate, describe, bench, shade-drop, report; see "
-                 "pluvia --help)");
+      log::error(
+          "unknown command '" + word + "'" +
+          (nearest.empty() ? "" : ", did you mean '" + nearest + "'?") +
+          " (commands: render, plan, validate, describe, bench, shade-drop, report, depth; see "
+          "pluvia --help)");
       return 2;
     }
     break;

@@ -26,6 +26,8 @@ const char* paramTypeName(ParamType type) {
       return "list";
     case ParamType::Vector3:
       return "xyz";
+    case ParamType::Points2:
+      return "points";
   }
   return "?";
 }
@@ -76,7 +78,8 @@ std::string rangeText(const ParamSpec& p) {
     for (const auto& c : p.choices) s += (s.empty() ? "" : "|") + c;
     return s;
   }
-  if (p.type != ParamType::Number && p.type != ParamType::Integer && p.type != ParamType::Vector3)
+  if (p.type != ParamType::Number && p.type != ParamType::Integer && p.type != ParamType::Vector3 &&
+      p.type != ParamType::Points2)
     return "";
   auto num = [](double v) {
     return std::isinf(v) ? std::string(v < 0 ? "-inf" : "inf") : fmt::format("{:g}", v);
@@ -84,8 +87,13 @@ std::string rangeText(const ParamSpec& p) {
   return "[" + num(p.minValue) + ", " + num(p.maxValue) + "]";
 }
 
+// Item fields count too, so that a section whose list items take keys (depth layers) explains
+// the syntax.
 bool isKeyframable(const ParamSpec& p) {
-  return p.keyframes;
+  if (p.keyframes) return true;
+  for (const auto& [itemType, fields] : p.itemTypes)
+    if (std::any_of(fields.begin(), fields.end(), isKeyframable)) return true;
+  return false;
 }
 
 void describeParams(std::string& text, const std::vector<ParamSpec>& params,

@@ -13,7 +13,10 @@
 namespace pluvia {
 
 // Vector3: [x, y, z], three finite numbers, each within [minValue, maxValue].
-enum class ParamType { Number, Integer, Boolean, String, Enum, Color3, List, Vector3 };
+// Points2: a polygon, [[x, y], ...] with at least 3 points, each coordinate within
+// [minValue, maxValue]; or, to move it over frames, keys [{"frame": F, "points": [[x, y], ...]},
+// ...] in strictly increasing frame order, each with the same number of points.
+enum class ParamType { Number, Integer, Boolean, String, Enum, Color3, List, Vector3, Points2 };
 const char* paramTypeName(ParamType type);
 
 struct ParamSpec {
@@ -32,7 +35,8 @@ struct ParamSpec {
   bool required = false;
   // List: the items must be in strictly increasing order of this Number field ("frame").
   std::string orderedBy = {};
-  // Number or Integer section parameter that may be keyframed over clip frames.
+  // Number or Integer parameter that may be keyframed over clip frames: a section parameter, or
+  // a field of a list item (depth layers' distance_m); other item fields take plain numbers.
   bool keyframes = false;
 };
 

@@ -97,10 +97,13 @@ std::string numberText(double v) {
   return fmt::format("{:g}", v);
 }
 
-// allowKeys: section parameters (not list item fields), where a keyframable number may be keys
-// and any other number given as keys is told it is fixed over the shot.
+// Where keyframes may appear. Section: a keyframable number may be keys and any other number given
+// as keys is told it is fixed over the shot. Item: list item fields, where a keyframable field may
+// be keys and any other is checked as a plain value ("expected a number"). None: inside keys.
+enum class KeyMode { None, Section, Item };
+
 void checkValue(const ParamSpec& spec, const json& value, const std::string& where,
-                std::vector<std::string>& problems, bool allowKeys);
+                std::vector<std::string>& problems, KeyMode keyMode);
 
 bool isNumeric(const ParamSpec& spec) {
   return spec.type == ParamType::Number || spec.type == ParamType::Integer;
@@ -108,7 +111,7 @@ bool isNumeric(const ParamSpec& spec) {
 
 void checkObjectFields(const std::vector<ParamSpec>& params, const json& object,
                        const std::string& where, const std::string& prefix,
-                       std::vector<std::string>& problems, bool allowKeys,
+                       std::vector<std::string>& problems, KeyMode keyMode,
                        const std::set<std::string>& extraKeys = {}) {
   for (auto it = object.begin(); it != object.end(); ++it) {
     const std::string key = prefix.empty() ? it.key() : prefix + "." + it.key();
@@ -127,12 +130,12 @@ void checkObjectFields(const std::vector<ParamSpec>& params, const json& object,
       }
     }
     if (spec) {
-      checkValue(*spec, it.value(), path, problems, allowKeys);
+      checkValue(*spec, it.value(), path, problems, keyMode);
     } else if (isPrefix) {
       if (!it.value().is_object()) {
         problems.push_back(fmt::format("{}: expected an object, got {}", path, it.value().dump()));
       } else {
-        checkObjectFields(params, it.value(), path, key, problems, allowKeys);
+        checkObjectFields(params, it.value(), path, key, problems, keyMode);
       }
     } else {
       std::string nearest = nearestWord(it.key(), siblings);
@@ -206,16 +209,96 @@ void checkKeys(const ParamSpec& spec, const json& value, const std::string& wher
       }
       previousFrame = std::max(previousFrame, frame);
     }
-    checkValue(spec, key[1], keyWhere + "/1", problems, false);
+    checkValue(spec, key[1], keyWhere + "/1", problems, KeyMode::None);
+  }
+}
+
+// A polygon: [[x, y], ...] (at least 3 points), or keys [{"frame": F, "points": [...]}, ...] in
+// strictly increasing frame order with the same number of points in each.
+void checkPoints(const ParamSpec& spec, const json& value, const std::string& where,
+                 std::vector<std::string>& problems) {
+  const std::string shape =
+      "expected [[x, y], ...] with at least 3 points, or keys [{\"frame\": F, \"points\": "
+      "[[x, y], ...]}, ...]";
+  // Returns the number of points, or 0 after reporting a problem.
+  auto checkPolygon = [&](const json& points, const std::string& at) -> size_t {
+    if (!points.is_array() || points.size() < 3) {
+      problems.push_back(fmt::format("{}: {} (got {})", at, shape, points.dump()));
+      return 0;
+    }
+    for (size_t i = 0; i < points.size(); ++i) {
+      const json& p = points[i];
+      if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number()) {
+        problems.push_back(fmt::format("{}/{}: expected [x, y] (got {})", at, i, p.dump()));
+        return 0;
+      }
+      for (const json& c : p) {
+        const double v = c.get<double>();
+        if (!std::isfinite(v) || v < spec.minValue || v > spec.maxValue) {
+          problems.push_back(fmt::format("{}/{}: each must be between {} and {} (got {})", at, i,
+                                         numberText(spec.minValue), numberText(spec.maxValue),
+                                         p.dump()));
+          return 0;
+        }
+      }
+    }
+    return points.size();
+  };
+  if (!value.is_array() || value.empty() || !value[0].is_object()) {
+    checkPolygon(value, where);
+    return;
+  }
+  double previousFrame = -std::numeric_limits<double>::infinity();
+  size_t count = 0;
+  for (size_t i = 0; i < value.size(); ++i) {
+    const json& key = value[i];
+    const std::string keyWhere = fmt::format("{}/{}", where, i);
+    if (!key.is_object()) {
+      problems.push_back(
+          fmt::format("{}: expected {{\"frame\": F, \"points\": [[x, y], ...]}} (got {})", keyWhere,
+                      key.dump()));
+      continue;
+    }
+    for (auto it = key.begin(); it != key.end(); ++it) {
+      if (it.key() == "frame" || it.key() == "points") continue;
+      std::string nearest = nearestWord(it.key(), {"frame", "points"});
+      problems.push_back(
+          fmt::format("{}/{}: unknown key '{}' in points keys{}", keyWhere, it.key(), it.key(),
+                      nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest)));
+    }
+    if (!key.contains("frame") || !key["frame"].is_number() ||
+        !std::isfinite(key["frame"].get<double>())) {
+      problems.push_back(fmt::format("{}/frame: expected a frame number (got {})", keyWhere,
+                                     key.value("frame", json()).dump()));
+    } else {
+      const double frame = key["frame"].get<double>();
+      if (!(frame > previousFrame)) {
+        problems.push_back(fmt::format(
+            "{}/frame: key frames must increase strictly; key {} is at frame {} (got {})", keyWhere,
+            i - 1, numberText(previousFrame), key["frame"].dump()));
+      }
+      previousFrame = std::max(previousFrame, frame);
+    }
+    if (!key.contains("points")) {
+      problems.push_back(fmt::format("{}/points: missing", keyWhere));
+      continue;
+    }
+    const size_t n = checkPolygon(key["points"], keyWhere + "/points");
+    if (n && count && n != count) {
+      problems.push_back(fmt::format(
+          "{}/points: every key needs the same number of points (the first has {}, this one {})",
+          keyWhere, count, n));
+    }
+    if (n && !count) count = n;
   }
 }
 
 void checkValue(const ParamSpec& spec, const json& value, const std::string& where,
-                std::vector<std::string>& problems, bool allowKeys) {
-  if (allowKeys && spec.keyframes && (value.is_object() || value.is_array())) {
+                std::vector<std::string>& problems, KeyMode keyMode) {
+  if (keyMode != KeyMode::None && spec.keyframes && (value.is_object() || value.is_array())) {
     return checkKeys(spec, value, where, problems);
   }
-  if (allowKeys && isNumeric(spec) && Ramp::looksLikeKeys(value)) {
+  if (keyMode == KeyMode::Section && isNumeric(spec) && Ramp::looksLikeKeys(value)) {
     problems.push_back(fmt::format(
         "{}: cannot be keyframed, it is fixed over the shot; give one number", where));
     return;
@@ -279,6 +362,8 @@ void checkValue(const ParamSpec& spec, const json& value, const std::string& whe
         }
       }
       return;
+    case ParamType::Points2:
+      return checkPoints(spec, value, where, problems);
     case ParamType::List: {
       if (!value.is_array()) return bad("expected a list");
       std::vector<std::string> types;
@@ -295,7 +380,7 @@ void checkValue(const ParamSpec& spec, const json& value, const std::string& whe
             continue;
           }
           const auto& fields = spec.itemTypes.begin()->second;
-          checkObjectFields(fields, item, itemWhere, "", problems, false);
+          checkObjectFields(fields, item, itemWhere, "", problems, KeyMode::Item);
           for (const auto& field : fields) {
             if (field.required && !item.contains(field.key))
               problems.push_back(
@@ -328,7 +413,7 @@ void checkValue(const ParamSpec& spec, const json& value, const std::string& whe
                           nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest)));
           continue;
         }
-        checkObjectFields(found->second, item, itemWhere, "", problems, false, {"type"});
+        checkObjectFields(found->second, item, itemWhere, "", problems, KeyMode::Item, {"type"});
         for (const auto& field : found->second) {
           if (field.required && !item.contains(field.key))
             problems.push_back(fmt::format("{}/{}: missing (each \"{}\" item needs it)", itemWhere,
@@ -340,9 +425,9 @@ void checkValue(const ParamSpec& spec, const json& value, const std::string& whe
   }
 }
 
-// Fills defaults; for section parameters (sectionLevel) also writes keyframes in their full form:
+// Fills defaults and writes keyframes (of section parameters and list item fields) in full form:
 // a bare [[frame, value], ...] becomes {"keys": [...], "interpolation": "linear"}.
-void setDefaults(json& object, const std::vector<ParamSpec>& params, bool sectionLevel) {
+void setDefaults(json& object, const std::vector<ParamSpec>& params) {
   for (const auto& p : params) {
     json* node = &object;
     auto parts = splitDots(p.key);
@@ -351,10 +436,13 @@ void setDefaults(json& object, const std::vector<ParamSpec>& params, bool sectio
       node = &(*node)[parts[i]];
     }
     if (!node->contains(parts.back())) {
+      // An optional field without a default (depth_bottom_m) stays absent: a null would not
+      // validate if the resolved preset were read back.
+      if (p.defaultValue.is_null()) continue;
       (*node)[parts.back()] = p.defaultValue;
     }
     json& value = (*node)[parts.back()];
-    if (sectionLevel && p.keyframes && Ramp::looksLikeKeys(value)) {
+    if (p.keyframes && Ramp::looksLikeKeys(value)) {
       if (value.is_array()) value = json{{"keys", value}};
       if (!value.contains("interpolation")) value["interpolation"] = "linear";
     }
@@ -362,7 +450,7 @@ void setDefaults(json& object, const std::vector<ParamSpec>& params, bool sectio
       for (auto& item : value) {
         if (!item.is_object()) continue;
         auto found = p.itemTypes.find(item.value("type", ""));
-        if (found != p.itemTypes.end()) setDefaults(item, found->second, false);
+        if (found != p.itemTypes.end()) setDefaults(item, found->second);
       }
     }
   }
@@ -519,7 +607,7 @@ std::vector<std::string> validatePreset(const json& document, const Schema& sche
       problems.push_back(fmt::format("/{}: expected an object, got {}", key, it.value().dump()));
       continue;
     }
-    checkObjectFields(section->params, it.value(), "/" + key, "", problems, true);
+    checkObjectFields(section->params, it.value(), "/" + key, "", problems, KeyMode::Section);
   }
   return problems;
 }
@@ -527,7 +615,7 @@ std::vector<std::string> validatePreset(const json& document, const Schema& sche
 void fillDefaults(json& document, const Schema& schema) {
   for (const auto& section : schema) {
     if (!document.contains(section.name)) document[section.name] = json::object();
-    setDefaults(document[section.name], section.params, true);
+    setDefaults(document[section.name], section.params);
   }
 }
 

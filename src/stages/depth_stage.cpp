@@ -1,31 +1,56 @@
 // Depth: per-frame z-depth in metres for the rain's depth test and the fog. This issue's
-// source is manual layers (ground plane from camera height and tilt, cards, sky); "none"
-// puts everything at infinity (sky).
+// source is manual layers (geometry/depth_layers.h: ground plane from the camera of the frame,
+// cards, polygons, sky), whose numbers and polygon points may be keyframed; "none" puts
+// everything at infinity (sky).
 #include <limits>
 
 #include "geometry/depth_layers.h"
+#include "preset/camera_path_preset.h"
 #include "stages/registry.h"
 
 namespace pluvia {
 namespace {
+
+bool hasGroundLayer(const nlohmann::json& layers) {
+  for (const auto& layer : layers)
+    if (layer.value("type", "") == "ground") return true;
+  return false;
+}
 
 class DepthStage : public Stage {
  public:
   explicit DepthStage(const Preset& p) : source_(p.string("depth.source")), layers_(p.at("depth.layers")) {}
 
   void prepare(ClipContext& clip) override {
-    // Manual layers do not change over frames: rasterise once.
-    if (source_ == "layers") {
-      depth_ = rasterizeDepthLayers(clip.camera, layers_);
-    } else {
-      depth_.assign(static_cast<size_t>(clip.camera.width) * clip.camera.height, std::numeric_limits<float>::infinity());
+    if (source_ != "layers") {
+      depth_.assign(static_cast<size_t>(clip.camera.width) * clip.camera.height,
+                    std::numeric_limits<float>::infinity());
+      return;
     }
+    path_ = clip.preset ? cameraPathFromPreset(*clip.preset, clip.camera)
+                        : CameraPath::fixed(clip.camera);
+    // Rasterising a frame costs a pass over every pixel per layer: do it once unless a layer moves
+    // or the ground is seen from a moving camera (long clips would pay it on every frame).
+    perFrame_ = depthLayersAnimated(layers_) || (path_.moving() && hasGroundLayer(layers_));
+    if (!perFrame_) depth_ = rasterizeDepthLayers(path_.cameraAt(0.0), layers_, 0.0, rampValueAt);
   }
-  void process(ClipContext&, FrameContext& frame) override { frame.image.planes["depth"] = depth_; }
+  void process(ClipContext&, FrameContext& frame) override {
+    if (perFrame_) {
+      const double at = static_cast<double>(frame.frame);
+      depth_ = rasterizeDepthLayers(path_.cameraAt(at), layers_, at, rampValueAt);
+    }
+    frame.image.planes["depth"] = depth_;
+  }
 
  private:
+  static double rampValueAt(const nlohmann::json& value, double frame) {
+    return Ramp::fromJson(value).valueAt(frame);
+  }
+
   std::string source_;
   nlohmann::json layers_;
+  CameraPath path_;
+  bool perFrame_ = false;
   std::vector<float> depth_;
 };
 
@@ -39,7 +64,9 @@ ParamSpec layerField(const std::string& key, double def, double lo, double hi, c
 StageInfo depthStageInfo() {
   StageInfo info;
   info.spec.name = "depth";
-  info.spec.help = "Scene depth per frame (metres) from manual layers; sky is at infinity.";
+  info.spec.help =
+      "Scene depth per frame (metres) from manual layers (ground, card, polygon, sky); sky is at "
+      "infinity.";
   info.spec.outputs = {"depth"};
   ParamSpec layers{"layers", ParamType::List, nlohmann::json::parse(R"([{"type":"ground"}])"), {}, {}, {}, "",
                    "painted in order, each over the pixels it covers; uncovered pixels are sky"};
@@ -47,9 +74,34 @@ StageInfo depthStageInfo() {
                               layerField("x1", 1, 0, 1, "", "right edge, fraction of the width"),
                               layerField("y0", 0, 0, 1, "", "top edge, fraction of the height"),
                               layerField("y1", 1, 0, 1, "", "bottom edge, fraction of the height")};
+  allowKeyframes(rect, {"x0", "x1", "y0", "y1"});
   std::vector<ParamSpec> card = rect;
   card.push_back(layerField("distance_m", 10, 0.01, 1e6, "m", "z-depth of the card"));
-  layers.itemTypes = {{"ground", {}}, {"card", card}, {"sky", rect}};
+  allowKeyframes(card, {"distance_m"});
+  // Points may lie outside the image (a road that runs out of frame): fractions in [-1, 2].
+  ParamSpec points{"points",
+                   ParamType::Points2,
+                   nullptr,
+                   -1,
+                   2,
+                   {},
+                   "",
+                   "polygon corners [[x, y], ...] as fractions of width/height (even-odd fill at "
+                   "pixel centres), "
+                   "or keys [{\"frame\": F, \"points\": [...]}, ...] (linear between keys)"};
+  std::vector<ParamSpec> polygon{
+      points,
+      layerField("depth_m", 10, 0.01, 1e6, "m",
+                 "z-depth (at the top when depth_bottom_m is given)"),
+      layerField("depth_bottom_m", 0, 0.01, 1e6, "m",
+                 "optional: z-depth at the bottom, linear per row from depth_m at the top")};
+  polygon[2].defaultValue = nullptr;  // absent: constant depth
+  polygon[0].required = true;
+  allowKeyframes(polygon, {"depth_m", "depth_bottom_m"});
+  std::vector<ParamSpec> sky = rect;
+  points.help = "optional polygon instead of the rectangle (as for \"polygon\")";
+  sky.push_back(points);
+  layers.itemTypes = {{"ground", {}}, {"card", card}, {"polygon", polygon}, {"sky", sky}};
   info.spec.params = {
       {"enabled", ParamType::Boolean, true, {}, {}, {}, "", "run this stage"},
       {"source", ParamType::Enum, "layers", {}, {}, {"layers", "none"}, "", "where depth comes from"},

@@ -235,10 +235,45 @@ TEST(Preset, KeyframeProblemsNameTheirPaths) {
   EXPECT_TRUE(anyContains(problems, "/camera/exposure_s/keys/3: expected [frame, value]"));
   EXPECT_TRUE(anyContains(problems, "/blur/sigma_px: cannot be keyframed"));  // --set shorthand
   EXPECT_TRUE(anyContains(problems, "/fog/density: expected a number"));
-  // List item fields take plain numbers only (the stages read them directly).
+  // List item fields not marked keyframable take plain numbers only.
   auto items = problemsOf(
-      "moderate", {"depth.layers=[{\"type\": \"card\", \"distance_m\": [[0, 1], [10, 2]]}]"});
-  EXPECT_TRUE(anyContains(items, "/depth/layers/0/distance_m: expected a number"));
+      "moderate",
+      {R"(camera.path=[{"frame": 0, "position_m": [0, 1, 0], "yaw_deg": [[0, 1], [10, 2]]}])"});
+  EXPECT_TRUE(anyContains(items, "/camera/path/0/yaw_deg: expected a number"));
+}
+
+TEST(Preset, DepthLayerFieldsAcceptKeyframesAndPolygons) {
+  Preset p = Preset::resolve("moderate", {R"(depth.layers=[{"type": "ground"},
+          {"type": "card", "distance_m": [[0, 10], [20, 30]], "y1": {"keys": [[0, 0.2], [5, 0.3]], "interpolation": "hold"}},
+          {"type": "polygon", "points": [[0, 0.5], [1, 0.5], [1, 1]], "depth_m": 20, "depth_bottom_m": [[0, 4], [10, 6]]},
+          {"type": "polygon", "points": [{"frame": 0, "points": [[0, 0], [0.1, 0], [0, 0.1]]}, {"frame": 8, "points": [[0.5, 0], [0.6, 0], [0.5, 0.1]]}]},
+          {"type": "sky", "points": [[0, 0], [1, 0], [0.5, 0.2]]}])"},
+                             presetSchema());
+  // The bare pair list is stored in full form, as for section parameters.
+  EXPECT_EQ(p.at("depth.layers.1.distance_m.interpolation"), "linear");
+  EXPECT_DOUBLE_EQ(p.number("depth.layers.1.distance_m", 10), 20.0);
+  EXPECT_DOUBLE_EQ(p.number("depth.layers.2.depth_bottom_m", 5), 5.0);
+  EXPECT_FALSE(p.has("depth.layers.3.depth_bottom_m"));  // optional: stays absent
+  EXPECT_DOUBLE_EQ(p.number("depth.layers.3.depth_m"), 10.0);
+
+  auto problems = problemsOf(
+      "moderate", {R"(depth.layers=[{"type": "card", "distance_m": {"keys": [[0, 10], [5, -1]]}},
+          {"type": "polygon", "points": [[0, 0], [1, 1]]},
+          {"type": "polygon", "depth_m": 3},
+          {"type": "polygon", "points": [[0, 0], [1, 0], [1, "a"]]},
+          {"type": "polygon", "points": [{"frame": 4, "points": [[0, 0], [1, 0], [1, 1]]}, {"frame": 2, "points": [[0, 0], [1, 0], [1, 1], [0, 1]]}]},
+          {"type": "sky", "points": [[0, 0], [1, 0], [9, 1]], "x0": [[0, 0], [1, 0.5]]}])"});
+  for (const auto& line : problems) std::cerr << line << "\n";
+  EXPECT_TRUE(anyContains(problems, "/depth/layers/0/distance_m/keys/1/1: must be between 0.01"));
+  EXPECT_TRUE(
+      anyContains(problems, "/depth/layers/1/points: expected [[x, y], ...] with at least 3"));
+  EXPECT_TRUE(anyContains(problems, "/depth/layers/2/points: missing"));
+  EXPECT_TRUE(anyContains(problems, "/depth/layers/3/points/2: expected [x, y]"));
+  EXPECT_TRUE(anyContains(problems, "/depth/layers/4/points/1/frame: key frames must increase"));
+  EXPECT_TRUE(
+      anyContains(problems, "/depth/layers/4/points/1/points: every key needs the same number"));
+  EXPECT_TRUE(anyContains(problems, "/depth/layers/5/points/2: each must be between -1 and 2"));
+  EXPECT_EQ(problems.size(), 7u);  // the keyed x0 of the sky is fine
 }
 
 TEST(Preset, HashChangesWithKeys) {
@@ -304,4 +339,11 @@ TEST(Preset, DescribeMentionsKeyframes) {
   std::string cameraText = describeSection(*camera);
   EXPECT_NE(cameraText.find("each item:"), std::string::npos) << cameraText;
   EXPECT_NE(cameraText.find("position_m"), std::string::npos);
+  // Keyframable list item fields (depth layers) are shown as such, with the syntax.
+  auto depth = std::find_if(schema.begin(), schema.end(),
+                            [](const SectionSpec& s) { return s.name == "depth"; });
+  std::string depthText = describeSection(*depth);
+  EXPECT_NE(depthText.find("item type \"polygon\""), std::string::npos) << depthText;
+  EXPECT_NE(depthText.find("number|keys"), std::string::npos) << depthText;
+  EXPECT_NE(depthText.find("\"interpolation\": \"linear|smooth|hold\""), std::string::npos);
 }

@@ -1,0 +1,115 @@
+// `pluvia depth`: the z-depth the render's depth stage would use, one single-channel float EXR
+// per frame (channel "Z", metres, +inf for sky), for checking manual layers against the plate.
+#include <map>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "commands.h"
+#include "common.h"
+#include "geometry/camera.h"
+#include "geometry/depth_layers.h"
+#include "io/clip_reader.h"
+#include "io/image_file_writer.h"
+#include "io/sequence_pattern.h"
+#include "pluvia/version.h"
+#include "preset/camera_path_preset.h"
+#include "util/error.h"
+#include "util/log.h"
+
+namespace pluvia::cli {
+namespace {
+
+// The clip's frames within --frames; a range that leaves the clip is an error before any write.
+std::vector<int64_t> selectFrames(const ClipInfo& clip, const std::string& range) {
+  if (range.empty()) return clip.frames;
+  auto [first, last] = parseFrameRange(range);
+  std::vector<int64_t> frames;
+  std::set<int64_t> available(clip.frames.begin(), clip.frames.end());
+  for (int64_t f = first; f <= last; ++f) {
+    if (!available.count(f))
+      throw UsageError(fmt::format("--frames {}: frame {} is not in {} (it has frames {}-{})",
+                                   range, f, clip.path, clip.frames.front(), clip.frames.back()),
+                       {"read", f, clip.path});
+    frames.push_back(f);
+  }
+  return frames;
+}
+
+}  // namespace
+
+// The hook for depth from a COLMAP reconstruction (src/sfm, issue 7): per-frame depth maps of
+// the tracked camera, written like the layers' below. Not wired yet.
+void writeColmapDepth(const ClipInfo& /*clip*/, const std::vector<int64_t>& /*frames*/,
+                      const SequencePattern& /*output*/, const Preset& /*preset*/) {
+  throw Error("--source colmap: not available yet (issue 7 in progress)", {"depth", {}, {}});
+}
+
+void addDepthCommand(CLI::App& app, Invocation& invocation) {
+  auto* cmd = app.add_subcommand(
+      "depth", "write the scene depth per frame (metres, +inf for sky) as single-channel EXRs");
+  struct Args {
+    std::string input, output, preset = "base", source = "layers", frames;
+    std::vector<std::string> sets;
+  };
+  auto args = std::make_shared<Args>();
+  cmd->add_option("INPUT", args->input, "movie, image sequence or image (its size and frames)")
+      ->required();
+  cmd->add_option("-o,--output", args->output, "EXR sequence pattern, e.g. depth.####.exr")
+      ->required();
+  cmd->add_option("--source", args->source, "layers (the preset's depth.layers) or colmap")
+      ->check(CLI::IsMember({"layers", "colmap"}));
+  cmd->add_option("-p,--preset", args->preset, "preset name or path (camera and depth.layers)");
+  cmd->add_option("--set", args->sets, "override KEY=VALUE (e.g. depth.layers.1.distance_m=40)");
+  cmd->add_option("--frames", args->frames, "FIRST-LAST, in the clip's frame numbers");
+  cmd->callback([=, &invocation] {
+    auto pattern = SequencePattern::parse(args->output);
+    if (!pattern || lowerExtension(args->output) != "exr")
+      throw UsageError(fmt::format("-o {}: expected an EXR sequence pattern such as depth.####.exr",
+                                   args->output));
+    // Everything that can be refused is refused before the first file is written.
+    Preset preset = loadPreset(args->preset, args->sets);
+    auto reader = openClip(args->input);
+    const ClipInfo& clip = reader->info();
+    const std::vector<int64_t> frames = selectFrames(clip, args->frames);
+    std::vector<std::string> outputs;
+    for (int64_t f : frames) outputs.push_back(pattern->pathFor(f));
+    std::vector<std::string> inputs = clip.files;
+    inputs.push_back(clip.path);
+    refuseOverwritingInput(inputs, "-o", outputs);
+
+    if (args->source == "colmap") return writeColmapDepth(clip, frames, *pattern, preset);
+
+    // The camera the render builds (pipeline/render_job.cpp), moved along camera.path.
+    const Camera base =
+        Camera::fromFieldOfView(clip.width, clip.height, preset.number("camera.fov_deg"),
+                                preset.number("camera.tilt_deg"), preset.number("camera.height_m"));
+    const CameraPath path = cameraPathFromPreset(preset, base);
+    const nlohmann::json& layers = preset.at("depth.layers");
+    const KeyedNumberAt rampAt = [](const nlohmann::json& v, double f) {
+      return Ramp::fromJson(v).valueAt(f);
+    };
+    const bool perFrame = depthLayersAnimated(layers) || path.moving();
+    const std::map<std::string, std::string> metadata{
+        {"pluvia:version", kVersion},
+        {"pluvia:presetHash", preset.hash()},
+        {"pluvia:commandLine", invocation.commandLine}};
+    std::vector<float> depth;
+    for (size_t i = 0; i < frames.size(); ++i) {
+      const double frame = static_cast<double>(frames[i]);
+      try {
+        if (perFrame || i == 0)
+          depth = rasterizeDepthLayers(path.cameraAt(frame), layers, frame, rampAt);
+      } catch (const Error& e) {
+        throw Error(fmt::format("{} (preset {})", e.what(), preset.source()),
+                    {"depth", frames[i], preset.source()});
+      }
+      // writeImageFile writes a temporary file and renames it: no partial EXR on failure.
+      writeImageFile(outputs[i], clip.width, clip.height, {{"Z", depth.data(), 1, true}}, metadata,
+                     frames[i]);
+    }
+    log::info(fmt::format("wrote {} depth frames to {}", frames.size(), args->output));
+  });
+}
+
+}  // namespace pluvia::cli
