@@ -12,6 +12,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev libeigen3-dev libtbb-dev libfmt-dev
   libgtest-dev libgmock-dev
   ffmpeg
+  colmap
 )
 
 missing=()

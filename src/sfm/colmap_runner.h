@@ -1,0 +1,63 @@
+#pragma once
+// Runs COLMAP's sparse pipeline (feature_extractor, sequential_matcher, mapper, model_converter)
+// on frames already written to disk, CPU only: COLMAP 3.8 here is built without CUDA and aborts
+// headless unless SIFT runs on the CPU (see ../shared/PLATFORM.md).
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace pluvia {
+
+struct ColmapRequest {
+  // The frames, already written. File names (not folders) must be unique: COLMAP identifies
+  // images by name, and sfm_poses.h maps names back to clip frames.
+  std::vector<std::filesystem::path> images;
+  // Holds images/ (links to the frames), database.db, sparse/<n>/, text/ and colmap.log.
+  // A previous run's database and models there are removed first.
+  std::filesystem::path workspace;
+  // A starting focal length; without it COLMAP guesses 1.2 * max(width, height).
+  std::optional<double> initialFocalPx;
+  std::string cameraModel = "SIMPLE_RADIAL";  // or "PINHOLE", "SIMPLE_PINHOLE", "RADIAL"
+  int maxImageSizePx = 1600;   // SIFT works on frames downscaled to this longest side
+  int sequentialOverlap = 10;  // each frame is matched with this many following ones
+  // The mapper's minimum triangulation angle for its first pair. COLMAP's 16 deg suits photo
+  // collections; neighbouring video frames (and forward walks) see each other at a few degrees,
+  // and with 16 the mapper picks distant, weakly matched pairs and fails (opensfm_lund).
+  double initMinTriAngleDeg = 4.0;
+  // Minimum inliers for the first pair (COLMAP's 100: fewer lets it start from a distant pair
+  // whose few points the next frames cannot see) and to register each further frame (COLMAP: 30;
+  // downscaled frames see a few dozen points of a young model).
+  int initMinInliers = 100;
+  int absPoseMinInliers = 15;
+  // The largest share of a starting pair's motion that may lie along the view (COLMAP: 0.95).
+  // Walking or driving footage moves mostly forward; at 0.95 the mapper skips every neighbouring
+  // pair and on opensfm_lund built no model about half the time; at 0.999 it built one on all
+  // the databases where it had failed.
+  double initMaxForwardMotion = 0.999;
+  // The mapper's start is randomized (RANSAC); on weak footage one seed builds a model and the
+  // next builds none. A run without a model is retried with the next seed, up to this many runs.
+  int mapperAttempts = 4;
+  int threads = -1;  // -1: all cores
+  // The program to run; empty uses $PLUVIA_COLMAP, else "colmap" on PATH.
+  std::string colmapBinary;
+};
+
+struct ColmapRun {
+  std::filesystem::path modelFolder;  // the TXT model of the largest reconstruction
+  std::filesystem::path logPath;      // <workspace>/colmap.log
+  int modelCount = 0;                 // how many disconnected models the mapper made
+  double seconds = 0.0;               // wall time of the four steps
+};
+
+// The program a request runs (request field, else $PLUVIA_COLMAP, else "colmap").
+std::string colmapProgram(const std::string& requested = "");
+// True when that program is found (a path that exists, or a name on PATH).
+bool colmapAvailable(const std::string& requested = "");
+
+// Runs the four steps; each appends its command line and output to <workspace>/colmap.log.
+// Throws pluvia::Error naming the step and the log when a step fails or the mapper builds no
+// model (typically too little parallax or texture).
+ColmapRun runColmapSparse(const ColmapRequest& request);
+
+}  // namespace pluvia
