@@ -4,6 +4,7 @@
 #include <mutex>
 #include <vector>
 
+#include <epoxy/gl.h>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -201,6 +202,14 @@ HeadlessGlContext::~HeadlessGlContext() {
   }
   eglDestroyContext(display_, context_);
   releaseDisplay(display_);
+}
+
+std::string HeadlessGlContext::deviceDescription() {
+  makeCurrent();
+  const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  const auto* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
+  return fmt::format("{}, OpenGL {} ({})", renderer ? renderer : "unknown renderer",
+                     version ? version : "unknown version", displayName_);
 }
 
 void HeadlessGlContext::makeCurrent() {

@@ -23,6 +23,9 @@ class HeadlessGlContext {
 
   // Which display the context lives on: "EGL device 0", "Mesa surfaceless".
   const std::string& displayName() const { return displayName_; }
+  // "llvmpipe (LLVM 15.0.6, 256 bits), OpenGL 4.5 (Core Profile) Mesa 22.3.6 (Mesa surfaceless)":
+  // makes the context current and asks GL.
+  std::string deviceDescription();
 
  private:
   bool tryDisplay(EGLDisplay display, const std::string& name, std::string& failure);

@@ -142,11 +142,7 @@ void RainRenderer::render(Image& frame, const std::vector<StreakInstance>& strea
 }
 
 std::string RainRenderer::deviceDescription() const {
-  impl_->context.makeCurrent();
-  const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-  const auto* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
-  return fmt::format("{}, OpenGL {} ({})", renderer ? renderer : "unknown renderer",
-                     version ? version : "unknown version", impl_->context.displayName());
+  return impl_->context.deviceDescription();
 }
 
 }  // namespace pluvia::gpu

@@ -380,11 +380,7 @@ Image SyntheticSceneRenderer::render(const SyntheticView& view) {
 }
 
 std::string SyntheticSceneRenderer::deviceDescription() const {
-  impl_->context.makeCurrent();
-  const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-  const auto* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
-  return fmt::format("{}, OpenGL {} ({})", renderer ? renderer : "unknown renderer",
-                     version ? version : "unknown version", impl_->context.displayName());
+  return impl_->context.deviceDescription();
 }
 
 }  // namespace pluvia::gpu

@@ -3,10 +3,8 @@
 // input checks, and steady memory over a long run.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -14,6 +12,7 @@
 #include "gpu/rain_renderer.h"
 #include "image/equirect.h"
 #include "util/error.h"
+#include "test_support.h"
 
 namespace pluvia::gpu {
 namespace {
@@ -403,13 +402,6 @@ TEST_F(RainRendererTest, SeveralRenderersShareTheDisplay) {
   EXPECT_EQ(frame.plane("matte")[3 * 32 + 4], 1.0f);
 }
 
-size_t residentBytes() {
-  std::ifstream statm("/proc/self/statm");
-  size_t pages = 0, resident = 0;
-  statm >> pages >> resident;
-  return resident * static_cast<size_t>(::sysconf(_SC_PAGESIZE));
-}
-
 TEST_F(RainRendererTest, MemoryStaysFlatOverAThousandFrames) {
 #if defined(__SANITIZE_ADDRESS__)
   GTEST_SKIP() << "AddressSanitizer's quarantine grows resident memory by design";
@@ -423,9 +415,9 @@ TEST_F(RainRendererTest, MemoryStaysFlatOverAThousandFrames) {
     // Alternate the count so the instance buffer sees both shrinking and regrowing.
     streaks.resize(i % 2 ? 40 : 25, streaks.front());
     renderer().render(frame, streaks, shading);
-    if (i == 99) warm = residentBytes();
+    if (i == 99) warm = test::residentBytes();
   }
-  EXPECT_LT(residentBytes(), warm + 2 * 1024 * 1024);
+  EXPECT_LT(test::residentBytes(), warm + 2 * 1024 * 1024);
 }
 
 }  // namespace

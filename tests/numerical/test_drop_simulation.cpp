@@ -5,14 +5,12 @@
 
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <map>
-
-#include <unistd.h>
 
 #include <Eigen/Geometry>
 
 #include "rain/drop_simulation.h"
+#include "test_support.h"
 
 using namespace pluvia;
 using namespace pluvia::rain;
@@ -278,13 +276,6 @@ TEST(DropSimulation, ExtremeSettingsStayFiniteAndBounded) {
         }
 }
 
-size_t residentBytes() {
-  std::ifstream statm("/proc/self/statm");
-  size_t pages = 0, resident = 0;
-  statm >> pages >> resident;
-  return resident * static_cast<size_t>(::sysconf(_SC_PAGESIZE));
-}
-
 TEST(DropSimulation, AThousandFramesKeepMemoryAndTheCountSteady) {
 #if defined(__SANITIZE_ADDRESS__)
   GTEST_SKIP() << "AddressSanitizer's quarantine grows resident memory by design";
@@ -314,7 +305,7 @@ TEST(DropSimulation, AThousandFramesKeepMemoryAndTheCountSteady) {
   for (int f = 0; f <= 1000; ++f) {
     sim.advanceTo(f);
     const auto streaks = sim.buildStreaks(StreakSettings{});
-    if (f == 50) warm = residentBytes();
+    if (f == 50) warm = test::residentBytes();
     if (f % 100 == 0) {
       ASSERT_TRUE(allFinite(streaks)) << "frame " << f;
       ASSERT_EQ(sim.activeCount(), active) << "frame " << f;
@@ -323,7 +314,7 @@ TEST(DropSimulation, AThousandFramesKeepMemoryAndTheCountSteady) {
     }
   }
   EXPECT_EQ(sim.poolSize(), pool);
-  EXPECT_LT(residentBytes(), warm + 1024 * 1024);
+  EXPECT_LT(test::residentBytes(), warm + 1024 * 1024);
 }
 
 }  // namespace

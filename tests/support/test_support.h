@@ -17,6 +17,8 @@ std::filesystem::path exampleClip();   // examples/street/street_plate.mp4
 std::filesystem::path sharedData();
 // A fresh, empty folder under the system temp dir, unique to this test.
 std::filesystem::path freshTempDir(const std::string& name);
+// This process's resident memory, from /proc/self/statm.
+size_t residentBytes();
 
 struct CommandResult {
   int exitCode = -1;
