@@ -32,9 +32,4 @@ void addStrokesCommand(CLI::App& app, Invocation& invocation);
 void addEnvmapCommand(CLI::App& app, Invocation& invocation);
 void addDepthCommand(CLI::App& app, Invocation& invocation);
 
-// `pluvia depth --source colmap`: writes one depth EXR per frame from a COLMAP reconstruction
-// (src/sfm). Throws pluvia::Error until issue 7 wires it.
-void writeColmapDepth(const ClipInfo& clip, const std::vector<int64_t>& frames,
-                      const SequencePattern& output, const Preset& preset);
-
 }  // namespace pluvia::cli

@@ -1,7 +1,9 @@
-// `pluvia depth`: manual depth layers written as single-channel float EXRs.
+// `pluvia depth`: manual depth layers written as single-channel float EXRs, and the COLMAP
+// source's failure path.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 
 #include "test_support.h"
 
@@ -70,13 +72,26 @@ TEST(CliDepth, BadPresetOrOutputWritesNothing) {
       << polygon.output;
   auto notExr = runPluvia({"depth", exampleClip().string(), "-o", (dir / "z.####.png").string()});
   EXPECT_EQ(notExr.exitCode, 2) << notExr.output;
-  auto colmap = runPluvia(
-      {"depth", exampleClip().string(), "-o", out, "--source", "colmap", "--frames", "0-0"});
-  EXPECT_EQ(colmap.exitCode, 1) << colmap.output;
-  EXPECT_NE(colmap.output.find("--source colmap: not available yet"), std::string::npos)
-      << colmap.output;
   auto range = runPluvia({"depth", exampleClip().string(), "-o", out, "--frames", "46-60"});
   EXPECT_EQ(range.exitCode, 2) << range.output;
   EXPECT_NE(range.output.find("frame 48 is not in"), std::string::npos) << range.output;
   EXPECT_EQ(countFiles(dir), 0u);
+}
+
+TEST(CliDepth, FailingColmapNamesItsLogAndWritesNoDepth) {
+  // The COLMAP source with a colmap that cannot run: the error names the step and the log the
+  // user should read, and no depth frame is written (the workspace with the log stays).
+  auto dir = freshTempDir("depth_colmap_missing");
+  const std::string out = (dir / "z.####.exr").string();
+  ::setenv("PLUVIA_COLMAP", "/nonexistent/colmap", 1);
+  auto colmap = runPluvia(
+      {"depth", exampleClip().string(), "-o", out, "--source", "colmap", "--frames", "0-2"});
+  ::unsetenv("PLUVIA_COLMAP");
+  EXPECT_EQ(colmap.exitCode, 1) << colmap.output;
+  EXPECT_NE(colmap.output.find("feature_extractor"), std::string::npos) << colmap.output;
+  EXPECT_NE(colmap.output.find((dir / "colmap" / "colmap.log").string()), std::string::npos)
+      << colmap.output;
+  EXPECT_TRUE(stdfs::exists(dir / "colmap" / "colmap.log"));
+  for (const auto& entry : stdfs::directory_iterator(dir))
+    EXPECT_NE(entry.path().extension(), ".exr") << entry.path();
 }
