@@ -10,13 +10,14 @@ namespace {
 
 const char* kStage = "sfm";
 
-// Splits text into lines, skipping blank ones and '#' comments, keeping 1-based line numbers.
+// Splits text into lines, skipping '#' comments (and blank lines unless keepBlank), keeping
+// 1-based line numbers.
 struct Line {
   int number = 0;
   std::string text;
 };
 
-std::vector<Line> dataLines(const std::string& text) {
+std::vector<Line> dataLines(const std::string& text, bool keepBlank = false) {
   std::vector<Line> lines;
   std::istringstream in(text);
   std::string line;
@@ -25,7 +26,7 @@ std::vector<Line> dataLines(const std::string& text) {
     ++number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     size_t first = line.find_first_not_of(" \t");
-    if (first == std::string::npos || line[first] == '#') continue;
+    if (first == std::string::npos ? !keepBlank : line[first] == '#') continue;
     lines.push_back({number, line});
   }
   return lines;
@@ -133,25 +134,13 @@ void parseColmapCameras(const std::string& text, const std::string& fileName, Co
 }
 
 void parseColmapImages(const std::string& text, const std::string& fileName, ColmapModel& model) {
-  std::vector<Line> lines;
   // Image records take two lines, and the second (the observations) is empty for an image without
   // keypoints, so blank lines matter here: only comments are skipped.
-  {
-    std::istringstream in(text);
-    std::string line;
-    int number = 0;
-    while (std::getline(in, line)) {
-      ++number;
-      if (!line.empty() && line.back() == '\r') line.pop_back();
-      if (!line.empty() && line[0] == '#') continue;
-      lines.push_back({number, line});
-    }
-    // A trailing newline after the last record yields no extra line; strip trailing blank lines
-    // that would pair up as a bogus record.
-    while (!lines.empty() && lines.back().text.find_first_not_of(" \t") == std::string::npos &&
-           lines.size() % 2 == 1)
-      lines.pop_back();
-  }
+  std::vector<Line> lines = dataLines(text, /*keepBlank=*/true);
+  // Strip trailing blank lines that would pair up as a bogus record.
+  while (!lines.empty() && lines.back().text.find_first_not_of(" \t") == std::string::npos &&
+         lines.size() % 2 == 1)
+    lines.pop_back();
   for (size_t i = 0; i < lines.size(); i += 2) {
     const Line& head = lines[i];
     std::istringstream in(head.text);
