@@ -17,10 +17,8 @@
 #include "io/sequence_pattern.h"
 #include "pluvia/version.h"
 #include "preset/camera_path_preset.h"
-#include "sfm/colmap_model.h"
-#include "sfm/colmap_runner.h"
-#include "sfm/sfm_poses.h"
-#include "sfm/sparse_densify.h"
+#include "sfm/clip_tracking.h"
+#include "stages/depth_tracking.h"
 #include "util/error.h"
 #include "util/fs.h"
 #include "util/log.h"
@@ -46,88 +44,33 @@ std::vector<int64_t> selectFrames(const ClipInfo& clip, const std::string& range
 
 using Metadata = std::map<std::string, std::string>;
 
-// The registered frame nearest to `frame`: its sparse points are the ones a frame between
-// keyframes most likely sees (points hidden from every nearby view are left out).
-const SfmKeyframe& nearestKeyframe(const SfmReconstruction& sfm, int64_t frame) {
-  const SfmKeyframe* best = &sfm.keyframes.front();
-  for (const SfmKeyframe& key : sfm.keyframes)
-    if (std::llabs(key.frame - frame) < std::llabs(best->frame - frame)) best = &key;
-  return *best;
-}
-
-nlohmann::json posesJson(const SfmReconstruction& sfm, const std::vector<int64_t>& frames) {
-  nlohmann::json poses = nlohmann::json::array();
-  std::set<int64_t> registered;
-  for (const SfmKeyframe& key : sfm.keyframes) registered.insert(key.frame);
-  for (int64_t frame : frames) {
-    const Camera camera = sfm.path.cameraAt(static_cast<double>(frame));
-    const Eigen::Quaterniond q(camera.worldFromCamera);
-    poses.push_back(
-        {{"frame", frame},
-         {"registered", registered.count(frame) > 0},
-         {"position_m",
-          {camera.positionMeters.x(), camera.positionMeters.y(), camera.positionMeters.z()}},
-         {"world_from_camera_wxyz", {q.w(), q.x(), q.y(), q.z()}},
-         {"focal_px", camera.focalPx},
-         {"principal_point_px", {camera.cx, camera.cy}}});
-  }
-  return {{"convention", "pluvia: metres, +Y up, camera looks down -Z, ground at y = 0"},
-          {"registered_fraction", sfm.registeredFraction},
-          {"mean_reprojection_error_px", sfm.meanReprojectionErrorPx},
-          {"baseline_over_depth", sfm.baselineOverDepth},
-          {"note", sfm.message},
-          {"frames", poses}};
-}
-
-// Depth from a COLMAP reconstruction of the selected frames (src/sfm). The frames go to
-// OUTPUT_FOLDER/colmap/frames as 8-bit PNG and COLMAP runs in OUTPUT_FOLDER/colmap (its log:
-// colmap/colmap.log); the poses are scaled by camera.height_m over the fitted ground plane; each
-// frame's sparse points are densified, edge-aware, guided by the frame. Writes the depth EXRs and
-// OUTPUT_FOLDER/colmap/poses.json.
+// Depth from a COLMAP reconstruction of the selected frames (sfm/clip_tracking.h), in
+// OUTPUT_FOLDER/colmap (its log: colmap/colmap.log); the poses are scaled by camera.height_m over
+// the fitted ground plane. Writes the depth EXRs and OUTPUT_FOLDER/colmap/poses.json.
 void writeColmapDepth(ClipReader& reader, const std::vector<int64_t>& frames,
                       const std::vector<std::string>& outputs, const Preset& preset,
                       const Metadata& metadata) {
   const ClipInfo& clip = reader.info();
-  const std::filesystem::path workspace =
-      std::filesystem::absolute(outputs.front()).parent_path() / "colmap";
-  std::filesystem::create_directories(workspace / "frames");
-  ColmapRequest request;
-  request.workspace = workspace;
-  std::map<std::string, int64_t> frameOfImage;
-  for (int64_t frame : frames) {
-    const Image image = reader.read(frame);
-    const std::string name = fmt::format("frame_{:08d}.png", frame);
-    const std::filesystem::path path = workspace / "frames" / name;
-    const float* rgba = image.rgba.data();
-    writeImageFile(path.string(), image.width, image.height,
-                   {{"R", rgba, 4}, {"G", rgba + 1, 4}, {"B", rgba + 2, 4}}, {}, frame);
-    request.images.push_back(path);
-    frameOfImage[name] = frame;
-  }
-  request.initialFocalPx =
-      Camera::fromFieldOfView(clip.width, clip.height, preset.number("camera.fov_deg"), 0.0, 0.0)
-          .focalPx;
-  const ColmapRun run = runColmapSparse(request);
-  SfmOptions options;
-  options.scale.cameraHeightMeters = preset.number("camera.height_m");
-  const SfmReconstruction sfm =
-      reconstructionFromColmap(readColmapTextModel(run.modelFolder), frameOfImage, options);
-  if (sfm.status == SfmStatus::TooFewRegistered || sfm.status == SfmStatus::NoParallax)
-    throw Error(fmt::format("{}; use --source layers for this clip (COLMAP log: {})", sfm.message,
-                            run.logPath.string()),
+  ClipTrackingSettings settings = depthTrackingSettings(preset, frames.size());
+  settings.workspace = std::filesystem::absolute(outputs.front()).parent_path() / "colmap";
+  const ClipTracking tracking =
+      trackClip(frames, [&reader](int64_t f) { return reader.read(f); }, settings);
+  const SfmReconstruction& sfm = tracking.sfm;
+  if (!sfm.ok())
+    throw Error(fmt::format("{}{}; use --source layers for this clip", sfm.message,
+                            tracking.run.logPath.empty()
+                                ? std::string()
+                                : " (COLMAP log: " + tracking.run.logPath.string() + ")"),
                 {"depth", {}, clip.path});
   log::info(fmt::format("colmap: {} of {} frames registered, {:.2f} px mean reprojection error{}",
                         sfm.registeredCount, sfm.frameCount, sfm.meanReprojectionErrorPx,
                         sfm.message.empty() ? "" : "; " + sfm.message));
   for (size_t i = 0; i < frames.size(); ++i) {
-    const Camera camera = sfm.path.cameraAt(static_cast<double>(frames[i]));
-    const auto samples = projectSparsePoints(camera, sfm.pointsMeters,
-                                             &nearestKeyframe(sfm, frames[i]).visiblePoints);
-    const std::vector<float> depth = densifySparseDepth(samples, reader.read(frames[i]));
+    const std::vector<float> depth = trackedFrameDepth(sfm, frames[i], reader.read(frames[i]));
     writeImageFile(outputs[i], clip.width, clip.height, {{"Z", depth.data(), 1, true}}, metadata,
                    frames[i]);
   }
-  fs::writeTextFile(workspace / "poses.json", posesJson(sfm, frames).dump(2) + "\n");
+  fs::writeTextFile(settings.workspace / "poses.json", posesJson(sfm, frames).dump(2) + "\n");
 }
 
 }  // namespace

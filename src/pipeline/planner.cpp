@@ -56,16 +56,22 @@ Plan makePlan(const Preset& preset, const ClipInfo& clip, const ArtifactCache* c
       entry.reason = fmt::format("nothing reads its output ({})", fmt::join(info.spec.outputs, ", "));
       continue;
     }
-    if (info.perClip && cache && info.cacheKey) {
-      std::string key = info.cacheKey(preset, clip);
-      if (cache->contains(info.spec.name, key)) {
-        entry.cached = true;
-        entry.reason = fmt::format("result in cache ({})", cache->pathFor(info.spec.name, key).string());
-        continue;
-      }
+    const std::string key = info.cacheKey ? info.cacheKey(preset, clip) : "";
+    const bool inCache = cache && !key.empty() && cache->contains(info.spec.name, key);
+    if (info.perClip && inCache) {
+      entry.cached = true;
+      entry.reason = fmt::format("result in cache ({})", cache->pathFor(info.spec.name, key).string());
+      continue;
     }
     entry.runs = true;
     entry.reason = fmt::format("writes {}", fmt::join(readers, ", "));
+    // A per-frame stage with per-clip analysis (depth from COLMAP): say whether that is done.
+    if (!info.perClip && !key.empty()) {
+      entry.reason += inCache ? fmt::format("; per-clip analysis cached ({})",
+                                            cache->pathFor(info.spec.name, key).string())
+                              : cache ? std::string("; per-clip analysis needed (not in the cache)")
+                                      : std::string("; per-clip analysis needed (no --cache)");
+    }
     for (const auto& input : info.reads ? info.reads(preset) : info.spec.inputs) needed.insert(input);
   }
   // Cached per-clip results still feed their readers: keep the reads of cached stages out,

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "geometry/camera.h"
+#include "geometry/camera_path.h"
 #include "gpu/rain_renderer.h"
 #include "image/equirect.h"
 #include "image/image.h"
@@ -49,6 +50,9 @@ struct ClipContext {
   StageTimes* times = nullptr;
   std::optional<Environment> environment;
   std::optional<gpu::StrokeAtlas> footageStrokes;
+  // The camera tracked from the footage (depth stage, COLMAP): it replaces the preset's camera
+  // for the rain.
+  std::optional<CameraPath> trackedPath;
 };
 
 struct FrameContext {
@@ -73,7 +77,8 @@ struct StageInfo {
   std::function<std::string(const Preset&)> noOpReason;
   // What it reads with these parameters (a subset of spec.inputs).
   std::function<std::vector<std::string>(const Preset&)> reads;
-  // Per-clip stages: the cache key of their result for this preset and clip.
+  // The cache key of the stage's per-clip result for this preset and clip ("" when these
+  // parameters cache nothing). A per-frame stage may have one for its per-clip analysis.
   std::function<std::string(const Preset&, const ClipInfo&)> cacheKey;
   std::function<std::unique_ptr<Stage>(const Preset&)> create;
 };

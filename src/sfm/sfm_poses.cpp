@@ -138,7 +138,7 @@ SfmReconstruction reconstructionFromColmap(const ColmapModel& model,
     result.status = SfmStatus::NoParallax;
     result.message = "camera baseline is " + fixed(result.baselineOverDepth, 4) +
                      " of the median scene depth (below " + fixed(options.minBaselineOverDepth, 4) +
-                     "): a pan without travel gives no depth; use manual depth layers";
+                     "): a pan without travel gives no depth";
   } else if (options.scale.cameraHeightMeters) {
     std::vector<Eigen::Vector3d> below;
     for (const auto& [id, point] : model.points)

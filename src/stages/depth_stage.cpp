@@ -1,12 +1,21 @@
-// Depth: per-frame z-depth in metres for the rain's depth test and the fog. This issue's
-// source is manual layers (geometry/depth_layers.h: ground plane from the camera of the frame,
-// cards, polygons, sky), whose numbers and polygon points may be keyframed; "none" puts
-// everything at infinity (sky).
+// Depth: per-frame z-depth in metres for the rain's depth test and the fog, from
+//  - "layers": manual layers (geometry/depth_layers.h: ground plane from the camera of the frame,
+//    cards, polygons, sky), whose numbers and polygon points may be keyframed;
+//  - "colmap": the clip tracked by COLMAP (stages/depth_tracking.h, cached per clip), each
+//    frame's sparse points densified guided by the frame; the tracked camera path then drives
+//    the rain camera (ClipContext::trackedPath). When tracking fails, depth.fallback = "layers"
+//    falls back to the manual layers with a warning; otherwise the render stops before any frame;
+//  - "none": everything at infinity (sky).
 #include <limits>
+
+#include <fmt/format.h>
 
 #include "geometry/depth_layers.h"
 #include "preset/camera_path_preset.h"
+#include "stages/depth_tracking.h"
 #include "stages/registry.h"
+#include "util/error.h"
+#include "util/log.h"
 
 namespace pluvia {
 namespace {
@@ -19,10 +28,14 @@ bool hasGroundLayer(const nlohmann::json& layers) {
 
 class DepthStage : public Stage {
  public:
-  explicit DepthStage(const Preset& p) : source_(p.string("depth.source")), layers_(p.at("depth.layers")) {}
+  explicit DepthStage(const Preset& p)
+      : source_(p.string("depth.source")),
+        fallback_(p.string("depth.fallback")),
+        layers_(p.at("depth.layers")) {}
 
   void prepare(ClipContext& clip) override {
-    if (source_ != "layers") {
+    if (source_ == "colmap" && prepareTracking(clip)) return;
+    if (source_ == "none") {
       depth_.assign(static_cast<size_t>(clip.camera.width) * clip.camera.height,
                     std::numeric_limits<float>::infinity());
       return;
@@ -35,6 +48,10 @@ class DepthStage : public Stage {
     if (!perFrame_) depth_ = rasterizeDepthLayers(path_.cameraAt(0.0), layers_, 0.0, rampValueAt);
   }
   void process(ClipContext&, FrameContext& frame) override {
+    if (sfm_) {
+      frame.image.planes["depth"] = trackedFrameDepth(*sfm_, frame.frame, frame.image);
+      return;
+    }
     if (perFrame_) {
       const double at = static_cast<double>(frame.frame);
       depth_ = rasterizeDepthLayers(path_.cameraAt(at), layers_, at, rampValueAt);
@@ -47,7 +64,29 @@ class DepthStage : public Stage {
     return Ramp::fromJson(value).valueAt(frame);
   }
 
+  // The COLMAP source; false when it failed and depth.fallback sends the stage to the layers.
+  bool prepareTracking(ClipContext& clip) {
+    try {
+      sfm_ = trackedClipReconstruction(clip);
+    } catch (const Error& e) {
+      if (fallback_ != "layers")
+        throw Error(fmt::format("{}; set depth.fallback to \"layers\" (or depth.source to "
+                                "\"layers\") to render this clip with the manual depth layers",
+                                e.what()),
+                    e.context());
+      log::warning(fmt::format("depth: {}; using the manual depth layers (depth.fallback = layers)",
+                               e.what()));
+      return false;
+    }
+    if (clip.preset && !clip.preset->at("camera.path").empty())
+      log::warning("depth: the COLMAP-tracked camera replaces camera.path");
+    clip.trackedPath = sfm_->path;
+    return true;
+  }
+
   std::string source_;
+  std::string fallback_;
+  std::optional<SfmReconstruction> sfm_;
   nlohmann::json layers_;
   CameraPath path_;
   bool perFrame_ = false;
@@ -65,8 +104,8 @@ StageInfo depthStageInfo() {
   StageInfo info;
   info.spec.name = "depth";
   info.spec.help =
-      "Scene depth per frame (metres) from manual layers (ground, card, polygon, sky); sky is at "
-      "infinity.";
+      "Scene depth per frame (metres) from manual layers (ground, card, polygon, sky) or COLMAP "
+      "structure from motion; sky is at infinity.";
   info.spec.outputs = {"depth"};
   ParamSpec layers{"layers", ParamType::List, nlohmann::json::parse(R"([{"type":"ground"}])"), {}, {}, {}, "",
                    "painted in order, each over the pixels it covers; uncovered pixels are sky"};
@@ -104,9 +143,44 @@ StageInfo depthStageInfo() {
   layers.itemTypes = {{"ground", {}}, {"card", card}, {"polygon", polygon}, {"sky", sky}};
   info.spec.params = {
       {"enabled", ParamType::Boolean, true, {}, {}, {}, "", "run this stage"},
-      {"source", ParamType::Enum, "layers", {}, {}, {"layers", "none"}, "", "where depth comes from"},
+      {"source",
+       ParamType::Enum,
+       "layers",
+       {},
+       {},
+       {"layers", "colmap", "none"},
+       "",
+       "layers: depth.layers; colmap: COLMAP structure from motion of the clip (its camera "
+       "also moves the rain); none: all sky"},
       layers,
+      {"fallback",
+       ParamType::Enum,
+       "error",
+       {},
+       {},
+       {"error", "layers"},
+       "",
+       "colmap: when tracking fails (no colmap, no parallax, too few frames registered), stop "
+       "(error) or use depth.layers (layers)"},
+      {"frame_step", ParamType::Integer, 1, 1, 1000, {}, "frames",
+       "colmap: every Nth frame is tracked; frames between interpolate"},
+      {"max_frames", ParamType::Integer, 200, 3, 100000, {}, "frames",
+       "colmap: at most this many frames are tracked (the step grows on long clips)"},
+      {"colmap_image_px", ParamType::Integer, 1600, 160, 10000, {}, "px",
+       "colmap: features are found on frames downscaled to this longest side"},
+      {"scale",
+       ParamType::Enum,
+       "camera_height",
+       {},
+       {},
+       {"camera_height", "first_frame_depth"},
+       "",
+       "colmap: metric scale from camera.height_m over the fitted ground plane, or from "
+       "depth.first_frame_depth_m"},
+      {"first_frame_depth_m", ParamType::Number, 10.0, 0.01, 1e6, {}, "m",
+       "colmap, scale first_frame_depth: median distance of what the first frame sees"},
   };
+  info.cacheKey = depthTrackingCacheKey;
   info.create = [](const Preset& p) { return std::make_unique<DepthStage>(p); };
   return info;
 }

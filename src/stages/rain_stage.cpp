@@ -102,7 +102,11 @@ class RainStage : public Stage {
     if (p.number("rain.min_diameter_mm") >= 6.0)
       throw Error("rain.min_diameter_mm must be below 6 mm", {"rain"});
     fps_ = clip.fps;
-    const CameraPath path = cameraPathFromPreset(p, clip.camera);
+    const CameraPath path =
+        clip.trackedPath ? *clip.trackedPath : cameraPathFromPreset(p, clip.camera);
+    if (clip.trackedPath)
+      log::info(fmt::format("rain: camera tracked by COLMAP ({} keys, focal length {:.1f} px)",
+                            path.keys().size(), path.cameraAt(0.0).focalPx));
     simulation_ = std::make_unique<rain::DropSimulation>(
         simulationSettings(p, clip), [path](double frame) { return path.cameraAt(frame); },
         [&p](double frame) { return rainAt(p, frame); });

@@ -1,0 +1,235 @@
+#include "sfm/clip_tracking.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <set>
+
+#include <fmt/format.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include "io/image_file_writer.h"
+#include "sfm/parallax_check.h"
+#include "util/error.h"
+#include "util/log.h"
+#include "util/timer.h"
+
+namespace pluvia {
+namespace {
+
+// The registered frame nearest to `frame`: its sparse points are the ones a frame between
+// keyframes most likely sees (points hidden from every nearby view are left out).
+const SfmKeyframe& nearestKeyframe(const SfmReconstruction& sfm, int64_t frame) {
+  const SfmKeyframe* best = &sfm.keyframes.front();
+  for (const SfmKeyframe& key : sfm.keyframes)
+    if (std::llabs(key.frame - frame) < std::llabs(best->frame - frame)) best = &key;
+  return *best;
+}
+
+const char* statusName(SfmStatus status) {
+  switch (status) {
+    case SfmStatus::Ok:
+      return "ok";
+    case SfmStatus::TooFewRegistered:
+      return "too_few_registered";
+    case SfmStatus::NoParallax:
+      return "no_parallax";
+    case SfmStatus::NoGroundPlane:
+      return "no_ground_plane";
+  }
+  return "ok";
+}
+
+SfmStatus statusFromName(const std::string& name) {
+  for (SfmStatus s : {SfmStatus::Ok, SfmStatus::TooFewRegistered, SfmStatus::NoParallax,
+                      SfmStatus::NoGroundPlane})
+    if (name == statusName(s)) return s;
+  throw Error("unknown SfM status \"" + name + "\" in cached reconstruction");
+}
+
+nlohmann::json cameraJson(const Camera& camera) {
+  const Eigen::Quaterniond q(camera.worldFromCamera);
+  return {{"width", camera.width},
+          {"height", camera.height},
+          {"focal_px", camera.focalPx},
+          {"principal_point_px", {camera.cx, camera.cy}},
+          {"position_m",
+           {camera.positionMeters.x(), camera.positionMeters.y(), camera.positionMeters.z()}},
+          {"world_from_camera_wxyz", {q.w(), q.x(), q.y(), q.z()}}};
+}
+
+Camera cameraFromJson(const nlohmann::json& json) {
+  Camera camera;
+  camera.width = json.at("width").get<int>();
+  camera.height = json.at("height").get<int>();
+  camera.focalPx = json.at("focal_px").get<double>();
+  camera.cx = json.at("principal_point_px").at(0).get<double>();
+  camera.cy = json.at("principal_point_px").at(1).get<double>();
+  const auto& p = json.at("position_m");
+  camera.positionMeters = {p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>()};
+  const auto& q = json.at("world_from_camera_wxyz");
+  camera.worldFromCamera = Eigen::Quaterniond(q.at(0).get<double>(), q.at(1).get<double>(),
+                                              q.at(2).get<double>(), q.at(3).get<double>())
+                               .normalized()
+                               .toRotationMatrix();
+  return camera;
+}
+
+}  // namespace
+
+std::vector<int64_t> trackingFrames(const std::vector<int64_t>& frames, int step) {
+  std::vector<int64_t> used;
+  const size_t stride = static_cast<size_t>(std::max(1, step));
+  for (size_t i = 0; i < frames.size(); i += stride) used.push_back(frames[i]);
+  if (!frames.empty() && used.back() != frames.back()) used.push_back(frames.back());
+  return used;
+}
+
+ClipTracking trackClip(const std::vector<int64_t>& frames,
+                       const std::function<Image(int64_t)>& readFrame,
+                       const ClipTrackingSettings& settings) {
+  const auto started = std::chrono::steady_clock::now();
+  ClipTracking tracking;
+  tracking.framesUsed = trackingFrames(frames, settings.frameStep);
+  std::filesystem::create_directories(settings.workspace / "frames");
+  ColmapRequest request;
+  request.workspace = settings.workspace;
+  request.colmapBinary = settings.colmapBinary;
+  request.maxImageSizePx = settings.maxImageSizePx;
+  std::map<std::string, int64_t> frameOfImage;
+  std::vector<cv::Mat> smallFrames;  // for the parallax check
+  int width = 0;
+  for (int64_t frame : tracking.framesUsed) {
+    const Image image = readFrame(frame);
+    width = image.width;
+    cv::Mat small;
+    const double scale = 640.0 / std::max(image.width, image.height);
+    cv::resize(rgbMat(image), small, cv::Size(), std::min(1.0, scale), std::min(1.0, scale),
+               cv::INTER_AREA);
+    smallFrames.push_back(small);
+    const std::string name = fmt::format("frame_{:08d}.png", frame);
+    const std::filesystem::path path = settings.workspace / "frames" / name;
+    const float* rgba = image.rgba.data();
+    writeImageFile(path.string(), image.width, image.height,
+                   {{"R", rgba, 4}, {"G", rgba + 1, 4}, {"B", rgba + 2, 4}}, {}, frame);
+    request.images.push_back(path);
+    frameOfImage[name] = frame;
+  }
+  // Pinhole focal length from the horizontal field of view.
+  request.initialFocalPx =
+      0.5 * width / std::tan(0.5 * settings.horizontalFovDeg * 3.14159265358979323846 / 180.0);
+  // A pan is refused in a second here rather than by minutes of COLMAP's mapper failing.
+  const ParallaxCheck parallax = checkParallax(smallFrames);
+  if (parallax.pairsJudged > 0)
+    log::info(fmt::format(
+        "depth: {:.0f} % of the feature matches show parallax (pan below {:.0f} %)",
+        100.0 * parallax.parallaxFraction, 100.0 * ParallaxCheckSettings().minParallaxFraction));
+  if (parallax.verdict == ParallaxVerdict::NoParallax) {
+    tracking.sfm.status = SfmStatus::NoParallax;
+    tracking.sfm.message = parallax.message;
+    tracking.sfm.frameCount = static_cast<int>(tracking.framesUsed.size());
+    tracking.seconds = secondsSince(started);
+    return tracking;
+  }
+  tracking.run = runColmapSparse(request);
+  tracking.sfm = reconstructionFromColmap(readColmapTextModel(tracking.run.modelFolder),
+                                          frameOfImage, settings.sfm);
+  tracking.seconds = secondsSince(started);
+  return tracking;
+}
+
+std::vector<float> trackedFrameDepth(const SfmReconstruction& sfm, int64_t frame,
+                                     const Image& image, const DensifyOptions& options) {
+  if (sfm.keyframes.empty())
+    return std::vector<float>(static_cast<size_t>(image.width) * image.height, INFINITY);
+  const Camera camera = sfm.path.cameraAt(static_cast<double>(frame));
+  const auto samples =
+      projectSparsePoints(camera, sfm.pointsMeters, &nearestKeyframe(sfm, frame).visiblePoints);
+  return densifySparseDepth(samples, image, options);
+}
+
+nlohmann::json reconstructionToJson(const SfmReconstruction& sfm) {
+  nlohmann::json keys = nlohmann::json::array();
+  for (const SfmKeyframe& key : sfm.keyframes)
+    keys.push_back({{"frame", key.frame},
+                    {"image", key.imageName},
+                    {"camera", cameraJson(key.camera)},
+                    {"visible_points", key.visiblePoints}});
+  std::vector<double> points;
+  points.reserve(sfm.pointsMeters.size() * 3);
+  for (const Eigen::Vector3d& p : sfm.pointsMeters)
+    points.insert(points.end(), {p.x(), p.y(), p.z()});
+  return {{"status", statusName(sfm.status)},
+          {"message", sfm.message},
+          {"intrinsics", cameraJson(sfm.intrinsics)},
+          {"keyframes", keys},
+          {"points_m_xyz", points},
+          {"frame_count", sfm.frameCount},
+          {"registered_count", sfm.registeredCount},
+          {"registered_fraction", sfm.registeredFraction},
+          {"mean_reprojection_error_px", sfm.meanReprojectionErrorPx},
+          {"baseline_over_depth", sfm.baselineOverDepth},
+          {"median_depth_m", sfm.medianDepthMeters}};
+}
+
+SfmReconstruction reconstructionFromJson(const nlohmann::json& json) {
+  SfmReconstruction sfm;
+  sfm.status = statusFromName(json.at("status").get<std::string>());
+  sfm.message = json.at("message").get<std::string>();
+  sfm.intrinsics = cameraFromJson(json.at("intrinsics"));
+  std::vector<CameraPathKey> keys;
+  for (const auto& k : json.at("keyframes")) {
+    SfmKeyframe key;
+    key.frame = k.at("frame").get<int64_t>();
+    key.imageName = k.at("image").get<std::string>();
+    key.camera = cameraFromJson(k.at("camera"));
+    key.visiblePoints = k.at("visible_points").get<std::vector<int>>();
+    keys.push_back({static_cast<double>(key.frame), key.camera.positionMeters,
+                    Eigen::Quaterniond(key.camera.worldFromCamera)});
+    sfm.keyframes.push_back(std::move(key));
+  }
+  const auto points = json.at("points_m_xyz").get<std::vector<double>>();
+  if (points.size() % 3 != 0) throw Error("cached reconstruction: points_m_xyz is not xyz triples");
+  for (size_t i = 0; i + 2 < points.size(); i += 3)
+    sfm.pointsMeters.emplace_back(points[i], points[i + 1], points[i + 2]);
+  for (const SfmKeyframe& key : sfm.keyframes)
+    for (int index : key.visiblePoints)
+      if (index < 0 || static_cast<size_t>(index) >= sfm.pointsMeters.size())
+        throw Error("cached reconstruction: a visible point index is out of range");
+  sfm.frameCount = json.at("frame_count").get<int>();
+  sfm.registeredCount = json.at("registered_count").get<int>();
+  sfm.registeredFraction = json.at("registered_fraction").get<double>();
+  sfm.meanReprojectionErrorPx = json.at("mean_reprojection_error_px").get<double>();
+  sfm.baselineOverDepth = json.at("baseline_over_depth").get<double>();
+  sfm.medianDepthMeters = json.at("median_depth_m").get<double>();
+  sfm.path = keys.empty() ? CameraPath::fixed(sfm.intrinsics)
+                          : CameraPath::fromRotations(sfm.intrinsics, std::move(keys));
+  return sfm;
+}
+
+nlohmann::json posesJson(const SfmReconstruction& sfm, const std::vector<int64_t>& frames) {
+  nlohmann::json poses = nlohmann::json::array();
+  std::set<int64_t> registered;
+  for (const SfmKeyframe& key : sfm.keyframes) registered.insert(key.frame);
+  for (int64_t frame : frames) {
+    const Camera camera = sfm.path.cameraAt(static_cast<double>(frame));
+    const Eigen::Quaterniond q(camera.worldFromCamera);
+    poses.push_back(
+        {{"frame", frame},
+         {"registered", registered.count(frame) > 0},
+         {"position_m",
+          {camera.positionMeters.x(), camera.positionMeters.y(), camera.positionMeters.z()}},
+         {"world_from_camera_wxyz", {q.w(), q.x(), q.y(), q.z()}},
+         {"focal_px", camera.focalPx},
+         {"principal_point_px", {camera.cx, camera.cy}}});
+  }
+  return {{"convention", "pluvia: metres, +Y up, camera looks down -Z, ground at y = 0"},
+          {"registered_fraction", sfm.registeredFraction},
+          {"mean_reprojection_error_px", sfm.meanReprojectionErrorPx},
+          {"baseline_over_depth", sfm.baselineOverDepth},
+          {"note", sfm.message},
+          {"frames", poses}};
+}
+
+}  // namespace pluvia

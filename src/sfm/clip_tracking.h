@@ -1,0 +1,63 @@
+#pragma once
+// Camera tracking of a clip with COLMAP, and its per-frame depth: what the depth stage, `pluvia
+// depth --source colmap` and `pluvia report depth` share.
+//
+// Every frameStep-th frame of the clip (the last one always) is written as an 8-bit PNG to
+// <workspace>/frames and handed to COLMAP (colmap_runner.h); the registered frames become keys
+// of the camera path, and frames between keys get interpolated poses (camera_path.h). A frame's
+// depth densifies the sparse points the nearest registered frame observed (sparse_densify.h),
+// guided by the frame itself.
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "image/image.h"
+#include "sfm/colmap_runner.h"
+#include "sfm/sfm_poses.h"
+#include "sfm/sparse_densify.h"
+
+namespace pluvia {
+
+struct ClipTrackingSettings {
+  std::filesystem::path workspace;  // COLMAP's folder (frames/, images/, database, log)
+  int frameStep = 1;                // every Nth frame goes to COLMAP
+  double horizontalFovDeg = 60.0;   // COLMAP's starting focal length
+  int maxImageSizePx = 1600;        // SIFT on frames downscaled to this longest side
+  std::string colmapBinary;         // empty: $PLUVIA_COLMAP, else "colmap"
+  SfmOptions sfm;                   // scale hint and fallback thresholds
+};
+
+struct ClipTracking {
+  SfmReconstruction sfm;
+  ColmapRun run;
+  std::vector<int64_t> framesUsed;  // handed to COLMAP
+  double seconds = 0.0;             // frame export and COLMAP
+};
+
+// The frames COLMAP gets: every step-th of `frames` from the first, and the last.
+std::vector<int64_t> trackingFrames(const std::vector<int64_t>& frames, int step);
+
+// Runs COLMAP on the clip's frames and builds the metric reconstruction. `readFrame` returns a
+// frame with display-referred values in 0..1 (what a PNG holds). Throws pluvia::Error naming the
+// COLMAP step and log when COLMAP fails; a weak reconstruction is returned with its status.
+ClipTracking trackClip(const std::vector<int64_t>& frames,
+                       const std::function<Image(int64_t)>& readFrame,
+                       const ClipTrackingSettings& settings);
+
+// The frame's metric z-depth (+inf for sky), width * height row-major, `image` its guide.
+std::vector<float> trackedFrameDepth(const SfmReconstruction& sfm, int64_t frame,
+                                     const Image& image, const DensifyOptions& options = {});
+
+// The reconstruction as JSON (the depth cache) and back. The JSON keeps what the depth and rain
+// stages use: status, message, statistics, intrinsics, keyframes (pose, visible points) and points.
+nlohmann::json reconstructionToJson(const SfmReconstruction& sfm);
+SfmReconstruction reconstructionFromJson(const nlohmann::json& json);
+
+// The poses of `frames` for users (`pluvia depth` writes it as poses.json).
+nlohmann::json posesJson(const SfmReconstruction& sfm, const std::vector<int64_t>& frames);
+
+}  // namespace pluvia

@@ -1,0 +1,25 @@
+#pragma once
+// The depth stage's COLMAP source: its settings from the preset, its cache key, and the tracked
+// reconstruction of the clip (from the cache, or computed and stored there).
+#include <string>
+
+#include "pipeline/stage.h"
+#include "sfm/clip_tracking.h"
+
+namespace pluvia {
+
+// depth.frame_step, depth.max_frames, depth.colmap_image_px, the scale hint (depth.scale) and the
+// camera's field of view. The workspace is left for the caller to choose.
+ClipTrackingSettings depthTrackingSettings(const Preset& preset, size_t clipFrameCount);
+
+// Hash of what the tracking depends on: the clip, those settings, pluvia's version. Empty when
+// depth.source is not "colmap".
+std::string depthTrackingCacheKey(const Preset& preset, const ClipInfo& clip);
+
+// The clip's reconstruction over all its frames (so that chunks of a farm render share one).
+// From the cache when it holds one; else COLMAP runs in a workspace of its own (in the cache
+// folder, else the system's temporary folder), removed after success and kept, with its log,
+// after a failure. Throws pluvia::Error naming the COLMAP log when COLMAP fails.
+SfmReconstruction trackedClipReconstruction(ClipContext& clip);
+
+}  // namespace pluvia
