@@ -1,6 +1,7 @@
 // `pluvia depth`: one single-channel float EXR of z-depth per frame (channel "Z", metres, +inf
 // for sky): from the preset's manual layers (what the render's depth stage uses), or from a
 // COLMAP reconstruction of the clip with its camera poses (poses.json) beside the frames.
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -44,32 +45,47 @@ std::vector<int64_t> selectFrames(const ClipInfo& clip, const std::string& range
 
 using Metadata = std::map<std::string, std::string>;
 
-// Depth from a COLMAP reconstruction of the selected frames (sfm/clip_tracking.h), in
-// OUTPUT_FOLDER/colmap (its log: colmap/colmap.log); the poses are scaled by camera.height_m over
-// the fitted ground plane. Writes the depth EXRs and OUTPUT_FOLDER/colmap/poses.json.
+// Depth from a COLMAP reconstruction of the selected frames (sfm/clip_tracking.h), run in
+// OUTPUT_FOLDER/colmap (its log: colmap/colmap.log), or read from depth.colmap_model; the poses
+// are scaled by camera.height_m over the fitted ground plane (depth.scale). Writes the depth EXRs
+// (from depth.colmap_dense's maps where given) and OUTPUT_FOLDER/colmap/poses.json.
 void writeColmapDepth(ClipReader& reader, const std::vector<int64_t>& frames,
                       const std::vector<std::string>& outputs, const Preset& preset,
                       const Metadata& metadata) {
   const ClipInfo& clip = reader.info();
   ClipTrackingSettings settings = depthTrackingSettings(preset, frames.size());
   settings.workspace = std::filesystem::absolute(outputs.front()).parent_path() / "colmap";
-  const ClipTracking tracking =
-      trackClip(frames, [&reader](int64_t f) { return reader.read(f); }, settings);
-  const SfmReconstruction& sfm = tracking.sfm;
+  const std::string model = preset.string("depth.colmap_model");
+  SfmReconstruction sfm;
+  std::string log;
+  if (model.empty()) {
+    ClipTracking tracking = trackClip(
+        frames, [&reader](int64_t f) { return reader.read(f); }, settings);
+    sfm = std::move(tracking.sfm);
+    if (!tracking.run.logPath.empty()) log = " (COLMAP log: " + tracking.run.logPath.string() + ")";
+  } else {
+    // The files of the selected frames (a sequence's frame i is its file i).
+    std::vector<std::string> files;
+    for (size_t i = 0;
+         !clip.isMovie && i < clip.frames.size() && clip.files.size() == clip.frames.size(); ++i)
+      if (std::binary_search(frames.begin(), frames.end(), clip.frames[i]))
+        files.push_back(clip.files[i]);
+    sfm = trackingFromModel(model, frames, files, settings.sfm);
+    log = " (depth.colmap_model: " + model + ")";
+  }
   if (!sfm.ok())
-    throw Error(fmt::format("{}{}; use --source layers for this clip", sfm.message,
-                            tracking.run.logPath.empty()
-                                ? std::string()
-                                : " (COLMAP log: " + tracking.run.logPath.string() + ")"),
+    throw Error(fmt::format("{}{}; use --source layers for this clip", sfm.message, log),
                 {"depth", {}, clip.path});
   log::info(fmt::format("colmap: {} of {} frames registered, {:.2f} px mean reprojection error{}",
                         sfm.registeredCount, sfm.frameCount, sfm.meanReprojectionErrorPx,
                         sfm.message.empty() ? "" : "; " + sfm.message));
   for (size_t i = 0; i < frames.size(); ++i) {
-    const std::vector<float> depth = trackedFrameDepth(sfm, frames[i], reader.read(frames[i]));
+    const std::vector<float> depth = colmapFrameDepth(sfm, frames[i], reader.read(frames[i]),
+                                                      preset.string("depth.colmap_dense"));
     writeImageFile(outputs[i], clip.width, clip.height, {{"Z", depth.data(), 1, true}}, metadata,
                    frames[i]);
   }
+  std::filesystem::create_directories(settings.workspace);
   fs::writeTextFile(settings.workspace / "poses.json", posesJson(sfm, frames).dump(2) + "\n");
 }
 
@@ -107,6 +123,11 @@ void addDepthCommand(CLI::App& app, Invocation& invocation) {
     std::vector<std::string> inputs = clip.files;
     inputs.push_back(clip.path);
     refuseOverwritingInput(inputs, "-o", outputs);
+    const std::filesystem::path folder =
+        std::filesystem::absolute(outputs.front()).parent_path();
+    if (!std::filesystem::is_directory(folder))
+      throw UsageError(fmt::format("-o {}: the folder {} does not exist", args->output,
+                                   folder.string()));
 
     const Metadata metadata{{"pluvia:version", kVersion},
                             {"pluvia:presetHash", preset.hash()},

@@ -1,5 +1,6 @@
 #include "sfm/clip_tracking.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -10,6 +11,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "io/image_file_writer.h"
+#include "sfm/colmap_model.h"
+#include "sfm/dense_import.h"
 #include "sfm/parallax_check.h"
 #include "util/error.h"
 #include "util/log.h"
@@ -139,6 +142,41 @@ ClipTracking trackClip(const std::vector<int64_t>& frames,
   return tracking;
 }
 
+SfmReconstruction trackingFromModel(const std::filesystem::path& textModelFolder,
+                                    const std::vector<int64_t>& frames,
+                                    const std::vector<std::string>& files,
+                                    const SfmOptions& options) {
+  const ColmapModel model = readColmapTextModel(textModelFolder);
+  std::map<std::string, int64_t> ownNames, fileNames;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    ownNames[fmt::format("frame_{:08d}.png", frames[i])] = frames[i];
+    if (files.size() == frames.size())
+      fileNames[std::filesystem::path(files[i]).filename().string()] = frames[i];
+  }
+  bool own = false;
+  for (const auto& [id, image] : model.images) own = own || ownNames.count(image.name) > 0;
+  return reconstructionFromColmap(model, own ? ownNames : fileNames, options);
+}
+
+std::optional<std::vector<float>> denseFrameDepth(const SfmReconstruction& sfm,
+                                                  const std::filesystem::path& denseWorkspace,
+                                                  int64_t frame, int width, int height) {
+  for (const SfmKeyframe& key : sfm.keyframes) {
+    if (key.frame != frame) continue;
+    const std::filesystem::path path = colmapDepthMapPath(denseWorkspace, key.imageName);
+    if (!std::filesystem::exists(path)) return std::nullopt;
+    int mapWidth = 0, mapHeight = 0;
+    std::vector<float> depth =
+        importColmapDepthMeters(path, sfm.modelToWorld.scale, &mapWidth, &mapHeight);
+    if (mapWidth == width && mapHeight == height) return depth;
+    cv::Mat resized;
+    cv::resize(cv::Mat(mapHeight, mapWidth, CV_32F, depth.data()), resized, cv::Size(width, height),
+               0, 0, cv::INTER_NEAREST);
+    return std::vector<float>(resized.begin<float>(), resized.end<float>());
+  }
+  return std::nullopt;
+}
+
 std::vector<float> trackedFrameDepth(const SfmReconstruction& sfm, int64_t frame,
                                      const Image& image, const DensifyOptions& options) {
   if (sfm.keyframes.empty())
@@ -147,6 +185,20 @@ std::vector<float> trackedFrameDepth(const SfmReconstruction& sfm, int64_t frame
   const auto samples =
       projectSparsePoints(camera, sfm.pointsMeters, &nearestKeyframe(sfm, frame).visiblePoints);
   return densifySparseDepth(samples, image, options);
+}
+
+std::vector<float> colmapFrameDepth(const SfmReconstruction& sfm, int64_t frame, const Image& image,
+                                    const std::filesystem::path& denseWorkspace) {
+  std::optional<std::vector<float>> dense;
+  if (!denseWorkspace.empty())
+    dense = denseFrameDepth(sfm, denseWorkspace, frame, image.width, image.height);
+  if (!dense) return trackedFrameDepth(sfm, frame, image);
+  if (std::none_of(dense->begin(), dense->end(), [](float d) { return std::isnan(d); }))
+    return *dense;
+  const std::vector<float> sparse = trackedFrameDepth(sfm, frame, image);
+  for (size_t i = 0; i < dense->size(); ++i)
+    if (std::isnan((*dense)[i])) (*dense)[i] = sparse[i];
+  return *dense;
 }
 
 nlohmann::json reconstructionToJson(const SfmReconstruction& sfm) {
@@ -170,7 +222,8 @@ nlohmann::json reconstructionToJson(const SfmReconstruction& sfm) {
           {"registered_fraction", sfm.registeredFraction},
           {"mean_reprojection_error_px", sfm.meanReprojectionErrorPx},
           {"baseline_over_depth", sfm.baselineOverDepth},
-          {"median_depth_m", sfm.medianDepthMeters}};
+          {"median_depth_m", sfm.medianDepthMeters},
+          {"meters_per_model_unit", sfm.modelToWorld.scale}};
 }
 
 SfmReconstruction reconstructionFromJson(const nlohmann::json& json) {
@@ -203,6 +256,7 @@ SfmReconstruction reconstructionFromJson(const nlohmann::json& json) {
   sfm.meanReprojectionErrorPx = json.at("mean_reprojection_error_px").get<double>();
   sfm.baselineOverDepth = json.at("baseline_over_depth").get<double>();
   sfm.medianDepthMeters = json.at("median_depth_m").get<double>();
+  sfm.modelToWorld.scale = json.at("meters_per_model_unit").get<double>();
   sfm.path = keys.empty() ? CameraPath::fixed(sfm.intrinsics)
                           : CameraPath::fromRotations(sfm.intrinsics, std::move(keys));
   return sfm;
@@ -228,6 +282,7 @@ nlohmann::json posesJson(const SfmReconstruction& sfm, const std::vector<int64_t
           {"registered_fraction", sfm.registeredFraction},
           {"mean_reprojection_error_px", sfm.meanReprojectionErrorPx},
           {"baseline_over_depth", sfm.baselineOverDepth},
+          {"meters_per_model_unit", sfm.modelToWorld.scale},
           {"note", sfm.message},
           {"frames", poses}};
 }

@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,9 +50,31 @@ ClipTracking trackClip(const std::vector<int64_t>& frames,
                        const std::function<Image(int64_t)>& readFrame,
                        const ClipTrackingSettings& settings);
 
+// The clip's tracking from a COLMAP text model made beforehand (by an earlier `pluvia depth`, or
+// by the user's own COLMAP run): no COLMAP runs. Images are frames by name: pluvia's own
+// "frame_%08d.png" when the model has such names, else, for an image sequence, the file name of
+// each frame (`files` parallel to `frames`; empty for a movie).
+SfmReconstruction trackingFromModel(const std::filesystem::path& textModelFolder,
+                                    const std::vector<int64_t>& frames,
+                                    const std::vector<std::string>& files,
+                                    const SfmOptions& options);
+
+// The frame's depth from a dense COLMAP workspace (<denseWorkspace>/stereo/depth_maps, made by
+// patch_match_stereo from the same model), metric, resized to width x height (nearest: the
+// undistorted image may differ slightly in size); pixels without an estimate are NaN. Nothing
+// when the frame is not a registered image or its map is missing.
+std::optional<std::vector<float>> denseFrameDepth(const SfmReconstruction& sfm,
+                                                  const std::filesystem::path& denseWorkspace,
+                                                  int64_t frame, int width, int height);
+
 // The frame's metric z-depth (+inf for sky), width * height row-major, `image` its guide.
 std::vector<float> trackedFrameDepth(const SfmReconstruction& sfm, int64_t frame,
                                      const Image& image, const DensifyOptions& options = {});
+
+// The depth the depth stage uses: the dense map (denseFrameDepth) where `denseWorkspace` is given
+// and has one for the frame, its holes filled by trackedFrameDepth; else trackedFrameDepth.
+std::vector<float> colmapFrameDepth(const SfmReconstruction& sfm, int64_t frame, const Image& image,
+                                    const std::filesystem::path& denseWorkspace);
 
 // The reconstruction as JSON (the depth cache) and back. The JSON keeps what the depth and rain
 // stages use: status, message, statistics, intrinsics, keyframes (pose, visible points) and points.

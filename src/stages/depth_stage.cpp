@@ -6,6 +6,7 @@
 //    the rain camera (ClipContext::trackedPath). When tracking fails, depth.fallback = "layers"
 //    falls back to the manual layers with a warning; otherwise the render stops before any frame;
 //  - "none": everything at infinity (sky).
+#include <filesystem>
 #include <limits>
 
 #include <fmt/format.h>
@@ -31,6 +32,7 @@ class DepthStage : public Stage {
   explicit DepthStage(const Preset& p)
       : source_(p.string("depth.source")),
         fallback_(p.string("depth.fallback")),
+        dense_(p.string("depth.colmap_dense")),
         layers_(p.at("depth.layers")) {}
 
   void prepare(ClipContext& clip) override {
@@ -49,7 +51,7 @@ class DepthStage : public Stage {
   }
   void process(ClipContext&, FrameContext& frame) override {
     if (sfm_) {
-      frame.image.planes["depth"] = trackedFrameDepth(*sfm_, frame.frame, frame.image);
+      frame.image.planes["depth"] = colmapFrameDepth(*sfm_, frame.frame, frame.image, dense_);
       return;
     }
     if (perFrame_) {
@@ -66,6 +68,11 @@ class DepthStage : public Stage {
 
   // The COLMAP source; false when it failed and depth.fallback sends the stage to the layers.
   bool prepareTracking(ClipContext& clip) {
+    if (!dense_.empty() && !std::filesystem::is_directory(dense_ / "stereo" / "depth_maps"))
+      throw Error(fmt::format("depth.colmap_dense: {} has no stereo/depth_maps folder (a COLMAP "
+                              "dense workspace after patch_match_stereo)",
+                              dense_.string()),
+                  {"depth", {}, dense_.string()});
     try {
       sfm_ = trackedClipReconstruction(clip);
     } catch (const Error& e) {
@@ -86,6 +93,7 @@ class DepthStage : public Stage {
 
   std::string source_;
   std::string fallback_;
+  std::filesystem::path dense_;
   std::optional<SfmReconstruction> sfm_;
   nlohmann::json layers_;
   CameraPath path_;
@@ -93,8 +101,8 @@ class DepthStage : public Stage {
   std::vector<float> depth_;
 };
 
-ParamSpec layerField(const std::string& key, double def, double lo, double hi, const std::string& units,
-                     const std::string& help) {
+ParamSpec layerField(const std::string& key, double def, double lo, double hi,
+                     const std::string& units, const std::string& help) {
   return {key, ParamType::Number, def, lo, hi, {}, units, help};
 }
 
@@ -107,7 +115,13 @@ StageInfo depthStageInfo() {
       "Scene depth per frame (metres) from manual layers (ground, card, polygon, sky) or COLMAP "
       "structure from motion; sky is at infinity.";
   info.spec.outputs = {"depth"};
-  ParamSpec layers{"layers", ParamType::List, nlohmann::json::parse(R"([{"type":"ground"}])"), {}, {}, {}, "",
+  ParamSpec layers{"layers",
+                   ParamType::List,
+                   nlohmann::json::parse(R"([{"type":"ground"}])"),
+                   {},
+                   {},
+                   {},
+                   "",
                    "painted in order, each over the pixels it covers; uncovered pixels are sky"};
   std::vector<ParamSpec> rect{layerField("x0", 0, 0, 1, "", "left edge, fraction of the width"),
                               layerField("x1", 1, 0, 1, "", "right edge, fraction of the width"),
@@ -162,12 +176,49 @@ StageInfo depthStageInfo() {
        "",
        "colmap: when tracking fails (no colmap, no parallax, too few frames registered), stop "
        "(error) or use depth.layers (layers)"},
-      {"frame_step", ParamType::Integer, 1, 1, 1000, {}, "frames",
+      {"frame_step",
+       ParamType::Integer,
+       1,
+       1,
+       1000,
+       {},
+       "frames",
        "colmap: every Nth frame is tracked; frames between interpolate"},
-      {"max_frames", ParamType::Integer, 200, 3, 100000, {}, "frames",
+      {"max_frames",
+       ParamType::Integer,
+       200,
+       3,
+       100000,
+       {},
+       "frames",
        "colmap: at most this many frames are tracked (the step grows on long clips)"},
-      {"colmap_image_px", ParamType::Integer, 1600, 160, 10000, {}, "px",
+      {"colmap_image_px",
+       ParamType::Integer,
+       1600,
+       160,
+       10000,
+       {},
+       "px",
        "colmap: features are found on frames downscaled to this longest side"},
+      {"colmap_model",
+       ParamType::String,
+       "",
+       {},
+       {},
+       {},
+       "",
+       "colmap: a COLMAP text model of this clip (cameras.txt, images.txt, points3D.txt) to read "
+       "instead of running COLMAP; images named frame_%08d.png (pluvia depth's) or as the clip's "
+       "files"},
+      {"colmap_dense",
+       ParamType::String,
+       "",
+       {},
+       {},
+       {},
+       "",
+       "colmap: a dense workspace of the same model (stereo/depth_maps after patch_match_stereo); "
+       "its depth maps replace the densified points where they have estimates"},
       {"scale",
        ParamType::Enum,
        "camera_height",
@@ -177,7 +228,13 @@ StageInfo depthStageInfo() {
        "",
        "colmap: metric scale from camera.height_m over the fitted ground plane, or from "
        "depth.first_frame_depth_m"},
-      {"first_frame_depth_m", ParamType::Number, 10.0, 0.01, 1e6, {}, "m",
+      {"first_frame_depth_m",
+       ParamType::Number,
+       10.0,
+       0.01,
+       1e6,
+       {},
+       "m",
        "colmap, scale first_frame_depth: median distance of what the first frame sees"},
   };
   info.cacheKey = depthTrackingCacheKey;

@@ -43,7 +43,9 @@ ClipTrackingSettings depthTrackingSettings(const Preset& preset, size_t clipFram
 }
 
 std::string depthTrackingCacheKey(const Preset& preset, const ClipInfo& clip) {
-  if (preset.string("depth.source") != "colmap") return "";
+  // A model given by depth.colmap_model is read, not computed: nothing to cache.
+  if (preset.string("depth.source") != "colmap" || !preset.string("depth.colmap_model").empty())
+    return "";
   Hasher hasher;
   hasher.add("depth-colmap").add(kTrackingVersion).add(kVersion).add(clipIdentity(clip));
   for (const char* key : kTrackingKeys) hasher.add(key).add(preset.at(key).dump());
@@ -52,6 +54,22 @@ std::string depthTrackingCacheKey(const Preset& preset, const ClipInfo& clip) {
 
 SfmReconstruction trackedClipReconstruction(ClipContext& clip) {
   const Preset& preset = *clip.preset;
+  if (const std::string model = preset.string("depth.colmap_model"); !model.empty()) {
+    if (!std::filesystem::exists(std::filesystem::path(model) / "images.txt"))
+      throw Error(
+          fmt::format("depth.colmap_model: {} holds no COLMAP text model (images.txt)", model),
+          {"depth", {}, model});
+    const ClipInfo& info = *clip.clip;
+    SfmReconstruction sfm = trackingFromModel(
+        model, info.frames, info.isMovie ? std::vector<std::string>{} : info.files,
+        depthTrackingSettings(preset, info.frames.size()).sfm);
+    if (!sfm.ok())
+      throw Error(fmt::format("depth.colmap_model {}: {}", model, sfm.message),
+                  {"depth", {}, model});
+    log::info(fmt::format("depth: COLMAP model {}: {} of {} frames registered", model,
+                          sfm.registeredCount, info.frames.size()));
+    return sfm;
+  }
   const std::string key = depthTrackingCacheKey(preset, *clip.clip);
   if (clip.cache) {
     if (auto cached = clip.cache->load(kCacheStage, key)) {

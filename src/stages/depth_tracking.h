@@ -13,13 +13,14 @@ namespace pluvia {
 ClipTrackingSettings depthTrackingSettings(const Preset& preset, size_t clipFrameCount);
 
 // Hash of what the tracking depends on: the clip, those settings, pluvia's version. Empty when
-// depth.source is not "colmap".
+// depth.source is not "colmap" or the model is given (depth.colmap_model).
 std::string depthTrackingCacheKey(const Preset& preset, const ClipInfo& clip);
 
 // The clip's reconstruction over all its frames (so that chunks of a farm render share one).
-// From the cache when it holds one; else COLMAP runs in a workspace of its own (in the cache
-// folder, else the system's temporary folder), removed after success and kept, with its log,
-// after a failure. Throws pluvia::Error naming the COLMAP log when COLMAP fails.
+// From depth.colmap_model when given; else from the cache when it holds one; else COLMAP runs in a
+// workspace of its own (in the cache folder, else the system's temporary folder), removed after
+// success and kept, with its log, after a failure. Throws pluvia::Error naming the COLMAP log when
+// COLMAP fails.
 SfmReconstruction trackedClipReconstruction(ClipContext& clip);
 
 }  // namespace pluvia

@@ -6,16 +6,20 @@
 // layers and says why.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "gpu/synthetic_scene.h"
 #include "sfm/colmap_runner.h"
+#include "sfm/dense_import.h"
 #include "test_support.h"
+#include "util/fs.h"
 
 namespace pluvia {
 namespace {
@@ -33,13 +37,16 @@ size_t countFiles(const stdfs::path& dir, const std::string& extension) {
   return n;
 }
 
-// Writes frames 1..kFrames of `keys` as dir/street.####.png; returns the sequence pattern.
-std::string writeClip(const stdfs::path& dir, const std::vector<gpu::SyntheticPathKey>& keys) {
+// Writes frames 1..kFrames of `keys` as dir/street.####.png; returns the sequence pattern. The
+// true z-depth of frame N is appended to `trueDepth` (index N - 1) when given.
+std::string writeClip(const stdfs::path& dir, const std::vector<gpu::SyntheticPathKey>& keys,
+                      std::vector<std::vector<float>>* trueDepth = nullptr) {
   gpu::SyntheticSceneRenderer renderer(kWidth, kHeight);
   const gpu::SyntheticView intrinsics = gpu::defaultSyntheticIntrinsics(kWidth, kHeight);
   for (int i = 0; i < kFrames; ++i) {
     Image frame = renderer.render(gpu::syntheticViewAt(intrinsics, keys[size_t(i)]));
     test::writeImageFile(dir / fmt::format("street.{:04d}.png", i + 1), frame);
+    if (trueDepth) trueDepth->push_back(*frame.findPlane("depth"));
   }
   return (dir / "street.####.png").string();
 }
@@ -123,7 +130,18 @@ TEST_F(CliDepthColmap, MissingColmapStopsBeforeAnyFrameUnlessFallbackAllowsLayer
   ::setenv("PLUVIA_COLMAP", "/nonexistent/colmap", 1);
   auto refused = test::runPluvia(renderArgs(clip, out, {}));
   auto fallback = test::runPluvia(renderArgs(clip, out, {"depth.fallback=layers"}));
+  stdfs::create_directories(dir / "z");
+  auto depth =
+      test::runPluvia({"depth", clip, "-o", (dir / "z/z.####.exr").string(), "--source", "colmap"});
   ::unsetenv("PLUVIA_COLMAP");
+
+  // pluvia depth names the step that failed and the log, which it keeps; no depth is written.
+  EXPECT_EQ(depth.exitCode, 1) << depth.output;
+  EXPECT_NE(depth.output.find("feature_extractor"), std::string::npos) << depth.output;
+  EXPECT_NE(depth.output.find((dir / "z/colmap/colmap.log").string()), std::string::npos)
+      << depth.output;
+  EXPECT_TRUE(stdfs::exists(dir / "z/colmap/colmap.log"));
+  EXPECT_EQ(countFiles(dir / "z", ".exr"), 0u);
 
   EXPECT_EQ(refused.exitCode, 1) << refused.output;
   EXPECT_NE(refused.output.find("colmap.log"), std::string::npos) << refused.output;
@@ -148,6 +166,69 @@ TEST_F(CliDepthColmap, TripodPanIsRefusedAsNoParallaxOrFallsBackToLayers) {
   ASSERT_EQ(fallback.exitCode, 0) << fallback.output;
   EXPECT_NE(fallback.output.find("pan or a tripod"), std::string::npos) << fallback.output;
   EXPECT_EQ(countFiles(out, ".png"), size_t(kFrames));
+}
+
+TEST_F(CliDepthColmap, GivenModelIsReadAndDenseMapsReplaceTheDensifiedPoints) {
+  // `pluvia depth --source colmap` keeps its workspace and model; a second run reads that model
+  // (depth.colmap_model, no COLMAP) and imports a dense depth map for frame 5 in COLMAP's format
+  // (here the true depth in model units, its left half a hole): the right half must come back
+  // as the truth, the hole as the first run's densified depth.
+  const stdfs::path dir = test::freshTempDir("depth_colmap_model");
+  std::vector<std::vector<float>> truth;
+  const std::string clip = writeClip(dir, walk(), &truth);
+  stdfs::create_directories(dir / "z1");
+  stdfs::create_directories(dir / "z2");
+  const std::vector<std::string> sets{"--set", "camera.fov_deg=60", "--set", "camera.height_m=1.6"};
+  std::vector<std::string> first{"depth",    clip,    "-o", (dir / "z1/z.####.exr").string(),
+                                 "--source", "colmap"};
+  first.insert(first.end(), sets.begin(), sets.end());
+  auto tracked = test::runPluvia(first);
+  ASSERT_EQ(tracked.exitCode, 0) << tracked.output;
+  const auto poses = nlohmann::json::parse(fs::readTextFile(dir / "z1/colmap/poses.json"));
+  const double metersPerUnit = poses.at("meters_per_model_unit").get<double>();
+  ASSERT_GT(metersPerUnit, 0.0);
+
+  const int frame = 5;
+  ColmapArray map{kWidth, kHeight, 1, {}};
+  for (size_t i = 0; i < truth[frame - 1].size(); ++i) {
+    const float z = truth[frame - 1][i];
+    const bool hole = int(i % kWidth) < kWidth / 2 || !std::isfinite(z);
+    map.values.push_back(hole ? 0.0f : float(z / metersPerUnit));
+  }
+  const stdfs::path dense = dir / "dense";
+  stdfs::create_directories(dense / "stereo/depth_maps");
+  writeColmapArray(colmapDepthMapPath(dense, fmt::format("frame_{:08d}.png", frame)), map);
+
+  std::vector<std::string> second{
+      "depth",    clip,
+      "-o",       (dir / "z2/z.####.exr").string(),
+      "--source", "colmap",
+      "--set",    "depth.colmap_model=" + (dir / "z1/colmap/text/0").string(),
+      "--set",    "depth.colmap_dense=" + dense.string()};
+  second.insert(second.end(), sets.begin(), sets.end());
+  ::setenv("PLUVIA_COLMAP", "/nonexistent/colmap", 1);  // proves that COLMAP does not run
+  auto imported = test::runPluvia(second);
+  ::unsetenv("PLUVIA_COLMAP");
+  ASSERT_EQ(imported.exitCode, 0) << imported.output;
+
+  const Image densified = test::readImageFile(dir / "z1/z.0005.exr");
+  const Image result = test::readImageFile(dir / "z2/z.0005.exr");
+  int checked = 0;
+  for (size_t i = 0; i < truth[frame - 1].size(); ++i) {
+    const float z = result.rgba[4 * i], before = densified.rgba[4 * i];
+    const float expected = map.values[i] > 0 ? truth[frame - 1][i] : before;
+    if (!std::isfinite(expected)) {
+      EXPECT_EQ(z, expected) << "pixel " << i;
+      continue;
+    }
+    ASSERT_NEAR(z, expected, 1e-4 * expected) << "pixel " << i;
+    ++checked;
+  }
+  EXPECT_GT(checked, kWidth * kHeight / 2);
+  // Frames without a dense map keep the densified points exactly.
+  const Image other1 = test::readImageFile(dir / "z1/z.0006.exr");
+  const Image other2 = test::readImageFile(dir / "z2/z.0006.exr");
+  EXPECT_EQ(other1.rgba, other2.rgba);
 }
 
 }  // namespace
