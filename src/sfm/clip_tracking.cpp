@@ -95,6 +95,15 @@ ClipTracking trackClip(const std::vector<int64_t>& frames,
   const auto started = std::chrono::steady_clock::now();
   ClipTracking tracking;
   tracking.framesUsed = trackingFrames(frames, settings.frameStep);
+  tracking.sfm.frameCount = static_cast<int>(tracking.framesUsed.size());
+  if (tracking.sfm.frameCount < settings.sfm.minRegisteredFrames) {
+    tracking.sfm.status = SfmStatus::TooFewRegistered;
+    tracking.sfm.message = fmt::format("{} frame{} to track: camera tracking needs at least {}",
+                                       tracking.sfm.frameCount,
+                                       tracking.sfm.frameCount == 1 ? "" : "s",
+                                       settings.sfm.minRegisteredFrames);
+    return tracking;
+  }
   std::filesystem::create_directories(settings.workspace / "frames");
   ColmapRequest request;
   request.workspace = settings.workspace;
@@ -131,7 +140,6 @@ ClipTracking trackClip(const std::vector<int64_t>& frames,
   if (parallax.verdict == ParallaxVerdict::NoParallax) {
     tracking.sfm.status = SfmStatus::NoParallax;
     tracking.sfm.message = parallax.message;
-    tracking.sfm.frameCount = static_cast<int>(tracking.framesUsed.size());
     tracking.seconds = secondsSince(started);
     return tracking;
   }

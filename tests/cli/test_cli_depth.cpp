@@ -95,3 +95,16 @@ TEST(CliDepth, StaticRealPlateIsRefusedAsNoParallaxBeforeColmapRuns) {
   for (const auto& entry : stdfs::recursive_directory_iterator(dir))
     EXPECT_NE(entry.path().extension(), ".exr") << entry.path();
 }
+
+TEST(CliDepth, TooFewFramesAreRefusedBeforeColmapRuns) {
+  auto dir = freshTempDir("depth_colmap_two_frames");
+  ::setenv("PLUVIA_COLMAP", "/nonexistent/colmap", 1);
+  auto two = runPluvia({"depth", exampleClip().string(), "-o", (dir / "z.####.exr").string(),
+                        "--source", "colmap", "--frames", "0-1"});
+  ::unsetenv("PLUVIA_COLMAP");
+  EXPECT_EQ(two.exitCode, 1) << two.output;
+  EXPECT_NE(two.output.find("2 frames to track: camera tracking needs at least 3"),
+            std::string::npos)
+      << two.output;
+  EXPECT_FALSE(stdfs::exists(dir / "colmap"));
+}
