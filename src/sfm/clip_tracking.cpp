@@ -192,7 +192,11 @@ std::vector<float> trackedFrameDepth(const SfmReconstruction& sfm, int64_t frame
   const Camera camera = sfm.path.cameraAt(static_cast<double>(frame));
   const auto samples =
       projectSparsePoints(camera, sfm.pointsMeters, &nearestKeyframe(sfm, frame).visiblePoints);
-  return densifySparseDepth(samples, image, options);
+  // Where the world stands on the fitted ground, the ground bounds the depth from behind and fills
+  // the bottom of the frame where blur left no points.
+  DensifyOptions withGround = options;
+  if (sfm.groundAtYZero && !withGround.groundCamera) withGround.groundCamera = camera;
+  return densifySparseDepth(samples, image, withGround);
 }
 
 std::vector<float> colmapFrameDepth(const SfmReconstruction& sfm, int64_t frame, const Image& image,
@@ -231,7 +235,8 @@ nlohmann::json reconstructionToJson(const SfmReconstruction& sfm) {
           {"mean_reprojection_error_px", sfm.meanReprojectionErrorPx},
           {"baseline_over_depth", sfm.baselineOverDepth},
           {"median_depth_m", sfm.medianDepthMeters},
-          {"meters_per_model_unit", sfm.modelToWorld.scale}};
+          {"meters_per_model_unit", sfm.modelToWorld.scale},
+          {"ground_at_y_zero", sfm.groundAtYZero}};
 }
 
 SfmReconstruction reconstructionFromJson(const nlohmann::json& json) {
@@ -265,6 +270,7 @@ SfmReconstruction reconstructionFromJson(const nlohmann::json& json) {
   sfm.baselineOverDepth = json.at("baseline_over_depth").get<double>();
   sfm.medianDepthMeters = json.at("median_depth_m").get<double>();
   sfm.modelToWorld.scale = json.at("meters_per_model_unit").get<double>();
+  sfm.groundAtYZero = json.at("ground_at_y_zero").get<bool>();
   sfm.path = keys.empty() ? CameraPath::fixed(sfm.intrinsics)
                           : CameraPath::fromRotations(sfm.intrinsics, std::move(keys));
   return sfm;

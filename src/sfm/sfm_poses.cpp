@@ -182,6 +182,7 @@ SfmReconstruction reconstructionFromColmap(const ColmapModel& model,
   if (!scaled && result.status == SfmStatus::Ok && result.message.empty())
     result.message = "left unscaled";
   result.modelToWorld = toWorld;
+  result.groundAtYZero = groundPlaced;
   result.medianDepthMeters = medianDepthModel * toWorld.scale;
 
   // Points, re-indexed densely.

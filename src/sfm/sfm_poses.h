@@ -82,6 +82,7 @@ struct SfmReconstruction {
   double meanReprojectionErrorPx = 0.0;
   double baselineOverDepth = 0.0;  // camera-centre bounding-box diagonal / median scene depth
   double medianDepthMeters = 0.0;  // over all observations, after scaling
+  bool groundAtYZero = false;      // the world was placed on a fitted ground plane (y = 0)
   bool ok() const { return status == SfmStatus::Ok; }
 };
 

@@ -4,7 +4,10 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numeric>
 
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/ximgproc/edge_filter.hpp>
 
@@ -65,12 +68,11 @@ cv::Mat pushPull(const cv::Mat& weightedSum, const cv::Mat& weight) {
 }
 
 // Piecewise-linear interpolation over the Delaunay triangulation of the samples (exact for a
-// plane, since inverse depth is affine in the image over a plane). Pixels outside the samples'
-// convex hull keep `outside`.
-cv::Mat delaunayFill(const std::vector<cv::Point2f>& sites, const std::vector<float>& values,
-                     const cv::Mat& outside) {
-  cv::Mat out = outside.clone();
-  if (sites.size() < 3) return out;
+// plane, since inverse depth is affine in the image over a plane), written into `out` (CV_32F)
+// where `covered` (CV_32F, 1 inside the samples' convex hull, else 0) is set.
+void delaunayFill(const std::vector<cv::Point2f>& sites, const std::vector<float>& values,
+                  cv::Mat& out, cv::Mat& covered) {
+  if (sites.size() < 3) return;
   cv::Subdiv2D subdiv(cv::Rect(-1, -1, out.cols + 2, out.rows + 2));
   std::map<std::pair<int, int>, float> valueAt;  // Subdiv2D returns coordinates, not indices
   for (size_t i = 0; i < sites.size(); ++i) {
@@ -108,42 +110,303 @@ cv::Mat delaunayFill(const std::vector<cv::Point2f>& sites, const std::vector<fl
         const double eps = -1e-7;
         if (a < eps || b < eps || c < eps) continue;
         out.at<float>(y, x) = static_cast<float>(a * v[0] + b * v[1] + c * v[2]);
+        covered.at<float>(y, x) = 1.0f;
       }
+  }
+}
+
+// The guide's colour channels (alpha dropped), 8-bit, with the same display gamma as greyGuide.
+std::vector<cv::Mat> colourChannels(const cv::Mat& guide) {
+  std::vector<cv::Mat> channels;
+  cv::split(guide, channels);
+  if (channels.size() == 4) channels.pop_back();
+  for (cv::Mat& c : channels) {
+    if (c.depth() == CV_8U) continue;
+    cv::Mat f;
+    c.convertTo(f, CV_32F);
+    cv::max(f, 0.0, f);
+    cv::pow(f, 1.0 / 2.2, f);
+    f.convertTo(c, CV_8U, 255.0);
+  }
+  return channels;
+}
+
+// The `k` nearest other points of each point (fewer when there are fewer), nearest first, and
+// their distances, through a uniform grid of about one point per cell.
+void nearestNeighbours(const std::vector<cv::Point2f>& points, int k,
+                       std::vector<std::vector<int>>& neighbours,
+                       std::vector<std::vector<float>>& distances) {
+  const int n = static_cast<int>(points.size());
+  neighbours.assign(n, {});
+  distances.assign(n, {});
+  if (n < 2 || k <= 0) return;
+  float x0 = points[0].x, x1 = x0, y0 = points[0].y, y1 = y0;
+  for (const auto& p : points) {
+    x0 = std::min(x0, p.x), x1 = std::max(x1, p.x);
+    y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+  }
+  const double cell = std::max(1.0, std::sqrt((x1 - x0 + 1.0) * (y1 - y0 + 1.0) / n));
+  const int nx = static_cast<int>((x1 - x0) / cell) + 1,
+            ny = static_cast<int>((y1 - y0) / cell) + 1;
+  auto cellOf = [&](const cv::Point2f& p, int& cx, int& cy) {
+    cx = std::min(nx - 1, static_cast<int>((p.x - x0) / cell));
+    cy = std::min(ny - 1, static_cast<int>((p.y - y0) / cell));
+  };
+  std::vector<int> start(static_cast<size_t>(nx) * ny + 1, 0), order(n);
+  for (const auto& p : points) {
+    int cx, cy;
+    cellOf(p, cx, cy);
+    ++start[cy * nx + cx + 1];
+  }
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (int i = 0; i < n; ++i) {
+    int cx, cy;
+    cellOf(points[i], cx, cy);
+    order[fill[cy * nx + cx]++] = i;
+  }
+  std::vector<std::pair<float, int>> found;
+  for (int i = 0; i < n; ++i) {
+    int cx, cy;
+    cellOf(points[i], cx, cy);
+    found.clear();
+    for (int ring = 0;; ++ring) {
+      for (int gy = cy - ring; gy <= cy + ring; ++gy) {
+        if (gy < 0 || gy >= ny) continue;
+        const bool edgeRow = gy == cy - ring || gy == cy + ring;
+        for (int gx = cx - ring; gx <= cx + ring; gx += edgeRow ? 1 : 2 * std::max(ring, 1)) {
+          if (gx < 0 || gx >= nx) continue;
+          const int c = gy * nx + gx;
+          for (int j = start[c]; j < start[c + 1]; ++j) {
+            const int other = order[j];
+            if (other == i) continue;
+            const float dx = points[other].x - points[i].x, dy = points[other].y - points[i].y;
+            found.emplace_back(dx * dx + dy * dy, other);
+          }
+        }
+      }
+      const bool covered = ring >= std::max({cx, nx - 1 - cx, cy, ny - 1 - cy});
+      if (static_cast<int>(found.size()) >= k || covered) {
+        const int m = std::min<int>(k, static_cast<int>(found.size()));
+        std::partial_sort(found.begin(), found.begin() + m, found.end());
+        // Points in cells beyond this ring are at least ring * cell away.
+        if (covered || found[m - 1].first <= (ring * cell) * (ring * cell)) {
+          for (int j = 0; j < m; ++j) {
+            neighbours[i].push_back(found[j].second);
+            distances[i].push_back(std::sqrt(found[j].first));
+          }
+          break;
+        }
+      }
+    }
+  }
+}
+
+float medianOf(std::vector<float> v) {
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+// Inverse z-depth of the ground plane y = 0 seen by `camera` (0 where the ray does not meet it
+// within maxDistance), and the sine of each ray's elevation above the horizon.
+void groundPlane(const Camera& camera, int width, int height, double maxDistance,
+                 cv::Mat& inverseDepth, cv::Mat& sinElevation) {
+  inverseDepth = cv::Mat::zeros(height, width, CV_32F);
+  sinElevation = cv::Mat::zeros(height, width, CV_32F);
+  // Scale from the frame's size to the camera's (the same view at another resolution).
+  const double sx = camera.width > 0 ? static_cast<double>(camera.width) / width : 1.0;
+  const double sy = camera.height > 0 ? static_cast<double>(camera.height) / height : 1.0;
+  const double h = camera.positionMeters.y();
+  for (int y = 0; y < height; ++y) {
+    float* inv = inverseDepth.ptr<float>(y);
+    float* elevation = sinElevation.ptr<float>(y);
+    for (int x = 0; x < width; ++x) {
+      const Eigen::Vector3d ray =
+          camera.worldFromCamera * camera.rayCamera((x + 0.5) * sx, (y + 0.5) * sy);
+      const double length = ray.norm();
+      elevation[x] = static_cast<float>(ray.y() / length);
+      // The ray has camera-space z = -1, so its parameter at the ground is the z-depth.
+      if (h > 0 && ray.y() < 0 && h / -ray.y() * length <= maxDistance)
+        inv[x] = static_cast<float>(-ray.y() / h);
+    }
+  }
+}
+
+// 255 where the (CV_8U) mask's connected components (4-connected) touch `seeds` (CV_8U).
+cv::Mat componentsTouching(const cv::Mat& mask, const cv::Mat& seeds) {
+  cv::Mat labels;
+  const int count = cv::connectedComponents(mask, labels, 4, CV_32S);
+  std::vector<char> keep(count, 0);
+  for (int y = 0; y < labels.rows; ++y) {
+    const int* l = labels.ptr<int>(y);
+    const uchar* s = seeds.ptr<uchar>(y);
+    for (int x = 0; x < labels.cols; ++x)
+      if (s[x] && l[x] > 0) keep[l[x]] = 1;
+  }
+  cv::Mat out = cv::Mat::zeros(mask.size(), CV_8U);
+  for (int y = 0; y < labels.rows; ++y) {
+    const int* l = labels.ptr<int>(y);
+    uchar* o = out.ptr<uchar>(y);
+    for (int x = 0; x < labels.cols; ++x)
+      if (keep[l[x]]) o[x] = 255;
   }
   return out;
 }
 
-// Bright, smooth pixels far from samples and connected to the top row.
-cv::Mat skyMask(const cv::Mat& grey, const cv::Mat& sampleMask, const DensifyOptions& options) {
-  cv::Mat notSample = sampleMask == 0;
-  cv::Mat distancePx;
-  cv::distanceTransform(notSample, distancePx, cv::DIST_L2, 3);
-  const double diagonal = std::hypot(grey.cols, grey.rows);
-  cv::Mat gx, gy, gradient;
-  cv::Sobel(grey, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
-  cv::Sobel(grey, gy, CV_32F, 0, 1, 3, 1.0 / 8.0);
-  cv::magnitude(gx, gy, gradient);
-  cv::blur(gradient, gradient, cv::Size(9, 9));
-  std::vector<uchar> levels(grey.begin<uchar>(), grey.end<uchar>());
-  std::nth_element(levels.begin(), levels.begin() + levels.size() / 2, levels.end());
-  const uchar medianGrey = levels[levels.size() / 2];
-  cv::Mat candidate = (distancePx > options.skyMinDistanceFraction * diagonal) &
-                      (grey > medianGrey) & (gradient < options.skyMaxGradient);
-  cv::Mat labels;
-  int count = cv::connectedComponents(candidate, labels, 4, CV_32S);
-  std::vector<char> touchesTop(count, 0);
-  for (int x = 0; x < labels.cols; ++x) {
-    int label = labels.at<int>(0, x);
-    if (label > 0) touchesTop[label] = 1;
+// See step 4 in the header. `distancePx`: to the nearest sample; `sinElevation`: empty without
+// a ground camera.
+cv::Mat skyMask(const cv::Mat& guide, const cv::Mat& sampleMask, const cv::Mat& distancePx,
+                const cv::Mat& sinElevation, const DensifyOptions& options) {
+  const std::vector<cv::Mat> channels = colourChannels(guide);
+  const cv::Size size = guide.size();
+  const double diagonal = std::hypot(size.width, size.height);
+  // Texture: the part of the gradient that does not survive averaging over 9x9 pixels (blur of
+  // |g| minus |blur of g|): about zero on a smooth gradient or a soft cloud edge, whose
+  // gradients all point the same way, and most of |g| on texture and noise. The largest over
+  // the colour channels (a wall and the sky can have the same grey level).
+  cv::Mat value = channels[0].clone(), edge = cv::Mat::zeros(size, CV_32F), texture = edge.clone();
+  const cv::Size window(9, 9);
+  for (const cv::Mat& c : channels) {
+    cv::max(value, c, value);
+    cv::Mat gx, gy, magnitude, meanMagnitude, coherent;
+    cv::Sobel(c, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
+    cv::Sobel(c, gy, CV_32F, 0, 1, 3, 1.0 / 8.0);
+    cv::magnitude(gx, gy, magnitude);
+    cv::max(edge, magnitude, edge);
+    cv::blur(magnitude, meanMagnitude, window);
+    cv::blur(gx, gx, window);
+    cv::blur(gy, gy, window);
+    cv::magnitude(gx, gy, coherent);
+    cv::max(texture, meanMagnitude - coherent, texture);
   }
-  cv::Mat sky = cv::Mat::zeros(grey.size(), CV_8U);
-  for (int y = 0; y < labels.rows; ++y)
-    for (int x = 0; x < labels.cols; ++x)
-      if (touchesTop[labels.at<int>(y, x)] && labels.at<int>(y, x) > 0) sky.at<uchar>(y, x) = 255;
-  return sky;
+  std::vector<uchar> levels(value.begin<uchar>(), value.end<uchar>());
+  const size_t p99 = levels.size() * 99 / 100;
+  std::nth_element(levels.begin(), levels.begin() + p99, levels.end());
+  const double white = std::max<double>(levels[p99], 1.0);
+  cv::Mat candidate =
+      (value >= options.skyMinBrightness * white) & (texture < options.skyMaxGradient);
+  if (!sinElevation.empty())
+    candidate &= sinElevation > std::sin(options.skyMinElevationDeg * M_PI / 180.0);
+  const double seedDistance = options.skyMinDistanceFraction * diagonal;
+  // Seed regions: touching the top row, and at least as large as a disc of radius seedDistance
+  // (smaller ones are gaps between the samples on a wall, not the sky).
+  cv::Mat seedLabels, stats, centroids;
+  const int count = cv::connectedComponentsWithStats(candidate & (distancePx > seedDistance),
+                                                     seedLabels, stats, centroids, 4, CV_32S);
+  std::vector<char> keep(count, 0);
+  for (int l = 1; l < count; ++l)
+    keep[l] = stats.at<int>(l, cv::CC_STAT_TOP) == 0 &&
+              stats.at<int>(l, cv::CC_STAT_AREA) >= M_PI * seedDistance * seedDistance;
+  cv::Mat seeds = cv::Mat::zeros(size, CV_8U);
+  for (int y = 0; y < size.height; ++y) {
+    const int* l = seedLabels.ptr<int>(y);
+    uchar* o = seeds.ptr<uchar>(y);
+    for (int x = 0; x < size.width; ++x)
+      if (keep[l[x]]) o[x] = 255;
+  }
+  if (cv::countNonZero(seeds) == 0) return seeds;
+  // Growing into the margin the seeds leave around the samples, and no farther: through pixels
+  // with no edge of their own either (a faint roof line stops it), within seedDistance of a seed.
+  cv::Mat fromSeeds;
+  cv::distanceTransform(seeds == 0, fromSeeds, cv::DIST_L2, 3);
+  const cv::Mat grown =
+      componentsTouching(candidate & (distancePx > options.skyGrowMinDistancePx) &
+                             (edge < 3.0 * options.skyMaxGradient) & (fromSeeds <= seedDistance),
+                         seeds);
+  // Holes in the sky holding no sample, not reaching the frame's border: a cloud's edge.
+  cv::Mat border = cv::Mat::zeros(size, CV_8U);
+  cv::rectangle(border, cv::Rect(0, 0, size.width, size.height), 255, 1);
+  const cv::Mat notSky = grown == 0;
+  cv::Mat holes = notSky & (componentsTouching(notSky, border | sampleMask) == 0);
+  if (!sinElevation.empty())
+    holes &= sinElevation > std::sin(options.skyMinElevationDeg * M_PI / 180.0);
+  return grown | holes;
+}
+
+// Whether inverse depth `own` at sample i agrees with the affine function of the image position
+// (a plane) fitted to its neighbours, robustly (a second fit without the neighbours far off the
+// first). The median of the neighbours is biased where the sample lies at the edge of a steep
+// ramp (the ground just below the horizon, sampled from one side); the plane is not.
+bool agreesWithLocalPlane(const std::vector<SparseDepthSample>& samples, size_t i,
+                          const std::vector<int>& near, double own, double maxRelativeDeviation) {
+  std::vector<double> dx, dy, v, residual;
+  for (int j : near) {
+    if (!(samples[j].depthMeters > 0)) continue;
+    dx.push_back(samples[j].xPx - samples[i].xPx);
+    dy.push_back(samples[j].yPx - samples[i].yPx);
+    v.push_back(1.0 / samples[j].depthMeters);
+  }
+  const size_t n = v.size();
+  if (n < 5) return false;
+  std::vector<char> use(n, 1);
+  Eigen::Vector3d plane = Eigen::Vector3d::Zero();  // value at the sample, slope in x, in y
+  double spread = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    int used = 0;
+    for (size_t k = 0; k < n; ++k) {
+      if (!use[k]) continue;
+      const Eigen::Vector3d row(1.0, dx[k], dy[k]);
+      a += row * row.transpose();
+      b += row * v[k];
+      ++used;
+    }
+    if (used < 4) return false;
+    // Neighbours (nearly) on a line leave the slope across it undetermined.
+    const double scale = a(1, 1) + a(2, 2);
+    if (!(a.determinant() > 1e-6 * used * scale * scale / 4)) return false;
+    plane = a.ldlt().solve(b);
+    residual.clear();
+    for (size_t k = 0; k < n; ++k)
+      if (use[k])
+        residual.push_back(std::abs(v[k] - plane[0] - plane[1] * dx[k] - plane[2] * dy[k]));
+    std::vector<double> sorted = residual;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    spread = 1.4826 * sorted[sorted.size() / 2];
+    if (pass == 0)
+      for (size_t k = 0; k < n; ++k)
+        use[k] = std::abs(v[k] - plane[0] - plane[1] * dx[k] - plane[2] * dy[k]) <=
+                 std::max(3.0 * spread, 0.05 * std::abs(v[k]));
+  }
+  if (!(plane[0] > 0)) return false;
+  return std::abs(own - plane[0]) <= std::max(maxRelativeDeviation * plane[0], 3.0 * spread);
 }
 
 }  // namespace
+
+std::vector<SparseDepthSample> rejectDepthOutliers(const std::vector<SparseDepthSample>& samples,
+                                                   int neighbours, double maxRelativeDeviation) {
+  if (neighbours <= 0 || static_cast<int>(samples.size()) < neighbours + 1) return samples;
+  std::vector<cv::Point2f> points;
+  for (const auto& s : samples)
+    points.emplace_back(static_cast<float>(s.xPx), static_cast<float>(s.yPx));
+  std::vector<std::vector<int>> near;
+  std::vector<std::vector<float>> distances;
+  nearestNeighbours(points, neighbours, near, distances);
+  std::vector<SparseDepthSample> kept;
+  std::vector<float> values;
+  for (size_t i = 0; i < samples.size(); ++i) {
+    values.clear();
+    for (int j : near[i])
+      if (samples[j].depthMeters > 0)
+        values.push_back(static_cast<float>(1.0 / samples[j].depthMeters));
+    if (values.size() < 3 || !(samples[i].depthMeters > 0)) {
+      kept.push_back(samples[i]);
+      continue;
+    }
+    const float m = medianOf(values);
+    const double own = 1.0 / samples[i].depthMeters;
+    // A sample on a depth step (a box's corner among far points) disagrees with the median but
+    // has neighbours on its own side of the step: two of them that agree with it keep it.
+    int agreeing = 0;
+    for (float v : values) agreeing += std::abs(v - own) <= maxRelativeDeviation * own;
+    if (std::abs(own - m) <= maxRelativeDeviation * m || agreeing >= 2 ||
+        agreesWithLocalPlane(samples, i, near[i], own, maxRelativeDeviation))
+      kept.push_back(samples[i]);
+  }
+  return kept;
+}
 
 std::vector<SparseDepthSample> projectSparsePoints(const Camera& camera,
                                                    const std::vector<Eigen::Vector3d>& pointsMeters,
@@ -164,35 +427,102 @@ std::vector<SparseDepthSample> projectSparsePoints(const Camera& camera,
   return samples;
 }
 
-std::vector<float> densifySparseDepth(const std::vector<SparseDepthSample>& samples,
+std::vector<float> densifySparseDepth(const std::vector<SparseDepthSample>& allSamples,
                                       const cv::Mat& guide, const DensifyOptions& options) {
   const int width = guide.cols, height = guide.rows;
   std::vector<float> depth(static_cast<size_t>(width) * height,
                            std::numeric_limits<float>::infinity());
-  cv::Mat sum = cv::Mat::zeros(height, width, CV_32F), weight = sum.clone();
-  int used = 0;
-  std::vector<cv::Point2f> sites;
-  std::vector<float> siteValues;
-  for (const auto& s : samples) {
+  std::vector<SparseDepthSample> valid;
+  for (const auto& s : allSamples) {
     int x = static_cast<int>(std::floor(s.xPx)), y = static_cast<int>(std::floor(s.yPx));
     if (x < 0 || y < 0 || x >= width || y >= height || !(s.depthMeters > 0) ||
         !std::isfinite(s.depthMeters))
       continue;
+    valid.push_back(s);
+  }
+  const std::vector<SparseDepthSample> samples =
+      rejectDepthOutliers(valid, options.outlierNeighbours, options.outlierMaxRelativeDeviation);
+  if (samples.empty()) return depth;
+  cv::Mat sum = cv::Mat::zeros(height, width, CV_32F), weight = sum.clone();
+  std::vector<cv::Point2f> sites;
+  std::vector<float> siteValues;
+  for (const auto& s : samples) {
+    int x = static_cast<int>(std::floor(s.xPx)), y = static_cast<int>(std::floor(s.yPx));
     sum.at<float>(y, x) += static_cast<float>(1.0 / s.depthMeters);
     weight.at<float>(y, x) += 1.0f;
     sites.emplace_back(static_cast<float>(s.xPx), static_cast<float>(s.yPx));
     siteValues.push_back(static_cast<float>(1.0 / s.depthMeters));
-    ++used;
   }
-  if (used == 0) return depth;
   // Several samples on one pixel count as one, so dense clusters do not outweigh the prior.
   cv::Mat sampleMask = weight > 0;
   cv::Mat average;
   cv::divide(sum, cv::max(weight, 1.0f), average);
   cv::Mat unitWeight;
   sampleMask.convertTo(unitWeight, CV_32F, 1.0 / 255.0);
+  cv::Mat distancePx;
+  cv::distanceTransform(sampleMask == 0, distancePx, cv::DIST_L2, 3);
 
-  cv::Mat fill = delaunayFill(sites, siteValues, pushPull(average, unitWeight));
+  // The triangulated field, extended past the hull by push-pull from the hull's own values (not
+  // from the samples alone, which would leave a seam along the hull's outline).
+  cv::Mat triangulated = cv::Mat::zeros(height, width, CV_32F), covered = triangulated.clone();
+  delaunayFill(sites, siteValues, triangulated, covered);
+  // Samples on the hull whose pixel centre falls just outside it keep their own value.
+  average.copyTo(triangulated, sampleMask & (covered == 0));
+  const cv::Mat known = cv::max(covered, unitWeight);
+  cv::Mat fill = pushPull(triangulated, known);
+
+  cv::Mat groundInverse, sinElevation;
+  if (options.groundCamera) {
+    groundPlane(*options.groundCamera, width, height, options.groundMaxDistanceMeters,
+                groundInverse, sinElevation);
+    // The samples correct the ground camera (a height or tilt slightly off): the ratio of the
+    // triangulated field to the ground's inverse depth, where the two nearly agree (samples on
+    // the ground; walls and boxes are far off), extended everywhere by push-pull.
+    cv::Mat ratioSum = cv::Mat::zeros(height, width, CV_32F), ratioWeight = ratioSum.clone();
+    for (int y = 0; y < height; ++y) {
+      const float* t = triangulated.ptr<float>(y);
+      const float* k = known.ptr<float>(y);
+      const float* g = groundInverse.ptr<float>(y);
+      for (int x = 0; x < width; ++x) {
+        if (!(k[x] > 0) || !(g[x] > 0)) continue;
+        const float q = t[x] / g[x];
+        if (std::abs(q - 1.0f) > options.groundMaxCorrection) continue;
+        ratioSum.at<float>(y, x) = q;
+        ratioWeight.at<float>(y, x) = 1.0f;
+      }
+    }
+    const cv::Mat ratio = cv::countNonZero(ratioWeight) > 0
+                              ? pushPull(ratioSum, ratioWeight)
+                              : cv::Mat(height, width, CV_32F, cv::Scalar(1.0f));
+    // The (corrected) ground bounds the depth where the samples do not: outside their hull, and
+    // inside it with a weight falling from 1 to 0 with the distance to the nearest sample, on
+    // the scale of their spacing. At the hull's outline the two agree (both are the samples'
+    // values where they lie on the ground), so the bound leaves no seam there.
+    std::vector<std::vector<int>> near;
+    std::vector<std::vector<float>> distances;
+    nearestNeighbours(sites, 1, near, distances);
+    std::vector<float> spacing;
+    for (const auto& d : distances)
+      if (!d.empty() && d[0] > 0.5f) spacing.push_back(d[0]);
+    const double scale =
+        options.groundBlendSpacings *
+        std::max(4.0, spacing.empty() ? 0.02 * std::hypot(width, height) : medianOf(spacing));
+    for (int y = 0; y < height; ++y) {
+      float* f = fill.ptr<float>(y);
+      const float* g = groundInverse.ptr<float>(y);
+      const float* q = ratio.ptr<float>(y);
+      const float* k = known.ptr<float>(y);
+      const float* d = distancePx.ptr<float>(y);
+      for (int x = 0; x < width; ++x) {
+        const float bound = g[x] * q[x];
+        if (bound <= f[x]) continue;
+        const double r = d[x] / scale;
+        const double sampled = k[x] > 0 ? std::exp(-r * r) : 0.0;
+        f[x] += static_cast<float>((1.0 - sampled) * (bound - f[x]));
+      }
+    }
+  }
+
   cv::Mat grey = greyGuide(guide);
   const float prior = static_cast<float>(options.priorWeight);
   // The smoother averages; an average of a ramp is biased wherever the kernel is cut by an edge
@@ -206,7 +536,8 @@ std::vector<float> densifySparseDepth(const std::vector<SparseDepthSample>& samp
                                          options.smootherSigmaColor);
   std::vector<cv::Mat> parts;
   cv::split(smoothed, parts);
-  cv::Mat sky = options.detectSky ? skyMask(grey, sampleMask, options) : cv::Mat();
+  cv::Mat sky =
+      options.detectSky ? skyMask(guide, sampleMask, distancePx, sinElevation, options) : cv::Mat();
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
       size_t i = static_cast<size_t>(y) * width + x;

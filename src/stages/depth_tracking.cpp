@@ -16,7 +16,7 @@
 namespace pluvia {
 namespace {
 
-constexpr const char* kTrackingVersion = "1";
+constexpr const char* kTrackingVersion = "2";
 constexpr const char* kCacheStage = "depth";
 
 // The preset keys the tracking depends on (not the layers or the fallback).

@@ -135,6 +135,7 @@ TEST(SfmPoses, CameraHeightHintGivesMetricLevelWorld) {
   options.scale.cameraHeightMeters = 1.6;
   SfmReconstruction r = reconstructionFromColmap(s.model, s.frames, options);
   ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_TRUE(r.groundAtYZero);
   EXPECT_EQ(r.registeredCount, 8);
   EXPECT_DOUBLE_EQ(r.registeredFraction, 1.0);
   EXPECT_NEAR(r.meanReprojectionErrorPx, 0.5, 1e-12);
@@ -171,6 +172,7 @@ TEST(SfmPoses, MedianDepthHintScalesFirstFrame) {
   options.scale.firstFrameMedianDepthMeters = 10.0;
   SfmReconstruction r = reconstructionFromColmap(s.model, s.frames, options);
   ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_FALSE(r.groundAtYZero);  // y = 0 is the first camera's height, not the ground
   const SfmKeyframe& first = r.keyframes.front();
   EXPECT_LT(first.camera.positionMeters.norm(), 1e-9);  // the first camera is the origin
   std::vector<double> depths;
@@ -193,7 +195,7 @@ TEST(SfmPoses, PanWithoutTravelIsNoParallax) {
   SfmReconstruction r = reconstructionFromColmap(s.model, s.frames, {});
   EXPECT_EQ(r.status, SfmStatus::NoParallax);
   EXPECT_LT(r.baselineOverDepth, 1e-9);
-  EXPECT_NE(r.message.find("manual depth layers"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("a pan without travel gives no depth"), std::string::npos) << r.message;
   EXPECT_EQ(r.keyframes.size(), 6u);  // the rotations are still usable
 }
 
