@@ -1,7 +1,6 @@
 // `pluvia depth`: one single-channel float EXR of z-depth per frame (channel "Z", metres, +inf
 // for sky): from the preset's manual layers (what the render's depth stage uses), or from a
 // COLMAP reconstruction of the clip with its camera poses (poses.json) beside the frames.
-#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -53,7 +52,7 @@ void writeColmapDepth(ClipReader& reader, const std::vector<int64_t>& frames,
                       const std::vector<std::string>& outputs, const Preset& preset,
                       const Metadata& metadata) {
   const ClipInfo& clip = reader.info();
-  ClipTrackingSettings settings = depthTrackingSettings(preset, frames.size());
+  ClipTrackingSettings settings = depthTrackingSettings(preset);
   settings.workspace = std::filesystem::absolute(outputs.front()).parent_path() / "colmap";
   const std::string model = preset.string("depth.colmap_model");
   SfmReconstruction sfm;
@@ -64,13 +63,9 @@ void writeColmapDepth(ClipReader& reader, const std::vector<int64_t>& frames,
     sfm = std::move(tracking.sfm);
     if (!tracking.run.logPath.empty()) log = " (COLMAP log: " + tracking.run.logPath.string() + ")";
   } else {
-    // The files of the selected frames (a sequence's frame i is its file i).
-    std::vector<std::string> files;
-    for (size_t i = 0;
-         !clip.isMovie && i < clip.frames.size() && clip.files.size() == clip.frames.size(); ++i)
-      if (std::binary_search(frames.begin(), frames.end(), clip.frames[i]))
-        files.push_back(clip.files[i]);
-    sfm = trackingFromModel(model, frames, files, settings.sfm);
+    // The whole clip's frames, so that --frames may select frames between registered ones.
+    sfm = trackingFromModel(model, clip.frames,
+                            clip.isMovie ? std::vector<std::string>{} : clip.files, settings.sfm);
     log = " (depth.colmap_model: " + model + ")";
   }
   if (!sfm.ok())

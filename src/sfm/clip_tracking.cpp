@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <iterator>
 #include <map>
 #include <set>
 
@@ -89,37 +90,91 @@ std::vector<int64_t> trackingFrames(const std::vector<int64_t>& frames, int step
   return used;
 }
 
+namespace {
+
+// The frame at most 640 pixels wide, for the parallax measurements.
+cv::Mat smallFrame(const Image& image) {
+  cv::Mat small;
+  const double scale = std::min(1.0, 640.0 / std::max(image.width, image.height));
+  cv::resize(rgbMat(image), small, cv::Size(), scale, scale, cv::INTER_AREA);
+  return small;
+}
+
+// `items` thinned evenly to at most `count`, the first and last kept.
+template <typename T>
+std::vector<T> thinEvenly(const std::vector<T>& items, size_t count) {
+  if (items.size() <= count || count < 2) return items;
+  std::vector<T> kept;
+  for (size_t k = 0; k < count; ++k) kept.push_back(items[k * (items.size() - 1) / (count - 1)]);
+  return kept;
+}
+
+}  // namespace
+
 ClipTracking trackClip(const std::vector<int64_t>& frames,
                        const std::function<Image(int64_t)>& readFrame,
                        const ClipTrackingSettings& settings) {
   const auto started = std::chrono::steady_clock::now();
   ClipTracking tracking;
-  tracking.framesUsed = trackingFrames(frames, settings.frameStep);
+  const size_t maxFrames = static_cast<size_t>(std::max(3, settings.maxFrames));
+  // Candidates: every frame when choosing by parallax (every few on very long clips), else every
+  // frameStep-th; their small copies feed the parallax measurements.
+  const size_t candidateStep = settings.frameStep > 0
+                                   ? static_cast<size_t>(settings.frameStep)
+                                   : std::max<size_t>(1, frames.size() / (8 * maxFrames) + 1);
+  const std::vector<int64_t> candidates = trackingFrames(frames, static_cast<int>(candidateStep));
+  std::vector<cv::Mat> small;
+  int width = 0;
+  for (int64_t frame : candidates) {
+    const Image image = readFrame(frame);
+    width = image.width;
+    small.push_back(smallFrame(image));
+  }
+  const ParallaxProbe probe(small);
+  std::vector<size_t> used(candidates.size());
+  for (size_t i = 0; i < used.size(); ++i) used[i] = i;
+  if (settings.frameStep == 0) {
+    // Too few tracked frames make a weak bundle adjustment (on 5 frames of the synthetic walk
+    // COLMAP settled on a quarter of the true focal length): at least minFrames, evenly added.
+    const std::vector<size_t> keys = selectKeyframes(probe);
+    const std::vector<size_t> even = thinEvenly(used, static_cast<size_t>(settings.minFrames));
+    used.clear();
+    std::set_union(keys.begin(), keys.end(), even.begin(), even.end(), std::back_inserter(used));
+  }
+  used = thinEvenly(used, maxFrames);
+  for (size_t i : used) tracking.framesUsed.push_back(candidates[i]);
+
   tracking.sfm.frameCount = static_cast<int>(tracking.framesUsed.size());
   if (tracking.sfm.frameCount < settings.sfm.minRegisteredFrames) {
     tracking.sfm.status = SfmStatus::TooFewRegistered;
-    tracking.sfm.message = fmt::format("{} frame{} to track: camera tracking needs at least {}",
-                                       tracking.sfm.frameCount,
-                                       tracking.sfm.frameCount == 1 ? "" : "s",
-                                       settings.sfm.minRegisteredFrames);
+    tracking.sfm.message = fmt::format(
+        "{} frame{} to track: camera tracking needs at least {}", tracking.sfm.frameCount,
+        tracking.sfm.frameCount == 1 ? "" : "s", settings.sfm.minRegisteredFrames);
     return tracking;
   }
+  // A pan is refused in a second here rather than by minutes of COLMAP's mapper failing.
+  const ParallaxCheck parallax = checkParallax(probe);
+  if (parallax.pairsJudged > 0)
+    log::info(fmt::format(
+        "depth: {:.0f} % of the feature matches show parallax (pan below {:.0f} %); tracking {} "
+        "of {} frames",
+        100.0 * parallax.parallaxFraction, 100.0 * ParallaxCheckSettings().minParallaxFraction,
+        tracking.framesUsed.size(), frames.size()));
+  if (parallax.verdict == ParallaxVerdict::NoParallax) {
+    tracking.sfm.status = SfmStatus::NoParallax;
+    tracking.sfm.message = parallax.message;
+    tracking.seconds = secondsSince(started);
+    return tracking;
+  }
+
   std::filesystem::create_directories(settings.workspace / "frames");
   ColmapRequest request;
   request.workspace = settings.workspace;
   request.colmapBinary = settings.colmapBinary;
   request.maxImageSizePx = settings.maxImageSizePx;
   std::map<std::string, int64_t> frameOfImage;
-  std::vector<cv::Mat> smallFrames;  // for the parallax check
-  int width = 0;
   for (int64_t frame : tracking.framesUsed) {
     const Image image = readFrame(frame);
-    width = image.width;
-    cv::Mat small;
-    const double scale = 640.0 / std::max(image.width, image.height);
-    cv::resize(rgbMat(image), small, cv::Size(), std::min(1.0, scale), std::min(1.0, scale),
-               cv::INTER_AREA);
-    smallFrames.push_back(small);
     const std::string name = fmt::format("frame_{:08d}.png", frame);
     const std::filesystem::path path = settings.workspace / "frames" / name;
     const float* rgba = image.rgba.data();
@@ -131,18 +186,6 @@ ClipTracking trackClip(const std::vector<int64_t>& frames,
   // Pinhole focal length from the horizontal field of view.
   request.initialFocalPx =
       0.5 * width / std::tan(0.5 * settings.horizontalFovDeg * 3.14159265358979323846 / 180.0);
-  // A pan is refused in a second here rather than by minutes of COLMAP's mapper failing.
-  const ParallaxCheck parallax = checkParallax(smallFrames);
-  if (parallax.pairsJudged > 0)
-    log::info(fmt::format(
-        "depth: {:.0f} % of the feature matches show parallax (pan below {:.0f} %)",
-        100.0 * parallax.parallaxFraction, 100.0 * ParallaxCheckSettings().minParallaxFraction));
-  if (parallax.verdict == ParallaxVerdict::NoParallax) {
-    tracking.sfm.status = SfmStatus::NoParallax;
-    tracking.sfm.message = parallax.message;
-    tracking.seconds = secondsSince(started);
-    return tracking;
-  }
   tracking.run = runColmapSparse(request);
   tracking.sfm = reconstructionFromColmap(readColmapTextModel(tracking.run.modelFolder),
                                           frameOfImage, settings.sfm);
@@ -163,7 +206,14 @@ SfmReconstruction trackingFromModel(const std::filesystem::path& textModelFolder
   }
   bool own = false;
   for (const auto& [id, image] : model.images) own = own || ownNames.count(image.name) > 0;
-  return reconstructionFromColmap(model, own ? ownNames : fileNames, options);
+  // Only the frames the model holds count: a model of every few frames (pluvia depth's) has not
+  // failed to register the frames between.
+  std::map<std::string, int64_t> inModel;
+  for (const auto& [id, image] : model.images) {
+    const auto& names = own ? ownNames : fileNames;
+    if (auto it = names.find(image.name); it != names.end()) inModel.insert(*it);
+  }
+  return reconstructionFromColmap(model, inModel, options);
 }
 
 std::optional<std::vector<float>> denseFrameDepth(const SfmReconstruction& sfm,

@@ -2,11 +2,12 @@
 // Camera tracking of a clip with COLMAP, and its per-frame depth: what the depth stage, `pluvia
 // depth --source colmap` and `pluvia report depth` share.
 //
-// Every frameStep-th frame of the clip (the last one always) is written as an 8-bit PNG to
-// <workspace>/frames and handed to COLMAP (colmap_runner.h); the registered frames become keys
-// of the camera path, and frames between keys get interpolated poses (camera_path.h). A frame's
-// depth densifies the sparse points the nearest registered frame observed (sparse_densify.h),
-// guided by the frame itself.
+// The clip's frames to track (every frameStep-th, or frames chosen so that each shows parallax
+// against the one before: neighbouring video frames are too close for COLMAP's mapper to start
+// from) are written as 8-bit PNGs to <workspace>/frames and handed to COLMAP (colmap_runner.h); the
+// registered frames become keys of the camera path, and frames between keys get interpolated poses
+// (camera_path.h). A frame's depth densifies the sparse points the nearest registered frame
+// observed (sparse_densify.h), guided by the frame itself.
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -26,11 +27,14 @@ namespace pluvia {
 
 struct ClipTrackingSettings {
   std::filesystem::path workspace;  // COLMAP's folder (frames/, images/, database, log)
-  int frameStep = 1;                // every Nth frame goes to COLMAP
-  double horizontalFovDeg = 60.0;   // COLMAP's starting focal length
-  int maxImageSizePx = 1600;        // SIFT on frames downscaled to this longest side
-  std::string colmapBinary;         // empty: $PLUVIA_COLMAP, else "colmap"
-  SfmOptions sfm;                   // scale hint and fallback thresholds
+  // Every Nth frame goes to COLMAP; 0 chooses them by parallax (parallax_check.h selectKeyframes).
+  int frameStep = 0;
+  int maxFrames = 200;  // at most this many go to COLMAP (evenly thinned)
+  int minFrames = 12;   // frames chosen by parallax: at least this many (or all the clip's)
+  double horizontalFovDeg = 60.0;  // COLMAP's starting focal length
+  int maxImageSizePx = 1600;       // SIFT on frames downscaled to this longest side
+  std::string colmapBinary;        // empty: $PLUVIA_COLMAP, else "colmap"
+  SfmOptions sfm;                  // scale hint and fallback thresholds
 };
 
 struct ClipTracking {
@@ -40,7 +44,7 @@ struct ClipTracking {
   double seconds = 0.0;             // frame export and COLMAP
 };
 
-// The frames COLMAP gets: every step-th of `frames` from the first, and the last.
+// Every step-th of `frames` from the first, and the last.
 std::vector<int64_t> trackingFrames(const std::vector<int64_t>& frames, int step);
 
 // Runs COLMAP on the clip's frames and builds the metric reconstruction. `readFrame` returns a

@@ -253,6 +253,32 @@ cv::Mat componentsTouching(const cv::Mat& mask, const cv::Mat& seeds) {
   return out;
 }
 
+// Where the candidates are not riddled with specks: small regions left out of them (texture
+// specks, dark spots) that they enclose, at more than skyMaxSpeckDensity of the pixels around.
+// The sky is clear or smoothly clouded; a wall with too few points is speckled even where it
+// is as bright as the sky and meets it at a weak edge.
+cv::Mat specklessMask(const cv::Mat& candidate, const DensifyOptions& options) {
+  const cv::Mat left = candidate == 0;
+  cv::Mat labels, stats, centroids;
+  const int count = cv::connectedComponentsWithStats(left, labels, stats, centroids, 8, CV_32S);
+  std::vector<char> speck(size_t(count), 0);
+  for (int l = 1; l < count; ++l) {
+    const int x = stats.at<int>(l, cv::CC_STAT_LEFT), y = stats.at<int>(l, cv::CC_STAT_TOP);
+    const bool inside = x > 0 && y > 0 && x + stats.at<int>(l, cv::CC_STAT_WIDTH) < left.cols &&
+                        y + stats.at<int>(l, cv::CC_STAT_HEIGHT) < left.rows;
+    speck[size_t(l)] = inside && stats.at<int>(l, cv::CC_STAT_AREA) <= options.skyMaxSpeckAreaPx;
+  }
+  cv::Mat specks(left.size(), CV_32F);
+  for (int y = 0; y < left.rows; ++y) {
+    const int* l = labels.ptr<int>(y);
+    float* o = specks.ptr<float>(y);
+    for (int x = 0; x < left.cols; ++x) o[x] = speck[size_t(l[x])] ? 1.0f : 0.0f;
+  }
+  const int window = 2 * options.skySpeckWindowRadiusPx + 1;
+  cv::blur(specks, specks, cv::Size(window, window));
+  return specks <= options.skyMaxSpeckDensity;
+}
+
 // See step 4 in the header. `distancePx`: to the nearest sample; `sinElevation`: empty without
 // a ground camera.
 cv::Mat skyMask(const cv::Mat& guide, const cv::Mat& sampleMask, const cv::Mat& distancePx,
@@ -287,12 +313,15 @@ cv::Mat skyMask(const cv::Mat& guide, const cv::Mat& sampleMask, const cv::Mat& 
       (value >= options.skyMinBrightness * white) & (texture < options.skyMaxGradient);
   if (!sinElevation.empty())
     candidate &= sinElevation > std::sin(options.skyMinElevationDeg * M_PI / 180.0);
+  candidate &= specklessMask(candidate, options);
   const double seedDistance = options.skyMinDistanceFraction * diagonal;
   // Seed regions: touching the top row, and at least as large as a disc of radius seedDistance
-  // (smaller ones are gaps between the samples on a wall, not the sky).
+  // (smaller ones are gaps between the samples on a wall, not the sky). Edges separate them: a
+  // far wall with too few points to show its texture must not join the sky above its top edge.
+  const cv::Mat noEdge = edge < 3.0 * options.skyMaxGradient;
   cv::Mat seedLabels, stats, centroids;
-  const int count = cv::connectedComponentsWithStats(candidate & (distancePx > seedDistance),
-                                                     seedLabels, stats, centroids, 4, CV_32S);
+  const int count = cv::connectedComponentsWithStats(
+      candidate & noEdge & (distancePx > seedDistance), seedLabels, stats, centroids, 4, CV_32S);
   std::vector<char> keep(count, 0);
   for (int l = 1; l < count; ++l)
     keep[l] = stats.at<int>(l, cv::CC_STAT_TOP) == 0 &&
@@ -309,10 +338,9 @@ cv::Mat skyMask(const cv::Mat& guide, const cv::Mat& sampleMask, const cv::Mat& 
   // with no edge of their own either (a faint roof line stops it), within seedDistance of a seed.
   cv::Mat fromSeeds;
   cv::distanceTransform(seeds == 0, fromSeeds, cv::DIST_L2, 3);
-  const cv::Mat grown =
-      componentsTouching(candidate & (distancePx > options.skyGrowMinDistancePx) &
-                             (edge < 3.0 * options.skyMaxGradient) & (fromSeeds <= seedDistance),
-                         seeds);
+  const cv::Mat grown = componentsTouching(candidate & (distancePx > options.skyGrowMinDistancePx) &
+                                               noEdge & (fromSeeds <= seedDistance),
+                                           seeds);
   // Holes in the sky holding no sample, not reaching the frame's border: a cloud's edge.
   cv::Mat border = cv::Mat::zeros(size, CV_8U);
   cv::rectangle(border, cv::Rect(0, 0, size.width, size.height), 255, 1);

@@ -101,6 +101,12 @@ struct DensifyOptions {
   double skyMaxGradient = 3.0;           // incoherent gradient, grey levels per pixel (see step 4)
   double skyMinBrightness = 0.65;        // brightest channel, of the frame's 99th percentile
   double skyMinElevationDeg = 1.5;       // above the ground camera's horizon
+  // Specks (regions of at most skyMaxSpeckAreaPx that fail the brightness or texture test,
+  // enclosed by pixels that pass) over more than skyMaxSpeckDensity of the pixels within
+  // skySpeckWindowRadiusPx make a wall, not sky: the sky is clear or smoothly clouded.
+  int skyMaxSpeckAreaPx = 400;
+  int skySpeckWindowRadiusPx = 12;
+  double skyMaxSpeckDensity = 0.005;
 };
 
 // Metric z-depth, width * height row-major (the guide's size), +infinity for sky. `guide` is the

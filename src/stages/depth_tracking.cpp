@@ -16,7 +16,7 @@
 namespace pluvia {
 namespace {
 
-constexpr const char* kTrackingVersion = "2";
+constexpr const char* kTrackingVersion = "3";
 constexpr const char* kCacheStage = "depth";
 
 // The preset keys the tracking depends on (not the layers or the fallback).
@@ -26,13 +26,10 @@ constexpr const char* kTrackingKeys[] = {
 
 }  // namespace
 
-ClipTrackingSettings depthTrackingSettings(const Preset& preset, size_t clipFrameCount) {
+ClipTrackingSettings depthTrackingSettings(const Preset& preset) {
   ClipTrackingSettings settings;
-  const size_t maxFrames = static_cast<size_t>(preset.number("depth.max_frames"));
-  const size_t step = static_cast<size_t>(preset.number("depth.frame_step"));
-  // A long clip is subsampled further so that COLMAP sees at most max_frames frames.
-  settings.frameStep =
-      static_cast<int>(std::max(step, (clipFrameCount + maxFrames - 1) / maxFrames));
+  settings.frameStep = static_cast<int>(preset.number("depth.frame_step"));
+  settings.maxFrames = static_cast<int>(preset.number("depth.max_frames"));
   settings.horizontalFovDeg = preset.number("camera.fov_deg");
   settings.maxImageSizePx = static_cast<int>(preset.number("depth.colmap_image_px"));
   if (preset.string("depth.scale") == "camera_height")
@@ -62,7 +59,7 @@ SfmReconstruction trackedClipReconstruction(ClipContext& clip) {
     const ClipInfo& info = *clip.clip;
     SfmReconstruction sfm = trackingFromModel(
         model, info.frames, info.isMovie ? std::vector<std::string>{} : info.files,
-        depthTrackingSettings(preset, info.frames.size()).sfm);
+        depthTrackingSettings(preset).sfm);
     if (!sfm.ok())
       throw Error(fmt::format("depth.colmap_model {}: {}", model, sfm.message),
                   {"depth", {}, model});
@@ -84,19 +81,20 @@ SfmReconstruction trackedClipReconstruction(ClipContext& clip) {
       }
     }
   }
-  ClipTrackingSettings settings = depthTrackingSettings(preset, clip.clip->frames.size());
+  ClipTrackingSettings settings = depthTrackingSettings(preset);
   // A workspace per process: farm chunks of one clip may track at the same time.
   const std::string folder = fmt::format("colmap-{}-{}", key, ::getpid());
   settings.workspace = clip.cache ? clip.cache->pathFor(kCacheStage, key).parent_path() / folder
                                   : std::filesystem::temp_directory_path() / ("pluvia-" + folder);
   const ClipTracking tracking = trackClip(
       clip.clip->frames, [&clip](int64_t frame) { return clip.reader->read(frame); }, settings);
-  log::info(fmt::format(
-      "depth: COLMAP registered {} of {} frames (every {}{} frame) in {:.0f} s, {:.2f} px mean "
-      "reprojection error{}",
-      tracking.sfm.registeredCount, tracking.sfm.frameCount, settings.frameStep,
-      settings.frameStep == 1 ? "st" : "th", tracking.seconds, tracking.sfm.meanReprojectionErrorPx,
-      tracking.sfm.message.empty() ? "" : "; " + tracking.sfm.message));
+  if (!tracking.run.logPath.empty())
+    log::info(fmt::format(
+        "depth: COLMAP registered {} of {} frames in {:.0f} s, {:.2f} px mean reprojection "
+        "error, focal length {:.1f} px{}",
+        tracking.sfm.registeredCount, tracking.sfm.frameCount, tracking.seconds,
+        tracking.sfm.meanReprojectionErrorPx, tracking.sfm.intrinsics.focalPx,
+        tracking.sfm.message.empty() ? "" : "; " + tracking.sfm.message));
   if (!tracking.sfm.ok()) {
     // Kept, with the log, for the user to look at.
     const std::string log = tracking.run.logPath.empty()

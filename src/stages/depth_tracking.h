@@ -10,7 +10,7 @@ namespace pluvia {
 
 // depth.frame_step, depth.max_frames, depth.colmap_image_px, the scale hint (depth.scale) and the
 // camera's field of view. The workspace is left for the caller to choose.
-ClipTrackingSettings depthTrackingSettings(const Preset& preset, size_t clipFrameCount);
+ClipTrackingSettings depthTrackingSettings(const Preset& preset);
 
 // Hash of what the tracking depends on: the clip, those settings, pluvia's version. Empty when
 // depth.source is not "colmap" or the model is given (depth.colmap_model).

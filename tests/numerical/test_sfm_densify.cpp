@@ -277,3 +277,34 @@ TEST(SfmDensify, CloudySkyAboveTheHorizonIsSkyButASampledWallIsNot) {
   EXPECT_EQ(solidInf, 0) << "of " << solid;
   EXPECT_GT(skyInf, 0.95 * sky) << skyInf << " of " << sky;
 }
+
+TEST(SfmDensify, SpeckledWallWithoutPointsDoesNotJoinTheSkyAboveIt) {
+  // A bright wall, dark specks on it, meets a smooth sky above it at a weak edge (10 grey
+  // levels); sparse points only on the wall's bottom. The wall's unsampled top is far from every
+  // sample and as bright as the sky, but riddled with specks: not sky. With the speck rule off
+  // (skyMaxSpeckDensity 1) it is taken for sky: the case this rule exists for.
+  constexpr int kSkyRows = 40;
+  cv::Mat img(kHeight, kWidth, CV_8UC3);
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      int v = y < kSkyRows ? 240 - y / 8 : 230;
+      if (y >= kSkyRows && (x % 12) < 2 && (y % 12) < 2) v = 110;
+      img.at<cv::Vec3b>(y, x) = cv::Vec3b(v, v, v);
+    }
+  std::vector<SparseDepthSample> samples;
+  for (int y = 200; y < kHeight; y += 8)
+    for (int x = 4; x < kWidth; x += 8) samples.push_back({x + 0.5, y + 0.5, 10.0});
+  auto skyFraction = [](const std::vector<float>& depth, int y0, int y1) {
+    int sky = 0;
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < kWidth; ++x) sky += std::isinf(depth[size_t(y) * kWidth + x]) ? 1 : 0;
+    return double(sky) / ((y1 - y0) * kWidth);
+  };
+  const std::vector<float> depth = densifySparseDepth(samples, img);
+  EXPECT_GT(skyFraction(depth, 0, kSkyRows - 6), 0.9);
+  EXPECT_LT(skyFraction(depth, kSkyRows + 6, 150), 0.01);
+
+  DensifyOptions noSpeckRule;
+  noSpeckRule.skyMaxSpeckDensity = 1.0;
+  EXPECT_GT(skyFraction(densifySparseDepth(samples, img, noSpeckRule), kSkyRows + 6, 150), 0.5);
+}
