@@ -1,6 +1,7 @@
 // `pluvia report optics`: the table of error against run time of the drop-shading methods.
 // `pluvia report derain`: rain extraction against synthetic ground truth and on real footage.
 // `pluvia report envmap`: environments stitched from a pan against the full HDR.
+// `pluvia report depth`: SfM poses and depth against a synthetic scene's truth, and real photos.
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -12,6 +13,7 @@
 #include "optics/optics_report.h"
 #include "optics/test_environment.h"
 #include "pluvia/version.h"
+#include "report_depth.h"
 #include "util/error.h"
 
 namespace pluvia::cli {
@@ -102,6 +104,40 @@ void addReportEnvmap(CLI::App& report, Invocation& invocation) {
     invocation.exitCode = 0;
   });
 }
+
+void addReportDepth(CLI::App& report, Invocation& invocation) {
+  auto* depth = report.add_subcommand(
+      "depth", "camera tracking and depth (COLMAP): pose and depth error vs frames, size, time");
+  struct Args {
+    std::string csv, plot, images, data, workspace;
+    DepthReportSettings settings;
+  };
+  auto args = std::make_shared<Args>();
+  depth->add_option("--csv", args->csv, "also write the table as CSV");
+  depth->add_option("--plot", args->plot, "also write rotation and depth error vs time as a PNG");
+  depth->add_option("--images", args->images,
+                    "write depth vs truth previews here (PNG, the middle frame of each row)");
+  depth->add_option("--data", args->data,
+                    "shared data folder (default: $PLUVIA_SHARED_DATA, else ../shared/data "
+                    "beside the source tree); without it the real photos are skipped");
+  depth->add_option("--workspace", args->workspace,
+                    "keep COLMAP's folders (frames, database, models, colmap.log) here, one per "
+                    "row (default: a temporary folder, removed unless COLMAP failed)");
+  depth->add_flag(
+      "--quick", args->settings.quick,
+      "one row: every 4th of the 48 frames (13) at 1280x720, no real photos (for tests)");
+  depth->callback([=, &invocation] {
+    DepthReportSettings settings = args->settings;
+    settings.sharedData = sharedDataFolder(args->data);
+    settings.imagesDir = args->images;
+    settings.workspace = args->workspace;
+    const DepthReport result = runDepthReport(settings);
+    std::cout << formatDepthReport(result);
+    if (!args->csv.empty()) writeDepthReportCsv(result, args->csv);
+    if (!args->plot.empty()) writeDepthReportPlot(result, args->plot);
+    invocation.exitCode = 0;
+  });
+}
 }  // namespace
 
 void addReportCommand(CLI::App& app, Invocation& invocation) {
@@ -142,6 +178,7 @@ void addReportCommand(CLI::App& app, Invocation& invocation) {
   });
   addReportDerain(*cmd, invocation);
   addReportEnvmap(*cmd, invocation);
+  addReportDepth(*cmd, invocation);
 }
 
 }  // namespace pluvia::cli

@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "derain/derain_report.h"
+#include "image/log_grid.h"
 #include "util/error.h"
 
 namespace pluvia::derain {
@@ -113,17 +114,8 @@ void writeDerainReportPlot(const DerainReport& report, const std::string& path) 
 
   cv::Mat canvas(kHeight, kWidth, CV_8UC3, cv::Scalar(255, 255, 255));
   // Time grid: 1, 2, 5 per decade.
-  for (int decade = int(std::floor(axes.logLo)); decade <= int(std::ceil(axes.logHi)); ++decade) {
-    for (double m : {1.0, 2.0, 5.0}) {
-      const double t = m * std::pow(10.0, decade);
-      if (std::log10(t) < axes.logLo || std::log10(t) > axes.logHi) continue;
-      const int px = axes.at(t, axes.lo).x;
-      cv::line(canvas, {px, kTop}, {px, kTop + kPlotH},
-               m == 1.0 ? cv::Scalar(215, 215, 215) : cv::Scalar(238, 238, 238));
-      cv::putText(canvas, fmt::format("{:g}", t), {px - 12, kTop + kPlotH + 25}, kFont, 0.5,
-                  {0, 0, 0});
-    }
-  }
+  drawLogGridX(canvas, cv::Rect(kLeft, kTop, kPlotW, kPlotH), axes.logLo, axes.logHi,
+               [&](double t) { return axes.at(t, axes.lo).x; });
   // PSNR grid: a step of 1, 2 or 5 dB giving at most 12 lines.
   double step = 1.0;
   for (double s : {1.0, 2.0, 5.0, 10.0}) {

@@ -16,6 +16,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "envmap/panorama.h"
+#include "image/log_grid.h"
 #include "envmap/perspective_view.h"
 #include "image/equirect.h"
 #include "io/image_file_writer.h"
@@ -728,27 +729,11 @@ void writeEnvmapReportPlot(const EnvmapReport& report, const std::string& path) 
   };
 
   cv::Mat canvas(kHeight, kWidth, CV_8UC3, cv::Scalar(255, 255, 255));
-  for (int decade = int(xLo); decade <= int(xHi); ++decade) {
-    for (double m : {1.0, 2.0, 5.0}) {
-      const double t = m * std::pow(10.0, decade);
-      if (std::log10(t) > xHi + 1e-9) continue;
-      const int px = at(t, std::pow(10.0, yLo)).x;
-      cv::line(canvas, {px, kTop}, {px, kTop + kPlotH},
-               m == 1.0 ? cv::Scalar(215, 215, 215) : cv::Scalar(238, 238, 238));
-      cv::putText(canvas, fmt::format("{:g}", t), {px - 12, kTop + kPlotH + 25}, font, 0.5,
-                  {0, 0, 0});
-    }
-  }
-  for (int decade = int(yLo); decade <= int(yHi); ++decade) {
-    for (double m : {1.0, 2.0, 5.0}) {
-      const double e = m * std::pow(10.0, decade);
-      if (std::log10(e) > yHi + 1e-9) continue;
-      const int py = at(std::pow(10.0, xLo), e).y;
-      cv::line(canvas, {kLeft, py}, {kLeft + kPlotW, py},
-               m == 1.0 ? cv::Scalar(215, 215, 215) : cv::Scalar(238, 238, 238));
-      cv::putText(canvas, fmt::format("{:g} %", 100.0 * e), {20, py + 5}, font, 0.5, {0, 0, 0});
-    }
-  }
+  const cv::Rect plot(kLeft, kTop, kPlotW, kPlotH);
+  drawLogGridX(canvas, plot, xLo, xHi, [&](double t) { return at(t, std::pow(10.0, yLo)).x; });
+  drawLogGridY(
+      canvas, plot, yLo, yHi, [&](double e) { return at(std::pow(10.0, xLo), e).y; },
+      [](double e) { return fmt::format("{:g} %", 100.0 * e); }, 20);
   const int targetY = at(std::pow(10.0, xLo), kTarget).y;
   cv::line(canvas, {kLeft, targetY}, {kLeft + kPlotW, targetY}, {0, 0, 200}, 1, cv::LINE_AA);
   cv::putText(canvas, "target 10 %", {kLeft + 6, targetY - 6}, font, 0.5, {0, 0, 200});

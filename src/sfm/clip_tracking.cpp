@@ -31,24 +31,10 @@ const SfmKeyframe& nearestKeyframe(const SfmReconstruction& sfm, int64_t frame) 
   return *best;
 }
 
-const char* statusName(SfmStatus status) {
-  switch (status) {
-    case SfmStatus::Ok:
-      return "ok";
-    case SfmStatus::TooFewRegistered:
-      return "too_few_registered";
-    case SfmStatus::NoParallax:
-      return "no_parallax";
-    case SfmStatus::NoGroundPlane:
-      return "no_ground_plane";
-  }
-  return "ok";
-}
-
 SfmStatus statusFromName(const std::string& name) {
   for (SfmStatus s : {SfmStatus::Ok, SfmStatus::TooFewRegistered, SfmStatus::NoParallax,
                       SfmStatus::NoGroundPlane})
-    if (name == statusName(s)) return s;
+    if (name == sfmStatusName(s)) return s;
   throw Error("unknown SfM status \"" + name + "\" in cached reconstruction");
 }
 
@@ -274,7 +260,7 @@ nlohmann::json reconstructionToJson(const SfmReconstruction& sfm) {
   points.reserve(sfm.pointsMeters.size() * 3);
   for (const Eigen::Vector3d& p : sfm.pointsMeters)
     points.insert(points.end(), {p.x(), p.y(), p.z()});
-  return {{"status", statusName(sfm.status)},
+  return {{"status", sfmStatusName(sfm.status)},
           {"message", sfm.message},
           {"intrinsics", cameraJson(sfm.intrinsics)},
           {"keyframes", keys},

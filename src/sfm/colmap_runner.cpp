@@ -103,6 +103,36 @@ bool colmapAvailable(const std::string& requested) {
   return programAvailable(program);
 }
 
+// One bundle adjustment of the mapped model that frees the focal length and distortion (the
+// mapper held them at the request's). The result replaces run.modelFolder unless its focal length
+// left the starting one by more than maxFocalRefinementRatio: a wrong field of view in the preset
+// is corrected; a drift along the forward-motion ambiguity is not taken.
+void refineIntrinsics(const ColmapRequest& request, const std::string& colmap, ColmapRun& run) {
+  const stdfs::path binary = request.workspace / "sparse" / run.modelFolder.filename();
+  const stdfs::path refined = request.workspace / "refined";
+  const stdfs::path refinedText = request.workspace / "text" / "refined";
+  stdfs::remove_all(refined);
+  stdfs::remove_all(refinedText);
+  stdfs::create_directories(refined);
+  stdfs::create_directories(refinedText);
+  runStep("bundle_adjuster",
+          {colmap, "bundle_adjuster", "--input_path", binary.string(), "--output_path",
+           refined.string(), "--BundleAdjustment.refine_focal_length", "1",
+           "--BundleAdjustment.refine_extra_params", "1"},
+          run.logPath);
+  runStep("model_converter",
+          {colmap, "model_converter", "--input_path", refined.string(), "--output_path",
+           refinedText.string(), "--output_type", "TXT"},
+          run.logPath);
+  const ColmapModel model = readColmapTextModel(refinedText);
+  if (model.cameras.empty()) return;
+  const double ratio = model.cameras.begin()->second.focalPx() / *request.initialFocalPx;
+  if (ratio < request.maxFocalRefinementRatio && ratio > 1.0 / request.maxFocalRefinementRatio) {
+    run.modelFolder = refinedText;
+    run.focalRefinementRatio = ratio;
+  }
+}
+
 ColmapRun runColmapSparse(const ColmapRequest& request) {
   if (request.images.empty())
     throw Error("colmap: no frames to reconstruct", {kStage, std::nullopt, ""});
@@ -150,6 +180,7 @@ ColmapRun runColmapSparse(const ColmapRequest& request) {
            "--SequentialMatching.overlap", std::to_string(request.sequentialOverlap)},
           run.logPath);
   bool mapped = false;
+  const bool fixIntrinsics = request.initialFocalPx && request.fixIntrinsicsWhileMapping;
   std::vector<stdfs::path> models;
   for (int attempt = 0; attempt < std::max(1, request.mapperAttempts) && models.empty();
        ++attempt) {
@@ -175,7 +206,11 @@ ColmapRun runColmapSparse(const ColmapRequest& request) {
                       "--Mapper.abs_pose_min_num_inliers",
                       std::to_string(request.absPoseMinInliers),
                       "--Mapper.init_max_forward_motion",
-                      std::to_string(request.initMaxForwardMotion)},
+                      std::to_string(request.initMaxForwardMotion),
+                      "--Mapper.ba_refine_focal_length",
+                      fixIntrinsics ? "0" : "1",
+                      "--Mapper.ba_refine_extra_params",
+                      fixIntrinsics ? "0" : "1"},
                      run.logPath, true);
     // One numbered folder per disconnected model; the largest is kept below.
     for (const auto& entry : stdfs::directory_iterator(sparse))
@@ -205,6 +240,7 @@ ColmapRun runColmapSparse(const ColmapRequest& request) {
     }
   }
   run.modelFolder = bestFolder;
+  if (fixIntrinsics) refineIntrinsics(request, colmap, run);
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return run;
 }

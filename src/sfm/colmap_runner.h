@@ -1,5 +1,6 @@
 #pragma once
-// Runs COLMAP's sparse pipeline (feature_extractor, sequential_matcher, mapper, model_converter)
+// Runs COLMAP's sparse pipeline (feature_extractor, sequential_matcher, mapper, model_converter;
+// bundle_adjuster to free the intrinsics after mapping with them held)
 // on frames already written to disk, CPU only: COLMAP 3.8 here is built without CUDA and aborts
 // headless unless SIFT runs on the CPU (see ../shared/PLATFORM.md).
 #include <filesystem>
@@ -38,6 +39,14 @@ struct ColmapRequest {
   // The mapper's start is randomized (RANSAC); on weak footage one seed builds a model and the
   // next builds none. A run without a model is retried with the next seed, up to this many runs.
   int mapperAttempts = 4;
+  // With initialFocalPx: the mapper holds the focal length and distortion fixed, and one bundle
+  // adjustment frees them afterwards. Refining them while mapping, COLMAP settled on a sixth of
+  // the focal length on frames 5 cm apart and built no model from 16 frames of 320x180 of the
+  // synthetic walk (the first pair's points were wrong and no third frame registered); held, it
+  // mapped all 16 in 3 s.
+  bool fixIntrinsicsWhileMapping = true;
+  // The freed focal length is kept only within this factor of initialFocalPx.
+  double maxFocalRefinementRatio = 1.5;
   int threads = -1;  // -1: all cores
   // The program to run; empty uses $PLUVIA_COLMAP, else "colmap" on PATH.
   std::string colmapBinary;
@@ -47,7 +56,9 @@ struct ColmapRun {
   std::filesystem::path modelFolder;  // the TXT model of the largest reconstruction
   std::filesystem::path logPath;      // <workspace>/colmap.log
   int modelCount = 0;                 // how many disconnected models the mapper made
-  double seconds = 0.0;               // wall time of the four steps
+  double seconds = 0.0;               // wall time of the steps
+  // The freed focal length over the starting one when that refinement was kept, else 1.
+  double focalRefinementRatio = 1.0;
 };
 
 // The program a request runs (request field, else $PLUVIA_COLMAP, else "colmap").

@@ -76,6 +76,20 @@ Camera pluviaCameraFromColmap(const ColmapCamera& camera, const ColmapImage& ima
   return out;
 }
 
+const char* sfmStatusName(SfmStatus status) {
+  switch (status) {
+    case SfmStatus::Ok:
+      return "ok";
+    case SfmStatus::TooFewRegistered:
+      return "too_few_registered";
+    case SfmStatus::NoParallax:
+      return "no_parallax";
+    case SfmStatus::NoGroundPlane:
+      return "no_ground_plane";
+  }
+  return "ok";
+}
+
 SfmReconstruction reconstructionFromColmap(const ColmapModel& model,
                                            const std::map<std::string, int64_t>& frameOfImage,
                                            const SfmOptions& options) {

@@ -59,6 +59,8 @@ struct SfmOptions {
 };
 
 enum class SfmStatus { Ok, TooFewRegistered, NoParallax, NoGroundPlane };
+// "ok", "too_few_registered", "no_parallax", "no_ground_plane".
+const char* sfmStatusName(SfmStatus status);
 
 // A registered clip frame.
 struct SfmKeyframe {

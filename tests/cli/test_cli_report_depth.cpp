@@ -1,0 +1,110 @@
+// `pluvia report depth --quick` end to end: COLMAP on every 4th of the synthetic street's 48
+// frames (13) at 1280x720, the table it prints, its CSV (finite numbers), its plot, and the
+// issue's targets on that row: every frame posed, rotation error under 0.5 degrees, median depth
+// error under 10 %, and the metric scale from the camera height within 10 %.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "sfm/colmap_runner.h"
+#include "test_support.h"
+
+using namespace pluvia;
+using namespace pluvia::test;
+namespace stdfs = std::filesystem;
+
+namespace {
+
+TEST(CliReportDepth, QuickReportPosesEveryFrameWithSmallErrors) {
+  if (!colmapAvailable()) GTEST_SKIP() << "colmap is not installed";
+  const auto dir = freshTempDir("report_depth");
+  const stdfs::path csv = dir / "depth.csv", plot = dir / "depth.png";
+  const auto start = std::chrono::steady_clock::now();
+  const CommandResult r =
+      runPluvia({"report", "depth", "--quick", "--csv", csv.string(), "--plot", plot.string()});
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cout << r.output << "report depth --quick took " << seconds << " s\n";
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("GL renderer:"), std::string::npos) << r.output;
+
+  ASSERT_TRUE(stdfs::exists(csv));
+  std::ifstream file(csv);
+  std::string header;
+  ASSERT_TRUE(std::getline(file, header));
+  const std::vector<std::string> names = splitCsv(header);
+  std::map<std::string, size_t> column;
+  for (size_t i = 0; i < names.size(); ++i) column[names[i]] = i;
+  const std::vector<std::string> measures = {"clip_frames",
+                                             "frames_used",
+                                             "registered_used",
+                                             "frames_with_pose",
+                                             "rotation_mean_deg",
+                                             "rotation_max_deg",
+                                             "position_mean_m",
+                                             "position_max_m",
+                                             "scale_ratio",
+                                             "focal_error",
+                                             "reprojection_px",
+                                             "depth_frames",
+                                             "depth_median_rel_error",
+                                             "sky_as_inf_fraction",
+                                             "nonsky_as_inf_fraction",
+                                             "colmap_seconds",
+                                             "densify_seconds_per_frame",
+                                             "total_seconds"};
+  for (const std::string& name : measures)
+    ASSERT_TRUE(column.count(name)) << "no column '" << name << "' in: " << header;
+  ASSERT_TRUE(column.count("status")) << header;
+  ASSERT_TRUE(column.count("scene")) << header;
+
+  int rows = 0;
+  for (std::string line; std::getline(file, line);) {
+    if (line.empty()) continue;
+    ++rows;
+    const std::vector<std::string> fields = splitCsv(line);
+    ASSERT_EQ(fields.size(), names.size()) << line;
+    EXPECT_EQ(fields[column["scene"]], "synthetic") << "--quick has no real photos: " << line;
+    EXPECT_EQ(fields[column["status"]], "ok") << line;
+    for (const std::string& name : measures) {
+      const double value = parseNumber(fields[column[name]], line);
+      EXPECT_TRUE(std::isfinite(value)) << name << " in: " << line;
+      EXPECT_GE(value, 0.0) << name << " in: " << line;
+    }
+    const int clipFrames = int(parseNumber(fields[column["clip_frames"]], line));
+    EXPECT_EQ(clipFrames, 48) << line;
+    EXPECT_EQ(int(parseNumber(fields[column["frames_used"]], line)), 13) << line;
+    EXPECT_EQ(int(parseNumber(fields[column["frames_with_pose"]], line)), clipFrames) << line;
+    // The targets (measured: 0.006 deg, 1.6 %, scale 0.987).
+    EXPECT_LT(parseNumber(fields[column["rotation_max_deg"]], line), 0.5) << line;
+    EXPECT_LT(parseNumber(fields[column["depth_median_rel_error"]], line), 0.10) << line;
+    EXPECT_NEAR(parseNumber(fields[column["scale_ratio"]], line), 1.0, 0.1) << line;
+    EXPECT_GT(parseNumber(fields[column["depth_frames"]], line), 0.0) << line;
+    std::cout << "rotation max " << fields[column["rotation_max_deg"]] << " deg, position max "
+              << fields[column["position_max_m"]] << " m, scale " << fields[column["scale_ratio"]]
+              << ", median depth error " << fields[column["depth_median_rel_error"]] << "\n";
+  }
+  EXPECT_EQ(rows, 1);
+
+  ASSERT_TRUE(stdfs::exists(plot));
+  const Image image = readImageFile(plot);
+  EXPECT_GT(image.width, 0);
+  EXPECT_GT(image.height, 0);
+}
+
+TEST(CliReportDepth, RejectsAMissingDataFolder) {
+  const auto dir = freshTempDir("report_depth_errors");
+  const CommandResult r =
+      runPluvia({"report", "depth", "--quick", "--data", (dir / "missing").string()});
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find("--data"), std::string::npos) << r.output;
+}
+
+}  // namespace
