@@ -175,6 +175,24 @@ ClipTracking trackClip(const std::vector<int64_t>& frames,
   tracking.run = runColmapSparse(request);
   tracking.sfm = reconstructionFromColmap(readColmapTextModel(tracking.run.modelFolder),
                                           frameOfImage, settings.sfm);
+  // A model with no ground below its cameras, on a clip whose parallax check passed, is most
+  // often the mapper's start gone wrong (the two-fold ambiguity of a ground-dominated first
+  // pair): map again, first refining the intrinsics while mapping (which found the right solution
+  // on the 320x180 walk where holding them did not, and failed where holding them worked), then
+  // with other seeds.
+  for (int retry = 1;
+       retry <= settings.remapAttempts && tracking.sfm.status == SfmStatus::NoGroundPlane;
+       ++retry) {
+    request.fixIntrinsicsWhileMapping = !request.fixIntrinsicsWhileMapping;
+    log::info(fmt::format("depth: {}; mapping again ({} of {}), the intrinsics {} while mapping",
+                          tracking.sfm.message, retry, settings.remapAttempts,
+                          request.fixIntrinsicsWhileMapping ? "held" : "refined"));
+    request.remapOnly = true;
+    request.firstMapperSeed = retry * request.mapperAttempts;
+    tracking.run = runColmapSparse(request);
+    tracking.sfm = reconstructionFromColmap(readColmapTextModel(tracking.run.modelFolder),
+                                            frameOfImage, settings.sfm);
+  }
   tracking.seconds = secondsSince(started);
   return tracking;
 }

@@ -29,8 +29,9 @@ struct ClipTrackingSettings {
   std::filesystem::path workspace;  // COLMAP's folder (frames/, images/, database, log)
   // Every Nth frame goes to COLMAP; 0 chooses them by parallax (parallax_check.h selectKeyframes).
   int frameStep = 0;
-  int maxFrames = 200;  // at most this many go to COLMAP (evenly thinned)
-  int minFrames = 12;   // frames chosen by parallax: at least this many (or all the clip's)
+  int maxFrames = 200;    // at most this many go to COLMAP (evenly thinned)
+  int minFrames = 12;     // frames chosen by parallax: at least this many (or all the clip's)
+  int remapAttempts = 2;  // mapper reruns when the model has no ground below its cameras
   double horizontalFovDeg = 60.0;  // COLMAP's starting focal length
   int maxImageSizePx = 1600;       // SIFT on frames downscaled to this longest side
   std::string colmapBinary;        // empty: $PLUVIA_COLMAP, else "colmap"

@@ -141,16 +141,19 @@ ColmapRun runColmapSparse(const ColmapRequest& request) {
   stdfs::create_directories(ws);
   ColmapRun run;
   run.logPath = ws / "colmap.log";
-  stdfs::remove(run.logPath);
   const stdfs::path imageFolder = ws / "images";
   const stdfs::path database = ws / "database.db";
   const stdfs::path sparse = ws / "sparse";
   const stdfs::path text = ws / "text";
-  stdfs::remove(database);
+  const bool remap = request.remapOnly && stdfs::exists(database);
+  if (!remap) {
+    stdfs::remove(run.logPath);
+    stdfs::remove(database);
+  }
   stdfs::remove_all(sparse);
   stdfs::remove_all(text);
   stdfs::create_directories(sparse);
-  stageImages(request, imageFolder);
+  if (!remap) stageImages(request, imageFolder);
 
   const std::string colmap = colmapProgram(request.colmapBinary);
   const std::string threads = std::to_string(request.threads);
@@ -173,12 +176,14 @@ ColmapRun runColmapSparse(const ColmapRequest& request) {
   if (request.initialFocalPx) {
     extract.insert(extract.end(), {"--ImageReader.camera_params", cameraParams(request)});
   }
-  runStep("feature_extractor", extract, run.logPath);
-  runStep("sequential_matcher",
-          {colmap, "sequential_matcher", "--database_path", database.string(),
-           "--SiftMatching.use_gpu", "0", "--SiftMatching.num_threads", threads,
-           "--SequentialMatching.overlap", std::to_string(request.sequentialOverlap)},
-          run.logPath);
+  if (!remap) {
+    runStep("feature_extractor", extract, run.logPath);
+    runStep("sequential_matcher",
+            {colmap, "sequential_matcher", "--database_path", database.string(),
+             "--SiftMatching.use_gpu", "0", "--SiftMatching.num_threads", threads,
+             "--SequentialMatching.overlap", std::to_string(request.sequentialOverlap)},
+            run.logPath);
+  }
   bool mapped = false;
   const bool fixIntrinsics = request.initialFocalPx && request.fixIntrinsicsWhileMapping;
   std::vector<stdfs::path> models;
@@ -190,7 +195,7 @@ ColmapRun runColmapSparse(const ColmapRequest& request) {
                      {colmap,
                       "mapper",
                       "--random_seed",
-                      std::to_string(attempt),
+                      std::to_string(request.firstMapperSeed + attempt),
                       "--database_path",
                       database.string(),
                       "--image_path",
@@ -241,6 +246,11 @@ ColmapRun runColmapSparse(const ColmapRequest& request) {
   }
   run.modelFolder = bestFolder;
   if (fixIntrinsics) refineIntrinsics(request, colmap, run);
+  // The model used, where a user finds it (depth.colmap_model): <workspace>/model.
+  const stdfs::path chosen = ws / "model";
+  stdfs::remove_all(chosen);
+  stdfs::copy(run.modelFolder, chosen, stdfs::copy_options::recursive);
+  run.modelFolder = chosen;
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return run;
 }

@@ -14,7 +14,8 @@ struct ColmapRequest {
   // The frames, already written. File names (not folders) must be unique: COLMAP identifies
   // images by name, and sfm_poses.h maps names back to clip frames.
   std::vector<std::filesystem::path> images;
-  // Holds images/ (links to the frames), database.db, sparse/<n>/, text/ and colmap.log.
+  // Holds images/ (links to the frames), database.db, sparse/<n>/, text/, model/ (the result)
+  // and colmap.log.
   // A previous run's database and models there are removed first.
   std::filesystem::path workspace;
   // A starting focal length; without it COLMAP guesses 1.2 * max(width, height).
@@ -39,6 +40,10 @@ struct ColmapRequest {
   // The mapper's start is randomized (RANSAC); on weak footage one seed builds a model and the
   // next builds none. A run without a model is retried with the next seed, up to this many runs.
   int mapperAttempts = 4;
+  int firstMapperSeed = 0;  // the mapper's seeds are firstMapperSeed, +1, ...
+  // Run the mapper again on the workspace's database (features and matches kept, the log
+  // appended to): another seed after a model that was built but is wrong.
+  bool remapOnly = false;
   // With initialFocalPx: the mapper holds the focal length and distortion fixed, and one bundle
   // adjustment frees them afterwards. Refining them while mapping, COLMAP settled on a sixth of
   // the focal length on frames 5 cm apart and built no model from 16 frames of 320x180 of the
@@ -53,10 +58,12 @@ struct ColmapRequest {
 };
 
 struct ColmapRun {
-  std::filesystem::path modelFolder;  // the TXT model of the largest reconstruction
-  std::filesystem::path logPath;      // <workspace>/colmap.log
-  int modelCount = 0;                 // how many disconnected models the mapper made
-  double seconds = 0.0;               // wall time of the steps
+  // <workspace>/model: the TXT model of the largest reconstruction (its intrinsics refined when
+  // the mapper held them and the refinement was kept).
+  std::filesystem::path modelFolder;
+  std::filesystem::path logPath;  // <workspace>/colmap.log
+  int modelCount = 0;             // how many disconnected models the mapper made
+  double seconds = 0.0;           // wall time of the steps
   // The freed focal length over the starting one when that refinement was kept, else 1.
   double focalRefinementRatio = 1.0;
 };
