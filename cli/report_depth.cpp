@@ -26,6 +26,7 @@
 #include "sfm/colmap_runner.h"
 #include "sfm/pose_error.h"
 #include "util/error.h"
+#include "util/report_numbers.h"
 #include "util/timer.h"
 
 namespace pluvia::cli {
@@ -45,18 +46,6 @@ const char* const kLundFolder = "sfm/opensfm_lund";
 struct RowSpec {
   int clipFrames, frameStep, width, height;
 };
-
-std::string number(double value, int decimals) {
-  return std::isfinite(value) ? fmt::format("{:.{}f}", value, decimals) : "-";
-}
-
-std::string percent(double fraction) {
-  return number(100.0 * fraction, 1);
-}
-
-std::string csvNumber(double value) {
-  return std::isfinite(value) ? fmt::format("{:.6g}", value) : "";
-}
 
 std::string rowLabel(const DepthReportRow& row) {
   return fmt::format("{}/{} {}x{} {}", row.framesUsed, row.clipFrames, row.width, row.height,
@@ -472,10 +461,12 @@ std::string formatDepthReport(const DepthReport& report) {
     out += fmt::format(
         "{:<26} {:<16} {:>7} {:>6} {:>8} {:>8} {:>8} {:>8} {:>6} {:>7} {:>8} {:>7} {:>7}\n",
         rowLabel(row), row.status, fmt::format("{}/{}", row.registeredUsed, row.framesUsed),
-        fmt::format("{}/{}", row.framesWithPose, row.clipFrames), number(row.rotationMeanDeg, 3),
-        number(row.rotationMaxDeg, 3), number(row.positionMeanMeters, 3),
-        number(row.positionMaxMeters, 3), number(row.scaleRatio, 3), number(row.levelErrorDeg, 2),
-        number(row.heightOffsetMeters, 3), percent(row.focalError), number(row.reprojectionPx, 2));
+        fmt::format("{}/{}", row.framesWithPose, row.clipFrames),
+        fixedOrDash(row.rotationMeanDeg, 3), fixedOrDash(row.rotationMaxDeg, 3),
+        fixedOrDash(row.positionMeanMeters, 3), fixedOrDash(row.positionMaxMeters, 3),
+        fixedOrDash(row.scaleRatio, 3), fixedOrDash(row.levelErrorDeg, 2),
+        fixedOrDash(row.heightOffsetMeters, 3), percentOrDash(row.focalError),
+        fixedOrDash(row.reprojectionPx, 2));
   }
   out += fmt::format(
       "\n{:<26} {:>6} {:>7} {:>6} {:>7} {:>7} {:>7} {:>9} {:>11} {:>8} {:>8} "
@@ -485,11 +476,12 @@ std::string formatDepthReport(const DepthReport& report) {
   for (const DepthReportRow& row : report.rows) {
     out += fmt::format(
         "{:<26} {:>6} {:>7} {:>6} {:>7} {:>7} {:>7} {:>9} {:>11} {:>8} {:>8} {:>9} {:>9} {:>8}\n",
-        rowLabel(row), row.depthFrames, percent(row.depthMedian), percent(row.depthP90),
-        percent(row.depthMedianGround), percent(row.depthMedianWalls),
-        percent(row.depthMedianBoxes), percent(row.skyAsInfinity), percent(row.nonSkyAsInfinity),
-        number(row.renderSeconds, 1), number(row.colmapSeconds, 1), number(row.trackingSeconds, 1),
-        number(row.densifySecondsPerFrame, 2), number(row.totalSeconds, 1));
+        rowLabel(row), row.depthFrames, percentOrDash(row.depthMedian), percentOrDash(row.depthP90),
+        percentOrDash(row.depthMedianGround), percentOrDash(row.depthMedianWalls),
+        percentOrDash(row.depthMedianBoxes), percentOrDash(row.skyAsInfinity),
+        percentOrDash(row.nonSkyAsInfinity), fixedOrDash(row.renderSeconds, 1),
+        fixedOrDash(row.colmapSeconds, 1), fixedOrDash(row.trackingSeconds, 1),
+        fixedOrDash(row.densifySecondsPerFrame, 2), fixedOrDash(row.totalSeconds, 1));
   }
   out +=
       "(depth%: median |est - true| / true over pixels both call finite, p90 its 90th "
@@ -510,10 +502,11 @@ std::string formatDepthReport(const DepthReport& report) {
         "{:g}°: {} (max {}°); median depth error < {:g} %: {} ({} %); under {:g} s: {} ({} s).\n",
         row.framesWithPose == row.clipFrames ? "met" : "NOT met", row.framesWithPose,
         row.clipFrames, kRotationTargetDeg,
-        row.rotationMaxDeg < kRotationTargetDeg ? "met" : "NOT met", number(row.rotationMaxDeg, 3),
-        100.0 * kDepthTarget, row.depthMedian < kDepthTarget ? "met" : "NOT met",
-        percent(row.depthMedian), kTimeTargetSeconds,
-        row.totalSeconds < kTimeTargetSeconds ? "met" : "NOT met", number(row.totalSeconds, 1));
+        row.rotationMaxDeg < kRotationTargetDeg ? "met" : "NOT met",
+        fixedOrDash(row.rotationMaxDeg, 3), 100.0 * kDepthTarget,
+        row.depthMedian < kDepthTarget ? "met" : "NOT met", percentOrDash(row.depthMedian),
+        kTimeTargetSeconds, row.totalSeconds < kTimeTargetSeconds ? "met" : "NOT met",
+        fixedOrDash(row.totalSeconds, 1));
   }
 
   const DepthReportReal& real = report.real;
@@ -522,9 +515,9 @@ std::string formatDepthReport(const DepthReport& report) {
         "\nReal photos {}: {} of {} registered ({} %) at {}x{}, hfov guess {:g}°, status {}, "
         "mean reprojection error {} px, baseline/depth {}, {} s (reading, downscaling, COLMAP)"
         "{}\n",
-        real.folder, real.registered, real.photos, percent(real.registeredFraction), real.width,
-        real.height, kLundHfovDeg, real.status, number(real.reprojectionPx, 3),
-        number(real.baselineOverDepth, 3), number(real.seconds, 1),
+        real.folder, real.registered, real.photos, percentOrDash(real.registeredFraction),
+        real.width, real.height, kLundHfovDeg, real.status, fixedOrDash(real.reprojectionPx, 3),
+        fixedOrDash(real.baselineOverDepth, 3), fixedOrDash(real.seconds, 1),
         real.note.empty() ? "" : " (" + real.note + ")");
   } else {
     out += "\nReal photos (" + std::string(kLundFolder) + ") skipped: " + real.note + "\n";

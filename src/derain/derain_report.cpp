@@ -21,6 +21,7 @@
 #include "io/clip_reader.h"
 #include "util/error.h"
 #include "util/log.h"
+#include "util/report_numbers.h"
 #include "util/timer.h"
 
 namespace pluvia::derain {
@@ -309,16 +310,8 @@ void runRealFootage(const DerainReportSettings& settings, DerainReport& report) 
   }
 }
 
-std::string number(double value, int decimals) {
-  return std::isfinite(value) ? fmt::format("{:.{}f}", value, decimals) : "-";
-}
-
 std::string general(double value) {
   return std::isfinite(value) ? fmt::format("{:.4g}", value) : "-";
-}
-
-std::string csvNumber(double value) {
-  return std::isfinite(value) ? fmt::format("{:.6g}", value) : "";
 }
 
 }  // namespace
@@ -412,11 +405,12 @@ std::string formatDerainReport(const DerainReport& report) {
     out += fmt::format(
         "{:<10} {:<6} {:>6} {:<6} {:>6} {:>5} {:>7} {:>7} {:>9} {:>7} {:>6} {:>8} {:>8} "
         "{:>10} {:>8}\n",
-        row.section, row.scene, number(row.trueAngleDeg, 1), row.method, row.frames,
-        row.method == "solver" ? std::to_string(row.iterations) : "-", number(row.psnrDb, 2),
-        number(row.ssim, 4), number(row.alphaMae, 4), number(row.angleDeg, 2),
-        number(row.angleErrorDeg, 2), number(row.seconds, 2), number(row.seconds / row.frames, 3),
-        general(row.objective), number(row.dataRms, 5));
+        row.section, row.scene, fixedOrDash(row.trueAngleDeg, 1), row.method, row.frames,
+        row.method == "solver" ? std::to_string(row.iterations) : "-", fixedOrDash(row.psnrDb, 2),
+        fixedOrDash(row.ssim, 4), fixedOrDash(row.alphaMae, 4), fixedOrDash(row.angleDeg, 2),
+        fixedOrDash(row.angleErrorDeg, 2), fixedOrDash(row.seconds, 2),
+        fixedOrDash(row.seconds / row.frames, 3), general(row.objective),
+        fixedOrDash(row.dataRms, 5));
   }
 
   // The targets, over the synthetic cases: each solver row against the median row of its case.

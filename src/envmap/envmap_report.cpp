@@ -16,9 +16,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include "envmap/panorama.h"
-#include "image/log_grid.h"
 #include "envmap/perspective_view.h"
 #include "image/equirect.h"
+#include "image/log_grid.h"
 #include "io/image_file_writer.h"
 #include "optics/drop_radiance_map.h"
 #include "optics/drop_shading.h"
@@ -28,6 +28,7 @@
 #include "optics/test_environment.h"
 #include "util/error.h"
 #include "util/log.h"
+#include "util/report_numbers.h"
 #include "util/timer.h"
 
 namespace pluvia::envmap {
@@ -517,18 +518,6 @@ void runRealPhotos(const EnvmapReportSettings& settings, EnvmapReport& report) {
   }
 }
 
-std::string number(double value, int decimals) {
-  return std::isfinite(value) ? fmt::format("{:.{}f}", value, decimals) : "-";
-}
-
-std::string percent(double fraction) {
-  return number(100.0 * fraction, 1);
-}
-
-std::string csvNumber(double value) {
-  return std::isfinite(value) ? fmt::format("{:.6g}", value) : "";
-}
-
 std::string rowLabel(const EnvmapReportRow& row) {
   return row.lightsRestored ? fmt::format("{}+lights", row.frames) : std::to_string(row.frames);
 }
@@ -614,11 +603,13 @@ std::string formatEnvmapReport(const EnvmapReport& report) {
     out += fmt::format(
         "{:<28} {:>7} {:>6} {:>5} {:>6} {:>6} {:>7} {:>7} {:>9} {:>9} {:>5} {:>8} "
         "{:>8} {:>8}\n",
-        row.environment, rowLabel(row), number(row.yawStepDeg, 1), row.fromFeatures ? "yes" : "no",
-        number(row.poseErrorDeg, 2), percent(row.focalError), percent(row.coveredFraction),
-        percent(row.shError), percent(row.dropMeanError), percent(row.dropMaxError), row.directions,
-        number(row.placementSeconds, 2), number(row.renderSeconds, 2),
-        number(row.placementSeconds + row.renderSeconds, 2));
+        row.environment, rowLabel(row), fixedOrDash(row.yawStepDeg, 1),
+        row.fromFeatures ? "yes" : "no", fixedOrDash(row.poseErrorDeg, 2),
+        percentOrDash(row.focalError), percentOrDash(row.coveredFraction),
+        percentOrDash(row.shError), percentOrDash(row.dropMeanError),
+        percentOrDash(row.dropMaxError), row.directions, fixedOrDash(row.placementSeconds, 2),
+        fixedOrDash(row.renderSeconds, 2),
+        fixedOrDash(row.placementSeconds + row.renderSeconds, 2));
   }
 
   // The targets, at the most frames of each environment.
