@@ -189,9 +189,14 @@ ClipTracking trackClip(const std::vector<int64_t>& frames,
                           request.fixIntrinsicsWhileMapping ? "held" : "refined"));
     request.remapOnly = true;
     request.firstMapperSeed = retry * request.mapperAttempts;
-    tracking.run = runColmapSparse(request);
-    tracking.sfm = reconstructionFromColmap(readColmapTextModel(tracking.run.modelFolder),
-                                            frameOfImage, settings.sfm);
+    try {
+      tracking.run = runColmapSparse(request);
+      tracking.sfm = reconstructionFromColmap(readColmapTextModel(tracking.run.modelFolder),
+                                              frameOfImage, settings.sfm);
+    } catch (const Error& e) {
+      // No model this time: the previous (refused) result stands unless a later retry succeeds.
+      log::info(fmt::format("depth: mapping again failed: {}", e.what()));
+    }
   }
   tracking.seconds = secondsSince(started);
   return tracking;
