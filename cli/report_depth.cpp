@@ -58,17 +58,6 @@ float srgbEncode(float linear) {
   return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
 }
 
-Camera intrinsicsCamera(int width, int height) {
-  const gpu::SyntheticView view = gpu::defaultSyntheticIntrinsics(width, height);
-  Camera camera;
-  camera.width = view.width;
-  camera.height = view.height;
-  camera.focalPx = view.focalPx;
-  camera.cx = view.cx;
-  camera.cy = view.cy;
-  return camera;
-}
-
 CameraPath truthPath(int width, int height, int clipFrames) {
   std::vector<std::pair<double, CameraPose>> keys;
   for (const gpu::SyntheticPathKey& key : gpu::defaultSyntheticPath(clipFrames)) {
@@ -80,7 +69,8 @@ CameraPath truthPath(int width, int height, int clipFrames) {
     pose.rollDeg = key.rollDeg;
     keys.push_back({key.frame, pose});
   }
-  return CameraPath::fromKeys(intrinsicsCamera(width, height), keys);
+  return CameraPath::fromKeys(gpu::defaultSyntheticIntrinsics(width, height).toCamera<Camera>(),
+                              keys);
 }
 
 // What each pixel of a true depth map shows: 0 sky, 1 ground, 2 walls (side and back), 3 boxes.

@@ -72,6 +72,21 @@ struct SyntheticView {
     }
     return view;
   }
+  // Back to a pluvia::Camera (or anything with its members and Eigen-like accessors).
+  template <typename CameraT>
+  CameraT toCamera() const {
+    CameraT camera;
+    camera.width = width;
+    camera.height = height;
+    camera.focalPx = focalPx;
+    camera.cx = cx;
+    camera.cy = cy;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) camera.worldFromCamera(r, c) = worldFromCamera[r * 3 + c];
+      camera.positionMeters[r] = positionMeters[r];
+    }
+    return camera;
+  }
 };
 
 // One pose of the default path, in the convention of geometry/camera_path.h's CameraPose

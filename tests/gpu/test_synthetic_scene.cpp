@@ -44,13 +44,7 @@ class SyntheticSceneTest : public ::testing::Test {
 
   // The default intrinsics as a pluvia Camera at 1.6 m, level, looking down the corridor.
   static Camera levelCamera() {
-    const SyntheticView intrinsics = defaultSyntheticIntrinsics(kWidth, kHeight);
-    Camera camera;
-    camera.width = intrinsics.width;
-    camera.height = intrinsics.height;
-    camera.focalPx = intrinsics.focalPx;
-    camera.cx = intrinsics.cx;
-    camera.cy = intrinsics.cy;
+    Camera camera = defaultSyntheticIntrinsics(kWidth, kHeight).toCamera<Camera>();
     camera.positionMeters = Eigen::Vector3d(0.0, kSyntheticCameraHeightMeters, 0.0);
     return camera;
   }
@@ -405,4 +399,19 @@ TEST_F(SyntheticSceneTest, RejectsAViewOfAnotherSize) {
 }
 
 }  // namespace
+}  // namespace pluvia::gpu
+
+namespace pluvia::gpu {
+TEST(SyntheticView, CameraRoundTripKeepsIntrinsicsAndPose) {
+  Camera camera = Camera::fromFieldOfView(320, 180, 50.0, 7.0, 1.6);
+  camera.positionMeters = Eigen::Vector3d(0.5, 1.6, -3.0);
+  const Camera back = SyntheticView::fromCamera(camera).toCamera<Camera>();
+  EXPECT_EQ(back.width, 320);
+  EXPECT_EQ(back.height, 180);
+  EXPECT_DOUBLE_EQ(back.focalPx, camera.focalPx);
+  EXPECT_DOUBLE_EQ(back.cx, camera.cx);
+  EXPECT_DOUBLE_EQ(back.cy, camera.cy);
+  EXPECT_TRUE(back.worldFromCamera.isApprox(camera.worldFromCamera, 0.0));
+  EXPECT_TRUE(back.positionMeters.isApprox(camera.positionMeters, 0.0));
+}
 }  // namespace pluvia::gpu
