@@ -33,7 +33,7 @@ const SfmKeyframe& nearestKeyframe(const SfmReconstruction& sfm, int64_t frame) 
 
 SfmStatus statusFromName(const std::string& name) {
   for (SfmStatus s : {SfmStatus::Ok, SfmStatus::TooFewRegistered, SfmStatus::NoParallax,
-                      SfmStatus::NoGroundPlane})
+                      SfmStatus::NoGroundPlane, SfmStatus::ImplausibleCamera})
     if (name == sfmStatusName(s)) return s;
   throw Error("unknown SfM status \"" + name + "\" in cached reconstruction");
 }
@@ -172,16 +172,32 @@ ClipTracking trackClip(const std::vector<int64_t>& frames,
   // Pinhole focal length from the horizontal field of view.
   request.initialFocalPx =
       0.5 * width / std::tan(0.5 * settings.horizontalFovDeg * 3.14159265358979323846 / 180.0);
-  tracking.run = runColmapSparse(request);
-  tracking.sfm = reconstructionFromColmap(readColmapTextModel(tracking.run.modelFolder),
-                                          frameOfImage, settings.sfm);
-  // A model with no ground below its cameras, on a clip whose parallax check passed, is most
-  // often the mapper's start gone wrong (the two-fold ambiguity of a ground-dominated first
-  // pair): map again, first refining the intrinsics while mapping (which found the right solution
-  // on the 320x180 walk where holding them did not, and failed where holding them worked), then
-  // with other seeds.
+  // One mapping and its metric model; a focal length far from the preset's field of view is a
+  // wrong solution (the 320x180 walk once came back registered, ground found, at a quarter of
+  // the true focal length).
+  auto map = [&] {
+    tracking.run = runColmapSparse(request);
+    tracking.sfm = reconstructionFromColmap(readColmapTextModel(tracking.run.modelFolder),
+                                            frameOfImage, settings.sfm);
+    const double ratio = tracking.sfm.intrinsics.focalPx / *request.initialFocalPx;
+    if (tracking.sfm.status == SfmStatus::Ok && !tracking.sfm.keyframes.empty() &&
+        (ratio > settings.maxFocalRatio || ratio < 1.0 / settings.maxFocalRatio)) {
+      tracking.sfm.status = SfmStatus::ImplausibleCamera;
+      tracking.sfm.message = fmt::format(
+          "COLMAP's focal length {:.0f} px is {:.1f} times the {:.0f} px of the preset's field of "
+          "view: a wrong reconstruction, or a wrong camera.fov_deg",
+          tracking.sfm.intrinsics.focalPx, ratio, *request.initialFocalPx);
+    }
+  };
+  map();
+  // A model with no ground below its cameras or an implausible focal length, on a clip whose
+  // parallax check passed, is most often the mapper's start gone wrong (the two-fold ambiguity
+  // of a ground-dominated first pair): map again, first refining the intrinsics while mapping
+  // (which found the right solution on the 320x180 walk where holding them did not, and failed
+  // where holding them worked), then with other seeds.
   for (int retry = 1;
-       retry <= settings.remapAttempts && tracking.sfm.status == SfmStatus::NoGroundPlane;
+       retry <= settings.remapAttempts && (tracking.sfm.status == SfmStatus::NoGroundPlane ||
+                                           tracking.sfm.status == SfmStatus::ImplausibleCamera);
        ++retry) {
     request.fixIntrinsicsWhileMapping = !request.fixIntrinsicsWhileMapping;
     log::info(fmt::format("depth: {}; mapping again ({} of {}), the intrinsics {} while mapping",
@@ -189,12 +205,12 @@ ClipTracking trackClip(const std::vector<int64_t>& frames,
                           request.fixIntrinsicsWhileMapping ? "held" : "refined"));
     request.remapOnly = true;
     request.firstMapperSeed = retry * request.mapperAttempts;
+    const ClipTracking before = tracking;
     try {
-      tracking.run = runColmapSparse(request);
-      tracking.sfm = reconstructionFromColmap(readColmapTextModel(tracking.run.modelFolder),
-                                              frameOfImage, settings.sfm);
+      map();
     } catch (const Error& e) {
       // No model this time: the previous (refused) result stands unless a later retry succeeds.
+      tracking = before;
       log::info(fmt::format("depth: mapping again failed: {}", e.what()));
     }
   }

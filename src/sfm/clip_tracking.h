@@ -29,9 +29,10 @@ struct ClipTrackingSettings {
   std::filesystem::path workspace;  // COLMAP's folder (frames/, images/, database, log)
   // Every Nth frame goes to COLMAP; 0 chooses them by parallax (parallax_check.h selectKeyframes).
   int frameStep = 0;
-  int maxFrames = 200;    // at most this many go to COLMAP (evenly thinned)
-  int minFrames = 12;     // frames chosen by parallax: at least this many (or all the clip's)
-  int remapAttempts = 2;  // mapper reruns when the model has no ground below its cameras
+  int maxFrames = 200;         // at most this many go to COLMAP (evenly thinned)
+  int minFrames = 12;          // frames chosen by parallax: at least this many (or all the clip's)
+  int remapAttempts = 2;       // mapper reruns after no ground plane or an implausible focal length
+  double maxFocalRatio = 2.0;  // COLMAP's focal length within this factor of the preset's
   double horizontalFovDeg = 60.0;  // COLMAP's starting focal length
   int maxImageSizePx = 1600;       // SIFT on frames downscaled to this longest side
   std::string colmapBinary;        // empty: $PLUVIA_COLMAP, else "colmap"

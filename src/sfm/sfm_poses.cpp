@@ -86,6 +86,8 @@ const char* sfmStatusName(SfmStatus status) {
       return "no_parallax";
     case SfmStatus::NoGroundPlane:
       return "no_ground_plane";
+    case SfmStatus::ImplausibleCamera:
+      return "implausible_camera";
   }
   return "ok";
 }

@@ -58,8 +58,9 @@ struct SfmOptions {
   double groundMaxTiltDeg = 30.0;
 };
 
-enum class SfmStatus { Ok, TooFewRegistered, NoParallax, NoGroundPlane };
-// "ok", "too_few_registered", "no_parallax", "no_ground_plane".
+// ImplausibleCamera is set by the caller (clip_tracking.h), not by reconstructionFromColmap.
+enum class SfmStatus { Ok, TooFewRegistered, NoParallax, NoGroundPlane, ImplausibleCamera };
+// "ok", "too_few_registered", "no_parallax", "no_ground_plane", "implausible_camera".
 const char* sfmStatusName(SfmStatus status);
 
 // A registered clip frame.
