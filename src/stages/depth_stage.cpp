@@ -5,6 +5,8 @@
 //    frame's sparse points densified guided by the frame; the tracked camera path then drives
 //    the rain camera (ClipContext::trackedPath). When tracking fails, depth.fallback = "layers"
 //    falls back to the manual layers with a warning; otherwise the render stops before any frame;
+//  - "file": the user's depth sequence (io/depth_sequence.h), depth.file's frame N for plate
+//    frame N, decoded by depth.file_encoding and resampled to the plate;
 //  - "none": everything at infinity (sky).
 #include <filesystem>
 #include <limits>
@@ -12,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "geometry/depth_layers.h"
+#include "io/depth_sequence.h"
 #include "preset/camera_path_preset.h"
 #include "stages/depth_tracking.h"
 #include "stages/registry.h"
@@ -27,15 +30,41 @@ bool hasGroundLayer(const nlohmann::json& layers) {
   return false;
 }
 
+// depth.source = "file": the sequence and how to decode it. An empty depth.file is refused here,
+// when the render builds its stages, before anything is read or written.
+DepthSequence depthSequenceFromPreset(const Preset& p) {
+  const std::string file = p.string("depth.file");
+  if (file.empty())
+    throw Error("depth.source is \"file\" but depth.file is empty: give the depth sequence "
+                "(e.g. depth.####.exr) or one depth file for every frame",
+                {"depth", {}, p.source()});
+  DepthDecoding decoding;
+  decoding.encoding = depthEncodingFromName(p.string("depth.file_encoding"));
+  decoding.scale = p.number("depth.file_scale");
+  decoding.nearMeters = p.number("depth.file_near_m");
+  decoding.farMeters = p.number("depth.file_far_m");
+  if (decoding.encoding == DepthEncoding::Normalized && decoding.farMeters <= decoding.nearMeters)
+    throw Error(fmt::format("depth.file_far_m ({:g}) must be beyond depth.file_near_m ({:g})",
+                            decoding.farMeters, decoding.nearMeters),
+                {"depth", {}, p.source()});
+  return DepthSequence(file, decoding);
+}
+
 class DepthStage : public Stage {
  public:
   explicit DepthStage(const Preset& p)
       : source_(p.string("depth.source")),
         fallback_(p.string("depth.fallback")),
         dense_(p.string("depth.colmap_dense")),
-        layers_(p.at("depth.layers")) {}
+        layers_(p.at("depth.layers")) {
+    if (source_ == "file") file_ = depthSequenceFromPreset(p);
+  }
 
   void prepare(ClipContext& clip) override {
+    if (file_) {
+      prepareFile(clip);
+      return;
+    }
     if (source_ == "colmap" && prepareTracking(clip)) return;
     if (source_ == "none") {
       depth_.assign(static_cast<size_t>(clip.camera.width) * clip.camera.height,
@@ -50,6 +79,11 @@ class DepthStage : public Stage {
     if (!perFrame_) depth_ = rasterizeDepthLayers(path_.cameraAt(0.0), layers_, 0.0, rampValueAt);
   }
   void process(ClipContext&, FrameContext& frame) override {
+    if (file_ && !file_->singleFile()) {
+      frame.image.planes["depth"] =
+          file_->read(frame.frame, frame.image.width, frame.image.height);
+      return;
+    }
     if (sfm_) {
       frame.image.planes["depth"] = colmapFrameDepth(*sfm_, frame.frame, frame.image, dense_);
       return;
@@ -64,6 +98,14 @@ class DepthStage : public Stage {
  private:
   static double rampValueAt(const nlohmann::json& value, double frame) {
     return Ramp::fromJson(value).valueAt(frame);
+  }
+
+  // Every plate frame's depth file must exist before the first frame renders. The whole clip
+  // is checked, not only the frames this render covers: ClipContext does not list those.
+  void prepareFile(ClipContext& clip) {
+    file_->requireFrames(clip.clip->frames);
+    if (file_->singleFile())
+      depth_ = file_->read(clip.clip->frames.front(), clip.camera.width, clip.camera.height);
   }
 
   // The COLMAP source; false when it failed and depth.fallback sends the stage to the layers.
@@ -95,6 +137,7 @@ class DepthStage : public Stage {
   std::string fallback_;
   std::filesystem::path dense_;
   std::optional<SfmReconstruction> sfm_;
+  std::optional<DepthSequence> file_;
   nlohmann::json layers_;
   CameraPath path_;
   bool perFrame_ = false;
@@ -162,10 +205,11 @@ StageInfo depthStageInfo() {
        "layers",
        {},
        {},
-       {"layers", "colmap", "none"},
+       {"layers", "colmap", "file", "none"},
        "",
        "layers: depth.layers; colmap: COLMAP structure from motion of the clip (its camera "
-       "also moves the rain); none: all sky"},
+       "also moves the rain); file: depth.file, a depth sequence frame-matched to the plate; "
+       "none: all sky"},
       layers,
       {"fallback",
        ParamType::Enum,
@@ -237,6 +281,50 @@ StageInfo depthStageInfo() {
        {},
        "m",
        "colmap, scale first_frame_depth: median distance of what the first frame sees"},
+      {"file",
+       ParamType::String,
+       "",
+       {},
+       {},
+       {},
+       "",
+       "file: the depth sequence, depth.####.exr or depth.%04d.png (frame N for plate frame N, "
+       "a movie plate's frames counted from 0), or one file for every frame; channel Z, "
+       "depth.Z, Y or R, or the only one; resampled to the plate size (bilinear on 1/z)"},
+      {"file_encoding",
+       ParamType::Enum,
+       "z_m",
+       {},
+       {},
+       {"z_m", "inverse", "normalized"},
+       "",
+       "file: what a value v means (8/16-bit files: v = code / max code, in [0, 1]); z_m: "
+       "z-depth = file_scale * v metres; inverse: z = file_scale / v (depth estimators); "
+       "normalized: z = file_near_m + v * (file_far_m - file_near_m); z <= 0, NaN, inf: sky"},
+      {"file_scale",
+       ParamType::Number,
+       1.0,
+       1e-9,
+       1e9,
+       {},
+       "",
+       "file, z_m: metres per file unit; inverse: z = file_scale / v metres"},
+      {"file_near_m",
+       ParamType::Number,
+       1.0,
+       0.0,
+       1e6,
+       {},
+       "m",
+       "file, normalized: z-depth at v = 0"},
+      {"file_far_m",
+       ParamType::Number,
+       100.0,
+       0.01,
+       1e6,
+       {},
+       "m",
+       "file, normalized: z-depth at v = 1"},
   };
   info.cacheKey = depthTrackingCacheKey;
   info.create = [](const Preset& p) { return std::make_unique<DepthStage>(p); };
