@@ -17,6 +17,7 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
     std::string input, output, preset, frames, cache, aov;
     std::vector<std::string> sets;
     int threads = 2;
+    double proxy = 1.0;
     bool skipExisting = false, stats = false;
   };
   auto args = std::make_shared<Args>();
@@ -38,7 +39,10 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
                 "leave frames that already exist (resume a job)");
   cmd->add_flag("--stats", args->stats, "print a per-stage timing summary");
   cmd->add_option("--aov", args->aov, "extra outputs: rain,matte,depth");
+  cmd->add_option("--proxy", args->proxy,
+                  "render at this fraction of the plate's size, in (0, 1], for quick looks");
   cmd->callback([=, &invocation] {
+    checkProxyScale(args->proxy);
     RenderRequest request;
     request.input = args->input;
     request.output = args->output;
@@ -51,6 +55,7 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
     request.cacheDir = args->cache;
     request.skipExisting = args->skipExisting;
     request.commandLine = invocation.commandLine;
+    request.proxyScale = args->proxy;
     for (size_t start = 0; !args->aov.empty() && start <= args->aov.size();) {
       size_t comma = args->aov.find(',', start);
       std::string aov = args->aov.substr(start, comma - start);
@@ -67,9 +72,10 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
     auto started = std::chrono::steady_clock::now();
     RenderSummary summary = renderJob(request, preset, allStages(), times);
     const double seconds = secondsSince(started);
-    log::info(fmt::format(
-        "wrote {} frames to {} in {:.1f} s{}", summary.framesWritten, request.output, seconds,
-        summary.framesSkipped ? fmt::format(" ({} existing frames skipped)", summary.framesSkipped)
+    log::info(fmt::format("wrote {} {}frames to {} in {:.1f} s{}", summary.framesWritten,
+                          request.proxyScale != 1.0 ? "proxy " : "", request.output, seconds,
+                          summary.framesSkipped
+                              ? fmt::format(" ({} existing frames skipped)", summary.framesSkipped)
                               : ""));
     if (args->stats) std::cout << times.summary(summary.framesWritten);
   });

@@ -30,6 +30,13 @@ std::pair<int64_t, int64_t> parseFrameRange(const std::string& text) {
   return {first, last};
 }
 
+void checkProxyScale(double scale) {
+  if (!(scale > 0.0 && scale <= 1.0))
+    throw UsageError(fmt::format(
+        "--proxy {:g}: the scale must be in (0, 1] (0.5 renders at half size, 1 at full size)",
+        scale));
+}
+
 Preset loadPreset(const std::string& nameOrPath, const std::vector<std::string>& overrides) {
   return Preset::resolve(nameOrPath, overrides, presetSchema());
 }

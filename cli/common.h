@@ -12,6 +12,8 @@ namespace pluvia::cli {
 
 // "1001-1048" or "12" -> (first, last). Throws UsageError naming the text.
 std::pair<int64_t, int64_t> parseFrameRange(const std::string& text);
+// --proxy: throws UsageError unless `scale` is in (0, 1].
+void checkProxyScale(double scale);
 // Resolves a preset against the full schema (every stage's table).
 Preset loadPreset(const std::string& nameOrPath, const std::vector<std::string>& overrides);
 // Throws UsageError when any of `outputs` is one of `inputFiles` ("OPTION OUT is the input file

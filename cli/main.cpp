@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   cli::Invocation invocation;
   invocation.commandLine = cli::joinCommandLine(argc, argv);
   cli::addRenderCommand(app, invocation);
+  cli::addPreviewCommand(app, invocation);
   cli::addPlanCommand(app, invocation);
   cli::addValidateCommand(app, invocation);
   cli::addDescribeCommand(app, invocation);
@@ -51,11 +52,10 @@ int main(int argc, char** argv) {
     for (const auto* sub : app.get_subcommands({})) names.push_back(sub->get_name());
     if (std::find(names.begin(), names.end(), word) == names.end()) {
       std::string nearest = nearestWord(word, names);
-      log::error(
-          "unknown command '" + word + "'" +
-          (nearest.empty() ? "" : ", did you mean '" + nearest + "'?") +
-          " (commands: render, plan, validate, describe, bench, shade-drop, report, depth; see "
-          "pluvia --help)");
+      log::error("unknown command '" + word + "'" +
+                 (nearest.empty() ? "" : ", did you mean '" + nearest + "'?") +
+                 " (commands: render, preview, plan, validate, describe, bench, shade-drop, "
+                 "report, derain, strokes, envmap, depth; see pluvia --help)");
       return 2;
     }
     break;

@@ -4,6 +4,7 @@
 #include <deque>
 #include <exception>
 #include <filesystem>
+#include <limits>
 #include <mutex>
 #include <set>
 #include <thread>
@@ -15,6 +16,7 @@
 #include "io/clip_writer.h"
 #include "io/sequence_pattern.h"
 #include "pipeline/cache.h"
+#include "pipeline/proxy_clip_reader.h"
 #include "pluvia/version.h"
 #include "util/fs.h"
 #include "util/log.h"
@@ -102,32 +104,36 @@ std::vector<int64_t> selectFrames(const RenderRequest& request, const ClipInfo& 
   if (frames.empty()) {
     throw UsageError(fmt::format("--frames {}-{} selects no frame of {} (it has frames {}-{})",
                                  request.firstFrame.value_or(clip.frames.front()),
-                                 request.lastFrame.value_or(clip.frames.back()), clip.path, clip.frames.front(),
-                                 clip.frames.back()),
+                                 request.lastFrame.value_or(clip.frames.back()), clip.path,
+                                 clip.frames.front(), clip.frames.back()),
                      {"read", {}, clip.path});
   }
   // A hole in a sequence is an error before any work: a farm must not render around it silently.
   for (size_t i = 1; i < frames.size(); ++i) {
     if (frames[i] != frames[i - 1] + 1) {
       std::string missing = fmt::format("{}", frames[i - 1] + 1);
-      if (auto pattern = SequencePattern::parse(clip.path)) missing += " (" + pattern->pathFor(frames[i - 1] + 1) + ")";
+      if (auto pattern = SequencePattern::parse(clip.path))
+        missing += " (" + pattern->pathFor(frames[i - 1] + 1) + ")";
       throw Error(fmt::format("frame {} is missing from the sequence {}", missing, clip.path),
                   {"read", frames[i - 1] + 1, clip.path});
     }
   }
   if (request.firstFrame && frames.front() != *request.firstFrame) {
-    throw Error(fmt::format("frame {} is not in {} (it starts at {})", *request.firstFrame, clip.path, frames.front()),
+    throw Error(fmt::format("frame {} is not in {} (it starts at {})", *request.firstFrame,
+                            clip.path, frames.front()),
                 {"read", *request.firstFrame, clip.path});
   }
   if (request.lastFrame && frames.back() != *request.lastFrame) {
-    throw Error(fmt::format("frame {} is not in {} (it ends at {})", *request.lastFrame, clip.path, frames.back()),
+    throw Error(fmt::format("frame {} is not in {} (it ends at {})", *request.lastFrame, clip.path,
+                            frames.back()),
                 {"read", *request.lastFrame, clip.path});
   }
   return frames;
 }
 
 // Refuses any output file that is one of the input files: the original plate is never touched.
-void refuseOverwritingInput(const ClipInfo& clip, const std::string& output, const std::vector<int64_t>& frames) {
+void refuseOverwritingInput(const ClipInfo& clip, const std::string& output,
+                            const std::vector<int64_t>& frames) {
   std::vector<std::string> outputs;
   if (auto pattern = SequencePattern::parse(output)) {
     for (int64_t f : frames) outputs.push_back(pattern->pathFor(f));
@@ -139,8 +145,9 @@ void refuseOverwritingInput(const ClipInfo& clip, const std::string& output, con
   for (const auto& out : outputs) {
     for (const auto& in : inputs) {
       if (fs::samePath(out, in)) {
-        throw UsageError(fmt::format("output {} is the input file {}: refusing to overwrite the plate", out, in),
-                         {"write", {}, in});
+        throw UsageError(
+            fmt::format("output {} is the input file {}: refusing to overwrite the plate", out, in),
+            {"write", {}, in});
       }
     }
   }
@@ -156,7 +163,151 @@ void ensureAovPlanes(Image& image, const std::vector<std::string>& aovs) {
   }
 }
 
+// The input, read at the proxy size when the request asks for one.
+std::unique_ptr<ClipReader> openInput(const RenderRequest& request) {
+  std::unique_ptr<ClipReader> reader = openClip(request.input);
+  if (request.proxyScale == 1.0) return reader;
+  return std::make_unique<ProxyClipReader>(std::move(reader), request.proxyScale);
+}
+
+// The frames to render; an output that names an input file is refused before any work.
+std::vector<int64_t> framesToRender(const RenderRequest& request, const ClipInfo& clip) {
+  std::vector<int64_t> frames = selectFrames(request, clip);
+  refuseOverwritingInput(clip, request.output, frames);
+  return frames;
+}
+
+// A proxy render's per-clip analysis is measured on the smaller frames (COLMAP's focal length
+// is in its pixels), so it is cached apart from the full-size render's, in a folder named by
+// the frame size.
+std::optional<ArtifactCache> openCache(const RenderRequest& request, const ClipInfo& clip) {
+  if (request.cacheDir.empty()) return std::nullopt;
+  if (request.proxyScale == 1.0) return ArtifactCache(request.cacheDir);
+  return ArtifactCache(std::filesystem::path(request.cacheDir) /
+                       fmt::format("proxy-{}x{}", clip.width, clip.height));
+}
+
+WriterOptions writerOptionsFor(const RenderRequest& request, const Preset& preset,
+                               const ClipInfo& clip) {
+  WriterOptions options;
+  options.fps = preset.number("camera.fps") > 0 ? preset.number("camera.fps") : clip.fps;
+  options.aovs = request.aovs;
+  options.metadata = {{"pluvia:version", kVersion},
+                      {"pluvia:presetHash", preset.hash()},
+                      {"pluvia:seed", std::to_string(int64_t(preset.number("rain.seed")))},
+                      {"pluvia:commandLine", request.commandLine},
+                      {"pluvia:preset", preset.json().dump()}};
+  // A proxy frame must never pass for a final one: it says so in its header.
+  if (request.proxyScale != 1.0)
+    options.metadata["pluvia:proxy"] =
+        fmt::format("{:g} ({}x{})", request.proxyScale, clip.width, clip.height);
+  return options;
+}
+
 }  // namespace
+
+RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
+                             const std::vector<StageInfo>& stages, StageTimes& times)
+    : request_(request),
+      preset_(preset),
+      stageInfos_(stages),
+      times_(times),
+      reader_(openInput(request)),
+      frames_(framesToRender(request, clip())),
+      cache_(openCache(request, clip())),
+      plan_(makePlan(preset, clip(), cache_ ? &*cache_ : nullptr, stages)),
+      toWorking_(resolveInputSpace(preset, clip()), preset.string("color.working"),
+                 preset.string("color.config")),
+      toOutput_(preset.string("color.working"), resolveOutputSpace(preset, request.output),
+                preset.string("color.config")),
+      writerOptions_(writerOptionsFor(request, preset, clip())) {
+  log::info("command: " + request.commandLine);
+  log::info("preset (resolved): " + preset.json().dump());
+  log::info("plan:\n" + plan_.text());
+  if (request.proxyScale != 1.0)
+    log::info(fmt::format("proxy render (not a final): {}x{}, {:g} of the plate's size",
+                          clip().width, clip().height, request.proxyScale));
+
+  context_.preset = &preset;
+  context_.clip = &clip();
+  context_.reader = reader_.get();
+  context_.cache = cache_ ? &*cache_ : nullptr;
+  context_.times = &times;
+  context_.fps = writerOptions_.fps;
+  // From the clip's size as read: a proxy's smaller frames get a proportionally shorter focal
+  // length in pixels, so the rain and the depth land where they would on the full frame.
+  context_.camera =
+      Camera::fromFieldOfView(clip().width, clip().height, preset.number("camera.fov_deg"),
+                              preset.number("camera.tilt_deg"), preset.number("camera.height_m"));
+  context_.readWorking = [this](int64_t frame) {
+    Image image = reader_->read(frame);
+    ops::replaceNonFinite(image);
+    toWorking_.apply(image);
+    return image;
+  };
+}
+
+void RenderSession::prepareStages() {
+  for (const auto& info : stageInfos_) {
+    if (plan_.available(info.spec.name)) stages_.emplace_back(&info, info.create(preset_));
+  }
+  for (auto& [info, stage] : stages_) {
+    const std::string& name = info->spec.name;
+    ScopedTimer timer(&times_, name + " (prepare)");
+    try {
+      stage->prepare(context_);
+    } catch (const Error& e) {
+      if (!e.context().stage.empty()) throw;
+      throw Error(e.what(), {name, {}, e.context().file});
+    }
+  }
+  // Only per-frame stages that run take part in the frame loop; per-clip ones are done.
+  for (auto& [info, stage] : stages_) {
+    if (!info->perClip && plan_.runs(info->spec.name))
+      frameStages_.emplace_back(info->spec.name, stage.get());
+  }
+}
+
+FrameContext RenderSession::readFrame(int64_t frameNumber) {
+  FrameContext frame;
+  frame.frame = frameNumber;
+  frame.timeSeconds = double(frameNumber) / context_.fps;
+  {
+    ScopedTimer timer(&times_, "decode");
+    frame.image = reader_->read(frameNumber);
+  }
+  if (size_t bad = ops::replaceNonFinite(frame.image)) {
+    log::warning(fmt::format("frame {}: {} NaN/Inf values in {} replaced by 0", frameNumber, bad,
+                             clip().path));
+  }
+  {
+    ScopedTimer timer(&times_, "colour in");
+    toWorking_.apply(frame.image);
+  }
+  return frame;
+}
+
+void RenderSession::processFrame(FrameContext& frame) {
+  for (auto& [name, stage] : frameStages_) {
+    ScopedTimer timer(&times_, name);
+    try {
+      stage->process(context_, frame);
+    } catch (const Error& e) {
+      throw Error(e.what(), {name, frame.frame, e.context().file});
+    } catch (const std::exception& e) {
+      throw Error(e.what(), {name, frame.frame});
+    }
+  }
+  if (!frame.image.findPlane("depth")) {
+    frame.image.plane("depth").assign(frame.image.pixelCount(),
+                                      std::numeric_limits<float>::infinity());
+  }
+  ensureAovPlanes(frame.image, request_.aovs);
+}
+
+void RenderSession::toOutput(Image& image) const {
+  toOutput_.apply(image);
+}
 
 Plan planJob(const std::string& input, const Preset& preset, const std::string& cacheDir,
              const std::vector<StageInfo>& stages, ClipInfo* clipOut) {
@@ -168,35 +319,14 @@ Plan planJob(const std::string& input, const Preset& preset, const std::string& 
   return plan;
 }
 
-RenderSummary renderJob(const RenderRequest& request, const Preset& preset, const std::vector<StageInfo>& stageInfos,
-                        StageTimes& times) {
-  auto reader = openClip(request.input);
-  const ClipInfo& clip = reader->info();
-  std::vector<int64_t> frames = selectFrames(request, clip);
-  refuseOverwritingInput(clip, request.output, frames);
-
-  std::optional<ArtifactCache> cache;
-  if (!request.cacheDir.empty()) cache.emplace(request.cacheDir);
+RenderSummary renderJob(const RenderRequest& request, const Preset& preset,
+                        const std::vector<StageInfo>& stageInfos, StageTimes& times) {
+  RenderSession session(request, preset, stageInfos, times);
   RenderSummary summary;
-  summary.plan = makePlan(preset, clip, cache ? &*cache : nullptr, stageInfos);
-  log::info("command: " + request.commandLine);
-  log::info("preset (resolved): " + preset.json().dump());
-  log::info("plan:\n" + summary.plan.text());
-
-  const std::string configPath = preset.string("color.config");
-  const std::string working = preset.string("color.working");
-  ColorConverter toWorking(resolveInputSpace(preset, clip), working, configPath);
-  ColorConverter toOutput(working, resolveOutputSpace(preset, request.output), configPath);
+  summary.plan = session.plan();
+  std::vector<int64_t> frames = session.frames();
 
   // Frames already on disk are skipped before any decoding.
-  WriterOptions writerOptions;
-  writerOptions.fps = preset.number("camera.fps") > 0 ? preset.number("camera.fps") : clip.fps;
-  writerOptions.aovs = request.aovs;
-  writerOptions.metadata = {{"pluvia:version", kVersion},
-                            {"pluvia:presetHash", preset.hash()},
-                            {"pluvia:seed", std::to_string(int64_t(preset.number("rain.seed")))},
-                            {"pluvia:commandLine", request.commandLine},
-                            {"pluvia:preset", preset.json().dump()}};
   const bool movieOutput = isMovieExtension(request.output);
   if (request.skipExisting) {
     if (movieOutput && std::filesystem::exists(request.output)) {
@@ -221,48 +351,9 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset, cons
     }
   }
 
-  ClipContext context;
-  context.preset = &preset;
-  context.clip = &clip;
-  context.reader = reader.get();
-  context.cache = cache ? &*cache : nullptr;
-  context.times = &times;
-  context.fps = writerOptions.fps;
-  context.camera = Camera::fromFieldOfView(clip.width, clip.height, preset.number("camera.fov_deg"),
-                                           preset.number("camera.tilt_deg"), preset.number("camera.height_m"));
-  context.readWorking = [&](int64_t frame) {
-    Image image = reader->read(frame);
-    ops::replaceNonFinite(image);
-    toWorking.apply(image);
-    return image;
-  };
-
-  // Build and prepare the stages this shot needs, in pipeline order.
-  struct Built {
-    const StageInfo* info;
-    std::unique_ptr<Stage> stage;
-  };
-  std::vector<Built> stages;
-  for (const auto& info : stageInfos) {
-    if (summary.plan.available(info.spec.name)) stages.push_back({&info, info.create(preset)});
-  }
-  for (auto& [info, stage] : stages) {
-    const std::string& name = info->spec.name;
-    ScopedTimer timer(&times, name + " (prepare)");
-    try {
-      stage->prepare(context);
-    } catch (const Error& e) {
-      if (!e.context().stage.empty()) throw;
-      throw Error(e.what(), {name, {}, e.context().file});
-    }
-  }
-  // Only per-frame stages that run take part in the frame loop; per-clip ones are done.
-  std::vector<std::pair<std::string, Stage*>> frameStages;
-  for (auto& [info, stage] : stages) {
-    if (!info->perClip && summary.plan.runs(info->spec.name)) frameStages.emplace_back(info->spec.name, stage.get());
-  }
-
-  auto writer = openClipWriter(request.output, clip.width, clip.height, writerOptions);
+  session.prepareStages();
+  auto writer = openClipWriter(request.output, session.clip().width, session.clip().height,
+                               session.writerOptions());
   ErrorSlot error;
   BoundedQueue<FrameContext> decoded(3);
   BoundedQueue<FrameContext> finished(std::max(2, 2 * request.threads));
@@ -272,21 +363,7 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset, cons
     try {
       for (int64_t f : frames) {
         if (error.isSet()) break;
-        FrameContext frame;
-        frame.frame = f;
-        frame.timeSeconds = double(f) / context.fps;
-        {
-          ScopedTimer timer(&times, "decode");
-          frame.image = reader->read(f);
-        }
-        if (size_t bad = ops::replaceNonFinite(frame.image)) {
-          log::warning(fmt::format("frame {}: {} NaN/Inf values in {} replaced by 0", f, bad, clip.path));
-        }
-        {
-          ScopedTimer timer(&times, "colour in");
-          toWorking.apply(frame.image);
-        }
-        decoded.push(std::move(frame));
+        decoded.push(session.readFrame(f));
       }
     } catch (...) {
       error.set(std::current_exception());
@@ -307,7 +384,8 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset, cons
           std::lock_guard lock(countMutex);
           ++summary.framesWritten;
         } catch (const Error& e) {
-          error.set(std::make_exception_ptr(Error(e.what(), {"write", frame->frame, e.context().file})));
+          error.set(
+              std::make_exception_ptr(Error(e.what(), {"write", frame->frame, e.context().file})));
         } catch (...) {
           error.set(std::current_exception());
         }
@@ -319,23 +397,10 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset, cons
   try {
     while (auto frame = decoded.pop()) {
       if (error.isSet()) break;
-      for (auto& [name, stage] : frameStages) {
-        ScopedTimer timer(&times, name);
-        try {
-          stage->process(context, *frame);
-        } catch (const Error& e) {
-          throw Error(e.what(), {name, frame->frame, e.context().file});
-        } catch (const std::exception& e) {
-          throw Error(e.what(), {name, frame->frame});
-        }
-      }
-      if (!frame->image.findPlane("depth")) {
-        frame->image.plane("depth").assign(frame->image.pixelCount(), std::numeric_limits<float>::infinity());
-      }
-      ensureAovPlanes(frame->image, request.aovs);
+      session.processFrame(*frame);
       {
         ScopedTimer timer(&times, "colour out");
-        toOutput.apply(frame->image);
+        session.toOutput(frame->image);
       }
       finished.push(std::move(*frame));
     }

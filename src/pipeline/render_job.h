@@ -5,10 +5,15 @@
 // Frames are independent of thread count and chunking: every per-frame result depends only on
 // the preset, the seed and the frame number.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "image/color.h"
+#include "io/clip_writer.h"
+#include "pipeline/cache.h"
 #include "pipeline/planner.h"
 #include "util/timer.h"
 
@@ -19,18 +24,69 @@ struct RenderRequest {
   std::string output;
   std::optional<int64_t> firstFrame;  // inclusive, clip frame numbers
   std::optional<int64_t> lastFrame;
-  int threads = 2;                    // writer threads for sequences
-  std::string cacheDir;               // per-clip analysis cache; empty: none
+  int threads = 2;       // writer threads for sequences
+  std::string cacheDir;  // per-clip analysis cache; empty: none
   bool skipExisting = false;
-  std::vector<std::string> aovs;      // "rain", "matte", "depth"
-  std::string commandLine;            // recorded in the log and in EXR metadata
+  std::vector<std::string> aovs;  // "rain", "matte", "depth"
+  std::string commandLine;        // recorded in the log and in EXR metadata
   bool progress = true;
+  // Proxy render, in (0, 1]: every frame is resized by this factor right after reading, so the
+  // camera, the analysis, the rain and the output all work at the reduced size. 1: full size.
+  double proxyScale = 1.0;
 };
 
 struct RenderSummary {
   int framesWritten = 0;
   int framesSkipped = 0;
   Plan plan;
+};
+
+// A render set up for one clip: the input opened (at the proxy size), the frames selected, the
+// plan made, the colour conversions ready and, after prepareStages(), the stages built and
+// prepared. renderJob() drives it over its threads; `pluvia preview` renders a few frames with
+// it, so both give the same frames.
+class RenderSession {
+ public:
+  // Opens the input, selects the frames, refuses an output that names an input file, plans, and
+  // logs the command, the resolved preset and the plan. `stages` lists every stage in pipeline
+  // order (stages/registry.h: allStages()); the arguments must outlive the session.
+  RenderSession(const RenderRequest& request, const Preset& preset,
+                const std::vector<StageInfo>& stages, StageTimes& times);
+  RenderSession(const RenderSession&) = delete;
+  RenderSession& operator=(const RenderSession&) = delete;
+
+  const ClipInfo& clip() const { return reader_->info(); }        // at the proxy size
+  const std::vector<int64_t>& frames() const { return frames_; }  // request's range, in order
+  const Plan& plan() const { return plan_; }
+  // What the output files record: fps, AOVs and metadata (`pluvia:proxy` on a proxy render).
+  const WriterOptions& writerOptions() const { return writerOptions_; }
+
+  // Builds the stages the plan keeps and prepares them (per-clip analysis, GPU set-up). Once,
+  // before processFrame().
+  void prepareStages();
+  // The frame decoded, its NaN/Inf replaced (with a warning) and converted to the working space.
+  FrameContext readFrame(int64_t frame);
+  // Runs the per-frame stages (frames in increasing order); a frame no stage gave depth gets
+  // +infinity (sky), and the request's AOV planes exist afterwards (zeros where nothing drew).
+  void processFrame(FrameContext& frame);
+  // Converts RGB from the working space to the output's encoding (as written to request.output).
+  void toOutput(Image& image) const;
+
+ private:
+  const RenderRequest& request_;
+  const Preset& preset_;
+  const std::vector<StageInfo>& stageInfos_;
+  StageTimes& times_;
+  std::unique_ptr<ClipReader> reader_;
+  std::vector<int64_t> frames_;
+  std::optional<ArtifactCache> cache_;
+  Plan plan_;
+  ColorConverter toWorking_;
+  ColorConverter toOutput_;
+  WriterOptions writerOptions_;
+  ClipContext context_;
+  std::vector<std::pair<const StageInfo*, std::unique_ptr<Stage>>> stages_;  // pipeline order
+  std::vector<std::pair<std::string, Stage*>> frameStages_;  // per-frame stages that run
 };
 
 // Opens the input and plans the job for it, without rendering.
@@ -40,7 +96,7 @@ Plan planJob(const std::string& input, const Preset& preset, const std::string& 
 // Renders. Throws pluvia::Error (naming stage, frame and file) on any failure; frames already
 // written stay valid, no partial frame is left behind, and no input file is ever written.
 // `stages` lists every stage in pipeline order (stages/registry.h: allStages()).
-RenderSummary renderJob(const RenderRequest& request, const Preset& preset, const std::vector<StageInfo>& stages,
-                        StageTimes& times);
+RenderSummary renderJob(const RenderRequest& request, const Preset& preset,
+                        const std::vector<StageInfo>& stages, StageTimes& times);
 
 }  // namespace pluvia

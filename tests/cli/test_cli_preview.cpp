@@ -1,0 +1,204 @@
+// End-to-end: `pluvia preview` (the contact sheet) and `pluvia render --proxy`, on a few small
+// frames the tests write.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "image/color.h"
+#include "image/contact_sheet.h"
+#include "image/resize.h"
+#include "test_support.h"
+
+using namespace pluvia;
+using namespace pluvia::test;
+namespace stdfs = std::filesystem;
+
+namespace {
+
+constexpr int kPlateWidth = 160;
+constexpr int kPlateHeight = 120;
+constexpr int kBand = ContactSheet::kLabelBandPx;
+
+// Frames first..last of a 160x120 plate: smooth gradients with a few hard-edged blocks, so a
+// resize has edges to get wrong, written as 8-bit sRGB PNG.
+std::string writePlate(const stdfs::path& dir, int first, int last) {
+  for (int f = first; f <= last; ++f) {
+    Image image(kPlateWidth, kPlateHeight);
+    for (int y = 0; y < kPlateHeight; ++y)
+      for (int x = 0; x < kPlateWidth; ++x) {
+        float* p = image.pixel(x, y);
+        const bool block = ((x + 2 * f) / 20 + y / 20) % 3 == 0;
+        p[0] = 0.2f + 0.6f * float(x) / kPlateWidth;
+        p[1] = block ? 0.8f : 0.3f;
+        p[2] = 0.2f + 0.5f * float(y) / kPlateHeight;
+      }
+    char name[64];
+    std::snprintf(name, sizeof name, "plate.%04d.png", f);
+    writeImageFile(dir / name, image);
+  }
+  return (dir / "plate.####.png").string();
+}
+
+// An 8-bit sRGB picture shrunk to `size` the way a proxy render does it: in linear light, with
+// the area filter.
+Image shrinkDisplayImage(Image image, cv::Size size) {
+  ColorConverter("sRGB", "linear-rec709").apply(image);
+  Image small = resizeArea(image, size);
+  ColorConverter("linear-rec709", "sRGB").apply(small);
+  return small;
+}
+
+// The contact sheet's tile in `row`, `column` (tiles of tileSize, each under a label band).
+Image sheetTile(const Image& sheet, cv::Size tileSize, int row, int column) {
+  Image tile(tileSize.width, tileSize.height);
+  const int left = column * tileSize.width, top = row * (kBand + tileSize.height) + kBand;
+  for (int y = 0; y < tileSize.height; ++y)
+    for (int x = 0; x < tileSize.width; ++x)
+      for (int c = 0; c < 4; ++c) tile.pixel(x, y)[c] = sheet.pixel(left + x, top + y)[c];
+  return tile;
+}
+
+// Mean and largest absolute RGB difference.
+std::pair<double, double> rgbDifference(const Image& a, const Image& b) {
+  double sum = 0, largest = 0;
+  for (size_t i = 0; i < a.pixelCount(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double d = std::fabs(a.rgba[i * 4 + c] - b.rgba[i * 4 + c]);
+      sum += d;
+      largest = std::max(largest, d);
+    }
+  return {sum / (3.0 * double(a.pixelCount())), largest};
+}
+
+std::string fileBytes(const stdfs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+}  // namespace
+
+TEST(CliPreview, SheetHasPlateRainedRainAndDepthForEachSampledFrame) {
+  auto dir = freshTempDir("preview_sheet");
+  auto plate = writePlate(dir, 1, 5);
+  auto sheetPath = dir / "sheet.png";
+  auto r = runPluvia({"preview", plate, "-p", "heavy", "-o", sheetPath.string(), "--count", "3",
+                      "--proxy", "0.5", "--set", "rain.seed=3"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("proxy render (not a final): 80x60"), std::string::npos) << r.output;
+  const cv::Size tileSize(kPlateWidth / 2, kPlateHeight / 2);
+  Image sheet = readImageFile(sheetPath);
+  EXPECT_EQ(sheet.width, 4 * tileSize.width);
+  EXPECT_EQ(sheet.height, 3 * (kBand + tileSize.height));
+  EXPECT_NE(fileBytes(sheetPath).find("pluvia:proxy"), std::string::npos);
+  for (const auto& e : stdfs::directory_iterator(dir))
+    EXPECT_EQ(e.path().string().find("pluvia-tmp"), std::string::npos) << e.path();
+
+  // Rows are frames 1, 3 and 5 (spread over 1-5). Row 2's plate is frame 5 at half size:
+  // within an 8-bit code or two of shrinking it here (OCIO's curves against ours, rounding).
+  Image expected = shrinkDisplayImage(readImageFile(dir / "plate.0005.png"), tileSize);
+  Image plateTile = sheetTile(sheet, tileSize, 2, 0);
+  auto [plateMean, plateLargest] = rgbDifference(plateTile, expected);
+  EXPECT_LT(plateMean, 0.5 / 255) << "plate column against the shrunk input frame";
+  EXPECT_LT(plateLargest, 2.5 / 255);
+
+  // The rained frame differs from the plate on a good share of its pixels, the rain layer shows
+  // rain over black, and the depth column shows the ground
+  // (grey) below the horizon, not only sky.
+  Image rained = sheetTile(sheet, tileSize, 2, 1), rain = sheetTile(sheet, tileSize, 2, 2);
+  Image depth = sheetTile(sheet, tileSize, 2, 3);
+  size_t changed = 0, rainy = 0, ground = 0;
+  for (size_t i = 0; i < rained.pixelCount(); ++i) {
+    if (std::fabs(rained.rgba[i * 4 + 1] - plateTile.rgba[i * 4 + 1]) > 2.5 / 255) ++changed;
+    if (rain.rgba[i * 4 + 1] > 2.5 / 255) ++rainy;
+    if (std::fabs(depth.rgba[i * 4] - depth.rgba[i * 4 + 2]) < 0.5 / 255)
+      ++ground;  // grey, not sky blue
+  }
+  EXPECT_GT(changed, rained.pixelCount() / 50);
+  EXPECT_GT(rainy, rained.pixelCount() / 50);
+  EXPECT_GT(ground, rained.pixelCount() / 4);  // the ground plane: the lower half
+}
+
+TEST(CliPreview, RowsAreTheFramesARenderGives) {
+  // The sheet's rained column is a render of that frame: same session, same simulation.
+  auto dir = freshTempDir("preview_matches_render");
+  auto plate = writePlate(dir, 1, 4);
+  auto r = runPluvia({"preview", plate, "-p", "heavy", "-o", (dir / "sheet.png").string(),
+                      "--count", "1", "--frames", "2-4"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  r = runPluvia(
+      {"render", plate, "-p", "heavy", "-o", (dir / "out.####.png").string(), "--frames", "3-3"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const cv::Size tileSize(kPlateWidth, kPlateHeight);  // 160 px wide: no proxy by default
+  Image sheet = readImageFile(dir / "sheet.png");
+  ASSERT_EQ(sheet.width, 4 * kPlateWidth);
+  Image rendered = readImageFile(dir / "out.0003.png");  // the middle of 2-4
+  Image rained = sheetTile(sheet, tileSize, 0, 1);
+  // Below the label band the two are the same 8-bit codes.
+  EXPECT_EQ(rgbDifference(rained, rendered).second, 0.0);
+}
+
+TEST(CliRender, ProxyRendersAtHalfSizeWhatTheFullRenderGivesShrunk) {
+  auto dir = freshTempDir("render_proxy");
+  auto plate = writePlate(dir, 1, 3);
+  const std::vector<std::string> common{"-p", "heavy", "--frames", "3-3", "--set", "rain.seed=7"};
+  auto render = [&](const std::string& out, std::vector<std::string> extra) {
+    std::vector<std::string> args{"render", plate, "-o", (dir / out).string()};
+    args.insert(args.end(), common.begin(), common.end());
+    args.insert(args.end(), extra.begin(), extra.end());
+    auto r = runPluvia(args);
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    return r.output;
+  };
+  render("full.####.png", {});
+  const std::string log = render("proxy.####.png", {"--proxy", "0.5"});
+  EXPECT_NE(log.find("proxy render (not a final): 80x60"), std::string::npos) << log;
+  render("proxy.####.exr", {"--proxy", "0.5"});
+  EXPECT_NE(fileBytes(dir / "proxy.0003.exr").find("pluvia:proxy"), std::string::npos);
+
+  Image proxy = readImageFile(dir / "proxy.0003.png");
+  ASSERT_EQ(proxy.width, kPlateWidth / 2);
+  ASSERT_EQ(proxy.height, kPlateHeight / 2);
+  const cv::Size half(proxy.width, proxy.height);
+  Image fullShrunk = shrinkDisplayImage(readImageFile(dir / "full.0003.png"), half);
+  Image plateShrunk = shrinkDisplayImage(readImageFile(dir / "plate.0003.png"), half);
+  // The same rain, drawn at half the resolution: the streaks fall in the same places, only
+  // their rasterisation differs. Against the full render shrunk, the proxy is far closer than
+  // the plate is (which lacks the rain and the darkening), and within 1.5 % on average.
+  const double proxyToFull = rgbDifference(proxy, fullShrunk).first;
+  const double plateToFull = rgbDifference(plateShrunk, fullShrunk).first;
+  EXPECT_LT(proxyToFull, 0.015);
+  EXPECT_LT(proxyToFull, 0.25 * plateToFull) << proxyToFull << " against " << plateToFull;
+}
+
+TEST(CliPreview, BadValuesAreUsageErrors) {
+  auto dir = freshTempDir("preview_usage");
+  auto plate = writePlate(dir, 1, 2);
+  const std::string sheet = (dir / "sheet.png").string();
+  struct Case {
+    std::vector<std::string> args;
+    std::string message;
+  };
+  const std::vector<Case> cases{
+      {{"preview", plate, "-p", "heavy", "-o", sheet, "--proxy", "0"}, "--proxy 0: the scale"},
+      {{"preview", plate, "-p", "heavy", "-o", sheet, "--proxy", "2"}, "--proxy 2: the scale"},
+      {{"preview", plate, "-p", "heavy", "-o", sheet, "--count", "0"}, "--count 0"},
+      {{"preview", plate, "-p", "heavy", "-o", (dir / "sheet.jpg").string()}, "is a PNG"},
+      {{"preview", plate, "-p", "heavy", "-o", (dir / "plate.0002.png").string()},
+       "refusing to overwrite"},
+      {{"render", plate, "-p", "heavy", "-o", (dir / "o.####.png").string(), "--proxy", "0"},
+       "--proxy 0: the scale"},
+      {{"render", plate, "-p", "heavy", "-o", (dir / "o.####.png").string(), "--proxy", "2"},
+       "--proxy 2: the scale"},
+  };
+  for (const Case& c : cases) {
+    auto r = runPluvia(c.args);
+    EXPECT_EQ(r.exitCode, 2) << r.output;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << r.output;
+  }
+  EXPECT_FALSE(stdfs::exists(sheet));
+  EXPECT_FALSE(stdfs::exists(dir / "o.0001.png"));
+}
