@@ -1,8 +1,10 @@
 // depth.source = "file": a depth sequence written by `pluvia depth` from manual layers renders
 // the same frames (within 1e-6, every channel, the depth AOV included) as those layers do
-// directly; a missing depth frame or an empty depth.file stops the render before any frame.
+// directly; a movie plate's depth frames count from 0 and smaller files are resampled; a missing
+// depth frame or an empty depth.file stops the render before any frame.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -125,6 +127,38 @@ TEST(CliDepthFile, RendersAsTheLayersItWasWrittenFrom) {
                  "--frames", "1-1", "--set", "depth.source=none"});
   ASSERT_EQ(sky.exitCode, 0) << sky.output;
   EXPECT_GT(meanDifference(dir / "out" / "sky.0001.exr", dir / "out" / "file.0001.exr"), 1e-3);
+}
+
+TEST(CliDepthFile, MoviePlateFramesCountFromZeroAndSmallerFilesAreResampled) {
+  // One 16x12 file per frame of the 48-frame example movie, frame f uniformly 4 + f metres (in R
+  // of an RGB EXR), resampled to 768x576: output frame f's depth AOV is 4 + f everywhere.
+  const auto dir = freshTempDir("depth_file_movie");
+  stdfs::create_directories(dir / "out");
+  for (int f = 0; f < 48; ++f) {
+    Image depth(16, 12);
+    for (size_t i = 0; i < depth.pixelCount(); ++i) depth.rgba[i * 4] = 4.0f + f;
+    char name[64];
+    std::snprintf(name, sizeof name, "d.%04d.exr", f);
+    writeImageFile(dir / name, depth);
+  }
+  auto r = runPluvia({"render", exampleClip().string(), "-p",
+                      (sourceDir() / "examples/street/street.json").string(), "-o",
+                      (dir / "out" / "rain.####.exr").string(), "--frames", "5-6", "--aov", "depth",
+                      "--set", "depth.source=file", "--set",
+                      "depth.file=" + (dir / "d.%04d.exr").string()});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  for (int f : {5, 6}) {
+    char name[64];
+    std::snprintf(name, sizeof name, "rain.%04d.exr", f);
+    const ExrPixels pixels = readAllChannels(dir / "out" / name);
+    const auto z = std::find(pixels.channels.begin(), pixels.channels.end(), "depth.Z");
+    ASSERT_NE(z, pixels.channels.end()) << name;
+    const size_t channel = z - pixels.channels.begin(), stride = pixels.channels.size();
+    double largest = 0.0;
+    for (size_t i = channel; i < pixels.samples.size(); i += stride)
+      largest = std::max(largest, std::fabs(pixels.samples[i] - (4.0 + f)));
+    EXPECT_LE(largest, 1e-6 * (4.0 + f)) << name;
+  }
 }
 
 TEST(CliDepthFile, MissingDepthFrameStopsBeforeAnyFrame) {
