@@ -155,8 +155,8 @@ StageInfo depthStageInfo() {
   StageInfo info;
   info.spec.name = "depth";
   info.spec.help =
-      "Scene depth per frame (metres) from manual layers (ground, card, polygon, sky) or COLMAP "
-      "structure from motion; sky is at infinity.";
+      "Scene depth per frame (metres) from manual layers (ground, card, polygon, sky), COLMAP "
+      "structure from motion or a depth sequence of the plate (depth.file); sky is at infinity.";
   info.spec.outputs = {"depth"};
   ParamSpec layers{"layers",
                    ParamType::List,
