@@ -34,6 +34,26 @@ double equirectTexelSolidAngle(int width, int height, int y) {
   return 2.0 * M_PI / width * (std::cos(theta0) - std::cos(theta1));
 }
 
+std::array<float, 3> equirectBandMean(const EquirectMap& map, double minElevationDeg,
+                                      double maxElevationDeg) {
+  // Elevation e is polar angle theta = 90 deg - e; the band is theta in [thetaLo, thetaHi].
+  const double thetaLo = (90.0 - maxElevationDeg) * M_PI / 180.0;
+  const double thetaHi = (90.0 - minElevationDeg) * M_PI / 180.0;
+  std::array<double, 3> sum{0, 0, 0};
+  double total = 0.0;
+  for (int y = 0; y < map.height; ++y) {
+    const double theta0 = std::max(thetaLo, M_PI * y / map.height);
+    const double theta1 = std::min(thetaHi, M_PI * (y + 1) / map.height);
+    if (theta1 <= theta0) continue;
+    const double w = std::cos(theta0) - std::cos(theta1);
+    for (int x = 0; x < map.width; ++x)
+      for (int c = 0; c < 3; ++c) sum[size_t(c)] += w * map.texel(x, y)[c];
+    total += w * map.width;
+  }
+  if (!(total > 0.0)) return {0, 0, 0};
+  return {float(sum[0] / total), float(sum[1] / total), float(sum[2] / total)};
+}
+
 std::array<float, 3> sampleEquirect(const EquirectMap& map, float x, float y, float z) {
   constexpr float kTwoPi = 6.28318530717958648f;
   constexpr float kPi = 3.14159265358979324f;

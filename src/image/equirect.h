@@ -43,6 +43,11 @@ double equirectTexelSolidAngle(int width, int height, int y);
 // shaders/rain_stroke.vert, whose CPU twin this is.
 std::array<float, 3> sampleEquirect(const EquirectMap& map, float x, float y, float z);
 
+// Solid-angle mean radiance over the band of elevations [minElevationDeg, maxElevationDeg]
+// (0 the horizon, 90 the zenith), each row weighted by the part of it inside the band.
+std::array<float, 3> equirectBandMean(const EquirectMap& map, double minElevationDeg,
+                                      double maxElevationDeg);
+
 // A map of constant radiance.
 EquirectMap uniformEquirect(int width, int height, const std::array<float, 3>& radiance);
 

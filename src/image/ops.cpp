@@ -1,6 +1,7 @@
 #include "image/ops.h"
 
 #include <cmath>
+#include <limits>
 
 #include <opencv2/imgproc.hpp>
 
@@ -28,12 +29,13 @@ void gaussianBlur(Image& image, float sigmaPx) {
   cv::mixChannels(&blurred, 1, &rgba, 1, fromTo, 3);
 }
 
-void fog(Image& image, float densityPerMeter, const std::array<float, 3>& fogRgb) {
+void fog(Image& image, float densityPerMeter, const std::array<float, 3>& fogRgb,
+         float maxDepthMeters) {
   if (densityPerMeter == 0.0f) return;
   const std::vector<float>& depth = image.plane("depth");
   for (size_t i = 0; i < image.pixelCount(); ++i) {
-    // exp(-inf) is 0, so sky gets alpha 1: the fog colour.
-    const float alpha = 1.0f - std::exp(-densityPerMeter * depth[i]);
+    if (!(depth[i] < std::numeric_limits<float>::infinity())) continue;  // sky: its own airlight
+    const float alpha = 1.0f - std::exp(-densityPerMeter * std::min(depth[i], maxDepthMeters));
     float* p = image.rgba.data() + i * 4;
     for (int c = 0; c < 3; ++c) p[c] = alpha * fogRgb[c] + (1.0f - alpha) * p[c];
   }

@@ -2,6 +2,7 @@
 // Image operations as free functions (OpenImageIO ImageBufAlgo style). All follow image.h's
 // conventions: scene-linear float RGBA, straight alpha; alpha is left untouched.
 #include <array>
+#include <limits>
 
 #include "image/image.h"
 
@@ -19,9 +20,13 @@ void darken(Image& image, float amount, float darkening);
 // mean is preserved. sigma 0 is the identity.
 void gaussianBlur(Image& image, float sigmaPx);
 
-// Homogeneous fog: alpha = 1 - exp(-density * depth), out = alpha * fogRgb + (1 - alpha) * rgb,
-// with depth the "depth" plane (metres). Infinite depth (sky) gets alpha 1. density 0 is the identity.
-void fog(Image& image, float densityPerMeter, const std::array<float, 3>& fogRgb);
+// Homogeneous fog: alpha = 1 - exp(-density * min(depth, maxDepthMeters)),
+// out = alpha * fogRgb + (1 - alpha) * rgb, with depth the "depth" plane (metres). The sky
+// (infinite depth) keeps its own colour and detail: it is already the airlight at infinity, so
+// fog there tends toward the sky's own colour. maxDepthMeters bounds the path through the fog
+// (the visibility distance). density 0 is the identity.
+void fog(Image& image, float densityPerMeter, const std::array<float, 3>& fogRgb,
+         float maxDepthMeters = std::numeric_limits<float>::infinity());
 
 // Replaces NaN and infinite RGB values by 0 (documented input handling for EXR plates) and
 // returns how many values were replaced. Neighbours are never read, so nothing spreads.

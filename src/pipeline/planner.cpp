@@ -65,6 +65,8 @@ Plan makePlan(const Preset& preset, const ClipInfo& clip, const ArtifactCache* c
     }
     entry.runs = true;
     entry.reason = fmt::format("writes {}", fmt::join(readers, ", "));
+    if (std::string note = info.note ? info.note(preset) : ""; !note.empty())
+      entry.reason += "; " + note;
     // A per-frame stage with per-clip analysis (depth from COLMAP): say whether that is done.
     if (!info.perClip && !key.empty()) {
       entry.reason += inCache ? fmt::format("; per-clip analysis cached ({})",

@@ -75,6 +75,8 @@ struct StageInfo {
   bool perClip = false;  // per-clip analysis (cacheable) rather than per-frame work
   // Why these parameters make the stage do nothing ("density is 0"), or "" when it does work.
   std::function<std::string(const Preset&)> noOpReason;
+  // A remark `pluvia plan` adds when the stage runs ("depth is a guess: ..."), or "".
+  std::function<std::string(const Preset&)> note;
   // What it reads with these parameters (a subset of spec.inputs).
   std::function<std::vector<std::string>(const Preset&)> reads;
   // The cache key of the stage's per-clip result for this preset and clip ("" when these

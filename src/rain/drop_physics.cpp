@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 namespace pluvia::rain {
 
@@ -169,6 +170,17 @@ double gunnKinzerVelocityMetersPerSecond(double diameterMm) {
 double terminalVelocity(VelocityModel model, double diameterMm) {
   return model == VelocityModel::GunnKinzer ? gunnKinzerVelocityMetersPerSecond(diameterMm)
                                             : terminalVelocityMetersPerSecond(diameterMm);
+}
+
+double rainExtinctionPerMeter(double rainRateMmPerHour) {
+  if (!(rainRateMmPerHour > 0.0)) return 0.0;
+  const double slope = marshallPalmerSlopePerMm(rainRateMmPerHour);
+  return M_PI * kMarshallPalmerN0 / (slope * slope * slope) * 1e-6;  // mm^2 / m^3 -> 1/m
+}
+
+double rainVisibilityMeters(double rainRateMmPerHour) {
+  const double sigma = rainExtinctionPerMeter(rainRateMmPerHour);
+  return sigma > 0.0 ? 3.912 / sigma : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace pluvia::rain

@@ -51,4 +51,15 @@ double gunnKinzerVelocityMetersPerSecond(double diameterMm);
 enum class VelocityModel { Atlas, GunnKinzer };
 double terminalVelocity(VelocityModel model, double diameterMm);  // m/s
 
+// Extinction of visible light by Marshall–Palmer rain, 1/m: every drop removes twice its
+// geometric cross-section (extinction efficiency 2, drops far larger than the wavelength), so
+// sigma = 2 * integral of N(D) pi D^2 / 4 dD = pi N0 / Lambda^3 = 0.365 R^0.63 per km.
+// 0 for a rate of 0.
+double rainExtinctionPerMeter(double rainRateMmPerHour);
+
+// Meteorological visibility through that rain (Koschmieder: the distance at which a black
+// object's contrast falls to 2 %, 3.912 / sigma), in metres; +inf for a rate of 0. About 2 km at
+// 15 mm/h and 590 m at 100 mm/h.
+double rainVisibilityMeters(double rainRateMmPerHour);
+
 }  // namespace pluvia::rain

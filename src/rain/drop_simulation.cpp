@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 
+#include "rain/thin_lens.h"
 #include "util/hash.h"
 
 namespace pluvia::rain {
@@ -76,7 +77,7 @@ DropSimulation::DropSimulation(const DropSimulationSettings& settings, CameraAtF
   horizontalSpeed_.resize(positions_.size());
   sizeUniform_.resize(positions_.size());
   activeUniform_.resize(positions_.size());
-  ownSpeed_.resize(positions_.size());
+  ownGaussian_.resize(positions_.size());
   poolDensity_ = double(positions_.size()) / boxVolumeCubicMeters();
   restart();
 }
@@ -105,17 +106,23 @@ void DropSimulation::restart() {
     positions_[i] = p.cast<float>();
     sizeUniform_[i] = float(rng.uniform());
     activeUniform_[i] = float(rng.uniform());
-    // Spread: a Gaussian horizontal speed of its own (Box-Muller), on top of the wind.
+    // A Gaussian horizontal speed of its own (Box-Muller), on top of the wind.
     const double radius = std::sqrt(-2.0 * std::log(1.0 - rng.uniform()));
     const double angle = 2.0 * M_PI * rng.uniform();
-    ownSpeed_[i] =
-        Eigen::Vector2f(float(settings_.spreadMetersPerSecond * radius * std::cos(angle)),
-                        float(settings_.spreadMetersPerSecond * radius * std::sin(angle)));
-    const Eigen::Vector3d w = wind_->velocityAt(p.x(), p.z());
-    horizontalSpeed_[i] = Eigen::Vector2f(float(w.x()), float(w.z())) + ownSpeed_[i];
+    ownGaussian_[i] = Eigen::Vector2f(float(radius * std::cos(angle)), float(radius * std::sin(angle)));
   });
   baseDiameterMm_.clear();  // the sizes follow from the uniforms just drawn
   setRain(first);
+  tbb::parallel_for(size_t(0), positions_.size(), [&](size_t i) {
+    const Eigen::Vector3d w = wind_->velocityAt(positions_[i].x(), positions_[i].z());
+    horizontalSpeed_[i] = (Eigen::Vector2d(w.x(), w.z()) + ownSpeed(i)).cast<float>();
+  });
+}
+
+Eigen::Vector2d DropSimulation::ownSpeed(size_t i) const {
+  const double sigma = settings_.spreadMetersPerSecond +
+                       settings_.eddyIntensity * rain_.windSpeedMetersPerSecond;
+  return sigma * ownGaussian_[i].cast<double>();
 }
 
 void DropSimulation::advanceTo(int64_t frame) {
@@ -153,7 +160,7 @@ void DropSimulation::step() {
                         const Eigen::Vector3d w = wind_->velocityAt(p.x(), p.z());
                         Eigen::Vector2d v = horizontalSpeed_[i].cast<double>();
                         const Eigen::Vector2d wh =
-                            Eigen::Vector2d(w.x(), w.z()) + ownSpeed_[i].cast<double>();
+                            Eigen::Vector2d(w.x(), w.z()) + ownSpeed(i);
                         const Eigen::Vector2d travelled = wh * dt + (v - wh) * tau * a;
                         v = wh + (v - wh) * (1.0 - a);
                         p += Eigen::Vector3d(travelled.x(), -fall * dt, travelled.y());
@@ -216,11 +223,8 @@ bool DropSimulation::insideBox(const Eigen::Vector3d& worldMeters) const {
 std::vector<gpu::StreakInstance> DropSimulation::buildStreaks(const StreakSettings& s) const {
   const Camera start = cameraAt_(double(frame_));
   const Camera end = cameraAt_(double(frame_) + s.exposureSeconds / settings_.stepSeconds);
-  // Thin lens: focal length in mm from the pixel focal and the sensor width; circle of
-  // confusion c = A |d - s| / d * f / (s - f) on the sensor, A = f / N.
-  const double focalMm = start.focalPx * s.sensorWidthMm / std::max(1, start.width);
-  const bool defocus = s.focusMeters > 0.0 && s.fNumber > 0.0 && s.focusMeters * 1e3 > focalMm;
-  const double pxPerMm = double(start.width) / s.sensorWidthMm;
+  const ThinLens lens =
+      ThinLens::of(start.focalPx, start.width, s.sensorWidthMm, s.focusMeters, s.fNumber);
   constexpr double kMarginPx = 8.0, kMinDepthMeters = 0.05;
 
   std::vector<gpu::StreakInstance> streaks;
@@ -239,12 +243,7 @@ std::vector<gpu::StreakInstance> DropSimulation::buildStreaks(const StreakSettin
     if (std::max(hy, ty) < -kMarginPx || std::min(hy, ty) > start.height + kMarginPx) continue;
     const double depthMeters = 0.5 * (hz + tz);
     const double widthPx = start.focalPx * d * rain_.sizeScale * 1e-3 / depthMeters;
-    double blurPx = 0.0;
-    if (defocus) {
-      const double focusMm = s.focusMeters * 1e3, depthMm = depthMeters * 1e3;
-      blurPx = focalMm / s.fNumber * std::abs(depthMm - focusMm) / depthMm * focalMm /
-               (focusMm - focalMm) * pxPerMm;
-    }
+    const double blurPx = lens.blurPx(depthMeters);
     const double lengthPx = std::hypot(tx - hx, ty - hy);
     const double drawnWidthPx = std::max(widthPx + blurPx, s.minWidthPx);
     const double timeFraction = widthPx / std::max(lengthPx, widthPx);

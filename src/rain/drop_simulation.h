@@ -52,6 +52,10 @@ struct DropSimulationSettings {
   double nearMeters = 0.5;
   double farMeters = 15.0;
   double spreadMetersPerSecond = 0.0;  // per-drop random horizontal speed (std dev) on the wind
+  // Small eddies, far smaller than the wind field's cells: each drop's own horizontal speed has a
+  // further standard deviation of eddyIntensity times the wind speed (the turbulence intensity
+  // near the ground is 0.1-0.3), so driven rain is not one parallel hatch.
+  double eddyIntensity = 0.0;
   double boxMarginFraction = 0.1;      // of the box size on each side, so panning hides the wrap
   int64_t maxDrops = 100000;
   uint64_t seed = 1;
@@ -88,6 +92,7 @@ class DropSimulation {
   // Steps forward to `frame` (restarting from the first frame when asked for an earlier one).
   void advanceTo(int64_t frame);
   int64_t frame() const { return frame_; }
+  const DropSimulationSettings& settings() const { return settings_; }
 
   // Drops in the pool, and how many are drawn at the current frame (inside the density).
   size_t poolSize() const { return positions_.size(); }
@@ -113,6 +118,8 @@ class DropSimulation {
   void step();
   void setRain(const RainAtFrame& rain);
   std::pair<double, double> sizeAndFall(size_t i, double xMeters, double zMeters) const;
+  // The drop's own speed on the wind it follows at the current rain (spread and eddies).
+  Eigen::Vector2d ownSpeed(size_t i) const;
 
   DropSimulationSettings settings_;
   CameraAtFrame cameraAt_;
@@ -126,7 +133,7 @@ class DropSimulation {
   std::unique_ptr<RainCells> cells_;
   std::vector<Eigen::Vector3f> positions_;        // world metres
   std::vector<Eigen::Vector2f> horizontalSpeed_;  // world x, z, m/s
-  std::vector<Eigen::Vector2f> ownSpeed_;         // the spread: added to the wind it follows
+  std::vector<Eigen::Vector2f> ownGaussian_;  // unit normal per drop: spread and eddies
   std::vector<float> sizeUniform_, activeUniform_;
   std::vector<float> baseDiameterMm_, baseFall_;  // at the current rate, outside rain cells
 };

@@ -586,4 +586,15 @@ std::vector<float> densifySparseDepth(const std::vector<SparseDepthSample>& samp
   return densifySparseDepth(samples, bgr, options);
 }
 
+cv::Mat estimateSkyMask(const cv::Mat& guide, const DensifyOptions& options) {
+  const cv::Mat noSamples = cv::Mat::zeros(guide.size(), CV_8U);
+  const cv::Mat farFromSamples(guide.size(), CV_32F,
+                               cv::Scalar(float(std::hypot(guide.cols, guide.rows))));
+  cv::Mat groundInverse, sinElevation;
+  if (options.groundCamera)
+    groundPlane(*options.groundCamera, guide.cols, guide.rows, options.groundMaxDistanceMeters,
+                groundInverse, sinElevation);
+  return skyMask(guide, noSamples, farFromSamples, sinElevation, options);
+}
+
 }  // namespace pluvia

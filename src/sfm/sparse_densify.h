@@ -117,4 +117,9 @@ std::vector<float> densifySparseDepth(const std::vector<SparseDepthSample>& samp
 std::vector<float> densifySparseDepth(const std::vector<SparseDepthSample>& samples,
                                       const Image& frame, const DensifyOptions& options = {});
 
+// Step 4 alone, for a frame with no depth samples at all (the default depth's guess): 255 where
+// the frame shows sky, every pixel counting as far from a sample. `guide` as above; the horizon
+// test uses options.groundCamera when it is set.
+cv::Mat estimateSkyMask(const cv::Mat& guide, const DensifyOptions& options = {});
+
 }  // namespace pluvia

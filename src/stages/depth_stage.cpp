@@ -1,4 +1,7 @@
 // Depth: per-frame z-depth in metres for the rain's depth test and the fog, from
+//  - "auto" (the default): a guess safe on any plate (stages/depth_guess.h): sky found in the
+//    plate at infinity, the ground under the preset's camera, everything else at
+//    depth.backdrop_m;
 //  - "layers": manual layers (geometry/depth_layers.h: ground plane from the camera of the frame,
 //    cards, polygons, sky), whose numbers and polygon points may be keyframed;
 //  - "colmap": the clip tracked by COLMAP (stages/depth_tracking.h, cached per clip), each
@@ -15,6 +18,8 @@
 
 #include "geometry/depth_layers.h"
 #include "io/depth_sequence.h"
+#include "stages/clip_median.h"
+#include "stages/depth_guess.h"
 #include "preset/camera_path_preset.h"
 #include "stages/depth_tracking.h"
 #include "stages/registry.h"
@@ -56,7 +61,9 @@ class DepthStage : public Stage {
       : source_(p.string("depth.source")),
         fallback_(p.string("depth.fallback")),
         dense_(p.string("depth.colmap_dense")),
-        layers_(p.at("depth.layers")) {
+        layers_(p.at("depth.layers")),
+        backdropMeters_(p.number("depth.backdrop_m")),
+        guessFrames_(int(p.number("depth.guess_frames"))) {
     if (source_ == "file") file_ = depthSequenceFromPreset(p);
   }
 
@@ -73,6 +80,10 @@ class DepthStage : public Stage {
     }
     path_ = clip.preset ? cameraPathFromPreset(*clip.preset, clip.camera)
                         : CameraPath::fixed(clip.camera);
+    if (source_ == "auto") {
+      prepareGuess(clip);
+      return;
+    }
     // Rasterising a frame costs a pass over every pixel per layer: do it once unless a layer moves
     // or the ground is seen from a moving camera (long clips would pay it on every frame).
     perFrame_ = depthLayersAnimated(layers_) || (path_.moving() && hasGroundLayer(layers_));
@@ -98,6 +109,17 @@ class DepthStage : public Stage {
  private:
   static double rampValueAt(const nlohmann::json& value, double frame) {
     return Ramp::fromJson(value).valueAt(frame);
+  }
+
+  // Over the whole clip, not the frames this process renders, so that chunks agree.
+  void prepareGuess(ClipContext& clip) {
+    const Image median = medianOfFrames(clip, clip.clip->frames, guessFrames_);
+    DepthGuess guess = guessDepth(median, path_.cameraAt(0.0), backdropMeters_);
+    log::info(fmt::format(
+        "depth: guessed from the plate ({:.0f} % sky, {:.0f} % ground, the rest at {:g} m); "
+        "give depth.layers, a depth file or COLMAP for a better one",
+        100.0 * guess.skyFraction, 100.0 * guess.groundFraction, backdropMeters_));
+    depth_ = std::move(guess.depthMeters);
   }
 
   // Every plate frame's depth file must exist before the first frame renders. The whole clip
@@ -139,6 +161,8 @@ class DepthStage : public Stage {
   std::optional<SfmReconstruction> sfm_;
   std::optional<DepthSequence> file_;
   nlohmann::json layers_;
+  double backdropMeters_;
+  int guessFrames_;
   CameraPath path_;
   bool perFrame_ = false;
   std::vector<float> depth_;
@@ -202,15 +226,32 @@ StageInfo depthStageInfo() {
       {"enabled", ParamType::Boolean, true, {}, {}, {}, "", "run this stage"},
       {"source",
        ParamType::Enum,
-       "layers",
+       "auto",
        {},
        {},
-       {"layers", "colmap", "file", "none"},
+       {"auto", "layers", "colmap", "file", "none"},
        "",
-       "layers: depth.layers; colmap: COLMAP structure from motion of the clip (its camera "
+       "auto: a guess from the plate (sky at infinity, the ground under the camera, the rest at "
+       "depth.backdrop_m); layers: depth.layers; colmap: COLMAP structure from motion of the clip (its camera "
        "also moves the rain); file: depth.file, a depth sequence frame-matched to the plate; "
        "none: all sky"},
       layers,
+      {"backdrop_m",
+       ParamType::Number,
+       30.0,
+       0.5,
+       1e5,
+       {},
+       "m",
+       "auto: the distance of everything that is neither sky nor ground"},
+      {"guess_frames",
+       ParamType::Integer,
+       5,
+       1,
+       100,
+       {},
+       "frames",
+       "auto: the sky is found on the median of this many frames spread over the clip"},
       {"fallback",
        ParamType::Enum,
        "error",
@@ -325,6 +366,14 @@ StageInfo depthStageInfo() {
        {},
        "m",
        "file, normalized: z-depth at v = 1"},
+  };
+  info.note = [](const Preset& p) -> std::string {
+    if (p.string("depth.source") != "auto") return "";
+    return fmt::format(
+        "depth is a guess (sky found in the plate, ground under the camera, the rest at {:g} m): "
+        "for a better one give depth.layers (source layers), a depth sequence (source file) or "
+        "COLMAP tracking (source colmap)",
+        p.number("depth.backdrop_m"));
   };
   info.cacheKey = depthTrackingCacheKey;
   info.create = [](const Preset& p) { return std::make_unique<DepthStage>(p); };

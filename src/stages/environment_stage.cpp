@@ -1,15 +1,18 @@
 // Lighting: the environment the drops refract, as an equirect radiance map: the shot's own
 // frames stitched into a panorama (stitch, Wang et al. section 4.1), an HDR the user gives
-// (lighting.hdr), a constant radiance, or the clip's average colour in every direction.
+// (lighting.hdr), the plate itself (frame, the default: envmap/frame_environment.h), a constant
+// radiance, or the clip's average colour in every direction.
 #include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
 
 #include "envmap/clip_environment.h"
+#include "envmap/frame_environment.h"
 #include "optics/environment_file.h"
 #include "pipeline/cache.h"
 #include "pluvia/version.h"
+#include "stages/clip_median.h"
 #include "stages/registry.h"
 #include "util/error.h"
 #include "util/hash.h"
@@ -18,7 +21,7 @@
 namespace pluvia {
 namespace {
 
-constexpr const char* kStageVersion = "3";
+constexpr const char* kStageVersion = "4";
 // A uniform environment needs no detail; an HDR is kept at most this wide (area-resampled, so
 // the power of a sun is kept): the drop shading resamples it to 256 x 128 anyway.
 constexpr int kUniformWidth = 8;
@@ -68,14 +71,18 @@ Environment stitchedEnvironment(const nlohmann::json& keys) {
   return env;
 }
 
-Environment hdrEnvironment(const std::string& path, double intensity) {
-  EquirectMap map = optics::loadEnvironment(path);
-  if (map.width > kMaxHdrWidth) map = resampleEquirect(map, kMaxHdrWidth, kMaxHdrWidth / 2);
-  for (float& v : map.rgb) v *= float(intensity);
+Environment mapEnvironment(EquirectMap map) {
   Environment env;
   env.averageRgb = solidAngleMean(map);
   env.radiance = std::move(map);
   return env;
+}
+
+Environment hdrEnvironment(const std::string& path, double intensity) {
+  EquirectMap map = optics::loadEnvironment(path);
+  if (map.width > kMaxHdrWidth) map = resampleEquirect(map, kMaxHdrWidth, kMaxHdrWidth / 2);
+  for (float& v : map.rgb) v *= float(intensity);
+  return mapEnvironment(std::move(map));
 }
 
 class EnvironmentStage : public Stage {
@@ -113,6 +120,11 @@ class EnvironmentStage : public Stage {
           log::info("lighting: stitched panorama from cache");
           return;
         }
+        if (cached->contains("frame")) {
+          clip.environment = mapEnvironment(equirectFromJson(cached->at("frame")));
+          log::info("lighting: from the plate, from cache");
+          return;
+        }
         auto rgb = (*cached)["average_rgb"];
         clip.environment =
             uniformEnvironment({rgb[0].get<float>(), rgb[1].get<float>(), rgb[2].get<float>()});
@@ -135,6 +147,18 @@ class EnvironmentStage : public Stage {
           built.motion, built.keys.size(), built.keys.size() == 1 ? "" : "s",
           100.0 * built.keys.front().coveredFraction, built.seconds));
       if (clip.cache) clip.cache->store("lighting", key, {{"stitched", keys}});
+      return;
+    }
+    if (source_ == "frame") {
+      const Image median = medianOfFrames(clip, clip.clip->frames, sampleFrames_);
+      EquirectMap map = envmap::frameEnvironment(median, clip.camera);
+      if (clip.cache) clip.cache->store("lighting", key, {{"frame", equirectJson(map)}});
+      clip.environment = mapEnvironment(std::move(map));
+      const auto up = equirectBandMean(clip.environment->radiance, 30.0, 90.0);
+      const auto down = equirectBandMean(clip.environment->radiance, -90.0, -30.0);
+      log::info(fmt::format("lighting: from the plate, above {:.4f} {:.4f} {:.4f}, below {:.4f} "
+                            "{:.4f} {:.4f}",
+                            up[0], up[1], up[2], down[0], down[1], down[2]));
       return;
     }
     std::array<float, 3> radiance = color_;
@@ -222,13 +246,15 @@ StageInfo environmentStageInfo() {
       {"enabled", ParamType::Boolean, true, {}, {}, {}, "", "run this stage"},
       {"source",
        ParamType::Enum,
-       "frame_average",
+       "frame",
        {},
        {},
-       {"frame_average", "constant", "hdr", "stitch"},
+       {"frame", "frame_average", "constant", "hdr", "stitch"},
        "",
-       "stitch: the shot's frames stitched into a panorama (Wang et al. 4.1); frame_average: mean "
-       "radiance of sampled frames; constant: lighting.color; hdr: lighting.hdr"},
+       "frame: the plate itself within the camera's view, its mean by elevation elsewhere (the "
+       "sky above lights the drops); stitch: the shot's frames stitched into a panorama (Wang et "
+       "al. 4.1); frame_average: mean radiance of sampled frames in every direction; constant: "
+       "lighting.color; hdr: lighting.hdr"},
       {"motion",
        ParamType::Enum,
        "auto",
@@ -287,7 +313,7 @@ StageInfo environmentStageInfo() {
        1000,
        {},
        "frames",
-       "frames averaged for frame_average"},
+       "frames for frame (their median) and frame_average (their mean)"},
   };
   info.perClip = true;
   info.cacheKey = [](const Preset& p, const ClipInfo& clip) {

@@ -9,6 +9,7 @@
 #include "preset/camera_path_preset.h"
 #include "rain/drop_simulation.h"
 #include "rain/stroke_library.h"
+#include "rain/thin_lens.h"
 #include "stages/registry.h"
 #include "util/error.h"
 #include "util/log.h"
@@ -16,6 +17,24 @@
 
 namespace pluvia {
 namespace {
+
+// The camera's lens (rain/thin_lens.h).
+rain::ThinLens lensOf(const Preset& p, const Camera& camera) {
+  return rain::ThinLens::of(camera.focalPx, camera.width, p.number("camera.sensor_width_mm"),
+                            p.number("camera.focus_m"), p.number("camera.f_number"));
+}
+
+// rain.near_m, or with 0 the lens's: nearer drops are blurred over more than kNearBlurFraction
+// of the frame's width, so faint that they are fog, not streaks (never nearer than
+// kNearestMeters; a pinhole keeps the old 0.5 m).
+double nearMeters(const Preset& p, const ClipContext& clip) {
+  constexpr double kNearBlurFraction = 0.05, kNearestMeters = 0.3, kPinholeNearMeters = 0.5;
+  const double given = p.number("rain.near_m");
+  if (given > 0.0) return given;
+  const rain::ThinLens lens = lensOf(p, clip.camera);
+  if (!lens.defocuses()) return kPinholeNearMeters;
+  return std::max(kNearestMeters, lens.nearestWithBlurMeters(kNearBlurFraction * clip.camera.width));
+}
 
 rain::DropSimulationSettings simulationSettings(const Preset& p, const ClipContext& clip) {
   rain::DropSimulationSettings s;
@@ -25,13 +44,17 @@ rain::DropSimulationSettings simulationSettings(const Preset& p, const ClipConte
   s.velocityModel = p.string("rain.velocity") == "gunn_kinzer" ? rain::VelocityModel::GunnKinzer
                                                                : rain::VelocityModel::Atlas;
   s.minDiameterMm = p.number("rain.min_diameter_mm");
-  s.nearMeters = p.number("rain.near_m");
+  s.nearMeters = nearMeters(p, clip);
   s.farMeters = p.number("rain.far_m");
   s.maxDrops = int64_t(p.number("rain.max_drops"));
   s.seed = uint64_t(p.number("rain.seed"));
   s.spreadMetersPerSecond = p.number("rain.spread_m_s");
+  s.eddyIntensity = p.number("rain.wind.eddies");
   s.stepSeconds = 1.0 / clip.fps;
-  s.firstFrame = clip.clip && !clip.clip->frames.empty() ? clip.clip->frames.front() : 0;
+  // The simulation starts at rain.start_frame, whatever frame the plate starts at, so a plate
+  // delivered with other handles gets the same rain on the same frame numbers.
+  const int64_t clipFirst = clip.clip && !clip.clip->frames.empty() ? clip.clip->frames.front() : 0;
+  s.firstFrame = std::min<int64_t>(int64_t(p.number("rain.start_frame")), clipFirst);
   s.lastFrame = clip.clip && !clip.clip->frames.empty() ? clip.clip->frames.back() : 0;
   s.wind.gustiness = p.number("rain.wind.gustiness");
   s.wind.turbulence = p.number("rain.wind.turbulence");
@@ -113,10 +136,15 @@ class RainStage : public Stage {
     const double physical =
         simulation_->physicalDensityPerCubicMeter() * simulation_->boxVolumeCubicMeters();
     if (physical > double(simulation_->poolSize()) + 0.5) {
-      log::info(
-          fmt::format("rain: {:.0f} drops at this rate in the volume, drawing rain.max_drops = {}",
-                      physical, simulation_->poolSize()));
+      log::warning(fmt::format(
+          "rain: {:.0f} drops at this rate in the {:.0f} m^3 box, rain.max_drops = {} draws "
+          "{:.0f} % of them (the rest are left out: raise rain.max_drops or lower rain.far_m)",
+          physical, simulation_->boxVolumeCubicMeters(), simulation_->poolSize(),
+          100.0 * double(simulation_->poolSize()) / physical));
     }
+    log::info(fmt::format("rain: drops from {:.2f} to {:g} m, simulated from frame {}",
+                          simulation_->settings().nearMeters, p.number("rain.far_m"),
+                          simulation_->settings().firstFrame));
     atlas_ = loadAtlas(clip);
     streakParams_.focusMeters = p.number("camera.focus_m");
     streakParams_.fNumber = p.number("camera.f_number");
@@ -258,7 +286,24 @@ StageInfo rainStageInfo() {
        {},
        "",
        "artist scale on the physical streak alpha"},
-      {"near_m", ParamType::Number, 0.5, 0.05, 100.0, {}, "m", "nearest drops drawn"},
+      {"near_m",
+       ParamType::Number,
+       0.0,
+       0.0,
+       100.0,
+       {},
+       "m",
+       "nearest drops drawn; 0: from the lens (where the defocus blur reaches 5 % of the frame "
+       "width, at least 0.3 m; 0.5 m for a pinhole)"},
+      {"start_frame",
+       ParamType::Integer,
+       0,
+       -1e9,
+       1e9,
+       {},
+       "frame",
+       "frame the simulation starts from (a pre-roll up to the plate's first frame), so plates "
+       "with other handles get the same rain on the same frame numbers"},
       {"far_m", ParamType::Number, 15.0, 0.1, 1000.0, {}, "m", "farthest drops drawn"},
       {"max_drops",
        ParamType::Integer,
@@ -319,6 +364,15 @@ StageInfo rainStageInfo() {
        "m/s",
        "artist spread: each drop's own random horizontal speed (std dev) on the wind"},
       {"wind.speed_m_s", ParamType::Number, 0.0, 0.0, 60.0, {}, "m/s", "horizontal wind speed"},
+      {"wind.eddies",
+       ParamType::Number,
+       0.2,
+       0.0,
+       1.0,
+       {},
+       "",
+       "small eddies: each drop's own horizontal speed, std dev as a fraction of the wind speed "
+       "(turbulence intensity), so driven rain is not a parallel hatch"},
       {"wind.gustiness",
        ParamType::Number,
        0.0,

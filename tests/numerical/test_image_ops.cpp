@@ -64,13 +64,22 @@ TEST(ImageOps, FogTransmittanceIsExpOfMinusDensityTimesDepth) {
   }
 }
 
-TEST(ImageOps, FogAtInfinityIsTheFogColourAndNeverNaN) {
+TEST(ImageOps, FogKeepsTheSkyAndNeverNaN) {
   Image image(2, 1);
   image.plane("depth") = {std::numeric_limits<float>::infinity(), 0.0f};
   image.pixel(0, 0)[0] = image.pixel(1, 0)[0] = 0.3f;
   ops::fog(image, 0.02f, {0.6f, 0.6f, 0.6f});
-  EXPECT_FLOAT_EQ(image.pixel(0, 0)[0], 0.6f);
+  EXPECT_FLOAT_EQ(image.pixel(0, 0)[0], 0.3f);  // the sky is its own airlight
   EXPECT_FLOAT_EQ(image.pixel(1, 0)[0], 0.3f);
+}
+
+TEST(ImageOps, FogPathIsBoundedByTheVisibility) {
+  Image image(2, 1);
+  image.plane("depth") = {200.0f, 5000.0f};
+  ops::fog(image, 0.01f, {1.0f, 1.0f, 1.0f}, 200.0f);
+  const float alpha = 1.0f - std::exp(-0.01f * 200.0f);
+  EXPECT_NEAR(image.pixel(0, 0)[0], alpha, 1e-6);
+  EXPECT_NEAR(image.pixel(1, 0)[0], alpha, 1e-6);  // no more fog past the visibility
 }
 
 TEST(ImageOps, DarkenIsExactInLinear) {

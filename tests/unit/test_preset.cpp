@@ -65,7 +65,7 @@ TEST(Preset, ExtendsMergesAndOverridesApply) {
   EXPECT_DOUBLE_EQ(p.number("rain.seed"), 3.0);        // --set
   EXPECT_DOUBLE_EQ(p.number("blur.sigma_px"), 2.5);
   EXPECT_DOUBLE_EQ(p.number("camera.fov_deg"), 36.0);      // from base
-  EXPECT_EQ(p.string("fog.color_source"), "environment");  // default filled
+  EXPECT_EQ(p.string("fog.color_source"), "horizon");  // default filled
   EXPECT_FALSE(p.has("extends"));
 }
 
