@@ -83,8 +83,6 @@ void addPreviewCommand(CLI::App& app, Invocation& invocation) {
     if (args->proxy) checkProxyScale(*args->proxy);
     if (lowerExtension(args->output) != "png")
       throw UsageError(fmt::format("-o {}: the contact sheet is a PNG (SHEET.png)", args->output));
-    Preset preset = loadPreset(args->preset, args->sets);
-
     RenderRequest request;
     request.input = args->input;
     request.output = args->output;  // refused when it names an input file; sets the colour-out
@@ -102,6 +100,7 @@ void addPreviewCommand(CLI::App& app, Invocation& invocation) {
       const int plateWidth = openClip(args->input)->info().width;
       request.proxyScale = std::min(1.0, double(kMaxColumnWidthPx) / plateWidth);
     }
+    Preset preset = loadPresetForProxy(args->preset, args->sets, request.proxyScale);
 
     StageTimes times;
     RenderSession session(request, preset, allStages(), times);

@@ -67,7 +67,7 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
       if (comma == std::string::npos) break;
       start = comma + 1;
     }
-    Preset preset = loadPreset(args->preset, args->sets);
+    Preset preset = loadPresetForProxy(args->preset, args->sets, args->proxy);
     StageTimes times;
     auto started = std::chrono::steady_clock::now();
     RenderSummary summary = renderJob(request, preset, allStages(), times);

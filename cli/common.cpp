@@ -1,11 +1,15 @@
 #include "common.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "util/fs.h"
 
 #include <fmt/format.h>
 
 #include "stages/registry.h"
 #include "util/error.h"
+#include "util/log.h"
 
 namespace pluvia::cli {
 
@@ -39,6 +43,34 @@ void checkProxyScale(double scale) {
 
 Preset loadPreset(const std::string& nameOrPath, const std::vector<std::string>& overrides) {
   return Preset::resolve(nameOrPath, overrides, presetSchema());
+}
+
+Preset loadPresetForProxy(const std::string& nameOrPath, const std::vector<std::string>& overrides,
+                          double scale) {
+  Preset fullSize = loadPreset(nameOrPath, overrides);
+  if (scale == 1.0) return fullSize;
+  std::vector<std::string> scaled = overrides;
+  auto setScaled = [&](const std::string& key, double fullSizeValue, double proxyValue) {
+    if (proxyValue == fullSizeValue) return;  // 0 stays 0
+    scaled.push_back(fmt::format("{}={:g}", key, proxyValue));
+    log::info(fmt::format("proxy: {} {:g} -> {:g}", key, fullSizeValue, proxyValue));
+  };
+  const double sigmaPx = fullSize.number("blur.sigma_px");
+  setScaled("blur.sigma_px", sigmaPx, sigmaPx * scale);
+  const nlohmann::json& lights = fullSize.at("lighting.lights");
+  for (size_t i = 0; i < lights.size(); ++i) {
+    if (lights[i].value("type", "") != "region") continue;
+    auto setRegionField = [&](const char* field, double proxyMinimum) {
+      const double px = lights[i].at(field).get<double>();
+      setScaled(fmt::format("lighting.lights.{}.{}", i, field), px,
+                std::max(proxyMinimum, std::round(px * scale)));
+    };
+    setRegionField("x", -INFINITY);
+    setRegionField("y", -INFINITY);
+    setRegionField("width", 1.0);  // a region keeps at least one pixel
+    setRegionField("height", 1.0);
+  }
+  return loadPreset(nameOrPath, scaled);
 }
 
 std::string joinCommandLine(int argc, char** argv) {

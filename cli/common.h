@@ -16,6 +16,12 @@ std::pair<int64_t, int64_t> parseFrameRange(const std::string& text);
 void checkProxyScale(double scale);
 // Resolves a preset against the full schema (every stage's table).
 Preset loadPreset(const std::string& nameOrPath, const std::vector<std::string>& overrides);
+// The same for a proxy render (--proxy `scale` < 1): the parameters measured in frame pixels
+// (blur.sigma_px; the x, y, width and height of lighting.lights regions) are scaled with the
+// frame, after the overrides, so they cover at the proxy size what they cover on the full
+// frame. Logs each change.
+Preset loadPresetForProxy(const std::string& nameOrPath, const std::vector<std::string>& overrides,
+                          double scale);
 // Throws UsageError when any of `outputs` is one of `inputFiles` ("OPTION OUT is the input file
 // IN: refusing to overwrite it"), before anything is written.
 void refuseOverwritingInput(const std::vector<std::string>& inputFiles, const std::string& option,
