@@ -2,8 +2,11 @@
 // each: the plate, the rained frame, the rain layer alone and the depth. The frames are rendered
 // by the render's own session (same stages, preset resolution, --set and per-frame simulation),
 // so a row shows what `pluvia render` gives for that frame at the same --proxy.
+#include <algorithm>
 #include <filesystem>
+#include <map>
 #include <optional>
+#include <vector>
 
 #include <fmt/format.h>
 

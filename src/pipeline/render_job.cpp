@@ -295,7 +295,7 @@ void RenderSession::processFrame(FrameContext& frame) {
     } catch (const Error& e) {
       throw Error(e.what(), {name, frame.frame, e.context().file});
     } catch (const std::exception& e) {
-      throw Error(e.what(), {name, frame.frame});
+      throw Error(e.what(), {name, frame.frame, {}});
     }
   }
   if (!frame.image.findPlane("depth")) {
