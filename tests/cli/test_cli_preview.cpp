@@ -20,6 +20,7 @@ namespace {
 constexpr int kPlateWidth = 160;
 constexpr int kPlateHeight = 120;
 constexpr int kBand = ContactSheet::kLabelBandPx;
+const std::string kExamplePreset = (sourceDir() / "examples/street/street.json").string();
 
 // Frames first..last of a 160x120 plate: smooth gradients with a few hard-edged blocks, so a
 // resize has edges to get wrong, written as 8-bit sRGB PNG.
@@ -142,6 +143,18 @@ TEST(CliPreview, RowsAreTheFramesARenderGives) {
   Image rained = sheetTile(sheet, tileSize, 0, 1);
   // Below the label band the two are the same 8-bit codes.
   EXPECT_EQ(rgbDifference(rained, rendered).second, 0.0);
+}
+
+TEST(CliPreview, WithoutProxyTheColumnsAreAtMost480PxWide) {
+  // The bundled 768x576 movie: shrunk by 0.625 to 480x360.
+  auto dir = freshTempDir("preview_default_proxy");
+  auto r = runPluvia({"preview", exampleClip().string(), "-p", kExamplePreset, "-o",
+                      (dir / "sheet.png").string(), "--count", "2"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("proxy render (not a final): 480x360"), std::string::npos) << r.output;
+  Image sheet = readImageFile(dir / "sheet.png");
+  EXPECT_EQ(sheet.width, 4 * 480);
+  EXPECT_EQ(sheet.height, 2 * (kBand + 360));
 }
 
 TEST(CliRender, ProxyRendersAtHalfSizeWhatTheFullRenderGivesShrunk) {
