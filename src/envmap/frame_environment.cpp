@@ -13,8 +13,11 @@ namespace {
 // The frame is sampled at about this width: the map is 128 texels around, so the frame's
 // 36-60 deg cover 13-21 of them.
 constexpr int kSampleWidthPx = 192;
-// The mean albedo of what a plate shows (grass, asphalt, walls, foliage: 0.1-0.4).
-constexpr double kSceneAlbedo = 0.25;
+// The mean albedo of what a plate shows (grass, asphalt, walls, foliage: 0.1-0.4): the 18 % grey
+// a light meter assumes.
+constexpr double kSceneAlbedo = 0.18;
+// A frame whose sky covers less than this is taken to show none.
+constexpr double kMinSkyFraction = 0.01;
 
 // The unit direction's elevation row in a map of `height` rows.
 int rowOf(double y, int height) {
@@ -24,7 +27,9 @@ int rowOf(double y, int height) {
 
 }  // namespace
 
-EquirectMap frameEnvironment(const Image& frame, const Camera& camera, int widthTexels) {
+FrameEnvironment frameEnvironment(const Image& frame, const Camera& camera,
+                                  const std::vector<uint8_t>& sky, int widthTexels) {
+  FrameEnvironment result;
   const int mapWidth = widthTexels, mapHeight = widthTexels / 2;
   const double scale = std::min(1.0, double(kSampleWidthPx) / std::max(1, camera.width));
   cv::Mat rgb = rgbMat(frame), small;
@@ -62,31 +67,39 @@ EquirectMap frameEnvironment(const Image& frame, const Camera& camera, int width
       profile[size_t(r)][size_t(c)] = float(sum[size_t(from)][size_t(c)] / count[size_t(from)]);
   }
 
-  // The sky above the frame is at least as bright as the overcast sky that would light the
-  // scene this brightly: under a uniform sky of radiance L a surface of albedo a has radiance
-  // a L, so L = the frame's mean luminance over a typical albedo. (A frame that shows a bright
-  // sky keeps its own, brighter, top rows.)
-  double luminanceSum = 0.0;
-  for (int y = 0; y < small.rows; ++y)
-    for (int x = 0; x < small.cols; ++x) {
-      const cv::Vec3f& v = small.at<cv::Vec3f>(y, x);
-      luminanceSum += 0.2126 * v[0] + 0.7152 * v[1] + 0.0722 * v[2];
+  // The sky above the frame: the frame's own sky where it shows one; else the CIE overcast sky
+  // (Huang et al.'s, L(theta) = Lz (1 + 2 cos theta) / 3) that would light the scene as
+  // brightly as the frame shows it: its illuminance is E = 7 pi Lz / 9, and a surface of albedo
+  // a lit by it has radiance a E / pi, so Lz = 9 / 7 * (the frame's mean luminance) / a.
+  std::array<double, 3> skySum{0, 0, 0};
+  double skyCount = 0.0, luminanceSum = 0.0;
+  for (int y = 0; y < camera.height; ++y)
+    for (int x = 0; x < camera.width; ++x) {
+      const float* p = frame.rgba.data() + (size_t(y) * camera.width + x) * 4;
+      luminanceSum += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+      if (sky.empty() || !sky[size_t(y) * camera.width + x]) continue;
+      for (int c = 0; c < 3; ++c) skySum[size_t(c)] += p[c];
+      skyCount += 1.0;
     }
-  const float skyLuminance = float(luminanceSum / (double(small.rows) * small.cols) / kSceneAlbedo);
-  for (int r = 0; r < mapHeight; ++r) {
+  const double pixels = double(camera.width) * camera.height;
+  const bool framedSky = skyCount >= kMinSkyFraction * pixels;
+  const double zenith = 9.0 / 7.0 * luminanceSum / pixels / kSceneAlbedo;
+  // The sky at elevation e (cos theta = sin e).
+  const auto skyAt = [&](double elevationDeg) -> std::array<float, 3> {
+    if (framedSky)
+      return {float(skySum[0] / skyCount), float(skySum[1] / skyCount),
+              float(skySum[2] / skyCount)};
+    const float l = float(zenith * (1.0 + 2.0 * std::sin(elevationDeg * M_PI / 180.0)) / 3.0);
+    return {l, l, l};
+  };
+  for (int r = 0; r < std::min(first, mapHeight); ++r) {
     const double elevation = 90.0 - 180.0 * (r + 0.5) / mapHeight;
-    if (elevation <= 0.0 || r >= first) continue;  // the frame's own rows and the ground
-    std::array<float, 3>& rgb = profile[size_t(r)];
-    const float luminance = 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2];
-    if (luminance >= skyLuminance) continue;
-    // Rows nearly as bright keep their colour (a blue sky stays blue); darker ones are not the
-    // sky (a wall's brick, foliage) and take a neutral grey.
-    const float scale = skyLuminance / std::max(luminance, 1e-6f);
-    for (int c = 0; c < 3; ++c)
-      rgb[size_t(c)] = scale <= 2.0f ? rgb[size_t(c)] * scale : skyLuminance;
+    if (elevation > 0.0) profile[size_t(r)] = skyAt(elevation);
   }
+  result.horizonRgb = skyAt(0.0);
 
-  EquirectMap map(mapWidth, mapHeight);
+  EquirectMap& map = result.radiance;
+  map = EquirectMap(mapWidth, mapHeight);
   const Eigen::Matrix3d cameraFromWorld = view.worldFromCamera.transpose();
   for (int y = 0; y < mapHeight; ++y) {
     for (int x = 0; x < mapWidth; ++x) {
@@ -106,7 +119,7 @@ EquirectMap frameEnvironment(const Image& frame, const Camera& camera, int width
       for (int ch = 0; ch < 3; ++ch) out[ch] = v[ch];
     }
   }
-  return map;
+  return result;
 }
 
 }  // namespace pluvia::envmap

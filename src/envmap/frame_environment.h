@@ -6,9 +6,14 @@
 // integrates to about 1: the furnace test), which is why rain looked too faint before.
 // The map: inside the camera's field of view, the frame itself; elsewhere, the frame's mean
 // radiance at the same elevation (its rows seen at that height above or below the horizon),
-// the top rows' mean above the frame and the bottom rows' below. The sky above the frame is at
-// least as bright as the overcast sky that lights the scene as brightly as the frame shows it
-// (the frame's mean luminance over a typical albedo of 0.25), keeping the top rows' colour.
+// the bottom rows' mean below the frame; above the frame, the sky: the mean of the frame's own
+// sky where it shows one, else the CIE overcast sky (L = Lz (1 + 2 cos theta) / 3, Huang et
+// al.) that lights the scene as brightly as the frame shows it, taking a typical albedo of 0.18
+// (neutral grey).
+#include <array>
+#include <cstdint>
+#include <vector>
+
 #include "geometry/camera.h"
 #include "image/equirect.h"
 #include "image/image.h"
@@ -16,6 +21,13 @@
 namespace pluvia::envmap {
 
 // `frame` in the working space, seen by `camera` (the frame's size and pose).
-EquirectMap frameEnvironment(const Image& frame, const Camera& camera, int widthTexels = 128);
+struct FrameEnvironment {
+  EquirectMap radiance;
+  std::array<float, 3> horizonRgb{0, 0, 0};  // the sky at the horizon: the airlight
+};
+
+// `sky`: width * height, 1 where the frame shows sky (empty: none known).
+FrameEnvironment frameEnvironment(const Image& frame, const Camera& camera,
+                                  const std::vector<uint8_t>& sky, int widthTexels = 128);
 
 }  // namespace pluvia::envmap

@@ -33,6 +33,9 @@ class ArtifactCache;
 struct Environment {
   EquirectMap radiance;
   std::array<float, 3> averageRgb{0, 0, 0};  // solid-angle mean of radiance
+  // The airlight: the sky's radiance at the horizon, where a long path through rain and fog
+  // looks (the mean over elevations 0 to 10 deg of a map; the sky model's for the plate's own).
+  std::array<float, 3> horizonRgb{0, 0, 0};
   // A looming or dollying camera: environments at key frames (in frame order), to interpolate
   // between per frame; `radiance` is then the middle key's. Empty: one environment for the clip.
   std::vector<std::pair<int64_t, EquirectMap>> keys;
@@ -53,6 +56,10 @@ struct ClipContext {
   // The camera tracked from the footage (depth stage, COLMAP): it replaces the preset's camera
   // for the rain.
   std::optional<CameraPath> trackedPath;
+  // A still of the clip and the sky found in it (stages/clip_still.h), made once for the stages
+  // that guess from the plate (the default lighting and depth).
+  std::optional<Image> still;
+  std::optional<std::vector<uint8_t>> stillSky;  // width * height, 1 where sky
 };
 
 struct FrameContext {

@@ -71,8 +71,8 @@ DropSimulation::DropSimulation(const DropSimulationSettings& settings, CameraAtF
   boxSize_ = (hi - lo + 2.0 * margin).cwiseMax(Eigen::Vector3d::Constant(1e-3));
   cells_ = std::make_unique<RainCells>(settings_.cells, Eigen::Vector2d::Zero());
   densest *= cells_->maxDensityFactor();
-  const double wanted = std::ceil(densest * boxVolumeCubicMeters());
-  const double pool = std::min(wanted, double(std::max<int64_t>(0, settings_.maxDrops)));
+  wantedPoolSize_ = std::ceil(densest * boxVolumeCubicMeters());
+  const double pool = std::min(wantedPoolSize_, double(std::max<int64_t>(0, settings_.maxDrops)));
   positions_.resize(size_t(pool));
   horizontalSpeed_.resize(positions_.size());
   sizeUniform_.resize(positions_.size());
@@ -109,7 +109,8 @@ void DropSimulation::restart() {
     // A Gaussian horizontal speed of its own (Box-Muller), on top of the wind.
     const double radius = std::sqrt(-2.0 * std::log(1.0 - rng.uniform()));
     const double angle = 2.0 * M_PI * rng.uniform();
-    ownGaussian_[i] = Eigen::Vector2f(float(radius * std::cos(angle)), float(radius * std::sin(angle)));
+    ownGaussian_[i] =
+        Eigen::Vector2f(float(radius * std::cos(angle)), float(radius * std::sin(angle)));
   });
   baseDiameterMm_.clear();  // the sizes follow from the uniforms just drawn
   setRain(first);
@@ -120,8 +121,8 @@ void DropSimulation::restart() {
 }
 
 Eigen::Vector2d DropSimulation::ownSpeed(size_t i) const {
-  const double sigma = settings_.spreadMetersPerSecond +
-                       settings_.eddyIntensity * rain_.windSpeedMetersPerSecond;
+  const double sigma =
+      settings_.spreadMetersPerSecond + settings_.eddyIntensity * rain_.windSpeedMetersPerSecond;
   return sigma * ownGaussian_[i].cast<double>();
 }
 
@@ -159,8 +160,7 @@ void DropSimulation::step() {
                         const double a = -std::expm1(-dt / tau);
                         const Eigen::Vector3d w = wind_->velocityAt(p.x(), p.z());
                         Eigen::Vector2d v = horizontalSpeed_[i].cast<double>();
-                        const Eigen::Vector2d wh =
-                            Eigen::Vector2d(w.x(), w.z()) + ownSpeed(i);
+                        const Eigen::Vector2d wh = Eigen::Vector2d(w.x(), w.z()) + ownSpeed(i);
                         const Eigen::Vector2d travelled = wh * dt + (v - wh) * tau * a;
                         v = wh + (v - wh) * (1.0 - a);
                         p += Eigen::Vector3d(travelled.x(), -fall * dt, travelled.y());

@@ -56,7 +56,7 @@ struct DropSimulationSettings {
   // further standard deviation of eddyIntensity times the wind speed (the turbulence intensity
   // near the ground is 0.1-0.3), so driven rain is not one parallel hatch.
   double eddyIntensity = 0.0;
-  double boxMarginFraction = 0.1;      // of the box size on each side, so panning hides the wrap
+  double boxMarginFraction = 0.1;  // of the box size on each side, so panning hides the wrap
   int64_t maxDrops = 100000;
   uint64_t seed = 1;
   double stepSeconds = 1.0 / 24.0;  // one frame
@@ -96,6 +96,8 @@ class DropSimulation {
 
   // Drops in the pool, and how many are drawn at the current frame (inside the density).
   size_t poolSize() const { return positions_.size(); }
+  // The pool the densest frame of the shot (rain cells included) asks for, before maxDrops.
+  double wantedPoolSize() const { return wantedPoolSize_; }
   size_t activeCount() const;
   bool isActive(size_t i) const;
   // Drops per cubic metre the physics asks for at the current frame, before the pool's cap.
@@ -128,12 +130,13 @@ class DropSimulation {
   RainAtFrame rain_;
   Eigen::Vector3d boxLo_, boxSize_;  // in the camera's heading frame, relative to its position
   double poolDensity_ = 0.0;         // drops per cubic metre the pool holds
-  double drawnFraction_ = 0.0;       // physical density over the pool's, before the cells
+  double wantedPoolSize_ = 0.0;
+  double drawnFraction_ = 0.0;  // physical density over the pool's, before the cells
   std::unique_ptr<WindField> wind_;
   std::unique_ptr<RainCells> cells_;
   std::vector<Eigen::Vector3f> positions_;        // world metres
   std::vector<Eigen::Vector2f> horizontalSpeed_;  // world x, z, m/s
-  std::vector<Eigen::Vector2f> ownGaussian_;  // unit normal per drop: spread and eddies
+  std::vector<Eigen::Vector2f> ownGaussian_;      // unit normal per drop: spread and eddies
   std::vector<float> sizeUniform_, activeUniform_;
   std::vector<float> baseDiameterMm_, baseFall_;  // at the current rate, outside rain cells
 };

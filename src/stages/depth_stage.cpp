@@ -18,9 +18,9 @@
 
 #include "geometry/depth_layers.h"
 #include "io/depth_sequence.h"
-#include "stages/clip_median.h"
-#include "stages/depth_guess.h"
 #include "preset/camera_path_preset.h"
+#include "stages/clip_still.h"
+#include "stages/depth_guess.h"
 #include "stages/depth_tracking.h"
 #include "stages/registry.h"
 #include "util/error.h"
@@ -40,9 +40,10 @@ bool hasGroundLayer(const nlohmann::json& layers) {
 DepthSequence depthSequenceFromPreset(const Preset& p) {
   const std::string file = p.string("depth.file");
   if (file.empty())
-    throw Error("depth.source is \"file\" but depth.file is empty: give the depth sequence "
-                "(e.g. depth.####.exr) or one depth file for every frame",
-                {"depth", {}, p.source()});
+    throw Error(
+        "depth.source is \"file\" but depth.file is empty: give the depth sequence "
+        "(e.g. depth.####.exr) or one depth file for every frame",
+        {"depth", {}, p.source()});
   DepthDecoding decoding;
   decoding.encoding = depthEncodingFromName(p.string("depth.file_encoding"));
   decoding.scale = p.number("depth.file_scale");
@@ -62,8 +63,7 @@ class DepthStage : public Stage {
         fallback_(p.string("depth.fallback")),
         dense_(p.string("depth.colmap_dense")),
         layers_(p.at("depth.layers")),
-        backdropMeters_(p.number("depth.backdrop_m")),
-        guessFrames_(int(p.number("depth.guess_frames"))) {
+        backdropMeters_(p.number("depth.backdrop_m")) {
     if (source_ == "file") file_ = depthSequenceFromPreset(p);
   }
 
@@ -91,8 +91,7 @@ class DepthStage : public Stage {
   }
   void process(ClipContext&, FrameContext& frame) override {
     if (file_ && !file_->singleFile()) {
-      frame.image.planes["depth"] =
-          file_->read(frame.frame, frame.image.width, frame.image.height);
+      frame.image.planes["depth"] = file_->read(frame.frame, frame.image.width, frame.image.height);
       return;
     }
     if (sfm_) {
@@ -113,8 +112,8 @@ class DepthStage : public Stage {
 
   // Over the whole clip, not the frames this process renders, so that chunks agree.
   void prepareGuess(ClipContext& clip) {
-    const Image median = medianOfFrames(clip, clip.clip->frames, guessFrames_);
-    DepthGuess guess = guessDepth(median, path_.cameraAt(0.0), backdropMeters_);
+    const Camera camera = path_.cameraAt(0.0);
+    DepthGuess guess = guessDepth(clipSky(clip, camera), camera, backdropMeters_);
     log::info(fmt::format(
         "depth: guessed from the plate ({:.0f} % sky, {:.0f} % ground, the rest at {:g} m); "
         "give depth.layers, a depth file or COLMAP for a better one",
@@ -162,7 +161,6 @@ class DepthStage : public Stage {
   std::optional<DepthSequence> file_;
   nlohmann::json layers_;
   double backdropMeters_;
-  int guessFrames_;
   CameraPath path_;
   bool perFrame_ = false;
   std::vector<float> depth_;
@@ -232,26 +230,19 @@ StageInfo depthStageInfo() {
        {"auto", "layers", "colmap", "file", "none"},
        "",
        "auto: a guess from the plate (sky at infinity, the ground under the camera, the rest at "
-       "depth.backdrop_m); layers: depth.layers; colmap: COLMAP structure from motion of the clip (its camera "
+       "depth.backdrop_m); layers: depth.layers; colmap: COLMAP structure from motion of the clip "
+       "(its camera "
        "also moves the rain); file: depth.file, a depth sequence frame-matched to the plate; "
        "none: all sky"},
       layers,
       {"backdrop_m",
        ParamType::Number,
-       30.0,
+       20.0,
        0.5,
        1e5,
        {},
        "m",
        "auto: the distance of everything that is neither sky nor ground"},
-      {"guess_frames",
-       ParamType::Integer,
-       5,
-       1,
-       100,
-       {},
-       "frames",
-       "auto: the sky is found on the median of this many frames spread over the clip"},
       {"fallback",
        ParamType::Enum,
        "error",

@@ -12,7 +12,8 @@
 #include "optics/environment_file.h"
 #include "pipeline/cache.h"
 #include "pluvia/version.h"
-#include "stages/clip_median.h"
+#include "preset/camera_path_preset.h"
+#include "stages/clip_still.h"
 #include "stages/registry.h"
 #include "util/error.h"
 #include "util/hash.h"
@@ -27,10 +28,14 @@ constexpr const char* kStageVersion = "4";
 constexpr int kUniformWidth = 8;
 constexpr int kMaxHdrWidth = 1024;
 
+// The band of elevations whose mean radiance is a map's airlight.
+constexpr double kHorizonBandDeg = 10.0;
+
 Environment uniformEnvironment(const std::array<float, 3>& radiance) {
   Environment env;
   env.radiance = uniformEquirect(kUniformWidth, kUniformWidth / 2, radiance);
   env.averageRgb = radiance;
+  env.horizonRgb = radiance;
   return env;
 }
 
@@ -67,6 +72,7 @@ Environment stitchedEnvironment(const nlohmann::json& keys) {
     env.keys.emplace_back(key.at("frame").get<int64_t>(), equirectFromJson(key));
   env.radiance = env.keys[env.keys.size() / 2].second;
   env.averageRgb = solidAngleMean(env.radiance);
+  env.horizonRgb = equirectBandMean(env.radiance, 0.0, kHorizonBandDeg);
   if (env.keys.size() == 1) env.keys.clear();
   return env;
 }
@@ -74,8 +80,28 @@ Environment stitchedEnvironment(const nlohmann::json& keys) {
 Environment mapEnvironment(EquirectMap map) {
   Environment env;
   env.averageRgb = solidAngleMean(map);
+  env.horizonRgb = equirectBandMean(map, 0.0, kHorizonBandDeg);
   env.radiance = std::move(map);
   return env;
+}
+
+Environment plateEnvironment(envmap::FrameEnvironment plate) {
+  Environment env = mapEnvironment(std::move(plate.radiance));
+  env.horizonRgb = plate.horizonRgb;
+  return env;
+}
+
+nlohmann::json plateJson(const envmap::FrameEnvironment& plate) {
+  nlohmann::json json = equirectJson(plate.radiance);
+  json["horizon_rgb"] = plate.horizonRgb;
+  return json;
+}
+
+envmap::FrameEnvironment plateFromJson(const nlohmann::json& json) {
+  envmap::FrameEnvironment plate;
+  plate.radiance = equirectFromJson(json);
+  plate.horizonRgb = json.at("horizon_rgb").get<std::array<float, 3>>();
+  return plate;
 }
 
 Environment hdrEnvironment(const std::string& path, double intensity) {
@@ -121,7 +147,7 @@ class EnvironmentStage : public Stage {
           return;
         }
         if (cached->contains("frame")) {
-          clip.environment = mapEnvironment(equirectFromJson(cached->at("frame")));
+          clip.environment = plateEnvironment(plateFromJson(cached->at("frame")));
           log::info("lighting: from the plate, from cache");
           return;
         }
@@ -150,15 +176,18 @@ class EnvironmentStage : public Stage {
       return;
     }
     if (source_ == "frame") {
-      const Image median = medianOfFrames(clip, clip.clip->frames, sampleFrames_);
-      EquirectMap map = envmap::frameEnvironment(median, clip.camera);
-      if (clip.cache) clip.cache->store("lighting", key, {{"frame", equirectJson(map)}});
-      clip.environment = mapEnvironment(std::move(map));
+      // The camera of the first frame, as the depth stage's guess sees the sky.
+      const Camera camera = cameraPathFromPreset(*clip.preset, clip.camera).cameraAt(0.0);
+      envmap::FrameEnvironment plate =
+          envmap::frameEnvironment(clipStill(clip), camera, clipSky(clip, camera));
+      if (clip.cache) clip.cache->store("lighting", key, {{"frame", plateJson(plate)}});
+      clip.environment = plateEnvironment(std::move(plate));
       const auto up = equirectBandMean(clip.environment->radiance, 30.0, 90.0);
       const auto down = equirectBandMean(clip.environment->radiance, -90.0, -30.0);
-      log::info(fmt::format("lighting: from the plate, above {:.4f} {:.4f} {:.4f}, below {:.4f} "
-                            "{:.4f} {:.4f}",
-                            up[0], up[1], up[2], down[0], down[1], down[2]));
+      log::info(
+          fmt::format("lighting: from the plate, above {:.4f} {:.4f} {:.4f}, below {:.4f} "
+                      "{:.4f} {:.4f}",
+                      up[0], up[1], up[2], down[0], down[1], down[2]));
       return;
     }
     std::array<float, 3> radiance = color_;
@@ -313,7 +342,7 @@ StageInfo environmentStageInfo() {
        1000,
        {},
        "frames",
-       "frames for frame (their median) and frame_average (their mean)"},
+       "frames averaged for frame_average (frame takes the median of 5 over the clip)"},
   };
   info.perClip = true;
   info.cacheKey = [](const Preset& p, const ClipInfo& clip) {

@@ -1,11 +1,10 @@
 // Fog: rain too far away to show as streaks reads as fog (Wang et al. section 5, "Rain Fog"):
-// alpha = 1 - exp(-density * depth), toward the airlight: the environment's radiance just above
-// the horizon (where a long path through the rain looks), or a constant. The sky keeps its own
-// colour and detail (it is already the airlight at infinity, image/ops.h), and no path through
-// the fog is longer than the visibility through the rain (rain/drop_physics.h).
+// alpha = 1 - exp(-density * depth), toward the airlight: the environment's sky at the horizon
+// (where a long path through the rain looks, Environment::horizonRgb), or a constant. The sky keeps
+// its own colour and detail (it is already the airlight at infinity, image/ops.h), and no path
+// through the fog is longer than the visibility through the rain (rain/drop_physics.h).
 #include <fmt/format.h>
 
-#include "image/equirect.h"
 #include "image/ops.h"
 #include "rain/drop_physics.h"
 #include "stages/registry.h"
@@ -14,9 +13,6 @@
 
 namespace pluvia {
 namespace {
-
-// The airlight: the sky seen near the horizon, from the horizon up to this elevation.
-constexpr double kHorizonBandDeg = 30.0;
 
 class FogStage : public Stage {
  public:
@@ -31,9 +27,7 @@ class FogStage : public Stage {
     if (colorSource_ == "constant") return;
     if (!clip.environment)
       throw Error("fog takes its colour from the environment, which was not computed", {"fog"});
-    rgb_ = colorSource_ == "average"
-               ? clip.environment->averageRgb
-               : equirectBandMean(clip.environment->radiance, 0.0, kHorizonBandDeg);
+    rgb_ = colorSource_ == "average" ? clip.environment->averageRgb : clip.environment->horizonRgb;
     log::info(fmt::format("fog: airlight {:.4f} {:.4f} {:.4f} ({})", rgb_[0], rgb_[1], rgb_[2],
                           colorSource_));
   }
@@ -83,8 +77,8 @@ StageInfo fogStageInfo() {
        {},
        {"horizon", "average", "constant"},
        "",
-       "fog colour (airlight): the environment just above the horizon (0 to 30 deg), its "
-       "average over the sphere, or fog.color"},
+       "fog colour (airlight): the environment's sky at the horizon, its average over the "
+       "sphere, or fog.color"},
       {"color",
        ParamType::Color3,
        nlohmann::json::array({0.5, 0.5, 0.5}),

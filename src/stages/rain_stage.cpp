@@ -33,7 +33,8 @@ double nearMeters(const Preset& p, const ClipContext& clip) {
   if (given > 0.0) return given;
   const rain::ThinLens lens = lensOf(p, clip.camera);
   if (!lens.defocuses()) return kPinholeNearMeters;
-  return std::max(kNearestMeters, lens.nearestWithBlurMeters(kNearBlurFraction * clip.camera.width));
+  return std::max(kNearestMeters,
+                  lens.nearestWithBlurMeters(kNearBlurFraction * clip.camera.width));
 }
 
 rain::DropSimulationSettings simulationSettings(const Preset& p, const ClipContext& clip) {
@@ -133,14 +134,16 @@ class RainStage : public Stage {
     simulation_ = std::make_unique<rain::DropSimulation>(
         simulationSettings(p, clip), [path](double frame) { return path.cameraAt(frame); },
         [&p](double frame) { return rainAt(p, frame); });
-    const double physical =
-        simulation_->physicalDensityPerCubicMeter() * simulation_->boxVolumeCubicMeters();
-    if (physical > double(simulation_->poolSize()) + 0.5) {
+    // Capped by rain.max_drops: the densest frame (rain cells included) draws fewer drops than
+    // the physics asks for, thinned evenly.
+    const double wanted = simulation_->wantedPoolSize();
+    if (wanted > double(simulation_->poolSize()) + 0.5) {
       log::warning(fmt::format(
-          "rain: {:.0f} drops at this rate in the {:.0f} m^3 box, rain.max_drops = {} draws "
-          "{:.0f} % of them (the rest are left out: raise rain.max_drops or lower rain.far_m)",
-          physical, simulation_->boxVolumeCubicMeters(), simulation_->poolSize(),
-          100.0 * double(simulation_->poolSize()) / physical));
+          "rain: the densest frame needs {:.0f} drops in the {:.0f} m^3 box; rain.max_drops = {} "
+          "draws {:.0f} % of them there (the rest are left out: raise rain.max_drops or lower "
+          "rain.far_m)",
+          wanted, simulation_->boxVolumeCubicMeters(), simulation_->poolSize(),
+          100.0 * double(simulation_->poolSize()) / wanted));
     }
     log::info(fmt::format("rain: drops from {:.2f} to {:g} m, simulated from frame {}",
                           simulation_->settings().nearMeters, p.number("rain.far_m"),

@@ -1,0 +1,25 @@
+#pragma once
+// A still picture of the clip for per-clip analysis (the default depth's sky, the lighting from
+// the plate): the per-pixel median of a few frames spread over the whole clip, so that the rain
+// and anything passing through are left out and every chunk of a farm render sees the same one,
+// and the sky found in it. Each is made once per clip and kept in the ClipContext.
+#include <cstdint>
+#include <vector>
+
+#include "pipeline/stage.h"
+
+namespace pluvia {
+
+// The median of up to `maxFrames` frames spread evenly over `frames` (the first included), read
+// in the working space. With fewer than 3 frames, the first.
+Image medianOfFrames(ClipContext& clip, const std::vector<int64_t>& frames, int maxFrames);
+
+// The median of up to kStillFrames frames of the whole clip (clip.still, made on first use).
+const Image& clipStill(ClipContext& clip);
+
+// The sky in the still (clip.stillSky, made on first use): bright, untextured regions touching
+// the top of the frame and above the horizon of `camera` (the camera of the clip's first frame),
+// as the COLMAP densifier finds it (sfm/sparse_densify.h, step 4). 1 where sky.
+const std::vector<uint8_t>& clipSky(ClipContext& clip, const Camera& camera);
+
+}  // namespace pluvia
