@@ -242,11 +242,17 @@ std::vector<gpu::StreakInstance> DropSimulation::buildStreaks(const StreakSettin
     if (std::max(hx, tx) < -kMarginPx || std::min(hx, tx) > start.width + kMarginPx) continue;
     if (std::max(hy, ty) < -kMarginPx || std::min(hy, ty) > start.height + kMarginPx) continue;
     const double depthMeters = 0.5 * (hz + tz);
+    // The box's margins (for wrapping while the camera turns) reach past near and far: drops
+    // there are not drawn.
+    if (depthMeters < settings_.nearMeters || depthMeters > settings_.farMeters) continue;
     const double widthPx = start.focalPx * d * rain_.sizeScale * 1e-3 / depthMeters;
     const double blurPx = lens.blurPx(depthMeters);
     const double lengthPx = std::hypot(tx - hx, ty - hy);
     const double drawnWidthPx = std::max(widthPx + blurPx, s.minWidthPx);
-    const double timeFraction = widthPx / std::max(lengthPx, widthPx);
+    // The drop covers a point of its path for widthPx of the streak's lengthPx; the quad is
+    // drawnWidthPx longer than the path (half at each end), so the fraction over its length
+    // keeps the streak's alpha x area at the drop's projected area, widthPx^2.
+    const double timeFraction = widthPx / (lengthPx + drawnWidthPx);
     const double coverage = widthPx / drawnWidthPx;
     const double fog = std::exp(-s.fogDensityPerMeter * depthMeters);
     const double alpha = std::min(1.0, s.opacity * timeFraction * coverage * fog / s.meanMatte);

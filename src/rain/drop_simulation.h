@@ -110,9 +110,10 @@ class DropSimulation {
   // Every active drop's motion relative to the camera during the exposure that starts at the
   // current frame, projected into a screen streak. Alpha follows Garg and Nayar: the fraction
   // of the exposure a drop covers a pixel on its streak (widthPx / lengthPx = 2r / (v T) for
-  // motion across the view), times the fraction of a drawn pixel the drop covers when thinner
-  // than minWidthPx, spread over the circle of confusion when defocused, divided by the
-  // matte's mean.
+  // motion across the view; over the quad, which is drawnWidthPx longer than the path,
+  // widthPx / (lengthPx + drawnWidthPx), so alpha x area is the drop's widthPx^2), times the
+  // fraction of a drawn pixel the drop covers when thinner than minWidthPx, spread over the circle
+  // of confusion when defocused, divided by the matte's mean.
   std::vector<gpu::StreakInstance> buildStreaks(const StreakSettings& settings) const;
 
  private:

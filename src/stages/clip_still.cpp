@@ -10,9 +10,10 @@ namespace pluvia {
 namespace {
 
 constexpr int kStillFrames = 5;
-// The sky is found at this longest side at most: the texture test works on a few pixels' scale
-// either way, and a 4K plate would cost seconds for a mask that needs no such detail.
-constexpr int kSkyMaxSidePx = 640;
+// The sky is found at this longest side, whatever the plate's size: the texture test and the
+// seed and speck sizes are in pixels, so a proxy render and the full one find the same sky,
+// and a 4K plate does not cost seconds for a mask that needs no such detail.
+constexpr int kSkySidePx = 480;
 
 }  // namespace
 
@@ -40,9 +41,10 @@ const Image& clipStill(ClipContext& clip) {
 const std::vector<uint8_t>& clipSky(ClipContext& clip, const Camera& camera) {
   if (clip.stillSky) return *clip.stillSky;
   const Image& still = clipStill(clip);
-  const double scale = std::min(1.0, double(kSkyMaxSidePx) / std::max(still.width, still.height));
+  const double scale = double(kSkySidePx) / std::max(still.width, still.height);
   cv::Mat small, bgr;
-  cv::resize(rgbMat(still), small, cv::Size(), scale, scale, cv::INTER_AREA);
+  cv::resize(rgbMat(still), small, cv::Size(), scale, scale,
+             scale < 1.0 ? cv::INTER_AREA : cv::INTER_LINEAR);
   cv::cvtColor(small, bgr, cv::COLOR_RGB2BGR);
   DensifyOptions options;
   options.groundCamera = camera;

@@ -64,7 +64,7 @@ TEST(Preset, ExtendsMergesAndOverridesApply) {
   EXPECT_DOUBLE_EQ(p.number("rain.rate_mm_h"), 40.0);  // from heavy
   EXPECT_DOUBLE_EQ(p.number("rain.seed"), 3.0);        // --set
   EXPECT_DOUBLE_EQ(p.number("blur.sigma_px"), 2.5);
-  EXPECT_DOUBLE_EQ(p.number("camera.fov_deg"), 36.0);      // from base
+  EXPECT_DOUBLE_EQ(p.number("camera.fov_deg"), 36.0);  // from base
   EXPECT_EQ(p.string("fog.color_source"), "horizon");  // default filled
   EXPECT_FALSE(p.has("extends"));
 }
@@ -75,7 +75,7 @@ TEST(Preset, ReportsEveryProblemAtOnceWithPathsAndSuggestions) {
     "pluvia": 1,
     "rain": {"rate_mm_hr": 10, "seed": "seven", "wind": {"speed_m_s": -3}},
     "fogg": {},
-    "fog": {"density": 20, "color_source": "enviroment"},
+    "fog": {"density": 20, "color_source": "horizn"},
     "depth": {"layers": [{"type": "card", "distanse_m": 4}, {"type": "wall"}]}
   })");
   auto problems = problemsOf(path.string(), {"blur.sigma=2"});
@@ -85,7 +85,7 @@ TEST(Preset, ReportsEveryProblemAtOnceWithPathsAndSuggestions) {
   EXPECT_TRUE(anyContains(problems, "/rain/wind/speed_m_s: must be between 0 and 60 m/s (got -3)"));
   EXPECT_TRUE(anyContains(problems, "/fogg: unknown section 'fogg' (did you mean 'fog'?)"));
   EXPECT_TRUE(anyContains(problems, "/fog/density: must be between 0 and 10"));
-  EXPECT_TRUE(anyContains(problems, "(did you mean 'environment'?)"));
+  EXPECT_TRUE(anyContains(problems, "(did you mean 'horizon'?)"));
   EXPECT_TRUE(anyContains(problems, "/depth/layers/0/distanse_m: unknown key"));
   EXPECT_TRUE(anyContains(problems, "/depth/layers/1/type: unknown item type"));
   EXPECT_TRUE(anyContains(problems, "/blur/sigma: unknown key 'sigma' (did you mean 'sigma_px'?)"));
@@ -295,8 +295,9 @@ TEST(Preset, CameraPathAndLensKeys) {
   Preset plain = Preset::resolve("moderate", {}, presetSchema());
   EXPECT_TRUE(plain.at("camera.path").empty());
   EXPECT_DOUBLE_EQ(plain.number("camera.shutter_angle_deg"), 0.0);
-  EXPECT_DOUBLE_EQ(plain.number("camera.focus_m"), 0.0);
-  EXPECT_DOUBLE_EQ(plain.number("camera.f_number"), 0.0);
+  // The shipped lens: focused on the default depth's backdrop, stopped down for daylight.
+  EXPECT_DOUBLE_EQ(plain.number("camera.focus_m"), 20.0);
+  EXPECT_DOUBLE_EQ(plain.number("camera.f_number"), 11.0);
   EXPECT_DOUBLE_EQ(plain.number("camera.sensor_width_mm"), 36.0);
   Camera base = Camera::fromFieldOfView(640, 360, 40, 0, 1.6);
   EXPECT_FALSE(cameraPathFromPreset(plain, base).moving());
