@@ -359,6 +359,9 @@ StageInfo depthStageInfo() {
        "file, normalized: z-depth at v = 1"},
   };
   info.note = [](const Preset& p) -> std::string {
+    if (p.string("depth.source") == "file")
+      return fmt::format("depth from depth.file = {} ({})", p.string("depth.file"),
+                         p.string("depth.file_encoding"));
     if (p.string("depth.source") != "auto") return "";
     return fmt::format(
         "depth is a guess (sky found in the plate, ground under the camera, the rest at {:g} m): "
