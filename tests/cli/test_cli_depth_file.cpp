@@ -26,21 +26,15 @@ const std::string kLayers =
 
 // A textured 96x64 plate, frames 1-3, as PNG.
 std::string writePlate(const stdfs::path& dir) {
-  const int w = 96, h = 64;
-  for (int f = 1; f <= 3; ++f) {
-    Image image(w, h);
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
+  return writePlateSequence(dir, 1, 3, 96, 64, [](Image& image, int f) {
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x) {
         float* p = image.pixel(x, y);
         p[0] = float((x * 5 + y * 3 + f) % 256) / 255.0f;
         p[1] = float((x * 2 + y * 7) % 256) / 255.0f;
         p[2] = float((x + y * 11) % 256) / 255.0f;
       }
-    char name[64];
-    std::snprintf(name, sizeof name, "plate.%04d.png", f);
-    writeImageFile(dir / name, image);
-  }
-  return (dir / "plate.####.png").string();
+  });
 }
 
 // Every channel of an EXR, interleaved as stored.

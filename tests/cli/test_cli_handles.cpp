@@ -18,19 +18,14 @@ namespace {
 // A still plate (the same picture on every frame, as a locked-off shot), frames first..last:
 // a bright sky over a textured dark ground, so the rain shows.
 std::string writeStillPlate(const stdfs::path& dir, int first, int last) {
-  Image image(160, 120);
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x) {
-      float* p = image.pixel(x, y);
-      const float texture = ((x / 8 + y / 8) % 2) ? 0.06f : 0.1f;
-      for (int c = 0; c < 3; ++c) p[c] = y < 40 ? 0.9f : texture;
-    }
-  for (int f = first; f <= last; ++f) {
-    char name[64];
-    std::snprintf(name, sizeof name, "plate.%04d.png", f);
-    writeImageFile(dir / name, image);
-  }
-  return (dir / "plate.####.png").string();
+  return writePlateSequence(dir, first, last, 160, 120, [](Image& image, int) {
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x) {
+        float* p = image.pixel(x, y);
+        const float texture = ((x / 8 + y / 8) % 2) ? 0.06f : 0.1f;
+        for (int c = 0; c < 3; ++c) p[c] = y < 40 ? 0.9f : texture;
+      }
+  });
 }
 
 std::string frameName(const std::string& stem, int frame) {

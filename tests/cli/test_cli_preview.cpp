@@ -25,8 +25,7 @@ const std::string kExamplePreset = (sourceDir() / "examples/street/street.json")
 // Frames first..last of a 160x120 plate: smooth gradients with a few hard-edged blocks, so a
 // resize has edges to get wrong, written as 8-bit sRGB PNG.
 std::string writePlate(const stdfs::path& dir, int first, int last) {
-  for (int f = first; f <= last; ++f) {
-    Image image(kPlateWidth, kPlateHeight);
+  return writePlateSequence(dir, first, last, kPlateWidth, kPlateHeight, [](Image& image, int f) {
     for (int y = 0; y < kPlateHeight; ++y)
       for (int x = 0; x < kPlateWidth; ++x) {
         float* p = image.pixel(x, y);
@@ -35,11 +34,7 @@ std::string writePlate(const stdfs::path& dir, int first, int last) {
         p[1] = block ? 0.8f : 0.3f;
         p[2] = 0.2f + 0.5f * float(y) / kPlateHeight;
       }
-    char name[64];
-    std::snprintf(name, sizeof name, "plate.%04d.png", f);
-    writeImageFile(dir / name, image);
-  }
-  return (dir / "plate.####.png").string();
+  });
 }
 
 // An 8-bit sRGB picture shrunk to `size` the way a proxy render does it: in linear light, with

@@ -117,4 +117,16 @@ size_t residentBytes() {
   return resident * static_cast<size_t>(::sysconf(_SC_PAGESIZE));
 }
 
+std::string writePlateSequence(const stdfs::path& dir, int first, int last, int width, int height,
+                               const std::function<void(Image&, int)>& paint) {
+  for (int f = first; f <= last; ++f) {
+    Image image(width, height);
+    paint(image, f);
+    char name[64];
+    std::snprintf(name, sizeof name, "plate.%04d.png", f);
+    writeImageFile(dir / name, image);
+  }
+  return (dir / "plate.####.png").string();
+}
+
 }  // namespace pluvia::test

@@ -1,6 +1,7 @@
 #pragma once
 // Paths and small helpers shared by the tests.
 #include <filesystem>
+#include <functional>
 #include <set>
 #include <string>
 #include <vector>
@@ -39,5 +40,10 @@ int countLinesStartingWith(const std::string& text, const std::set<std::string>&
 Image readImageFile(const std::filesystem::path& path);
 // Writes float RGBA (alpha dropped when `channels` is 3) to any format OpenImageIO knows.
 void writeImageFile(const std::filesystem::path& path, const Image& image, int channels = 3);
+
+// Writes frames first..last of a width x height plate as dir/plate.%04d.png, each painted by
+// `paint(image, frame)`, and returns the pattern "dir/plate.####.png".
+std::string writePlateSequence(const std::filesystem::path& dir, int first, int last, int width,
+                               int height, const std::function<void(Image&, int)>& paint);
 
 }  // namespace pluvia::test
