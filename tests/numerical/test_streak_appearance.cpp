@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "rain/drop_physics.h"
@@ -92,6 +93,8 @@ TEST(StreakAppearance, RainLayerCarriesTheDropsProjectedArea) {
     const double expected = (far - near) * marshallPalmerMoment(rate, 0.8, 2) * 1e-6;
     const double pinhole = rainLayer(rate, 0.0, false).alphaArea / (kWidth * kHeight);
     const double defocused = rainLayer(rate, 0.0, true).alphaArea / (kWidth * kHeight);
+    std::printf("%g mm/h: mean alpha %.5f (pinhole), %.5f (lens), physical %.5f\n", rate, pinhole,
+                defocused, expected);
     // 15 %: drops are drawn only while their streak's alpha reaches 1/1024, and the box's
     // margins and the frame's edges cut some streaks.
     EXPECT_NEAR(pinhole / expected, 1.0, 0.15)
@@ -104,6 +107,8 @@ TEST(StreakAppearance, NoThinStreakSpansAQuarterOfTheFrame) {
   for (const double rate : {8.0, 100.0}) {
     const Layer withLens = rainLayer(rate, 12.0, true);
     const Layer pinhole = rainLayer(rate, 12.0, false);
+    std::printf("%g mm/h: thin tall share %.4f with the lens, %.4f with a pinhole\n", rate,
+                withLens.thinTallShare, pinhole.thinTallShare);
     EXPECT_LT(withLens.thinTallShare, 0.01) << rate << " mm/h";
     // The measure can fail: without the lens, near drops are wires.
     EXPECT_GT(pinhole.thinTallShare, 0.05) << rate << " mm/h";
