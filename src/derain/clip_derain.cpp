@@ -61,6 +61,11 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
                               frames[start + window - 1], input),
                   {"derain", {}, input});
     }
+    if (registration.lockedOff)
+      log::info(
+          fmt::format("derain: frames {}-{}: camera locked off (phase correlation), not "
+                      "resampled",
+                      frames[start], frames[start + window - 1]));
     DerainSettings solver = settings.solver;
     if (registration.moving()) solver.registrationErrorPx = kResidualMisregistrationPx;
     const DerainResult result = solveDerain(warpToReference(originals, registration), solver);

@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "util/error.h"
+#include "util/log.h"
 
 namespace pluvia::derain {
 namespace {
@@ -19,6 +20,13 @@ constexpr double kRansacThresholdPx = 2.0;
 constexpr int kMinInliers = 20;
 // Corner displacement below which a frame counts as not having moved (subpixel noise of the fit).
 constexpr double kStaticShiftPx = 0.5;
+// Phase-correlation shift below which the camera counts as locked off.
+constexpr double kStillShiftPx = 0.5;
+// A frame whose contrast (standard deviation of its luminance) is below this share of the
+// window's median is blank.
+constexpr double kBlankContrast = 0.25;
+// A phase-correlation peak below this is no evidence either way (a featureless tile).
+constexpr double kMinPeakResponse = 0.05;
 
 // 8-bit luminance with thin bright rain streaks suppressed (5x5 median), so features sit on the
 // scene rather than on rain.
@@ -37,6 +45,63 @@ cv::Mat featureImage(const cv::Mat& rgb) {
   return gray;
 }
 
+// The per-pixel median of images [first, last).
+cv::Mat medianOf(const std::vector<cv::Mat>& images, size_t first, size_t last) {
+  cv::Mat median(images.front().size(), CV_32F);
+  std::vector<float> values(last - first);
+  for (int y = 0; y < median.rows; ++y)
+    for (int x = 0; x < median.cols; ++x) {
+      for (size_t k = first; k < last; ++k) values[k - first] = images[k].at<float>(y, x);
+      std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+      median.at<float>(y, x) = values[values.size() / 2];
+    }
+  return median;
+}
+
+// A locked-off camera, told before any feature is matched: the temporal medians of the first
+// and the last third of the window (so the rain, fresh in every frame, is gone from both) are
+// phase-correlated in each quadrant of the frame, and no quadrant but at most one has moved by
+// kStillShiftPx (a pan, a zoom or a turn moves them all; a quadrant without a clear peak, a
+// featureless sky, is no evidence either way). Blank frames are left out of the medians.
+bool cameraIsStill(const std::vector<cv::Mat>& frames) {
+  std::vector<cv::Mat> all;
+  std::vector<double> contrast;
+  for (const cv::Mat& frame : frames) {
+    cv::Mat image;
+    featureImage(frame).convertTo(image, CV_32F);
+    cv::Scalar mean, deviation;
+    cv::meanStdDev(image, mean, deviation);
+    all.push_back(image);
+    contrast.push_back(deviation[0]);
+  }
+  // Blank frames (a flash, a cut to black, a lens cap) say nothing of the camera's motion.
+  std::vector<double> sorted = contrast;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double typical = sorted[sorted.size() / 2];
+  std::vector<cv::Mat> images;
+  for (size_t k = 0; k < all.size(); ++k)
+    if (contrast[k] >= kBlankContrast * typical) images.push_back(all[k]);
+  if (images.size() < 2) return false;
+  const size_t third = std::max<size_t>(1, images.size() / 3);
+  const cv::Mat early = medianOf(images, 0, third);
+  const cv::Mat late = medianOf(images, images.size() - third, images.size());
+  const cv::Size quadrant(early.cols / 2, early.rows / 2);
+  if (quadrant.width < 16 || quadrant.height < 16) return false;
+  cv::Mat window;
+  cv::createHanningWindow(window, quadrant, CV_32F);
+  std::vector<double> shifts;
+  for (int qy = 0; qy < 2; ++qy)
+    for (int qx = 0; qx < 2; ++qx) {
+      const cv::Rect tile(qx * quadrant.width, qy * quadrant.height, quadrant.width,
+                          quadrant.height);
+      double response = 0.0;
+      const cv::Point2d shift = cv::phaseCorrelate(early(tile), late(tile), window, &response);
+      if (response >= kMinPeakResponse) shifts.push_back(std::hypot(shift.x, shift.y));
+    }
+  std::sort(shifts.rbegin(), shifts.rend());
+  return shifts.empty() || shifts[std::min<size_t>(1, shifts.size() - 1)] < kStillShiftPx;
+}
+
 double cornerShift(const cv::Matx33d& h, cv::Size size) {
   double shift = 0.0;
   for (const cv::Point2d corner :
@@ -53,12 +118,18 @@ double cornerShift(const cv::Matx33d& h, cv::Size size) {
 Registration registerFrames(const std::vector<cv::Mat>& frames, int reference) {
   Registration registration;
   registration.referenceToFrame.assign(frames.size(), cv::Matx33d::eye());
+  if (cameraIsStill(frames)) {
+    registration.lockedOff = true;
+    return registration;
+  }
   auto orb = cv::ORB::create(kFeatures);
   std::vector<std::vector<cv::KeyPoint>> keypoints(frames.size());
   std::vector<cv::Mat> descriptors(frames.size());
   for (size_t k = 0; k < frames.size(); ++k)
     orb->detectAndCompute(featureImage(frames[k]), cv::noArray(), keypoints[k], descriptors[k]);
   cv::BFMatcher matcher(cv::NORM_HAMMING);
+  std::vector<bool> registered(frames.size(), false);
+  registered[size_t(reference)] = true;
   for (size_t k = 0; k < frames.size(); ++k) {
     if (int(k) == reference) continue;
     std::vector<cv::Point2f> fromReference, inFrame;
@@ -77,18 +148,37 @@ Registration registerFrames(const std::vector<cv::Mat>& frames, int reference) {
       h = cv::findHomography(fromReference, inFrame, cv::RANSAC, kRansacThresholdPx, inliers);
     const int inlierCount = inliers.empty() ? 0 : cv::countNonZero(inliers);
     if (h.empty() || inlierCount < kMinInliers) {
-      throw Error(
-          fmt::format("cannot register frame {} of the window onto frame {}: {} matching features "
-                      "(at least {} needed); is the camera moving too fast or the frame blank?",
-                      k, reference, inlierCount, kMinInliers),
-          {"derain"});
+      registration.placedFrames.push_back(int(k));
+      continue;
     }
     registration.referenceToFrame[k] = cv::Matx33d(h);
+    registered[k] = true;
+  }
+  // A frame that could not be registered (blank, blurred, too few features) takes the motion of
+  // its nearest registered neighbour (the reference, at worst: identity), with a warning.
+  for (int k : registration.placedFrames) {
+    int nearest = reference;
+    for (int d = 1; d < int(frames.size()); ++d) {
+      if (k - d >= 0 && registered[size_t(k - d)]) {
+        nearest = k - d;
+        break;
+      }
+      if (k + d < int(frames.size()) && registered[size_t(k + d)]) {
+        nearest = k + d;
+        break;
+      }
+    }
+    registration.referenceToFrame[size_t(k)] = registration.referenceToFrame[size_t(nearest)];
+    log::warning(
+        fmt::format("derain: frame {} of the window has too few features to register "
+                    "onto frame {}; placed with frame {}'s motion",
+                    k, reference, nearest));
+  }
+  for (size_t k = 0; k < frames.size(); ++k)
     registration.maxShiftPx = std::max(
         registration.maxShiftPx, cornerShift(registration.referenceToFrame[k], frames[k].size()));
-  }
   if (registration.maxShiftPx < kStaticShiftPx) {
-    // Locked-off: the fits only measured noise. Keep the frames exactly as they are.
+    // The fits only measured noise. Keep the frames exactly as they are.
     std::fill(registration.referenceToFrame.begin(), registration.referenceToFrame.end(),
               cv::Matx33d::eye());
   }

@@ -20,14 +20,20 @@ struct Registration {
   std::vector<cv::Matx33d> referenceToFrame;
   // Largest displacement of a frame corner under any of the homographies, in pixels.
   double maxShiftPx = 0.0;
+  // The camera was found locked off before any feature matching: every homography is identity.
+  bool lockedOff = false;
+  // Frames that could not be registered and took their nearest registered neighbour's motion.
+  std::vector<int> placedFrames;
   bool moving() const { return maxShiftPx >= 0.25; }
 };
 
-// Estimates each frame's homography from frames[reference] (ORB features on the median-filtered
-// luminance, so thin rain streaks carry none; ratio test; RANSAC, refitted on the inliers).
-// When no frame moves more than half a pixel the camera is taken as locked-off and every
-// homography is the identity. Throws pluvia::Error naming the frame index when a frame cannot
-// be registered.
+// Estimates each frame's homography from frames[reference]. First, from evidence: when phase
+// correlation of the median-filtered luminance finds no quadrant of any frame shifted by a
+// quarter pixel, the camera is locked off and every homography is the identity (no feature is
+// matched, nothing is resampled). Otherwise ORB features on the median-filtered luminance (thin
+// rain streaks carry none; ratio test; RANSAC). A frame with too few matches takes its nearest
+// registered neighbour's homography, with a warning, and is listed in placedFrames. When no
+// frame moves more than half a pixel every homography is the identity.
 Registration registerFrames(const std::vector<cv::Mat>& frames, int reference);
 
 // The frames resampled onto the reference frame's pixel grid, with validity masks. When the
