@@ -15,13 +15,32 @@
 namespace pluvia::derain {
 namespace {
 
-// Windows of `window` frames over `count` frames: 0, window, 2 window, ..., the last one moved
-// back so it is full. Each frame is emitted by the first window that holds it.
-std::vector<size_t> windowStarts(size_t count, size_t window) {
+// Windows of `window` frames over `count` frames, each starting `window - overlap` after the
+// one before, the last one moved back so it is full.
+std::vector<size_t> windowStarts(size_t count, size_t window, size_t overlap) {
   std::vector<size_t> starts;
-  for (size_t start = 0; start < count; start += window)
+  for (size_t start = 0;; start += window - overlap) {
     starts.push_back(std::min(start, count - window));
+    if (start + window >= count) break;
+  }
   return starts;
+}
+
+// Frames two windows both solved: the clean plate and the matte cross-faded from the earlier
+// window's (weight 1 - t) to the later one's (t), so there is no step between windows.
+ClipDerainFrame crossFade(const ClipDerainFrame& earlier, const ClipDerainFrame& later, double t) {
+  ClipDerainFrame out = later;
+  const cv::Mat both = earlier.covered & later.covered;
+  cv::Mat blended;
+  cv::addWeighted(earlier.clean, 1.0 - t, later.clean, t, 0.0, blended);
+  earlier.clean.copyTo(out.clean, earlier.covered & ~later.covered);
+  blended.copyTo(out.clean, both);
+  cv::addWeighted(earlier.matte, 1.0 - t, later.matte, t, 0.0, out.matte);
+  out.covered = earlier.covered | later.covered;
+  out.rainColor = earlier.rainColor * float(1.0 - t) + later.rainColor * float(t);
+  out.angleDeg = (1.0 - t) * earlier.angleDeg + t * later.angleDeg;
+  out.noiseSigma = (1.0 - t) * earlier.noiseSigma + t * later.noiseSigma;
+  return out;
 }
 
 }  // namespace
@@ -47,7 +66,20 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
   double residualSquares = 0.0, angleSum = 0.0;
   cv::Vec3d colorSum(0, 0, 0);
   size_t emitted = 0;
-  for (size_t start : windowStarts(frames.size(), window)) {
+  const auto emitFrame = [&](const ClipDerainFrame& out) {
+    emit(out);
+    colorSum += cv::Vec3d(out.rainColor);
+    angleSum += out.angleDeg;
+    ++emitted;
+  };
+  // A quarter of each window is solved again by the next, and cross-faded.
+  const size_t overlap = window < frames.size() ? std::max<size_t>(1, window / 4) : 0;
+  const std::vector<size_t> starts = windowStarts(frames.size(), window, overlap);
+  std::vector<ClipDerainFrame> pending;  // the earlier window's frames the next one also solves
+  size_t pendingFirst = 0;               // the index of pending's first frame
+  for (size_t w = 0; w < starts.size(); ++w) {
+    const size_t start = starts[w];
+    const size_t nextStart = w + 1 < starts.size() ? starts[w + 1] : frames.size();
     std::vector<cv::Mat> originals;
     for (size_t i = start; i < start + window; ++i)
       originals.push_back(rgbMat(reader->read(frames[i])));
@@ -85,6 +117,8 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
         stats.firstFrame, stats.lastFrame, stats.iterations, stats.angleDeg, stats.residual,
         stats.maxShiftPx));
 
+    residualSquares += result.residual * result.residual * double(window);
+    std::vector<ClipDerainFrame> next;
     for (size_t i = start; i < start + window; ++i) {
       if (i < emitted) continue;
       const int k = int(i - start);
@@ -98,17 +132,25 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
       out.rainColor = result.rainColor[size_t(k)];
       out.angleDeg = result.angleDeg;
       out.noiseSigma = result.noiseSigma;
-      emit(out);
-      colorSum += cv::Vec3d(out.rainColor);
-      angleSum += result.angleDeg;
-      residualSquares += result.residual * result.residual;
-      ++emitted;
+      const size_t waiting = i - pendingFirst;  // index among the earlier window's frames
+      if (i >= pendingFirst && waiting < pending.size()) {
+        const double t = double(waiting + 1) / double(pending.size() + 1);
+        out = crossFade(pending[waiting], out, t);
+      }
+      if (i >= nextStart) {
+        next.push_back(std::move(out));
+        continue;
+      }
+      emitFrame(out);
     }
+    pending = std::move(next);
+    pendingFirst = nextStart;
     summary.iterations = std::max(summary.iterations, result.iterations);
   }
+  for (const ClipDerainFrame& out : pending) emitFrame(out);
   summary.angleDeg = angleSum / double(emitted);
   summary.rainColor = cv::Vec3f(colorSum / double(emitted));
-  summary.residual = std::sqrt(residualSquares / double(emitted));
+  summary.residual = std::sqrt(residualSquares / double(window * starts.size()));
   summary.seconds = secondsSince(started);
   return summary;
 }

@@ -1,6 +1,7 @@
 #pragma once
 // Derain over a whole clip: frames read (in the file's own encoding, see frame_stack.h), cut into
-// windows of `window` frames (the last window reaches back so every window is full), each window
+// windows of `window` frames, a quarter of each solved again by the next and cross-faded (the
+// last window reaches back so every window is full), each window
 // registered (panning camera) and solved with Eq. (1); results handed back frame by frame on
 // each frame's own pixel grid.
 #include <cstdint>

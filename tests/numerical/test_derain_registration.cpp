@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "derain/clip_derain.h"
 #include "derain/derain_solver.h"
 #include "derain/registration.h"
 #include "derain/synthetic_rain.h"
@@ -97,6 +98,44 @@ TEST(DerainRegistration, PanIsRegisteredAndBlankFramesTakeANeighboursMotion) {
   // Frame 1 takes frame 0's motion and frame 2 frame 3's (the nearest registered).
   EXPECT_EQ(gappy.referenceToFrame[1], gappy.referenceToFrame[0]);
   EXPECT_EQ(gappy.referenceToFrame[2], gappy.referenceToFrame[3]);
+}
+
+}  // namespace
+}  // namespace pluvia::derain
+
+namespace pluvia::derain {
+namespace {
+
+double meanAbs(const cv::Mat& a, const cv::Mat& b) {
+  cv::Mat d;
+  cv::absdiff(a, b, d);
+  const cv::Scalar m = cv::mean(d);
+  return (m[0] + m[1] + m[2]) / 3.0;
+}
+
+TEST(DerainClip, WindowsOverlapAndCrossFadeSoTheCleanPlateHasNoStep) {
+  const cv::Mat background = realBackground(240);
+  if (background.empty()) GTEST_SKIP() << "../shared/data absent";
+  SyntheticRainSettings rain;
+  rain.frames = 20;
+  rain.seed = 9;
+  const SyntheticRain truth = makeSyntheticRain(background, rain);
+  const auto dir = test::freshTempDir("derain_overlap");
+  const std::string pattern = test::writePlateSequence(
+      dir, 0, 19, background.cols, background.rows,
+      [&](Image& image, int f) { image = imageFromMat(truth.stack.frames[size_t(f)]); });
+  ClipDerainSettings settings;
+  settings.window = 8;  // windows 0-7, 6-13, 12-19: frames 6-7 and 12-13 solved twice
+  std::vector<cv::Mat> clean;
+  derainClip(pattern, settings, [&](const ClipDerainFrame& f) { clean.push_back(f.clean); });
+  ASSERT_EQ(clean.size(), 20u);
+  // Locked off: one clean plate per window, the same on each of its own frames ...
+  EXPECT_EQ(meanAbs(clean[4], clean[5]), 0.0);
+  // ... and between two windows the step from frame 5 to frame 8 is spread over the overlap.
+  const double step = meanAbs(clean[5], clean[8]);
+  ASSERT_GT(step, 0.0);
+  for (int k = 5; k < 8; ++k)
+    EXPECT_LT(meanAbs(clean[size_t(k)], clean[size_t(k + 1)]), 0.7 * step);
 }
 
 }  // namespace
