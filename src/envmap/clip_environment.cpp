@@ -115,6 +115,14 @@ ClipEnvironment buildClipEnvironment(ClipReader& reader, const std::vector<int64
                               panFrames.back().linearRgb.reshape(1)) > kStaticDifference;
       motion = rotates ? "pan" : changes && int(frames.size()) > settings.every ? "loom" : "static";
     }
+    if (panPlacement.fromFeatures && !panPlacement.interpolated.empty()) {
+      std::vector<int64_t> numbers;
+      for (int k : panPlacement.interpolated) numbers.push_back(panNumbers[size_t(k)]);
+      log::info(
+          fmt::format("lighting: frames {} have too few features to match: placed between "
+                      "their neighbours; the others by their features",
+                      fmt::join(numbers, ", ")));
+    }
     if (!panPlacement.fromFeatures && panFrames.size() > 1) {
       env.warnings.push_back(panPlacement.note + (motion == "pan"
                                                       ? "; frames placed by the field of view"

@@ -31,7 +31,8 @@ struct CameraPose {
 struct Placement {
   std::vector<CameraPose> poses;  // one per frame
   bool fromFeatures = false;      // false: the fallback (field of view and assumed motion)
-  std::string note;               // why the fallback was taken, for the warning
+  std::string note;               // why the fallback was taken, or which frames were placed how
+  std::vector<int> interpolated;  // frames with too few features, placed between neighbours
 };
 
 struct PlacementSettings {
@@ -42,9 +43,11 @@ struct PlacementSettings {
 };
 
 // Camera poses from OpenCV's stitching pipeline (features, pairwise matching, rotation-only
-// camera model with bundle adjustment). Falls back to the field of view and the assumed yaw
-// when too few features match (sky, fog, a blank wall), saying why in `note`; never throws for
-// that. A single frame is placed looking along -Z.
+// camera model with bundle adjustment) on the frames that have features; frames with too few
+// (sky, fog, a blank wall, a flash) are placed between their neighbours and listed. Falls back
+// to the field of view and the assumed yaw when fewer than half the frames have features or
+// they do not match, saying why in `note`; never throws for that. A single frame is placed
+// looking along -Z.
 Placement placeFrames(const std::vector<PanoramaFrame>& frames, const PlacementSettings& settings);
 
 // A light source the footage saturated: a direction in the environment (unit, world) and its

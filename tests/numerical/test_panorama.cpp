@@ -193,6 +193,25 @@ TEST(Panorama, SyntheticPanRecoversYawFocalAndRadiance) {
   EXPECT_TRUE(allFinite(pano.radiance));
 }
 
+TEST(Panorama, PanWithBlankFramesIsPlacedByTheOthersAndInterpolated) {
+  // A 75 deg pan in 11 frames of which two are blank (a featureless wall): the nine with
+  // features place the pan, the blank ones turn between their neighbours.
+  const EquirectMap env = texturedEnvironment();
+  std::vector<double> yaws;
+  for (int k = 0; k < 11; ++k) yaws.push_back(7.5 * k);
+  const int w = 480, h = 270;
+  auto frames = cutFrames(env, yaws, 0.0, 60.0, w, h, {1.0});
+  for (int blank : {4, 5}) frames[size_t(blank)].linearRgb.setTo(cv::Scalar::all(0.3));
+  PlacementSettings settings;
+  settings.horizontalFovDeg = 60.0;
+  const Placement placement = placeFrames(frames, settings);
+  ASSERT_TRUE(placement.fromFeatures) << placement.note;
+  EXPECT_EQ(placement.interpolated, (std::vector<int>{4, 5}));
+  EXPECT_NE(placement.note.find("4, 5"), std::string::npos) << placement.note;
+  for (size_t k = 0; k < yaws.size(); ++k)
+    EXPECT_NEAR(wrapDeg(yawOf(placement.poses[k]) - yaws[k]), 0.0, 1.5) << "frame " << k;
+}
+
 TEST(Panorama, RealHdrPanRecoversYawAndFocal) {
   const auto dir = test::sharedData();
   if (dir.empty() || !std::filesystem::exists(dir / "hdr" / "blender_world_city.exr"))
