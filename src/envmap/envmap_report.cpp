@@ -434,6 +434,20 @@ void runEnvironment(const EquirectMap& env, EnvmapEnvironment info,
                fs::path(settings.imagesDir) /
                    fmt::format("{}_stitched_{}_lights.png", info.name, counts.back()));
   }
+  {
+    // The unseen sphere filled by the sky model (panorama.h) instead of the paper's nearest
+    // seen colour the rows above use.
+    EnvmapReportRow row = report.rows[report.rows.size() - 2];  // the widest pan, as recorded
+    row.skyModelFill = true;
+    EquirectSettings render;
+    render.width = settings.panoramaWidth;
+    render.fill = UnseenFill::SkyModel;
+    const auto renderStart = Clock::now();
+    const PanoramaResult result = renderEquirect(widestFrames, widestPlacement, render);
+    row.renderSeconds = secondsSince(renderStart);
+    measureStitched(row, result);
+    report.rows.push_back(row);
+  }
   if (!settings.imagesDir.empty()) {
     const fs::path dir(settings.imagesDir);
     writePng(env, info.exposure, dir / fmt::format("{}_full.png", info.name));
@@ -519,6 +533,7 @@ void runRealPhotos(const EnvmapReportSettings& settings, EnvmapReport& report) {
 }
 
 std::string rowLabel(const EnvmapReportRow& row) {
+  if (row.skyModelFill) return fmt::format("{} sky model", row.frames);
   return row.lightsRestored ? fmt::format("{}+lights", row.frames) : std::to_string(row.frames);
 }
 
@@ -614,14 +629,19 @@ std::string formatEnvmapReport(const EnvmapReport& report) {
 
   // The targets, at the most frames of each environment.
   int environments = 0, meanMet = 0, maxMet = 0, lightRows = 0, lightMeanMet = 0, lightMaxMet = 0;
-  double worstMean = 0.0, worstLightMean = 0.0, slowest = 0.0;
+  int modelRows = 0, modelMeanMet = 0;
+  double worstMean = 0.0, worstLightMean = 0.0, worstModelMean = 0.0, slowest = 0.0;
   int mostFrames = 0;
   for (size_t i = 0; i < report.rows.size(); ++i) {
     const EnvmapReportRow& row = report.rows[i];
     const bool last = i + 1 == report.rows.size() ||
                       report.rows[i + 1].environment != row.environment ||
-                      report.rows[i + 1].lightsRestored;
-    if (row.lightsRestored) {
+                      report.rows[i + 1].lightsRestored || report.rows[i + 1].skyModelFill;
+    if (row.skyModelFill) {
+      ++modelRows;
+      modelMeanMet += row.dropMeanError < kTarget;
+      worstModelMean = std::max(worstModelMean, row.dropMeanError);
+    } else if (row.lightsRestored) {
       ++lightRows;
       lightMeanMet += row.dropMeanError < kTarget;
       lightMaxMet += row.dropMaxError < kTarget;
@@ -648,6 +668,12 @@ std::string formatEnvmapReport(const EnvmapReport& report) {
           "direction (worst mean {:.1f} %).\n",
           lightMeanMet, lightRows, lightMaxMet, lightRows, 100.0 * worstLightMean);
     }
+    if (modelRows > 0)
+      out += fmt::format(
+          "With the unseen sphere filled by the sky model (CIE overcast or uniform, fitted to the "
+          "seen sky) instead of the nearest seen colour: {} of {} on the mean (worst mean "
+          "{:.1f} %).\n",
+          modelMeanMet, modelRows, 100.0 * worstModelMean);
     out += fmt::format("Slowest stitch of {} frames of {}x{} (placement + rendering): {:.2f} s",
                        mostFrames, report.frameWidth, report.frameHeight, slowest);
     if (mostFrames == 24 && report.frameWidth == 1280 && report.frameHeight == 720)
@@ -681,15 +707,16 @@ void writeEnvmapReportCsv(const EnvmapReport& report, const std::string& path) {
   if (!file) throw Error("cannot write the report", {"report", {}, path});
   file << "environment,frames,lights_restored,lights,yaw_step_deg,from_features,pose_error_deg,"
           "focal_error,covered_fraction,sh_error,drop_mean_error,drop_max_error,directions,"
-          "placement_seconds,render_seconds,total_seconds\n";
+          "placement_seconds,render_seconds,total_seconds,fill\n";
   for (const EnvmapReportRow& row : report.rows) {
     file << fmt::format(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", row.environment, row.frames,
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", row.environment, row.frames,
         row.lightsRestored ? 1 : 0, row.lights, csvNumber(row.yawStepDeg), row.fromFeatures ? 1 : 0,
         csvNumber(row.poseErrorDeg), csvNumber(row.focalError), csvNumber(row.coveredFraction),
         csvNumber(row.shError), csvNumber(row.dropMeanError), csvNumber(row.dropMaxError),
         row.directions, csvNumber(row.placementSeconds), csvNumber(row.renderSeconds),
-        csvNumber(row.placementSeconds + row.renderSeconds));
+        csvNumber(row.placementSeconds + row.renderSeconds),
+        row.skyModelFill ? "sky_model" : "nearest");
   }
   if (!file) throw Error("failed while writing the report", {"report", {}, path});
 }

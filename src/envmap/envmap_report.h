@@ -52,6 +52,7 @@ struct EnvmapReportRow {
   std::string environment;  // file stem, or "builtin"
   int frames = 0;
   bool lightsRestored = false;  // the "+ lights" row
+  bool skyModelFill = false;    // the unseen sphere filled by the sky model (else the nearest)
   int lights = 0;               // light sources given in that row
   double yawStepDeg = 0.0;
   bool fromFeatures = false;  // placement from matched features (false: the fallback)

@@ -60,13 +60,24 @@ struct LightSource {
   std::array<float, 3> radiance{0, 0, 0};
 };
 
+// How the directions no frame saw are filled.
+//  - Nearest: the colour of the nearest seen texel (Wang et al.).
+//  - SkyModel: the sky above the horizon from a model fitted to the seen sky, the CIE overcast
+//    sky L(theta) = Lz (1 + 2 cos theta) / 3 (Huang et al.) or a uniform one, whichever fits the
+//    seen sky better, per channel; the ground below it the seen ground's mean radiance. With no
+//    sky seen, the sky that lights the seen ground (albedo 0.18); with no ground seen, the ground
+//    that sky lights; with neither, Nearest.
+enum class UnseenFill { Nearest, SkyModel };
+
 struct EquirectSettings {
   int width = 512;  // height = width / 2
   std::vector<LightSource> lights;
+  UnseenFill fill = UnseenFill::Nearest;  // measured better (pluvia report envmap)
 };
 
 struct PanoramaResult {
   EquirectMap radiance;          // filled everywhere
+  std::string fillModel;         // what filled the unseen directions ("nearest", "cie overcast"...)
   cv::Mat coverage;              // CV_8UC1 width x height: nonzero where a frame saw the direction
   double coveredFraction = 0.0;  // of the sphere's solid angle
   std::vector<float> gains;      // per frame exposure gain applied (1 for frame 0)

@@ -5,6 +5,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
@@ -192,6 +193,77 @@ void fillNearest(EquirectMap& map, const cv::Mat& coverage) {
   });
 }
 
+// The sky and ground models of UnseenFill::SkyModel (panorama.h); false when there is nothing
+// to fit (nothing seen above or below the horizon), leaving the map to fillNearest.
+constexpr double kSceneAlbedo = 0.18;
+
+bool fillSkyModel(EquirectMap& map, const cv::Mat& coverage, std::string& model) {
+  const int w = map.width, h = map.height;
+  // Weighted sums over seen texels: sky (elevation > 0) against f = (1 + 2 cos theta) / 3, the
+  // CIE overcast shape, and 1 (uniform); the ground's mean.
+  std::array<double, 3> skyF{0, 0, 0}, skyOne{0, 0, 0}, skySq{0, 0, 0}, ground{0, 0, 0};
+  double ff = 0, ones = 0, groundWeight = 0;
+  for (int y = 0; y < h; ++y) {
+    const double solid = equirectTexelSolidAngle(w, h, y);
+    const double cosTheta = std::cos(CV_PI * (y + 0.5) / h);  // sin of the elevation
+    const double f = (1.0 + 2.0 * cosTheta) / 3.0;
+    const uchar* c = coverage.ptr<uchar>(y);
+    for (int x = 0; x < w; ++x) {
+      if (!c[x]) continue;
+      const float* v = map.texel(x, y);
+      if (cosTheta > 0) {
+        for (int k = 0; k < 3; ++k) {
+          skyF[size_t(k)] += solid * f * v[k];
+          skyOne[size_t(k)] += solid * v[k];
+          skySq[size_t(k)] += solid * double(v[k]) * v[k];
+        }
+        ff += solid * f * f;
+        ones += solid;
+      } else {
+        for (int k = 0; k < 3; ++k) ground[size_t(k)] += solid * v[k];
+        groundWeight += solid;
+      }
+    }
+  }
+  if (ones <= 0 && groundWeight <= 0) return false;
+  // Least squares per channel: L = a f (CIE) or L = b (uniform); keep the smaller residual
+  // summed over the channels (sum v^2 - a^2 ff, and sum v^2 - b^2 ones).
+  std::array<double, 3> zenith{0, 0, 0}, uniform{0, 0, 0};
+  double cieResidual = 0, uniformResidual = 0;
+  for (int k = 0; k < 3 && ones > 0; ++k) {
+    zenith[size_t(k)] = skyF[size_t(k)] / ff;
+    uniform[size_t(k)] = skyOne[size_t(k)] / ones;
+    cieResidual += skySq[size_t(k)] - zenith[size_t(k)] * skyF[size_t(k)];
+    uniformResidual += skySq[size_t(k)] - uniform[size_t(k)] * skyOne[size_t(k)];
+  }
+  const bool cie = ones <= 0 || cieResidual < uniformResidual;
+  std::array<double, 3> groundRgb{0, 0, 0};
+  for (int k = 0; k < 3; ++k) {
+    if (ones <= 0)  // the overcast sky that lights the seen ground: E = 7 pi Lz / 9
+      zenith[size_t(k)] = ground[size_t(k)] / groundWeight / kSceneAlbedo * 9.0 / 7.0;
+    // The ground a sky lights: albedo E / pi (E of the uniform sky: pi L).
+    const double lit = kSceneAlbedo * (cie ? 7.0 / 9.0 * zenith[size_t(k)] : uniform[size_t(k)]);
+    groundRgb[size_t(k)] = groundWeight > 0 ? ground[size_t(k)] / groundWeight : lit;
+  }
+  model = ones <= 0 ? "cie overcast lighting the seen ground"
+          : cie     ? "cie overcast"
+                    : "uniform sky";
+  if (groundWeight <= 0) model += ", ground it lights";
+  tbb::parallel_for(0, h, [&](int y) {
+    const double cosTheta = std::cos(CV_PI * (y + 0.5) / h);
+    const double f = (1.0 + 2.0 * cosTheta) / 3.0;
+    const uchar* c = coverage.ptr<uchar>(y);
+    for (int x = 0; x < w; ++x) {
+      if (c[x]) continue;
+      float* out = map.texel(x, y);
+      for (int k = 0; k < 3; ++k)
+        out[k] = float(cosTheta > 0 ? (cie ? zenith[size_t(k)] * f : uniform[size_t(k)])
+                                    : groundRgb[size_t(k)]);
+    }
+  });
+  return true;
+}
+
 }  // namespace
 
 PanoramaResult renderEquirect(const std::vector<PanoramaFrame>& frames, const Placement& placement,
@@ -276,7 +348,10 @@ PanoramaResult renderEquirect(const std::vector<PanoramaFrame>& frames, const Pl
     covered += count * equirectTexelSolidAngle(width, height, y);
   }
   result.coveredFraction = covered / (4.0 * CV_PI);
-  if (covered > 0) fillNearest(result.radiance, result.coverage);
+  result.fillModel = "nearest";
+  if (covered > 0 && !(settings.fill == UnseenFill::SkyModel &&
+                       fillSkyModel(result.radiance, result.coverage, result.fillModel)))
+    fillNearest(result.radiance, result.coverage);
   // A saturated pixel inside a frame's light region: the light's measured radiance.
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x)

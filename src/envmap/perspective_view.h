@@ -10,8 +10,8 @@
 namespace pluvia::envmap {
 
 struct RecordedFrame {
-  PanoramaFrame frame;   // linear RGB after the camera's 8-bit clip (and mask of clipped pixels)
-  cv::Mat displayRgb8;   // CV_8UC3 R G B, sRGB-encoded, what the camera stored
+  PanoramaFrame frame;  // linear RGB after the camera's 8-bit clip (and mask of clipped pixels)
+  cv::Mat displayRgb8;  // CV_8UC3 R G B, sRGB-encoded, what the camera stored
 };
 
 // The view of `environment` from a pinhole camera (pose, `width` x `height`), exposed by

@@ -212,6 +212,33 @@ TEST(Panorama, PanWithBlankFramesIsPlacedByTheOthersAndInterpolated) {
     EXPECT_NEAR(wrapDeg(yawOf(placement.poses[k]) - yaws[k]), 0.0, 1.5) << "frame " << k;
 }
 
+TEST(Panorama, SkyModelFillRecoversAnOvercastZenithTheNearestFillCannot) {
+  // A CIE overcast sky (Lz = 0.8) over a grey ground, seen only by a level pan around the
+  // horizon: the model fitted to the seen sky gives the unseen zenith; the nearest colour
+  // repeats the band's top.
+  EquirectMap env(512, 256);
+  for (int y = 0; y < env.height; ++y)
+    for (int x = 0; x < env.width; ++x) {
+      const double cosTheta = std::cos(CV_PI * (y + 0.5) / env.height);
+      const float v = cosTheta > 0 ? float(0.8 * (1.0 + 2.0 * cosTheta) / 3.0) : 0.15f;
+      for (int c = 0; c < 3; ++c) env.texel(x, y)[c] = v;
+    }
+  const std::vector<double> yaws = {0, 45, 90, 135, 180, 225, 270, 315};
+  const auto frames = cutFrames(env, yaws, 0.0, 60.0, 320, 180, {1.0});
+  const Placement placement = knownPlacement(yaws, 0.0, 60.0, 320);
+  EquirectSettings settings;
+  settings.width = 256;
+  settings.fill = UnseenFill::SkyModel;
+  const PanoramaResult model = renderEquirect(frames, placement, settings);
+  EXPECT_EQ(model.fillModel, "cie overcast");
+  EXPECT_NEAR(sampleEquirect(model.radiance, 0, 1, 0)[1], 0.8, 0.03);
+  EXPECT_NEAR(sampleEquirect(model.radiance, 0, -1, 0)[1], 0.15, 0.01);
+  settings.fill = UnseenFill::Nearest;
+  const PanoramaResult nearest = renderEquirect(frames, placement, settings);
+  EXPECT_LT(sampleEquirect(nearest.radiance, 0, 1, 0)[1], 0.7);
+  EXPECT_TRUE(allFinite(model.radiance));
+}
+
 TEST(Panorama, RealHdrPanRecoversYawAndFocal) {
   const auto dir = test::sharedData();
   if (dir.empty() || !std::filesystem::exists(dir / "hdr" / "blender_world_city.exr"))
