@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cstring>
-#include <filesystem>
 #include <memory>
 
 #include <Imath/half.h>
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include "io/sequence_pattern.h"
@@ -174,18 +174,25 @@ void writeImageFile(const std::string& path, int width, int height,
   const std::vector<unsigned char> pixels =
       encode(encoding, static_cast<size_t>(width) * height, channels);
 
-  const std::filesystem::path tmp = fs::temporaryPathFor(path);
-  std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(tmp.string());
+  // Encoded into memory, then written by fs::writeFileAtomically, which checks every step down
+  // to the disk: OIIO's own file writers miss some failures (a PNG on a full disk came out
+  // empty or truncated with no error).
+  std::vector<unsigned char> fileBytes;
+  OIIO::Filesystem::IOVecOutput memory(fileBytes);
+  OIIO::ImageSpec memorySpec = spec;
+  void* proxy = &memory;
+  memorySpec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+  std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(path);
   if (!out) throw Error("cannot write " + path + ": " + OIIO::geterror(), context);
-  bool written =
-      out->open(tmp.string(), spec) && out->write_image(OIIO::TypeUnknown, pixels.data());
-  written = out->close() && written;
-  if (!written) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw Error("cannot write " + path + ": " + out->geterror(), context);
+  bool encoded = out->open(path, memorySpec) && out->write_image(OIIO::TypeUnknown, pixels.data());
+  encoded = out->close() && encoded;
+  if (!encoded || fileBytes.empty())
+    throw Error("cannot encode " + path + ": " + out->geterror(), context);
+  try {
+    fs::writeFileAtomically(path, fileBytes.data(), fileBytes.size());
+  } catch (const Error& e) {
+    throw Error(e.what(), context);
   }
-  fs::commitTemporary(tmp, path);
 }
 
 }  // namespace pluvia

@@ -1,5 +1,6 @@
 #pragma once
-// Writing one image file through OpenImageIO, atomically (temporary file, then rename), in the
+// Writing one image file through OpenImageIO, atomically (encoded in memory, written to a
+// temporary file, flushed, checked and renamed: see fs::writeFileAtomically), in the
 // sample encoding its extension calls for: EXR half (float where asked), HDR float, PNG/JPEG
 // 8-bit, TIFF 16-bit, DPX 10-bit.
 #include <cstdint>

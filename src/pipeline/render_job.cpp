@@ -13,10 +13,13 @@
 #include "image/color.h"
 #include "image/ops.h"
 #include "io/clip_writer.h"
+#include "io/output_lock.h"
 #include "io/sequence_pattern.h"
+#include "io/written_frame.h"
 #include "pipeline/cache.h"
-#include "pluvia/version.h"
+#include "pipeline/frame_metadata.h"
 #include "util/fs.h"
+#include "util/interrupt.h"
 #include "util/log.h"
 #include "util/progress.h"
 
@@ -146,6 +149,19 @@ void refuseOverwritingInput(const ClipInfo& clip, const std::string& output, con
   }
 }
 
+// One image file holds one frame: more frames into it would each overwrite the last.
+void refuseSingleFileForManyFrames(const std::string& output, const std::vector<int64_t>& frames) {
+  if (frames.size() < 2 || SequencePattern::parse(output) || isMovieExtension(output)) return;
+  const std::filesystem::path path(output);
+  const std::string pattern =
+      (path.parent_path() / path.stem()).string() + ".####" + path.extension().string();
+  throw UsageError(
+      fmt::format("output {} is one image file, but {} frames ({}-{}) are rendered: give a "
+                  "sequence such as {}, a movie, or one frame with --frames",
+                  output, frames.size(), frames.front(), frames.back(), pattern),
+      {"write", {}, output});
+}
+
 void ensureAovPlanes(Image& image, const std::vector<std::string>& aovs) {
   for (const auto& aov : aovs) {
     if (aov == "rain") {
@@ -174,6 +190,12 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset, cons
   const ClipInfo& clip = reader->info();
   std::vector<int64_t> frames = selectFrames(request, clip);
   refuseOverwritingInput(clip, request.output, frames);
+  refuseSingleFileForManyFrames(request.output, frames);
+  // Held until the last frame is written, --skip-existing's checks included.
+  OutputLock lock(request.output);
+  if (int removed = fs::removeStaleTemporaries(std::filesystem::path(lock.path()).parent_path())) {
+    log::info(fmt::format("removed {} temporary files left by renders that were killed", removed));
+  }
 
   std::optional<ArtifactCache> cache;
   if (!request.cacheDir.empty()) cache.emplace(request.cacheDir);
@@ -192,11 +214,7 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset, cons
   WriterOptions writerOptions;
   writerOptions.fps = preset.number("camera.fps") > 0 ? preset.number("camera.fps") : clip.fps;
   writerOptions.aovs = request.aovs;
-  writerOptions.metadata = {{"pluvia:version", kVersion},
-                            {"pluvia:presetHash", preset.hash()},
-                            {"pluvia:seed", std::to_string(int64_t(preset.number("rain.seed")))},
-                            {"pluvia:commandLine", request.commandLine},
-                            {"pluvia:preset", preset.json().dump()}};
+  writerOptions.metadata = frameMetadata(preset);
   const bool movieOutput = isMovieExtension(request.output);
   if (request.skipExisting) {
     if (movieOutput && std::filesystem::exists(request.output)) {
@@ -207,9 +225,17 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset, cons
     if (auto pattern = SequencePattern::parse(request.output)) {
       std::vector<int64_t> todo;
       for (int64_t f : frames) {
-        if (std::filesystem::exists(pattern->pathFor(f))) {
+        const std::string path = pattern->pathFor(f);
+        if (!std::filesystem::exists(path)) {
+          todo.push_back(f);
+          continue;
+        }
+        const std::string reason = reasonToRenderAgain(path, preset.hash());
+        if (reason.empty()) {
           ++summary.framesSkipped;
         } else {
+          log::warning(fmt::format("--skip-existing: rendering {} again: {}", path, reason));
+          ++summary.framesRedone;
           todo.push_back(f);
         }
       }
@@ -272,6 +298,7 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset, cons
     try {
       for (int64_t f : frames) {
         if (error.isSet()) break;
+        throwIfInterrupted();
         FrameContext frame;
         frame.frame = f;
         frame.timeSeconds = double(f) / context.fps;
@@ -319,6 +346,7 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset, cons
   try {
     while (auto frame = decoded.pop()) {
       if (error.isSet()) break;
+      throwIfInterrupted();
       for (auto& [name, stage] : frameStages) {
         ScopedTimer timer(&times, name);
         try {

@@ -23,13 +23,14 @@ struct RenderRequest {
   std::string cacheDir;               // per-clip analysis cache; empty: none
   bool skipExisting = false;
   std::vector<std::string> aovs;      // "rain", "matte", "depth"
-  std::string commandLine;            // recorded in the log and in EXR metadata
+  std::string commandLine;            // recorded in the log
   bool progress = true;
 };
 
 struct RenderSummary {
   int framesWritten = 0;
-  int framesSkipped = 0;
+  int framesSkipped = 0;  // --skip-existing: whole frames of this preset, kept
+  int framesRedone = 0;   // --skip-existing: empty, unreadable or other-preset frames, rendered again
   Plan plan;
 };
 

@@ -4,11 +4,13 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <set>
 
 #include <fmt/format.h>
 
 #include "pluvia/version.h"
+#include "preset/json_text.h"
 #include "preset/ramp.h"
 #include "util/fs.h"
 #include "util/hash.h"
@@ -47,6 +49,13 @@ bool isIndex(const std::string& s) {
   return !s.empty() && s.find_first_not_of("0123456789") == std::string::npos;
 }
 
+// A list index as written in a dotted path; indexes past any list's size (and past what a
+// size_t holds) are all the same: out of range.
+size_t indexValue(const std::string& s) {
+  constexpr size_t kBeyondAnyList = std::numeric_limits<size_t>::max();
+  return s.size() > 9 ? kBeyondAnyList : std::stoul(s);
+}
+
 // Deep merge: objects merge key by key, anything else in `over` replaces `base`.
 void mergeInto(json& base, const json& over) {
   for (auto it = over.begin(); it != over.end(); ++it) {
@@ -65,14 +74,13 @@ json loadWithExtends(const stdfs::path& file, std::vector<std::string>& chain) {
       throw PresetError(file.string(), {"\"extends\" forms a cycle through " + canonical});
   }
   chain.push_back(canonical);
-  json document;
+  std::string text;
   try {
-    document = json::parse(fs::readTextFile(file));
-  } catch (const json::parse_error& e) {
-    throw PresetError(file.string(), {fmt::format("not valid JSON: {}", e.what())});
+    text = fs::readTextFile(file);
   } catch (const Error& e) {
     throw PresetError(file.string(), {e.what()});
   }
+  json document = parsePresetJson(text, file.string());
   if (!document.is_object())
     throw PresetError(file.string(), {"/: a preset must be a JSON object"});
   if (document.contains("extends")) {
@@ -478,8 +486,8 @@ const json* walk(const json& document, const std::string& dottedPath) {
   for (const auto& part : splitDots(dottedPath)) {
     if (node->is_object() && node->contains(part)) {
       node = &(*node)[part];
-    } else if (node->is_array() && isIndex(part) && std::stoul(part) < node->size()) {
-      node = &(*node)[std::stoul(part)];
+    } else if (node->is_array() && isIndex(part) && indexValue(part) < node->size()) {
+      node = &(*node)[indexValue(part)];
     } else {
       return nullptr;
     }
@@ -544,11 +552,22 @@ void applyOverride(json& document, const std::string& assignment) {
   }
   std::string key = assignment.substr(0, eq);
   std::string text = assignment.substr(eq + 1);
+  if (key == "extends") {
+    throw PresetError("--set", {"extends cannot be set on the command line: give that preset "
+                                "with -p, or write a preset file that extends it"});
+  }
+  try {
+    checkJsonNesting(text, "--set");
+  } catch (const PresetError& e) {
+    throw PresetError("--set", {fmt::format("--set {}: {}", key, e.problems().front())});
+  }
   json value;
   try {
     value = json::parse(text);
   } catch (const json::parse_error&) {
     value = text;
+  } catch (const json::exception&) {
+    throw PresetError("--set", {fmt::format("{}: {} is too large for a number", key, text)});
   }
   json* node = &document;
   auto parts = splitDots(key);
@@ -556,10 +575,10 @@ void applyOverride(json& document, const std::string& assignment) {
     const std::string& part = parts[i];
     bool last = i + 1 == parts.size();
     if (node->is_array() && isIndex(part)) {
-      size_t index = std::stoul(part);
+      const size_t index = indexValue(part);
       if (index >= node->size())
         throw PresetError("--set", {fmt::format("{}: index {} is past the end of a list of {}", key,
-                                                index, node->size())});
+                                                part, node->size())});
       node = &(*node)[index];
     } else if (node->is_object() || node->is_null()) {
       if (last) {

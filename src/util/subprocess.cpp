@@ -64,6 +64,9 @@ PipeProcess::PipeProcess(const std::vector<std::string>& argv, const std::string
   pid_ = fork();
   if (pid_ < 0) throw Error("cannot start " + argv.at(0));
   if (pid_ == 0) {
+    // Its own process group: a Ctrl-C reaches only pluvia, which stops the encoder itself and
+    // removes what it wrote.
+    setpgid(0, 0);
     dup2(fds[0], 0);
     ::close(fds[0]);
     ::close(fds[1]);

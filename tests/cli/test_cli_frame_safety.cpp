@@ -1,0 +1,222 @@
+// Never lose a frame (issue 16): a full disk, a single-file output for many frames, a truncated
+// movie, two renders into one folder, signals, and hostile output names each end in a clear
+// error, and every file left under a frame's name is whole.
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+
+#include "test_support.h"
+#include "util/fs.h"
+#include "util/subprocess.h"
+
+using namespace pluvia;
+using namespace pluvia::test;
+namespace stdfs = std::filesystem;
+
+namespace {
+
+// Frames first..last of a small textured plate, as PNG; returns the pattern.
+std::string writePlate(const stdfs::path& dir, int first, int last, int w = 64, int h = 48) {
+  for (int f = first; f <= last; ++f) {
+    Image image(w, h);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        float* p = image.pixel(x, y);
+        p[0] = float((x * 7 + y * 3 + f) % 256) / 255.0f;
+        p[1] = float((x * 2 + y * 5) % 256) / 255.0f;
+        p[2] = float((x + y * 11) % 256) / 255.0f;
+      }
+    char name[64];
+    std::snprintf(name, sizeof name, "plate.%04d.png", f);
+    writeImageFile(dir / name, image);
+  }
+  return (dir / "plate.####.png").string();
+}
+
+std::string frameName(const std::string& prefix, int frame, const std::string& extension) {
+  char name[128];
+  std::snprintf(name, sizeof name, "%s.%04d.%s", prefix.c_str(), frame, extension.c_str());
+  return name;
+}
+
+// Runs pluvia with a file size limit (`ulimit -f`, in the shell's blocks), as a full disk.
+CommandResult runPluviaWithFileSizeLimit(const std::string& blocks,
+                                         const std::vector<std::string>& args) {
+  std::vector<std::string> argv{"sh", "-c",   "ulimit -f \"$1\" && shift && exec \"$@\"",
+                                "sh", blocks, pluviaBinary().string()};
+  argv.insert(argv.end(), args.begin(), args.end());
+  ProcessResult r = runProcess(argv);
+  return {r.exitCode, r.output};
+}
+
+bool decodes(const stdfs::path& path) {
+  try {
+    Image image = readImageFile(path);
+    return image.width > 0;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+int countTemporaries(const stdfs::path& dir) {
+  int count = 0;
+  for (const auto& e : stdfs::directory_iterator(dir))
+    count += e.path().filename().string().find("pluvia-tmp") != std::string::npos;
+  return count;
+}
+
+// Whatever was left in `dir` decodes whole, fewer than `frames` are there, and no temporary is.
+void expectOnlyWholeFrames(const stdfs::path& dir, int frames) {
+  int whole = 0;
+  for (const auto& e : stdfs::directory_iterator(dir)) {
+    EXPECT_TRUE(decodes(e.path())) << e.path() << " is left but not a whole image";
+    ++whole;
+  }
+  EXPECT_LT(whole, frames);
+  EXPECT_EQ(countTemporaries(dir), 0);
+}
+
+}  // namespace
+
+// A file size limit fails every write with EFBIG, as a full disk fails them with ENOSPC.
+TEST(CliFrameSafety, FileSizeLimitFailsCleanlyAndResumes) {
+  for (const std::string extension : {"png", "jpg"}) {
+    SCOPED_TRACE(extension);
+    auto dir = freshTempDir("file_size_limit_" + extension);
+    auto plate = writePlate(dir, 1, 4);
+    stdfs::create_directories(dir / "out");
+    const std::string out = (dir / "out" / ("o.####." + extension)).string();
+    // One block (512 or 1024 bytes): no frame fits.
+    auto r = runPluviaWithFileSizeLimit(
+        "1", {"render", plate, "-p", "drizzle", "-o", out, "--threads", "1"});
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("File too large"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("wrote 4 frames"), std::string::npos) << r.output;
+    expectOnlyWholeFrames(dir / "out", 4);
+    r = runPluvia({"render", plate, "-p", "drizzle", "-o", out, "--skip-existing"});
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    for (int f = 1; f <= 4; ++f) EXPECT_TRUE(decodes(dir / "out" / frameName("o", f, extension)));
+  }
+}
+
+// A real full disk: a 16 KiB tmpfs holds two of these frames. Needs the right to mount.
+TEST(CliFrameSafety, FullDiskFailsAndLeavesOnlyWholeFrames) {
+  auto dir = freshTempDir("full_disk");
+  auto plate = writePlate(dir, 1, 8);
+  const stdfs::path disk = dir / "disk";
+  stdfs::create_directories(disk);
+  if (runProcess({"mount", "-t", "tmpfs", "-o", "size=16k", "tmpfs", disk.string()}).exitCode != 0)
+    GTEST_SKIP() << "cannot mount a tmpfs here";
+  const std::string out = (disk / "o.####.png").string();
+  auto r = runPluvia({"render", plate, "-p", "drizzle", "-o", out, "--threads", "1"});
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_NE(r.output.find("No space left on device"), std::string::npos) << r.output;
+  expectOnlyWholeFrames(disk, 8);
+  runProcess({"umount", disk.string()});
+}
+
+TEST(CliFrameSafety, SkipExistingRendersEmptyTruncatedAndOtherPresetFramesAgain) {
+  auto dir = freshTempDir("skip_checks");
+  auto plate = writePlate(dir, 1, 4);
+  const std::string out = (dir / "o.####.png").string();
+  ASSERT_EQ(runPluvia({"render", plate, "-p", "drizzle", "-o", out, "--frames", "1-3"}).exitCode,
+            0);
+  const std::string whole = fs::readTextFile(dir / "o.0002.png");
+  std::ofstream(dir / "o.0001.png", std::ios::binary | std::ios::trunc);  // empty
+  std::ofstream(dir / "o.0002.png", std::ios::binary | std::ios::trunc)
+      << whole.substr(0, whole.size() / 2);
+  auto r = runPluvia({"render", plate, "-p", "drizzle", "-o", out, "--skip-existing"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("1 existing frames skipped"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("2 existing frames rendered again"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("o.0001.png again: the file is empty"), std::string::npos) << r.output;
+  for (int f = 1; f <= 4; ++f) EXPECT_TRUE(decodes(dir / frameName("o", f, "png")));
+  // Another seed is another preset: every frame is rendered again.
+  r = runPluvia(
+      {"render", plate, "-p", "drizzle", "-o", out, "--skip-existing", "--set", "rain.seed=99"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("4 existing frames rendered again"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("rendered with preset"), std::string::npos) << r.output;
+}
+
+TEST(CliFrameSafety, OneImageFileIsRefusedForManyFramesAndTakesOne) {
+  auto dir = freshTempDir("single_file");
+  auto plate = writePlate(dir, 1, 3);
+  const std::string out = (dir / "still.exr").string();
+  auto r = runPluvia({"render", plate, "-p", "drizzle", "-o", out});
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find("is one image file, but 3 frames"), std::string::npos) << r.output;
+  EXPECT_FALSE(stdfs::exists(out));
+  r = runPluvia({"render", plate, "-p", "drizzle", "-o", out, "--frames", "2-2"});
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_TRUE(decodes(out));
+}
+
+TEST(CliFrameSafety, APresetOverTheArgumentLimitStillMakesMoviesAndSmallFrames) {
+  auto dir = freshTempDir("large_preset");
+  auto plate = writePlate(dir, 1, 2);
+  const std::string preset = (dir / "large.json").string();
+  std::ofstream(preset) << R"({"pluvia": 1, "extends": "drizzle", "description": ")"
+                        << std::string(200 * 1024, 'x') << "\"}";
+  auto r = runPluvia({"render", plate, "-p", preset, "-o", (dir / "o.mp4").string()});
+  ASSERT_EQ(r.exitCode, 0) << r.output.substr(0, 2000);
+  EXPECT_GT(stdfs::file_size(dir / "o.mp4"), 1000u);
+  r = runPluvia({"render", plate, "-p", preset, "-o", (dir / "o.####.exr").string()});
+  ASSERT_EQ(r.exitCode, 0) << r.output.substr(0, 2000);
+  EXPECT_LT(stdfs::file_size(dir / "o.0001.exr"), 64u * 1024);
+  auto info = runProcess({"oiiotool", "--info", "-v", (dir / "o.0001.exr").string()});
+  EXPECT_NE(info.output.find("pluvia:presetHash"), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("not copied"), std::string::npos) << info.output;
+}
+
+TEST(CliFrameSafety, ATruncatedMovieIsAnErrorNamingTheFirstMissingFrame) {
+  auto dir = freshTempDir("truncated_movie");
+  const std::string whole = (dir / "whole.mp4").string();
+  ASSERT_EQ(runProcess({"ffmpeg", "-v", "error", "-f", "lavfi", "-i", "testsrc=size=64x48:rate=24",
+                        "-frames:v", "48", "-c:v", "libx264", "-pix_fmt", "yuv420p", "-movflags",
+                        "+faststart", whole})
+                .exitCode,
+            0);
+  const std::string bytes = fs::readTextFile(whole);
+  std::ofstream(dir / "cut.mp4", std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  auto r = runPluvia(
+      {"render", (dir / "cut.mp4").string(), "-p", "drizzle", "-o", (dir / "o.####.png").string()});
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_NE(
+      r.output.find("cut.mp4 is truncated or corrupt: its container lists 48 frames, but frame"),
+      std::string::npos)
+      << r.output;
+  EXPECT_FALSE(stdfs::exists(dir / "o.0000.png"));
+  // The whole movie still renders.
+  r = runPluvia(
+      {"render", whole, "-p", "drizzle", "-o", (dir / "w.####.png").string(), "--frames", "0-1"});
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+}
+
+TEST(CliFrameSafety, ASecondRenderIntoTheSameFramesIsRefusedNamingTheFirst) {
+  auto dir = freshTempDir("output_lock");
+  auto plate = writePlate(dir, 1, 2);
+  const std::string lockPath = (dir / "o.####.png.pluvia-lock").string();
+  // A render in progress: its lock file, held.
+  std::ofstream(lockPath) << "4242 farm-node-7\n";
+  const int fd = ::open(lockPath.c_str(), O_RDWR);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(flock(fd, LOCK_EX | LOCK_NB), 0);
+  auto r = runPluvia({"render", plate, "-p", "drizzle", "-o", (dir / "o.%04d.png").string()});
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_NE(r.output.find("another render (pid and host: 4242 farm-node-7)"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(stdfs::exists(dir / "o.0001.png"));
+  // Once that render is gone (its process dead: the kernel drops the flock), the file left
+  // behind holds nothing: the next render takes it and removes it when done.
+  ::close(fd);
+  r = runPluvia({"render", plate, "-p", "drizzle", "-o", (dir / "o.####.png").string()});
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_TRUE(decodes(dir / "o.0002.png"));
+  EXPECT_FALSE(stdfs::exists(lockPath));
+}
