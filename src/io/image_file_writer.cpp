@@ -1,6 +1,7 @@
 #include "io/image_file_writer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <memory>
 
@@ -8,6 +9,7 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include "io/oiio_message.h"
 #include "io/sequence_pattern.h"
 #include "util/error.h"
 #include "util/fs.h"
@@ -64,8 +66,11 @@ uint16_t toDpx10(float v) {
   const uint32_t code = static_cast<uint32_t>(clamp01(v) * 1023.0f + 0.5f);
   return static_cast<uint16_t>((code * 65535u + 511u) / 1023u);
 }
-// Round to nearest; NaN and Inf stay NaN and Inf.
+// Round to nearest; NaN and Inf stay NaN and Inf, and a finite value beyond the half range
+// becomes the largest half of its sign rather than Inf (a bright colour must not turn into Inf).
 Imath::half toHalf(float v) {
+  constexpr float kHalfMax = 65504.0f;
+  if (std::isfinite(v)) v = std::clamp(v, -kHalfMax, kHalfMax);
   return Imath::half(v);
 }
 float asIs(float v) {
@@ -183,11 +188,11 @@ void writeImageFile(const std::string& path, int width, int height,
   void* proxy = &memory;
   memorySpec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
   std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(path);
-  if (!out) throw Error("cannot write " + path + ": " + OIIO::geterror(), context);
+  if (!out) throw Error("cannot write " + path + ": " + oiioMessage(OIIO::geterror()), context);
   bool encoded = out->open(path, memorySpec) && out->write_image(OIIO::TypeUnknown, pixels.data());
   encoded = out->close() && encoded;
   if (!encoded || fileBytes.empty())
-    throw Error("cannot encode " + path + ": " + out->geterror(), context);
+    throw Error("cannot encode " + path + ": " + oiioMessage(out->geterror()), context);
   try {
     fs::writeFileAtomically(path, fileBytes.data(), fileBytes.size());
   } catch (const Error& e) {

@@ -16,6 +16,10 @@ inline constexpr int kMaxJsonNesting = 64;
 // kMaxJsonNesting, naming the line and column where they do. Scans without recursion.
 void checkJsonNesting(const std::string& text, const std::string& source);
 
+// True when `text` is valid UTF-8, as JSON strings must be (a --set value that is not JSON
+// becomes a string, and serialising one with invalid bytes throws).
+bool isValidUtf8(const std::string& text);
+
 // Parses `text` after checkJsonNesting(). Throws PresetError for `source` naming the line and
 // column of a syntax error, or a number too large for a double.
 nlohmann::json parsePresetJson(const std::string& text, const std::string& source);

@@ -105,6 +105,44 @@ std::string numberText(double v) {
   return fmt::format("{:g}", v);
 }
 
+// No number may be larger than this, whatever its range: a ramp between keys at -1e308 and
+// 1e308 overflowed (their difference is Inf). Above 2^53 doubles skip integers anyway.
+constexpr double kMaxNumberMagnitude = 1e15;
+// The largest value a half float (EXR output) holds; a larger colour became Inf pixels.
+constexpr double kMaxHalf = 65504.0;
+
+double lowestAllowed(const ParamSpec& spec) {
+  return std::max(spec.minValue, -kMaxNumberMagnitude);
+}
+double highestAllowed(const ParamSpec& spec) {
+  return std::min(spec.maxValue, kMaxNumberMagnitude);
+}
+
+// The section's value at a dotted key, or its default; nullptr when it has neither.
+const json* valueOrDefault(const SectionSpec& section, const json& object, const std::string& key) {
+  const json* node = &object;
+  for (const auto& part : splitDots(key)) {
+    node = node->is_object() && node->contains(part) ? &(*node)[part] : nullptr;
+    if (!node) break;
+  }
+  if (node) return node;
+  const ParamSpec* spec = section.find(key);
+  return spec ? &spec->defaultValue : nullptr;
+}
+
+void checkIncreasing(const SectionSpec& section, const json& object,
+                     std::vector<std::string>& problems) {
+  for (const auto& [lower, upper] : section.increasing) {
+    const json* a = valueOrDefault(section, object, lower);
+    const json* b = valueOrDefault(section, object, upper);
+    if (!a || !b || !a->is_number() || !b->is_number()) continue;  // reported by the type check
+    if (!(a->get<double>() < b->get<double>())) {
+      problems.push_back(fmt::format("/{0}/{1} ({2}) must be less than /{0}/{3} ({4})",
+                                     section.name, lower, a->dump(), upper, b->dump()));
+    }
+  }
+}
+
 // Where keyframes may appear. Section: a keyframable number may be keys and any other number given
 // as keys is told it is fixed over the shot. Item: list item fields, where a keyframable field may
 // be keys and any other is checked as a plain value ("expected a number"). None: inside keys.
@@ -205,9 +243,11 @@ void checkKeys(const ParamSpec& spec, const json& value, const std::string& wher
       problems.push_back(fmt::format("{}: expected [frame, value] (got {})", keyWhere, key.dump()));
       continue;
     }
-    if (!key[0].is_number() || !std::isfinite(key[0].get<double>())) {
-      problems.push_back(
-          fmt::format("{}/0: expected a frame number (got {})", keyWhere, key[0].dump()));
+    if (!key[0].is_number() || !std::isfinite(key[0].get<double>()) ||
+        std::fabs(key[0].get<double>()) > kMaxNumberMagnitude) {
+      problems.push_back(fmt::format("{}/0: expected a frame number between -{} and {} (got {})",
+                                     keyWhere, numberText(kMaxNumberMagnitude),
+                                     numberText(kMaxNumberMagnitude), key[0].dump()));
     } else {
       double frame = key[0].get<double>();
       if (!(frame > previousFrame)) {
@@ -307,17 +347,18 @@ void checkValue(const ParamSpec& spec, const json& value, const std::string& whe
     return checkKeys(spec, value, where, problems);
   }
   if (keyMode == KeyMode::Section && isNumeric(spec) && Ramp::looksLikeKeys(value)) {
-    problems.push_back(fmt::format(
-        "{}: cannot be keyframed, it is fixed over the shot; give one number", where));
+    problems.push_back(
+        fmt::format("{}: cannot be keyframed, it is fixed over the shot; give one number", where));
     return;
   }
   auto bad = [&](const std::string& what) {
     problems.push_back(fmt::format("{}: {} (got {})", where, what, value.dump()));
   };
   auto checkRange = [&](double v) {
-    if (!std::isfinite(v) || v < spec.minValue || v > spec.maxValue) {
-      bad(fmt::format("must be between {} and {}{}", numberText(spec.minValue),
-                      numberText(spec.maxValue), spec.units.empty() ? "" : " " + spec.units));
+    if (!std::isfinite(v) || v < lowestAllowed(spec) || v > highestAllowed(spec)) {
+      bad(fmt::format("must be between {} and {}{}", numberText(lowestAllowed(spec)),
+                      numberText(highestAllowed(spec)),
+                      spec.units.empty() ? "" : " " + spec.units));
     }
   };
   switch (spec.type) {
@@ -352,8 +393,9 @@ void checkValue(const ParamSpec& spec, const json& value, const std::string& whe
     case ParamType::Color3:
       if (!value.is_array() || value.size() != 3) return bad("expected [r, g, b]");
       for (const auto& c : value) {
-        if (!c.is_number() || !std::isfinite(c.get<double>()) || c.get<double>() < 0)
-          return bad("expected three finite numbers >= 0");
+        if (!c.is_number() || !std::isfinite(c.get<double>()) || c.get<double>() < 0 ||
+            c.get<double>() > kMaxHalf)
+          return bad("expected three numbers from 0 to 65504 (the largest a half float holds)");
       }
       return;
     case ParamType::Vector3:
@@ -363,9 +405,9 @@ void checkValue(const ParamSpec& spec, const json& value, const std::string& whe
       }
       for (const auto& c : value) {
         double v = c.get<double>();
-        if (!std::isfinite(v) || v < spec.minValue || v > spec.maxValue) {
-          return bad(fmt::format("each must be between {} and {}{}", numberText(spec.minValue),
-                                 numberText(spec.maxValue),
+        if (!std::isfinite(v) || v < lowestAllowed(spec) || v > highestAllowed(spec)) {
+          return bad(fmt::format("each must be between {} and {}{}",
+                                 numberText(lowestAllowed(spec)), numberText(highestAllowed(spec)),
                                  spec.units.empty() ? "" : " " + spec.units));
         }
       }
@@ -552,6 +594,9 @@ void applyOverride(json& document, const std::string& assignment) {
   }
   std::string key = assignment.substr(0, eq);
   std::string text = assignment.substr(eq + 1);
+  if (!isValidUtf8(assignment)) {
+    throw PresetError("--set", {"a --set line is not valid UTF-8 text"});
+  }
   if (key == "extends") {
     throw PresetError("--set", {"extends cannot be set on the command line: give that preset "
                                 "with -p, or write a preset file that extends it"});
@@ -627,6 +672,7 @@ std::vector<std::string> validatePreset(const json& document, const Schema& sche
       continue;
     }
     checkObjectFields(section->params, it.value(), "/" + key, "", problems, KeyMode::Section);
+    checkIncreasing(*section, it.value(), problems);
   }
   return problems;
 }

@@ -4,11 +4,17 @@
 #include <gtest/gtest.h>
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/file.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <fstream>
+#include <functional>
+#include <thread>
 
 #include "test_support.h"
 #include "util/fs.h"
@@ -68,6 +74,50 @@ int countTemporaries(const stdfs::path& dir) {
   for (const auto& e : stdfs::directory_iterator(dir))
     count += e.path().filename().string().find("pluvia-tmp") != std::string::npos;
   return count;
+}
+
+// Starts pluvia in the background, its output going to `log`; returns its pid.
+pid_t startPluvia(const std::vector<std::string>& args, const stdfs::path& log) {
+  std::vector<std::string> argv{pluviaBinary().string()};
+  argv.insert(argv.end(), args.begin(), args.end());
+  std::vector<char*> pointers;
+  for (std::string& a : argv) pointers.push_back(a.data());
+  pointers.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(fd, 1);
+    dup2(fd, 2);
+    execv(pointers[0], pointers.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+// The exit code, or 1000 + the signal that killed it.
+int waitForExit(pid_t pid) {
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 1000 + WTERMSIG(status);
+}
+
+// Waits up to 60 s for `ready` to hold.
+bool waitUntil(const std::function<bool()>& ready) {
+  for (int i = 0; i < 600; ++i) {
+    if (ready()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return false;
+}
+
+// A 64x48 movie of `frames` frames, made by ffmpeg.
+std::string writeMovie(const stdfs::path& path, int frames) {
+  EXPECT_EQ(runProcess({"ffmpeg", "-v", "error", "-f", "lavfi", "-i", "testsrc=size=64x48:rate=24",
+                        "-frames:v", std::to_string(frames), "-c:v", "libx264", "-pix_fmt",
+                        "yuv420p", path.string()})
+                .exitCode,
+            0);
+  return path.string();
 }
 
 // Whatever was left in `dir` decodes whole, fewer than `frames` are there, and no temporary is.
@@ -219,4 +269,94 @@ TEST(CliFrameSafety, ASecondRenderIntoTheSameFramesIsRefusedNamingTheFirst) {
   EXPECT_EQ(r.exitCode, 0) << r.output;
   EXPECT_TRUE(decodes(dir / "o.0002.png"));
   EXPECT_FALSE(stdfs::exists(lockPath));
+}
+
+TEST(CliFrameSafety, SigtermStopsAMovieRenderAndRemovesItsPartialFile) {
+  auto dir = freshTempDir("sigterm_movie");
+  const std::string input = writeMovie(dir / "in.mp4", 2000);
+  stdfs::create_directories(dir / "out");
+  const pid_t pid = startPluvia(
+      {"render", input, "-p", "drizzle", "-o", (dir / "out" / "o.mp4").string()}, dir / "log");
+  // Stopped once the encoder has written part of the movie.
+  EXPECT_TRUE(waitUntil([&] { return countTemporaries(dir / "out") > 0; }));
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  kill(pid, SIGTERM);
+  EXPECT_EQ(waitForExit(pid), 143) << fs::readTextFile(dir / "log");
+  EXPECT_NE(fs::readTextFile(dir / "log").find("stopped by SIGTERM"), std::string::npos);
+  EXPECT_TRUE(stdfs::is_empty(dir / "out")) << "a partial movie, temporary or lock is left";
+}
+
+TEST(CliFrameSafety, SigintStopsASequenceRenderLeavingWholeFramesOnly) {
+  auto dir = freshTempDir("sigint_sequence");
+  const std::string input = writeMovie(dir / "in.mp4", 2000);
+  stdfs::create_directories(dir / "out");
+  const pid_t pid = startPluvia(
+      {"render", input, "-p", "drizzle", "-o", (dir / "out" / "o.####.png").string()}, dir / "log");
+  EXPECT_TRUE(waitUntil([&] { return stdfs::exists(dir / "out" / "o.0003.png"); }));
+  kill(pid, SIGINT);
+  EXPECT_EQ(waitForExit(pid), 130) << fs::readTextFile(dir / "log");
+  int frames = 0;
+  for (const auto& e : stdfs::directory_iterator(dir / "out")) {
+    EXPECT_TRUE(decodes(e.path())) << e.path();
+    ++frames;
+  }
+  EXPECT_LT(frames, 2000);
+}
+
+TEST(CliFrameSafety, ARenderRemovesTemporariesOfDeadRendersOnly) {
+  auto dir = freshTempDir("stale_temporaries");
+  auto plate = writePlate(dir, 1, 1);
+  stdfs::create_directories(dir / "out");
+  // A pid that runs no process (pid_max - 1 is as good as free here), and our own.
+  int deadPid = 4194303;
+  std::ifstream("/proc/sys/kernel/pid_max") >> deadPid;
+  deadPid -= 1;
+  ASSERT_FALSE(stdfs::exists("/proc/" + std::to_string(deadPid)));
+  const stdfs::path dead =
+      dir / "out" / ("o.0001.pluvia-tmp-" + std::to_string(deadPid) + "-0.png");
+  const stdfs::path deadLog =
+      dir / "out" / ("m.pluvia-tmp-" + std::to_string(deadPid) + "-1.mp4.log");
+  const stdfs::path live =
+      dir / "out" / ("o.0001.pluvia-tmp-" + std::to_string(getpid()) + "-0.png");
+  for (const auto& path : {dead, deadLog, live}) std::ofstream(path) << "partial";
+  auto r =
+      runPluvia({"render", plate, "-p", "drizzle", "-o", (dir / "out" / "o.####.png").string()});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("removed 2 temporary files"), std::string::npos) << r.output;
+  EXPECT_FALSE(stdfs::exists(dead));
+  EXPECT_FALSE(stdfs::exists(deadLog));
+  EXPECT_TRUE(stdfs::exists(live));
+}
+
+TEST(CliFrameSafety, DevicesAreRefusedAsInputs) {
+  auto dir = freshTempDir("device_inputs");
+  auto plate = writePlate(dir, 1, 1);
+  const std::string out = (dir / "o.####.png").string();
+  // Under `timeout`: reading /dev/zero used to spin forever.
+  for (const std::vector<std::string>& sets :
+       {std::vector<std::string>{"--set", "lighting.source=hdr", "--set", "lighting.hdr=/dev/zero"},
+        std::vector<std::string>{"--set", "rain.strokes=derain", "--set",
+                                 "derain.input=/dev/zero"}}) {
+    std::vector<std::string> argv{
+        "timeout", "60", pluviaBinary().string(), "render", plate, "-p", "drizzle", "-o", out};
+    argv.insert(argv.end(), sets.begin(), sets.end());
+    const ProcessResult r = runProcess(argv);
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("/dev/zero"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("not a regular file"), std::string::npos) << r.output;
+  }
+  auto r = runPluvia({"render", "/dev/zero", "-p", "drizzle", "-o", out});
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+}
+
+TEST(CliFrameSafety, MovieNamesThatLookLikeOptionsOrProtocolsAreFiles) {
+  auto dir = freshTempDir("movie_names");
+  auto plate = writePlate(dir, 1, 2);
+  for (const std::string name : {"-y.mp4", "pipe:1.mp4"}) {
+    const ProcessResult r =
+        runProcess({"sh", "-c", "cd \"$1\" && shift && exec \"$@\"", "sh", dir.string(),
+                    pluviaBinary().string(), "render", plate, "-p", "drizzle", "--output=" + name});
+    EXPECT_EQ(r.exitCode, 0) << name << "\n" << r.output;
+    EXPECT_GT(stdfs::file_size(dir / name), 1000u) << name;
+  }
 }

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "preset/preset.h"
+#include "rain/stroke_library.h"
 #include "stages/registry.h"
 #include "test_support.h"
 
@@ -50,4 +51,59 @@ TEST(PresetLimits, DeepNestingIsRefusedNamingTheFile) {
   // 64 levels are fine as far as nesting goes (the key is still the wrong type).
   EXPECT_EQ(errorOf("drizzle", {"description=" + nested(64)}).find("nest deeper"),
             std::string::npos);
+}
+
+TEST(PresetLimits, ImpossibleValuesAreRefusedByValidation) {
+  // Drops nearer than they are far: nothing would be drawn.
+  EXPECT_NE(errorOf("drizzle", {"rain.near_m=20", "rain.far_m=10"})
+                .find("/rain/near_m (20) must be less than /rain/far_m (10)"),
+            std::string::npos);
+  EXPECT_NE(errorOf("drizzle", {"rain.near_m=20"}).find("must be less than /rain/far_m (8)"),
+            std::string::npos);
+  // Used to pass validation and fail in render.
+  EXPECT_NE(errorOf("drizzle", {"rain.min_diameter_mm=6"}).find("/rain/min_diameter_mm"),
+            std::string::npos);
+  // Keys spanning +-1e308 overflowed between them.
+  EXPECT_NE(errorOf("drizzle", {"rain.rate_mm_h=[[-1e308,0],[1e308,1]]"})
+                .find("expected a frame number between -1e+15 and 1e+15"),
+            std::string::npos);
+  // A colour a half float cannot hold.
+  EXPECT_NE(errorOf("drizzle", {"fog.color=[1e6,1,1]"}).find("65504"), std::string::npos);
+}
+
+TEST(PresetLimits, BadTextNamesTheFileOrKey) {
+  auto dir = test::freshTempDir("preset_text");
+  auto huge = writePreset(dir, "huge.json", R"({"pluvia": 1, "rain": {"rate_mm_h": 1e400}})");
+  const std::string file = errorOf(huge.string());
+  EXPECT_NE(file.find("huge.json"), std::string::npos) << file;
+  EXPECT_NE(file.find("too large for a double"), std::string::npos) << file;
+  const std::string set = errorOf("drizzle", {"rain.rate_mm_h=1e400"});
+  EXPECT_NE(set.find("rain.rate_mm_h: 1e400 is too large for a number"), std::string::npos) << set;
+  const std::string index = errorOf("drizzle", {"depth.layers.99999999999999999999999=1"});
+  EXPECT_NE(index.find("index 99999999999999999999999 is past the end of a list of 1"),
+            std::string::npos)
+      << index;
+  EXPECT_NE(errorOf("drizzle", {"extends=storm"}).find("extends cannot be set"), std::string::npos);
+  auto broken = writePreset(dir, "broken.json", "{\"pluvia\": 1,\n  \"rain\": {oops}}");
+  EXPECT_NE(errorOf(broken.string()).find("not valid JSON at line 2, column 12"), std::string::npos)
+      << errorOf(broken.string());
+}
+
+TEST(PresetLimits, OtherFilesAreNamedNeverQuoted) {
+  auto dir = test::freshTempDir("preset_quote");
+  const std::string secret = "root:x:0:0:secret-first-line";
+  writePreset(dir, "secret.txt", secret + "\n");
+  auto extending =
+      writePreset(dir, "extends.json",
+                  R"({"pluvia": 1, "extends": ")" + (dir / "secret.txt").string() + R"("})");
+  const std::string viaExtends = errorOf(extending.string());
+  EXPECT_NE(viaExtends.find("secret.txt"), std::string::npos) << viaExtends;
+  EXPECT_EQ(viaExtends.find("root:"), std::string::npos) << viaExtends;
+  try {
+    rain::loadStrokeLibrary((dir / "secret.txt").string());
+    ADD_FAILURE() << "a text file loaded as a stroke library";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("secret.txt"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find("root:"), std::string::npos) << e.what();
+  }
 }
