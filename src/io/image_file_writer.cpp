@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 
 #include <Imath/half.h>
@@ -144,6 +145,10 @@ OIIO::ImageSpec makeSpec(const std::string& extension, Encoding encoding, int wi
   if (extension == "tif" || extension == "tiff") spec.attribute("compression", kTiffCompression);
   if (extension == "jpg" || extension == "jpeg")
     spec.attribute("Compression", "jpeg:" + std::to_string(kJpegQuality));
+  // No date: OIIO stamps EXR, TIFF and DPX headers with the time of writing unless DateTime is
+  // given, and an empty one leaves it out, so that a frame's file is byte-identical whenever and
+  // in whichever chunk it is rendered.
+  spec.attribute("DateTime", "");
   // Our alpha is straight: stop OIIO from un-premultiplying it into PNG/TIFF.
   spec.attribute("oiio:UnassociatedAlpha", 1);
   // EXR and PNG keep any named string. TIFF and JPEG keep only standard fields, so there the
@@ -189,7 +194,10 @@ void writeImageFile(const std::string& path, int width, int height,
   memorySpec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
   std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(path);
   if (!out) throw Error("cannot write " + path + ": " + oiioMessage(OIIO::geterror()), context);
-  bool encoded = out->open(path, memorySpec) && out->write_image(OIIO::TypeUnknown, pixels.data());
+  // The file's name only: DPX records it in its header, and a frame must not depend on the folder.
+  const std::string fileName = std::filesystem::path(path).filename().string();
+  bool encoded =
+      out->open(fileName, memorySpec) && out->write_image(OIIO::TypeUnknown, pixels.data());
   encoded = out->close() && encoded;
   if (!encoded || fileBytes.empty())
     throw Error("cannot encode " + path + ": " + oiioMessage(out->geterror()), context);

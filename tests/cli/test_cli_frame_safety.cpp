@@ -360,3 +360,28 @@ TEST(CliFrameSafety, MovieNamesThatLookLikeOptionsOrProtocolsAreFiles) {
     EXPECT_GT(stdfs::file_size(dir / name), 1000u) << name;
   }
 }
+
+// No date and no command line in the frames: a frame's file is the same bytes whether it was
+// rendered alone or in a chunk, at whatever time, into whatever folder.
+TEST(CliFrameSafety, ChunkedFramesAreByteIdenticalFiles) {
+  auto dir = freshTempDir("byte_identical");
+  auto plate = writePlate(dir, 1, 3);
+  const std::vector<std::string> extensions{"exr", "tif", "dpx", "png", "jpg"};
+  auto render = [&](const std::string& folder, const std::string& extension,
+                    const std::vector<std::string>& extra) {
+    std::vector<std::string> args{
+        "render", plate, "-p", "drizzle", "-o", (dir / folder / ("o.####." + extension)).string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    auto r = runPluvia(args);
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+  };
+  for (const std::string& extension : extensions) render("chunk", extension, {"--frames", "1-3"});
+  std::this_thread::sleep_for(std::chrono::milliseconds(1100));  // another second on the clock
+  for (const std::string& extension : extensions)
+    render("alone", extension, {"--frames", "2-2", "--threads", "1"});
+  for (const std::string& extension : extensions) {
+    const std::string frame = frameName("o", 2, extension);
+    EXPECT_TRUE(fs::readTextFile(dir / "chunk" / frame) == fs::readTextFile(dir / "alone" / frame))
+        << extension << " frames differ";
+  }
+}
