@@ -21,7 +21,6 @@ class OutputLock {
   ~OutputLock();
   OutputLock(const OutputLock&) = delete;
   OutputLock& operator=(const OutputLock&) = delete;
-  const std::string& path() const { return path_; }
 
  private:
   std::string path_;

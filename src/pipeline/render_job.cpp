@@ -105,32 +105,36 @@ std::vector<int64_t> selectFrames(const RenderRequest& request, const ClipInfo& 
   if (frames.empty()) {
     throw UsageError(fmt::format("--frames {}-{} selects no frame of {} (it has frames {}-{})",
                                  request.firstFrame.value_or(clip.frames.front()),
-                                 request.lastFrame.value_or(clip.frames.back()), clip.path, clip.frames.front(),
-                                 clip.frames.back()),
+                                 request.lastFrame.value_or(clip.frames.back()), clip.path,
+                                 clip.frames.front(), clip.frames.back()),
                      {"read", {}, clip.path});
   }
   // A hole in a sequence is an error before any work: a farm must not render around it silently.
   for (size_t i = 1; i < frames.size(); ++i) {
     if (frames[i] != frames[i - 1] + 1) {
       std::string missing = fmt::format("{}", frames[i - 1] + 1);
-      if (auto pattern = SequencePattern::parse(clip.path)) missing += " (" + pattern->pathFor(frames[i - 1] + 1) + ")";
+      if (auto pattern = SequencePattern::parse(clip.path))
+        missing += " (" + pattern->pathFor(frames[i - 1] + 1) + ")";
       throw Error(fmt::format("frame {} is missing from the sequence {}", missing, clip.path),
                   {"read", frames[i - 1] + 1, clip.path});
     }
   }
   if (request.firstFrame && frames.front() != *request.firstFrame) {
-    throw Error(fmt::format("frame {} is not in {} (it starts at {})", *request.firstFrame, clip.path, frames.front()),
+    throw Error(fmt::format("frame {} is not in {} (it starts at {})", *request.firstFrame,
+                            clip.path, frames.front()),
                 {"read", *request.firstFrame, clip.path});
   }
   if (request.lastFrame && frames.back() != *request.lastFrame) {
-    throw Error(fmt::format("frame {} is not in {} (it ends at {})", *request.lastFrame, clip.path, frames.back()),
+    throw Error(fmt::format("frame {} is not in {} (it ends at {})", *request.lastFrame, clip.path,
+                            frames.back()),
                 {"read", *request.lastFrame, clip.path});
   }
   return frames;
 }
 
 // Refuses any output file that is one of the input files: the original plate is never touched.
-void refuseOverwritingInput(const ClipInfo& clip, const std::string& output, const std::vector<int64_t>& frames) {
+void refuseOverwritingInput(const ClipInfo& clip, const std::string& output,
+                            const std::vector<int64_t>& frames) {
   std::vector<std::string> outputs;
   if (auto pattern = SequencePattern::parse(output)) {
     for (int64_t f : frames) outputs.push_back(pattern->pathFor(f));
@@ -142,11 +146,25 @@ void refuseOverwritingInput(const ClipInfo& clip, const std::string& output, con
   for (const auto& out : outputs) {
     for (const auto& in : inputs) {
       if (fs::samePath(out, in)) {
-        throw UsageError(fmt::format("output {} is the input file {}: refusing to overwrite the plate", out, in),
-                         {"write", {}, in});
+        throw UsageError(
+            fmt::format("output {} is the input file {}: refusing to overwrite the plate", out, in),
+            {"write", {}, in});
       }
     }
   }
+}
+
+// The folder of an output, and the start of every file name it writes ("o." for o.####.exr and
+// its AOVs o.rain.####.exr; "rain." for rain.mp4).
+std::filesystem::path outputFolder(const std::string& output) {
+  return std::filesystem::path(output).parent_path();
+}
+std::string outputNamePrefix(const std::string& output) {
+  if (auto pattern = SequencePattern::parse(output)) {
+    const size_t slash = pattern->prefix.rfind('/');
+    return slash == std::string::npos ? pattern->prefix : pattern->prefix.substr(slash + 1);
+  }
+  return std::filesystem::path(output).stem().string() + ".";
 }
 
 // One image file holds one frame: more frames into it would each overwrite the last.
@@ -184,8 +202,8 @@ Plan planJob(const std::string& input, const Preset& preset, const std::string& 
   return plan;
 }
 
-RenderSummary renderJob(const RenderRequest& request, const Preset& preset, const std::vector<StageInfo>& stageInfos,
-                        StageTimes& times) {
+RenderSummary renderJob(const RenderRequest& request, const Preset& preset,
+                        const std::vector<StageInfo>& stageInfos, StageTimes& times) {
   auto reader = openClip(request.input);
   const ClipInfo& clip = reader->info();
   std::vector<int64_t> frames = selectFrames(request, clip);
@@ -193,7 +211,8 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset, cons
   refuseSingleFileForManyFrames(request.output, frames);
   // Held until the last frame is written, --skip-existing's checks included.
   OutputLock lock(request.output);
-  if (int removed = fs::removeStaleTemporaries(std::filesystem::path(lock.path()).parent_path())) {
+  if (int removed = fs::removeStaleTemporaries(outputFolder(request.output),
+                                               outputNamePrefix(request.output))) {
     log::info(fmt::format("removed {} temporary files left by renders that were killed", removed));
   }
 
@@ -201,8 +220,10 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset, cons
   if (!request.cacheDir.empty()) cache.emplace(request.cacheDir);
   RenderSummary summary;
   summary.plan = makePlan(preset, clip, cache ? &*cache : nullptr, stageInfos);
+  const std::map<std::string, std::string> metadata = frameMetadata(preset);
   log::info("command: " + request.commandLine);
-  log::info("preset (resolved): " + preset.json().dump());
+  // The bounded copy the frames record: a preset with a 50 MB description stays out of the log.
+  log::info("preset (resolved): " + metadata.at("pluvia:preset"));
   log::info("plan:\n" + summary.plan.text());
 
   const std::string configPath = preset.string("color.config");
@@ -214,7 +235,7 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset, cons
   WriterOptions writerOptions;
   writerOptions.fps = preset.number("camera.fps") > 0 ? preset.number("camera.fps") : clip.fps;
   writerOptions.aovs = request.aovs;
-  writerOptions.metadata = frameMetadata(preset);
+  writerOptions.metadata = metadata;
   const bool movieOutput = isMovieExtension(request.output);
   if (request.skipExisting) {
     if (movieOutput && std::filesystem::exists(request.output)) {
@@ -254,8 +275,9 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset, cons
   context.cache = cache ? &*cache : nullptr;
   context.times = &times;
   context.fps = writerOptions.fps;
-  context.camera = Camera::fromFieldOfView(clip.width, clip.height, preset.number("camera.fov_deg"),
-                                           preset.number("camera.tilt_deg"), preset.number("camera.height_m"));
+  context.camera =
+      Camera::fromFieldOfView(clip.width, clip.height, preset.number("camera.fov_deg"),
+                              preset.number("camera.tilt_deg"), preset.number("camera.height_m"));
   context.readWorking = [&](int64_t frame) {
     Image image = reader->read(frame);
     ops::replaceNonFinite(image);
@@ -285,7 +307,8 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset, cons
   // Only per-frame stages that run take part in the frame loop; per-clip ones are done.
   std::vector<std::pair<std::string, Stage*>> frameStages;
   for (auto& [info, stage] : stages) {
-    if (!info->perClip && summary.plan.runs(info->spec.name)) frameStages.emplace_back(info->spec.name, stage.get());
+    if (!info->perClip && summary.plan.runs(info->spec.name))
+      frameStages.emplace_back(info->spec.name, stage.get());
   }
 
   auto writer = openClipWriter(request.output, clip.width, clip.height, writerOptions);
@@ -307,7 +330,8 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset, cons
           frame.image = reader->read(f);
         }
         if (size_t bad = ops::replaceNonFinite(frame.image)) {
-          log::warning(fmt::format("frame {}: {} NaN/Inf values in {} replaced by 0", f, bad, clip.path));
+          log::warning(
+              fmt::format("frame {}: {} NaN/Inf values in {} replaced by 0", f, bad, clip.path));
         }
         {
           ScopedTimer timer(&times, "colour in");
@@ -334,7 +358,8 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset, cons
           std::lock_guard lock(countMutex);
           ++summary.framesWritten;
         } catch (const Error& e) {
-          error.set(std::make_exception_ptr(Error(e.what(), {"write", frame->frame, e.context().file})));
+          error.set(
+              std::make_exception_ptr(Error(e.what(), {"write", frame->frame, e.context().file})));
         } catch (...) {
           error.set(std::current_exception());
         }
@@ -358,7 +383,8 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset, cons
         }
       }
       if (!frame->image.findPlane("depth")) {
-        frame->image.plane("depth").assign(frame->image.pixelCount(), std::numeric_limits<float>::infinity());
+        frame->image.plane("depth").assign(frame->image.pixelCount(),
+                                           std::numeric_limits<float>::infinity());
       }
       ensureAovPlanes(frame->image, request.aovs);
       {

@@ -75,14 +75,14 @@ void writeFileAtomically(const stdfs::path& target, const void* bytes, size_t si
   commitTemporary(tmp, target);
 }
 
-int removeStaleTemporaries(const stdfs::path& folder) {
+int removeStaleTemporaries(const stdfs::path& folder, const std::string& namePrefix) {
   const std::string marker = ".pluvia-tmp-";
   int removed = 0;
   std::error_code ec;
   for (const auto& entry : stdfs::directory_iterator(folder.empty() ? "." : folder, ec)) {
     const std::string name = entry.path().filename().string();
     const size_t at = name.find(marker);
-    if (at == std::string::npos) continue;
+    if (at == std::string::npos || name.rfind(namePrefix, 0) != 0) continue;
     const size_t digits = at + marker.size();
     const size_t end = name.find('-', digits);
     const std::string pid = name.substr(digits, end == std::string::npos ? end : end - digits);

@@ -19,10 +19,11 @@ void commitTemporary(const std::filesystem::path& tmp, const std::filesystem::pa
 // under the target's name is always whole.
 void writeFileAtomically(const std::filesystem::path& target, const void* bytes, size_t size);
 
-// Removes the temporaries in `folder` whose process is gone (the pid in their name, see
-// temporaryPathFor, no longer runs: a render killed by SIGKILL or a crash), and a movie
-// temporary's ffmpeg log. Returns how many files were removed.
-int removeStaleTemporaries(const std::filesystem::path& folder);
+// Removes the temporaries in `folder` whose names start with `namePrefix` (one output's files:
+// "o." for o.####.exr) and whose process is gone (the pid in their name, see temporaryPathFor,
+// runs no process here: a render killed by SIGKILL or a crash), with a movie temporary's ffmpeg
+// log. Returns how many files were removed.
+int removeStaleTemporaries(const std::filesystem::path& folder, const std::string& namePrefix);
 
 // Creates the folder (and parents) that will hold `file`; throws with the folder named if it
 // cannot.

@@ -303,7 +303,7 @@ TEST(CliFrameSafety, SigintStopsASequenceRenderLeavingWholeFramesOnly) {
   EXPECT_LT(frames, 2000);
 }
 
-TEST(CliFrameSafety, ARenderRemovesTemporariesOfDeadRendersOnly) {
+TEST(CliFrameSafety, ARenderRemovesItsOutputsTemporariesOfDeadRendersOnly) {
   auto dir = freshTempDir("stale_temporaries");
   auto plate = writePlate(dir, 1, 1);
   stdfs::create_directories(dir / "out");
@@ -314,18 +314,22 @@ TEST(CliFrameSafety, ARenderRemovesTemporariesOfDeadRendersOnly) {
   ASSERT_FALSE(stdfs::exists("/proc/" + std::to_string(deadPid)));
   const stdfs::path dead =
       dir / "out" / ("o.0001.pluvia-tmp-" + std::to_string(deadPid) + "-0.png");
-  const stdfs::path deadLog =
-      dir / "out" / ("m.pluvia-tmp-" + std::to_string(deadPid) + "-1.mp4.log");
+  const stdfs::path deadAov =
+      dir / "out" / ("o.rain.0001.pluvia-tmp-" + std::to_string(deadPid) + "-1.png");
   const stdfs::path live =
       dir / "out" / ("o.0001.pluvia-tmp-" + std::to_string(getpid()) + "-0.png");
-  for (const auto& path : {dead, deadLog, live}) std::ofstream(path) << "partial";
+  // Another output's: its own render cleans it.
+  const stdfs::path otherOutput =
+      dir / "out" / ("m.pluvia-tmp-" + std::to_string(deadPid) + "-2.mp4.log");
+  for (const auto& path : {dead, deadAov, live, otherOutput}) std::ofstream(path) << "partial";
   auto r =
       runPluvia({"render", plate, "-p", "drizzle", "-o", (dir / "out" / "o.####.png").string()});
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("removed 2 temporary files"), std::string::npos) << r.output;
   EXPECT_FALSE(stdfs::exists(dead));
-  EXPECT_FALSE(stdfs::exists(deadLog));
+  EXPECT_FALSE(stdfs::exists(deadAov));
   EXPECT_TRUE(stdfs::exists(live));
+  EXPECT_TRUE(stdfs::exists(otherOutput));
 }
 
 TEST(CliFrameSafety, DevicesAreRefusedAsInputs) {
