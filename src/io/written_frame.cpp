@@ -5,6 +5,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include "io/clip_reader.h"
 #include "io/image_file_reader.h"
 #include "io/sequence_pattern.h"
 #include "util/error.h"
@@ -52,6 +53,18 @@ std::string reasonToRenderAgain(const std::string& path, const std::string& pres
   if (recorded.empty()) return std::string("the file records no ") + kHashKey;
   if (recorded != presetHash)
     return "it was rendered with preset " + recorded + ", this render's is " + presetHash;
+  return "";
+}
+
+std::string reasonToRenderMovieAgain(const std::string& path, size_t frames) {
+  try {
+    const size_t held = openClip(path)->info().frames.size();
+    if (held != frames)
+      return "it holds " + std::to_string(held) + " frames, this render makes " +
+             std::to_string(frames);
+  } catch (const Error&) {
+    return "the movie does not decode (empty, truncated or corrupt)";
+  }
   return "";
 }
 

@@ -1,5 +1,6 @@
 #pragma once
 // Checking a frame file that an earlier run left, before `--skip-existing` keeps it.
+#include <cstddef>
 #include <string>
 
 namespace pluvia {
@@ -10,5 +11,9 @@ namespace pluvia {
 // hold pluvia's metadata (EXR, PNG, TIFF, JPEG) must carry the hash; DPX and HDR hold none, so
 // there only the decode is checked.
 std::string reasonToRenderAgain(const std::string& path, const std::string& presetHash);
+
+// The same for a movie a previous run left: it must open and hold `frames` frames (its preset
+// is not checked: the hash sits in a comment that OpenCV does not read).
+std::string reasonToRenderMovieAgain(const std::string& path, size_t frames);
 
 }  // namespace pluvia

@@ -239,9 +239,14 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset,
   const bool movieOutput = isMovieExtension(request.output);
   if (request.skipExisting) {
     if (movieOutput && std::filesystem::exists(request.output)) {
-      log::info("--skip-existing: " + request.output + " exists, nothing to do");
-      summary.framesSkipped = int(frames.size());
-      return summary;
+      const std::string reason = reasonToRenderMovieAgain(request.output, frames.size());
+      if (reason.empty()) {
+        log::info("--skip-existing: " + request.output + " exists, nothing to do");
+        summary.framesSkipped = int(frames.size());
+        return summary;
+      }
+      log::warning(fmt::format("--skip-existing: rendering {} again: {}", request.output, reason));
+      summary.framesRedone = int(frames.size());
     }
     if (auto pattern = SequencePattern::parse(request.output)) {
       std::vector<int64_t> todo;

@@ -194,6 +194,23 @@ TEST(CliFrameSafety, SkipExistingRendersEmptyTruncatedAndOtherPresetFramesAgain)
   EXPECT_NE(r.output.find("rendered with preset"), std::string::npos) << r.output;
 }
 
+TEST(CliFrameSafety, SkipExistingRendersAnEmptyOrShortMovieAgain) {
+  auto dir = freshTempDir("skip_movie");
+  auto plate = writePlate(dir, 1, 3);
+  const std::string movie = (dir / "o.mp4").string();
+  std::ofstream(movie, std::ios::binary);  // empty
+  auto r = runPluvia({"render", plate, "-p", "drizzle", "-o", movie, "--skip-existing"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("o.mp4 again: the movie does not decode"), std::string::npos) << r.output;
+  r = runPluvia({"render", plate, "-p", "drizzle", "-o", movie, "--skip-existing"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("exists, nothing to do"), std::string::npos) << r.output;
+  r = runPluvia(
+      {"render", plate, "-p", "drizzle", "-o", movie, "--skip-existing", "--frames", "1-2"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("it holds 3 frames, this render makes 2"), std::string::npos) << r.output;
+}
+
 TEST(CliFrameSafety, OneImageFileIsRefusedForManyFramesAndTakesOne) {
   auto dir = freshTempDir("single_file");
   auto plate = writePlate(dir, 1, 3);
