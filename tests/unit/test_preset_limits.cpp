@@ -91,19 +91,20 @@ TEST(PresetLimits, BadTextNamesTheFileOrKey) {
 
 TEST(PresetLimits, OtherFilesAreNamedNeverQuoted) {
   auto dir = test::freshTempDir("preset_quote");
-  const std::string secret = "root:x:0:0:secret-first-line";
+  // The parser's own message would quote what it read of a number: "last read: '31415926x'".
+  const std::string secret = "31415926xsecret-first-line";
   writePreset(dir, "secret.txt", secret + "\n");
   auto extending =
       writePreset(dir, "extends.json",
                   R"({"pluvia": 1, "extends": ")" + (dir / "secret.txt").string() + R"("})");
   const std::string viaExtends = errorOf(extending.string());
   EXPECT_NE(viaExtends.find("secret.txt"), std::string::npos) << viaExtends;
-  EXPECT_EQ(viaExtends.find("root:"), std::string::npos) << viaExtends;
+  EXPECT_EQ(viaExtends.find("31415926"), std::string::npos) << viaExtends;
   try {
     rain::loadStrokeLibrary((dir / "secret.txt").string());
     ADD_FAILURE() << "a text file loaded as a stroke library";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("secret.txt"), std::string::npos) << e.what();
-    EXPECT_EQ(std::string(e.what()).find("root:"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find("31415926"), std::string::npos) << e.what();
   }
 }
