@@ -19,18 +19,18 @@ struct RenderRequest {
   std::string output;
   std::optional<int64_t> firstFrame;  // inclusive, clip frame numbers
   std::optional<int64_t> lastFrame;
-  int threads = 2;                    // writer threads for sequences
-  std::string cacheDir;               // per-clip analysis cache; empty: none
+  int threads = 2;       // writer threads for sequences
+  std::string cacheDir;  // per-clip analysis cache; empty: none
   bool skipExisting = false;
-  std::vector<std::string> aovs;      // "rain", "matte", "depth"
-  std::string commandLine;            // recorded in the log
+  std::vector<std::string> aovs;  // "rain", "matte", "depth"
+  std::string commandLine;        // recorded in the log
   bool progress = true;
 };
 
 struct RenderSummary {
   int framesWritten = 0;
   int framesSkipped = 0;  // --skip-existing: whole frames of this preset, kept
-  int framesRedone = 0;   // --skip-existing: empty, unreadable or other-preset frames, rendered again
+  int framesRedone = 0;   // --skip-existing: broken or other-preset frames, rendered again
   Plan plan;
 };
 
@@ -41,7 +41,7 @@ Plan planJob(const std::string& input, const Preset& preset, const std::string& 
 // Renders. Throws pluvia::Error (naming stage, frame and file) on any failure; frames already
 // written stay valid, no partial frame is left behind, and no input file is ever written.
 // `stages` lists every stage in pipeline order (stages/registry.h: allStages()).
-RenderSummary renderJob(const RenderRequest& request, const Preset& preset, const std::vector<StageInfo>& stages,
-                        StageTimes& times);
+RenderSummary renderJob(const RenderRequest& request, const Preset& preset,
+                        const std::vector<StageInfo>& stages, StageTimes& times);
 
 }  // namespace pluvia
