@@ -7,6 +7,7 @@
 #include "pipeline/render_job.h"
 #include "stages/registry.h"
 #include "util/error.h"
+#include "util/interrupt.h"
 #include "util/log.h"
 
 namespace pluvia::cli {
@@ -68,15 +69,22 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
       start = comma + 1;
     }
     Preset preset = loadPresetForProxy(args->preset, args->sets, args->proxy);
+    InterruptHandlers stopCleanly;
     StageTimes times;
     auto started = std::chrono::steady_clock::now();
     RenderSummary summary = renderJob(request, preset, allStages(), times);
     const double seconds = secondsSince(started);
+    std::string existing;
+    if (summary.framesSkipped)
+      existing += fmt::format(", {} existing frames skipped", summary.framesSkipped);
+    if (summary.framesRedone) {
+      existing += fmt::format(
+          ", {} existing frames rendered again (empty, unreadable or of another preset)",
+          summary.framesRedone);
+    }
     log::info(fmt::format("wrote {} {}frames to {} in {:.1f} s{}", summary.framesWritten,
                           request.proxyScale != 1.0 ? "proxy " : "", request.output, seconds,
-                          summary.framesSkipped
-                              ? fmt::format(" ({} existing frames skipped)", summary.framesSkipped)
-                              : ""));
+                          existing.empty() ? "" : " (" + existing.substr(2) + ")"));
     if (args->stats) std::cout << times.summary(summary.framesWritten);
   });
 }

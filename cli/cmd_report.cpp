@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <iostream>
 
+#include <fmt/format.h>
+
 #include "commands.h"
 #include "derain/derain_report.h"
 #include "envmap/envmap_report.h"
@@ -15,6 +17,7 @@
 #include "pluvia/version.h"
 #include "report_depth.h"
 #include "util/error.h"
+#include "util/log.h"
 
 namespace pluvia::cli {
 
@@ -135,7 +138,11 @@ void addReportDepth(CLI::App& report, Invocation& invocation) {
     std::cout << formatDepthReport(result);
     if (!args->csv.empty()) writeDepthReportCsv(result, args->csv);
     if (!args->plot.empty()) writeDepthReportPlot(result, args->plot);
-    invocation.exitCode = 0;
+    // The table is printed either way; a row that failed makes the command fail.
+    int failed = result.real.status == "failed" ? 1 : 0;
+    for (const DepthReportRow& row : result.rows) failed += row.status == "failed" ? 1 : 0;
+    if (failed > 0) log::error(fmt::format("report depth: {} of its rows failed", failed));
+    invocation.exitCode = failed > 0 ? 1 : 0;
   });
 }
 }  // namespace

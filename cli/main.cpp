@@ -1,6 +1,7 @@
 // pluvia: physically based rain for real footage. The command line is thin: every subcommand
 // is a file in cli/, the work is in the libraries under src/.
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 
 #include <CLI/CLI.hpp>
@@ -10,16 +11,20 @@
 #include "pluvia/version.h"
 #include "preset/param_table.h"
 #include "util/error.h"
+#include "util/interrupt.h"
 #include "util/log.h"
 
 namespace {
 constexpr const char* kExitCodes =
     "Exit codes: 0 success, 1 error (bad input file, invalid preset, failed write), 2 usage error "
-    "(bad command line).";
+    "(bad command line), 130 and 143 a render stopped by SIGINT and SIGTERM.";
 }
 
 int main(int argc, char** argv) {
   using namespace pluvia;
+  // Past a file size limit (ulimit -f) a write fails with EFBIG and pluvia reports it, instead
+  // of being killed by SIGXFSZ with the file half written.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"pluvia: adds physically based rain to real footage.", "pluvia"};
   app.footer(kExitCodes);
   app.set_version_flag("--version", std::string("pluvia ") + kVersion);
@@ -77,6 +82,8 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const Error& e) {
     log::error(e.describe());
+    // Whatever failed after a SIGINT or SIGTERM (ffmpeg got it too and stopped) failed for it.
+    if (const int signal = interruptSignal()) return 128 + signal;
     return 1;
   } catch (const std::exception& e) {
     log::error(e.what());

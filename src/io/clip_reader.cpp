@@ -103,6 +103,10 @@ std::unique_ptr<ClipReader> openClip(const std::string& input) {
                     (stdfs::path(input) / "frame.####.exr").string() + ")",
                 {"read", {}, input});
   }
+  if (stdfs::exists(status) && !stdfs::is_regular_file(status)) {
+    // A device or a pipe (/dev/zero) never ends: decoders would read it forever.
+    throw Error("input is not a regular file (a device or a pipe): " + input, {"read", {}, input});
+  }
   // A file that exists is taken literally, even if its name happens to contain '#' or '%d'.
   if (stdfs::exists(status)) return isMovieExtension(input) ? openMovie(input) : openStill(input);
   if (std::optional<SequencePattern> pattern = SequencePattern::parse(input))

@@ -14,8 +14,8 @@ namespace pluvia {
 
 struct WriterOptions {
   double fps = 24.0;
-  // Written into EXR headers (and PNG/TIFF text where the format allows): "pluvia:version",
-  // "pluvia:presetHash", "pluvia:seed", "pluvia:commandLine".
+  // Written into EXR headers (and PNG/TIFF/JPEG text where the format allows, a movie's
+  // comment): see pipeline/frame_metadata.h.
   std::map<std::string, std::string> metadata;
   // Extra planes to write as AOVs beside the beauty (e.g. "rain", "matte", "depth"); for EXR
   // they are extra channels of the same file, for other formats separate files
@@ -27,7 +27,8 @@ class ClipWriter {
  public:
   virtual ~ClipWriter() = default;
   // Writes one frame. Image RGB is already in the output's encoding (colour converted).
-  // For movies frames must come in order. Thread-safe for sequences (frames may be written in parallel).
+  // For movies frames must come in order. Thread-safe for sequences (frames may be written in
+  // parallel).
   virtual void write(int64_t frame, const Image& image) = 0;
   // Finishes the clip (movies: closes the encoder and moves the file into place).
   virtual void close() = 0;

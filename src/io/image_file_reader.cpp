@@ -8,6 +8,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include "io/oiio_message.h"
 #include "util/error.h"
 
 namespace pluvia {
@@ -19,7 +20,13 @@ ErrorContext readContext(const std::string& path, std::optional<int64_t> frame) 
 
 std::unique_ptr<OIIO::ImageInput> openImage(const std::string& path, std::optional<int64_t> frame) {
   std::error_code ec;
-  if (std::filesystem::is_regular_file(path, ec) && std::filesystem::file_size(path, ec) == 0) {
+  const std::filesystem::file_status status = std::filesystem::status(path, ec);
+  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
+    // A device or a pipe (/dev/zero) never ends: decoders would read it forever.
+    throw Error("not a regular file (a device, pipe or folder is not an image): " + path,
+                readContext(path, frame));
+  }
+  if (std::filesystem::is_regular_file(status) && std::filesystem::file_size(path, ec) == 0) {
     throw Error("image file is empty (0 bytes): " + path, readContext(path, frame));
   }
   // Keep PNG/TIFF alpha straight, as pluvia's frames are; OIIO would premultiply otherwise.
@@ -27,7 +34,8 @@ std::unique_ptr<OIIO::ImageInput> openImage(const std::string& path, std::option
   config.attribute("oiio:UnassociatedAlpha", 1);
   std::unique_ptr<OIIO::ImageInput> input = OIIO::ImageInput::open(path, &config);
   if (!input) {
-    throw Error("cannot read image " + path + ": " + OIIO::geterror(), readContext(path, frame));
+    throw Error("cannot read image " + path + ": " + oiioMessage(OIIO::geterror()),
+                readContext(path, frame));
   }
   const OIIO::ImageSpec& spec = input->spec();
   if (spec.full_width <= 0 || spec.full_height <= 0 || spec.width <= 0 || spec.height <= 0 ||
@@ -93,7 +101,8 @@ Image readImageFile(const std::string& path, std::optional<int64_t> frame) {
   }
   if (!input->read_image(0, 0, 0, channelsRead, OIIO::TypeDesc::FLOAT, target, pixelBytes,
                          rowBytes)) {
-    throw Error("cannot decode image " + path + " (corrupt or truncated?): " + input->geterror(),
+    throw Error("cannot decode image " + path +
+                    " (corrupt or truncated?): " + oiioMessage(input->geterror()),
                 readContext(path, frame));
   }
   if (!windowInsideFrame) {

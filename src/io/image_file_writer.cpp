@@ -1,13 +1,16 @@
 #include "io/image_file_writer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <memory>
 
 #include <Imath/half.h>
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include "io/oiio_message.h"
 #include "io/sequence_pattern.h"
 #include "util/error.h"
 #include "util/fs.h"
@@ -64,8 +67,11 @@ uint16_t toDpx10(float v) {
   const uint32_t code = static_cast<uint32_t>(clamp01(v) * 1023.0f + 0.5f);
   return static_cast<uint16_t>((code * 65535u + 511u) / 1023u);
 }
-// Round to nearest; NaN and Inf stay NaN and Inf.
+// Round to nearest; NaN and Inf stay NaN and Inf, and a finite value beyond the half range
+// becomes the largest half of its sign rather than Inf (a bright colour must not turn into Inf).
 Imath::half toHalf(float v) {
+  constexpr float kHalfMax = 65504.0f;
+  if (std::isfinite(v)) v = std::clamp(v, -kHalfMax, kHalfMax);
   return Imath::half(v);
 }
 float asIs(float v) {
@@ -139,6 +145,10 @@ OIIO::ImageSpec makeSpec(const std::string& extension, Encoding encoding, int wi
   if (extension == "tif" || extension == "tiff") spec.attribute("compression", kTiffCompression);
   if (extension == "jpg" || extension == "jpeg")
     spec.attribute("Compression", "jpeg:" + std::to_string(kJpegQuality));
+  // No date: OIIO stamps EXR, TIFF and DPX headers with the time of writing unless DateTime is
+  // given, and an empty one leaves it out, so that a frame's file is byte-identical whenever and
+  // in whichever chunk it is rendered.
+  spec.attribute("DateTime", "");
   // Our alpha is straight: stop OIIO from un-premultiplying it into PNG/TIFF.
   spec.attribute("oiio:UnassociatedAlpha", 1);
   // EXR and PNG keep any named string. TIFF and JPEG keep only standard fields, so there the
@@ -174,18 +184,28 @@ void writeImageFile(const std::string& path, int width, int height,
   const std::vector<unsigned char> pixels =
       encode(encoding, static_cast<size_t>(width) * height, channels);
 
-  const std::filesystem::path tmp = fs::temporaryPathFor(path);
-  std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(tmp.string());
-  if (!out) throw Error("cannot write " + path + ": " + OIIO::geterror(), context);
-  bool written =
-      out->open(tmp.string(), spec) && out->write_image(OIIO::TypeUnknown, pixels.data());
-  written = out->close() && written;
-  if (!written) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw Error("cannot write " + path + ": " + out->geterror(), context);
+  // Encoded into memory, then written by fs::writeFileAtomically, which checks every step down
+  // to the disk: OIIO's own file writers miss some failures (a PNG on a full disk came out
+  // empty or truncated with no error).
+  std::vector<unsigned char> fileBytes;
+  OIIO::Filesystem::IOVecOutput memory(fileBytes);
+  OIIO::ImageSpec memorySpec = spec;
+  void* proxy = &memory;
+  memorySpec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+  std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(path);
+  if (!out) throw Error("cannot write " + path + ": " + oiioMessage(OIIO::geterror()), context);
+  // The file's name only: DPX records it in its header, and a frame must not depend on the folder.
+  const std::string fileName = std::filesystem::path(path).filename().string();
+  bool encoded =
+      out->open(fileName, memorySpec) && out->write_image(OIIO::TypeUnknown, pixels.data());
+  encoded = out->close() && encoded;
+  if (!encoded || fileBytes.empty())
+    throw Error("cannot encode " + path + ": " + oiioMessage(out->geterror()), context);
+  try {
+    fs::writeFileAtomically(path, fileBytes.data(), fileBytes.size());
+  } catch (const Error& e) {
+    throw Error(e.what(), context);
   }
-  fs::commitTemporary(tmp, path);
 }
 
 }  // namespace pluvia

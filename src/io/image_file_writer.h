@@ -1,5 +1,6 @@
 #pragma once
-// Writing one image file through OpenImageIO, atomically (temporary file, then rename), in the
+// Writing one image file through OpenImageIO, atomically (encoded in memory, written to a
+// temporary file, flushed, checked and renamed: see fs::writeFileAtomically), in the
 // sample encoding its extension calls for: EXR half (float where asked), HDR float, PNG/JPEG
 // 8-bit, TIFF 16-bit, DPX 10-bit.
 #include <cstdint>
@@ -22,8 +23,8 @@ struct OutputChannel {
 const std::vector<std::string>& imageOutputExtensions();
 
 // Integer encodings clamp to 0..1 and round to the nearest code; float encodings keep values
-// (NaN and Inf included). String metadata goes into the header where the format has room.
-// Throws pluvia::Error naming the file (and frame).
+// (NaN and Inf included; half clamps finite values to +-65504). String metadata goes into the
+// header where the format has room. Throws pluvia::Error naming the file (and frame).
 void writeImageFile(const std::string& path, int width, int height,
                     const std::vector<OutputChannel>& channels,
                     const std::map<std::string, std::string>& metadata,

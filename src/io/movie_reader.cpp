@@ -1,5 +1,6 @@
 #include "io/movie_reader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <mutex>
 
@@ -15,6 +16,8 @@ namespace {
 // Up to this many frames ahead, decoding forward is cheaper than a seek (which decodes from
 // the previous keyframe anyway).
 constexpr int64_t kMaxForwardGrabFrames = 16;
+// Containers that estimate their frame count from the duration may be off by a frame or 1 %.
+constexpr double kFrameCountSlack = 0.01;
 
 class MovieReader final : public ClipReader {
  public:
@@ -72,18 +75,26 @@ class MovieReader final : public ClipReader {
 
   // The container's frame count is a hint (estimated from the duration in some containers,
   // wrong for truncated files): check that its last frame decodes and that none follow, and
-  // count by decoding everything only when that check fails.
+  // count by decoding everything only when that check fails. Decoding that stops short of the
+  // count by more than an estimate's rounding is a truncated or corrupt file: an error naming
+  // the first frame that does not decode, rather than a render of the frames before it.
   int64_t countFrames() {
-    double hint = capture_.get(cv::CAP_PROP_FRAME_COUNT);
+    const double hint = capture_.get(cv::CAP_PROP_FRAME_COUNT);
+    const bool hinted = std::isfinite(hint) && hint >= 1;
     int64_t frames = 0;
-    if (std::isfinite(hint) && hint >= 1 && seekTo(static_cast<int64_t>(hint) - 1) &&
-        capture_.grab()) {
+    if (hinted && seekTo(static_cast<int64_t>(hint) - 1) && capture_.grab()) {
       frames = static_cast<int64_t>(hint);
     } else {
       open();
     }
     while (capture_.grab()) ++frames;
     next_ = frames;
+    if (hinted && static_cast<double>(frames) < hint - std::max(1.0, hint * kFrameCountSlack)) {
+      throw Error(fmt::format("movie {} is truncated or corrupt: its container lists {} frames, "
+                              "but frame {} and those after it do not decode",
+                              info_.path, static_cast<int64_t>(hint), frames),
+                  {"read", frames, info_.path});
+    }
     return frames;
   }
 

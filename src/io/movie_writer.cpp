@@ -78,7 +78,9 @@ class MovieWriter final : public ClipWriter {
                 {"-c:v", "libx264", "-preset", "medium", "-crf", "16", "-pix_fmt", "yuv420p"});
     if (!options.metadata.empty())
       argv.insert(argv.end(), {"-metadata", "comment=" + metadataComment(options.metadata)});
-    argv.push_back(tmp_.string());
+    // "file:" keeps a name that starts with "-" from reading as an option, and one such as
+    // "pipe:1.mp4" from reading as another protocol.
+    argv.push_back("file:" + tmp_.string());
     encoder_.emplace(argv, log_.string());
   }
 

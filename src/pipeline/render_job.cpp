@@ -14,11 +14,14 @@
 #include "image/color.h"
 #include "image/ops.h"
 #include "io/clip_writer.h"
+#include "io/output_lock.h"
 #include "io/sequence_pattern.h"
+#include "io/written_frame.h"
 #include "pipeline/cache.h"
+#include "pipeline/frame_metadata.h"
 #include "pipeline/proxy_clip_reader.h"
-#include "pluvia/version.h"
 #include "util/fs.h"
+#include "util/interrupt.h"
 #include "util/log.h"
 #include "util/progress.h"
 
@@ -153,6 +156,32 @@ void refuseOverwritingInput(const ClipInfo& clip, const std::string& output,
   }
 }
 
+// The folder of an output, and the start of every file name it writes ("o." for o.####.exr and
+// its AOVs o.rain.####.exr; "rain." for rain.mp4).
+std::filesystem::path outputFolder(const std::string& output) {
+  return std::filesystem::path(output).parent_path();
+}
+std::string outputNamePrefix(const std::string& output) {
+  if (auto pattern = SequencePattern::parse(output)) {
+    const size_t slash = pattern->prefix.rfind('/');
+    return slash == std::string::npos ? pattern->prefix : pattern->prefix.substr(slash + 1);
+  }
+  return std::filesystem::path(output).stem().string() + ".";
+}
+
+// One image file holds one frame: more frames into it would each overwrite the last.
+void refuseSingleFileForManyFrames(const std::string& output, const std::vector<int64_t>& frames) {
+  if (frames.size() < 2 || SequencePattern::parse(output) || isMovieExtension(output)) return;
+  const std::filesystem::path path(output);
+  const std::string pattern =
+      (path.parent_path() / path.stem()).string() + ".####" + path.extension().string();
+  throw UsageError(
+      fmt::format("output {} is one image file, but {} frames ({}-{}) are rendered: give a "
+                  "sequence such as {}, a movie, or one frame with --frames",
+                  output, frames.size(), frames.front(), frames.back(), pattern),
+      {"write", {}, output});
+}
+
 void ensureAovPlanes(Image& image, const std::vector<std::string>& aovs) {
   for (const auto& aov : aovs) {
     if (aov == "rain") {
@@ -192,11 +221,7 @@ WriterOptions writerOptionsFor(const RenderRequest& request, const Preset& prese
   WriterOptions options;
   options.fps = preset.number("camera.fps") > 0 ? preset.number("camera.fps") : clip.fps;
   options.aovs = request.aovs;
-  options.metadata = {{"pluvia:version", kVersion},
-                      {"pluvia:presetHash", preset.hash()},
-                      {"pluvia:seed", std::to_string(int64_t(preset.number("rain.seed")))},
-                      {"pluvia:commandLine", request.commandLine},
-                      {"pluvia:preset", preset.json().dump()}};
+  options.metadata = frameMetadata(preset);
   // A proxy frame must never pass for a final one: it says so in its header.
   if (request.proxyScale != 1.0)
     options.metadata["pluvia:proxy"] =
@@ -222,7 +247,8 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
                 preset.string("color.config")),
       writerOptions_(writerOptionsFor(request, preset, clip())) {
   log::info("command: " + request.commandLine);
-  log::info("preset (resolved): " + preset.json().dump());
+  // The bounded copy the frames record: a preset with a 50 MB description stays out of the log.
+  log::info("preset (resolved): " + writerOptions_.metadata.at("pluvia:preset"));
   log::info("plan:\n" + plan_.text());
   if (request.proxyScale != 1.0)
     log::info(fmt::format("proxy render (not a final): {}x{}, {:g} of the plate's size",
@@ -325,21 +351,41 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset,
   RenderSummary summary;
   summary.plan = session.plan();
   std::vector<int64_t> frames = session.frames();
+  refuseSingleFileForManyFrames(request.output, frames);
+  // Held until the last frame is written, --skip-existing's checks included.
+  OutputLock lock(request.output);
+  if (int removed = fs::removeStaleTemporaries(outputFolder(request.output),
+                                               outputNamePrefix(request.output))) {
+    log::info(fmt::format("removed {} temporary files left by renders that were killed", removed));
+  }
 
   // Frames already on disk are skipped before any decoding.
   const bool movieOutput = isMovieExtension(request.output);
   if (request.skipExisting) {
     if (movieOutput && std::filesystem::exists(request.output)) {
-      log::info("--skip-existing: " + request.output + " exists, nothing to do");
-      summary.framesSkipped = int(frames.size());
-      return summary;
+      const std::string reason = reasonToRenderMovieAgain(request.output, frames.size());
+      if (reason.empty()) {
+        log::info("--skip-existing: " + request.output + " exists, nothing to do");
+        summary.framesSkipped = int(frames.size());
+        return summary;
+      }
+      log::warning(fmt::format("--skip-existing: rendering {} again: {}", request.output, reason));
+      summary.framesRedone = int(frames.size());
     }
     if (auto pattern = SequencePattern::parse(request.output)) {
       std::vector<int64_t> todo;
       for (int64_t f : frames) {
-        if (std::filesystem::exists(pattern->pathFor(f))) {
+        const std::string path = pattern->pathFor(f);
+        if (!std::filesystem::exists(path)) {
+          todo.push_back(f);
+          continue;
+        }
+        const std::string reason = reasonToRenderAgain(path, preset.hash());
+        if (reason.empty()) {
           ++summary.framesSkipped;
         } else {
+          log::warning(fmt::format("--skip-existing: rendering {} again: {}", path, reason));
+          ++summary.framesRedone;
           todo.push_back(f);
         }
       }
@@ -363,6 +409,7 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset,
     try {
       for (int64_t f : frames) {
         if (error.isSet()) break;
+        throwIfInterrupted();
         decoded.push(session.readFrame(f));
       }
     } catch (...) {
@@ -397,6 +444,7 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset,
   try {
     while (auto frame = decoded.pop()) {
       if (error.isSet()) break;
+      throwIfInterrupted();
       session.processFrame(*frame);
       {
         ScopedTimer timer(&times, "colour out");

@@ -28,7 +28,7 @@ struct RenderRequest {
   std::string cacheDir;  // per-clip analysis cache; empty: none
   bool skipExisting = false;
   std::vector<std::string> aovs;  // "rain", "matte", "depth"
-  std::string commandLine;        // recorded in the log and in EXR metadata
+  std::string commandLine;        // recorded in the log
   bool progress = true;
   // Proxy render, in (0, 1]: every frame is resized by this factor right after reading, so the
   // camera, the analysis, the rain and the output all work at the reduced size. 1: full size.
@@ -37,7 +37,8 @@ struct RenderRequest {
 
 struct RenderSummary {
   int framesWritten = 0;
-  int framesSkipped = 0;
+  int framesSkipped = 0;  // --skip-existing: whole frames of this preset, kept
+  int framesRedone = 0;   // --skip-existing: broken or other-preset frames, rendered again
   Plan plan;
 };
 

@@ -6,6 +6,7 @@
 #include <limits>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -50,6 +51,8 @@ struct SectionSpec {
   std::vector<std::string> inputs;   // artifacts read (pipeline stages only)
   std::vector<std::string> outputs;  // artifacts written
   std::vector<ParamSpec> params;
+  // Pairs of Number keys whose values must increase, {"near_m", "far_m"}: near_m < far_m.
+  std::vector<std::pair<std::string, std::string>> increasing = {};
   const ParamSpec* find(const std::string& key) const;
 };
 

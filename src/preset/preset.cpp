@@ -4,11 +4,13 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <set>
 
 #include <fmt/format.h>
 
 #include "pluvia/version.h"
+#include "preset/json_text.h"
 #include "preset/ramp.h"
 #include "util/fs.h"
 #include "util/hash.h"
@@ -47,6 +49,13 @@ bool isIndex(const std::string& s) {
   return !s.empty() && s.find_first_not_of("0123456789") == std::string::npos;
 }
 
+// A list index as written in a dotted path; indexes past any list's size (and past what a
+// size_t holds) are all the same: out of range.
+size_t indexValue(const std::string& s) {
+  constexpr size_t kBeyondAnyList = std::numeric_limits<size_t>::max();
+  return s.size() > 9 ? kBeyondAnyList : std::stoul(s);
+}
+
 // Deep merge: objects merge key by key, anything else in `over` replaces `base`.
 void mergeInto(json& base, const json& over) {
   for (auto it = over.begin(); it != over.end(); ++it) {
@@ -65,14 +74,13 @@ json loadWithExtends(const stdfs::path& file, std::vector<std::string>& chain) {
       throw PresetError(file.string(), {"\"extends\" forms a cycle through " + canonical});
   }
   chain.push_back(canonical);
-  json document;
+  std::string text;
   try {
-    document = json::parse(fs::readTextFile(file));
-  } catch (const json::parse_error& e) {
-    throw PresetError(file.string(), {fmt::format("not valid JSON: {}", e.what())});
+    text = fs::readTextFile(file);
   } catch (const Error& e) {
     throw PresetError(file.string(), {e.what()});
   }
+  json document = parsePresetJson(text, file.string());
   if (!document.is_object())
     throw PresetError(file.string(), {"/: a preset must be a JSON object"});
   if (document.contains("extends")) {
@@ -95,6 +103,44 @@ std::string pointer(const std::string& parent, const std::string& key) {
 
 std::string numberText(double v) {
   return fmt::format("{:g}", v);
+}
+
+// No number may be larger than this, whatever its range: a ramp between keys at -1e308 and
+// 1e308 overflowed (their difference is Inf). Above 2^53 doubles skip integers anyway.
+constexpr double kMaxNumberMagnitude = 1e15;
+// The largest value a half float (EXR output) holds; a larger colour became Inf pixels.
+constexpr double kMaxHalf = 65504.0;
+
+double lowestAllowed(const ParamSpec& spec) {
+  return std::max(spec.minValue, -kMaxNumberMagnitude);
+}
+double highestAllowed(const ParamSpec& spec) {
+  return std::min(spec.maxValue, kMaxNumberMagnitude);
+}
+
+// The section's value at a dotted key, or its default; nullptr when it has neither.
+const json* valueOrDefault(const SectionSpec& section, const json& object, const std::string& key) {
+  const json* node = &object;
+  for (const auto& part : splitDots(key)) {
+    node = node->is_object() && node->contains(part) ? &(*node)[part] : nullptr;
+    if (!node) break;
+  }
+  if (node) return node;
+  const ParamSpec* spec = section.find(key);
+  return spec ? &spec->defaultValue : nullptr;
+}
+
+void checkIncreasing(const SectionSpec& section, const json& object,
+                     std::vector<std::string>& problems) {
+  for (const auto& [lower, upper] : section.increasing) {
+    const json* a = valueOrDefault(section, object, lower);
+    const json* b = valueOrDefault(section, object, upper);
+    if (!a || !b || !a->is_number() || !b->is_number()) continue;  // reported by the type check
+    if (!(a->get<double>() < b->get<double>())) {
+      problems.push_back(fmt::format("/{0}/{1} ({2}) must be less than /{0}/{3} ({4})",
+                                     section.name, lower, a->dump(), upper, b->dump()));
+    }
+  }
 }
 
 // Where keyframes may appear. Section: a keyframable number may be keys and any other number given
@@ -197,9 +243,11 @@ void checkKeys(const ParamSpec& spec, const json& value, const std::string& wher
       problems.push_back(fmt::format("{}: expected [frame, value] (got {})", keyWhere, key.dump()));
       continue;
     }
-    if (!key[0].is_number() || !std::isfinite(key[0].get<double>())) {
-      problems.push_back(
-          fmt::format("{}/0: expected a frame number (got {})", keyWhere, key[0].dump()));
+    if (!key[0].is_number() || !std::isfinite(key[0].get<double>()) ||
+        std::fabs(key[0].get<double>()) > kMaxNumberMagnitude) {
+      problems.push_back(fmt::format("{}/0: expected a frame number between -{} and {} (got {})",
+                                     keyWhere, numberText(kMaxNumberMagnitude),
+                                     numberText(kMaxNumberMagnitude), key[0].dump()));
     } else {
       double frame = key[0].get<double>();
       if (!(frame > previousFrame)) {
@@ -299,17 +347,18 @@ void checkValue(const ParamSpec& spec, const json& value, const std::string& whe
     return checkKeys(spec, value, where, problems);
   }
   if (keyMode == KeyMode::Section && isNumeric(spec) && Ramp::looksLikeKeys(value)) {
-    problems.push_back(fmt::format(
-        "{}: cannot be keyframed, it is fixed over the shot; give one number", where));
+    problems.push_back(
+        fmt::format("{}: cannot be keyframed, it is fixed over the shot; give one number", where));
     return;
   }
   auto bad = [&](const std::string& what) {
     problems.push_back(fmt::format("{}: {} (got {})", where, what, value.dump()));
   };
   auto checkRange = [&](double v) {
-    if (!std::isfinite(v) || v < spec.minValue || v > spec.maxValue) {
-      bad(fmt::format("must be between {} and {}{}", numberText(spec.minValue),
-                      numberText(spec.maxValue), spec.units.empty() ? "" : " " + spec.units));
+    if (!std::isfinite(v) || v < lowestAllowed(spec) || v > highestAllowed(spec)) {
+      bad(fmt::format("must be between {} and {}{}", numberText(lowestAllowed(spec)),
+                      numberText(highestAllowed(spec)),
+                      spec.units.empty() ? "" : " " + spec.units));
     }
   };
   switch (spec.type) {
@@ -344,8 +393,9 @@ void checkValue(const ParamSpec& spec, const json& value, const std::string& whe
     case ParamType::Color3:
       if (!value.is_array() || value.size() != 3) return bad("expected [r, g, b]");
       for (const auto& c : value) {
-        if (!c.is_number() || !std::isfinite(c.get<double>()) || c.get<double>() < 0)
-          return bad("expected three finite numbers >= 0");
+        if (!c.is_number() || !std::isfinite(c.get<double>()) || c.get<double>() < 0 ||
+            c.get<double>() > kMaxHalf)
+          return bad("expected three numbers from 0 to 65504 (the largest a half float holds)");
       }
       return;
     case ParamType::Vector3:
@@ -355,9 +405,9 @@ void checkValue(const ParamSpec& spec, const json& value, const std::string& whe
       }
       for (const auto& c : value) {
         double v = c.get<double>();
-        if (!std::isfinite(v) || v < spec.minValue || v > spec.maxValue) {
-          return bad(fmt::format("each must be between {} and {}{}", numberText(spec.minValue),
-                                 numberText(spec.maxValue),
+        if (!std::isfinite(v) || v < lowestAllowed(spec) || v > highestAllowed(spec)) {
+          return bad(fmt::format("each must be between {} and {}{}",
+                                 numberText(lowestAllowed(spec)), numberText(highestAllowed(spec)),
                                  spec.units.empty() ? "" : " " + spec.units));
         }
       }
@@ -478,8 +528,8 @@ const json* walk(const json& document, const std::string& dottedPath) {
   for (const auto& part : splitDots(dottedPath)) {
     if (node->is_object() && node->contains(part)) {
       node = &(*node)[part];
-    } else if (node->is_array() && isIndex(part) && std::stoul(part) < node->size()) {
-      node = &(*node)[std::stoul(part)];
+    } else if (node->is_array() && isIndex(part) && indexValue(part) < node->size()) {
+      node = &(*node)[indexValue(part)];
     } else {
       return nullptr;
     }
@@ -544,11 +594,25 @@ void applyOverride(json& document, const std::string& assignment) {
   }
   std::string key = assignment.substr(0, eq);
   std::string text = assignment.substr(eq + 1);
+  if (!isValidUtf8(assignment)) {
+    throw PresetError("--set", {"a --set line is not valid UTF-8 text"});
+  }
+  if (key == "extends") {
+    throw PresetError("--set", {"extends cannot be set on the command line: give that preset "
+                                "with -p, or write a preset file that extends it"});
+  }
+  try {
+    checkJsonNesting(text, "--set");
+  } catch (const PresetError& e) {
+    throw PresetError("--set", {fmt::format("--set {}: {}", key, e.problems().front())});
+  }
   json value;
   try {
     value = json::parse(text);
   } catch (const json::parse_error&) {
     value = text;
+  } catch (const json::exception&) {
+    throw PresetError("--set", {fmt::format("{}: {} is too large for a number", key, text)});
   }
   json* node = &document;
   auto parts = splitDots(key);
@@ -556,10 +620,10 @@ void applyOverride(json& document, const std::string& assignment) {
     const std::string& part = parts[i];
     bool last = i + 1 == parts.size();
     if (node->is_array() && isIndex(part)) {
-      size_t index = std::stoul(part);
+      const size_t index = indexValue(part);
       if (index >= node->size())
         throw PresetError("--set", {fmt::format("{}: index {} is past the end of a list of {}", key,
-                                                index, node->size())});
+                                                part, node->size())});
       node = &(*node)[index];
     } else if (node->is_object() || node->is_null()) {
       if (last) {
@@ -608,6 +672,7 @@ std::vector<std::string> validatePreset(const json& document, const Schema& sche
       continue;
     }
     checkObjectFields(section->params, it.value(), "/" + key, "", problems, KeyMode::Section);
+    checkIncreasing(*section, it.value(), problems);
   }
   return problems;
 }

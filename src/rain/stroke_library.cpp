@@ -143,8 +143,11 @@ StrokeLibrary loadStrokeLibrary(const std::string& jsonPath) {
   nlohmann::json doc;
   try {
     doc = nlohmann::json::parse(fs::readTextFile(json));
-  } catch (const nlohmann::json::exception& e) {
-    throw libraryError(jsonPath, fmt::format("not valid JSON: {}", e.what()));
+  } catch (const nlohmann::json::parse_error& e) {
+    // The position only: the parser's message quotes the file, which may be any file at all.
+    throw libraryError(jsonPath, fmt::format("not valid JSON (at byte {})", e.byte));
+  } catch (const nlohmann::json::exception&) {
+    throw libraryError(jsonPath, "not valid JSON (a number too large for a double)");
   }
   if (!doc.is_object()) throw libraryError(jsonPath, "not a JSON object");
   const int version = required<int>(doc, "pluvia_strokes", jsonPath);

@@ -123,8 +123,6 @@ class RainStage : public Stage {
 
   void prepare(ClipContext& clip) override {
     const Preset& p = preset_;
-    if (p.number("rain.min_diameter_mm") >= 6.0)
-      throw Error("rain.min_diameter_mm must be below 6 mm", {"rain"});
     fps_ = clip.fps;
     const CameraPath path =
         clip.trackedPath ? *clip.trackedPath : cameraPathFromPreset(p, clip.camera);
@@ -261,7 +259,7 @@ StageInfo rainStageInfo() {
        ParamType::Number,
        0.8,
        0.05,
-       6.0,
+       5.99,  // the drop size distributions stop at 6 mm
        {},
        "mm",
        "smaller drops are left to the fog"},
@@ -437,6 +435,7 @@ StageInfo rainStageInfo() {
   // opacity); the rest sizes the box, the pool and the random streams once for the shot.
   allowKeyframes(info.spec.params, {"rate_mm_h", "density_scale", "size_scale", "opacity",
                                     "wind.speed_m_s", "wind.dir_deg"});
+  info.spec.increasing = {{"near_m", "far_m"}};
   info.noOpReason = [](const Preset& p) -> std::string {
     // A ramp is 0 throughout only when every key is (interpolation stays between keys).
     if (p.ramp("rain.rate_mm_h").maxValue() == 0.0) return "rate_mm_h is 0";

@@ -1,8 +1,13 @@
 #include "util/fs.h"
 
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -13,9 +18,9 @@ namespace stdfs = std::filesystem;
 
 stdfs::path temporaryPathFor(const stdfs::path& target) {
   static std::atomic<uint64_t> counter{0};
-  stdfs::path tmp = target.parent_path() /
-                    (target.stem().string() + ".pluvia-tmp-" + std::to_string(getpid()) + "-" +
-                     std::to_string(counter++) + target.extension().string());
+  stdfs::path tmp =
+      target.parent_path() / (target.stem().string() + ".pluvia-tmp-" + std::to_string(getpid()) +
+                              "-" + std::to_string(counter++) + target.extension().string());
   return tmp;
 }
 
@@ -24,8 +29,71 @@ void commitTemporary(const stdfs::path& tmp, const stdfs::path& target) {
   stdfs::rename(tmp, target, ec);
   if (ec) {
     stdfs::remove(tmp, ec);
-    throw Error("cannot move the finished file into place: " + ec.message(), {"write", {}, target.string()});
+    throw Error("cannot move the finished file into place: " + ec.message(),
+                {"write", {}, target.string()});
   }
+}
+
+namespace {
+
+// Writes, flushes and closes; returns 0 or the errno of the first step that failed.
+int writeWholeFile(const stdfs::path& path, const char* bytes, size_t size) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) return errno;
+  int failure = 0;
+  while (size > 0 && failure == 0) {
+    const ssize_t n = ::write(fd, bytes, size);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      failure = n < 0 ? errno : EIO;
+      break;
+    }
+    bytes += n;
+    size -= static_cast<size_t>(n);
+  }
+  // A full disk may only show when the data is flushed, or on close (NFS).
+  if (failure == 0 && ::fdatasync(fd) != 0) failure = errno;
+  if (::close(fd) != 0 && failure == 0) failure = errno;
+  return failure;
+}
+
+}  // namespace
+
+void writeFileAtomically(const stdfs::path& target, const void* bytes, size_t size) {
+  const stdfs::path tmp = temporaryPathFor(target);
+  int failure = writeWholeFile(tmp, static_cast<const char*>(bytes), size);
+  struct stat written {};
+  if (failure == 0 && ::stat(tmp.c_str(), &written) != 0) failure = errno;
+  if (failure == 0 && static_cast<size_t>(written.st_size) != size) failure = EIO;
+  if (failure != 0) {
+    std::error_code ec;
+    stdfs::remove(tmp, ec);
+    throw Error("cannot write " + target.string() + ": " + std::strerror(failure) + " (" +
+                    std::to_string(size) + " bytes)",
+                {"write", {}, target.string()});
+  }
+  commitTemporary(tmp, target);
+}
+
+int removeStaleTemporaries(const stdfs::path& folder, const std::string& namePrefix) {
+  const std::string marker = ".pluvia-tmp-";
+  int removed = 0;
+  std::error_code ec;
+  for (const auto& entry : stdfs::directory_iterator(folder.empty() ? "." : folder, ec)) {
+    const std::string name = entry.path().filename().string();
+    const size_t at = name.find(marker);
+    if (at == std::string::npos || name.rfind(namePrefix, 0) != 0) continue;
+    const size_t digits = at + marker.size();
+    const size_t end = name.find('-', digits);
+    const std::string pid = name.substr(digits, end == std::string::npos ? end : end - digits);
+    if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos)
+      continue;
+    // ESRCH: no such process. EPERM means it runs (as another user): keep its files.
+    if (::kill(static_cast<pid_t>(std::stol(pid)), 0) == 0 || errno != ESRCH) continue;
+    std::error_code removeError;
+    removed += stdfs::remove(entry.path(), removeError) ? 1 : 0;
+  }
+  return removed;
 }
 
 void ensureParentFolder(const stdfs::path& file) {
@@ -33,9 +101,12 @@ void ensureParentFolder(const stdfs::path& file) {
   if (folder.empty()) return;
   std::error_code ec;
   stdfs::create_directories(folder, ec);
-  if (ec) throw Error("cannot create output folder " + folder.string() + ": " + ec.message(), {"write", {}, folder.string()});
+  if (ec)
+    throw Error("cannot create output folder " + folder.string() + ": " + ec.message(),
+                {"write", {}, folder.string()});
   if (access(folder.c_str(), W_OK) != 0) {
-    throw Error("output folder " + folder.string() + " is not writable", {"write", {}, folder.string()});
+    throw Error("output folder " + folder.string() + " is not writable",
+                {"write", {}, folder.string()});
   }
 }
 
@@ -55,17 +126,7 @@ std::string readTextFile(const stdfs::path& path) {
 
 void writeTextFile(const stdfs::path& path, const std::string& text) {
   ensureParentFolder(path);
-  stdfs::path tmp = temporaryPathFor(path);
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    if (!out) {
-      std::error_code ec;
-      stdfs::remove(tmp, ec);
-      throw Error("cannot write " + path.string(), {{}, {}, path.string()});
-    }
-  }
-  commitTemporary(tmp, path);
+  writeFileAtomically(path, text.data(), text.size());
 }
 
 }  // namespace pluvia::fs

@@ -12,7 +12,21 @@ std::filesystem::path temporaryPathFor(const std::filesystem::path& target);
 // Renames tmp over target atomically; removes tmp and throws pluvia::Error on failure.
 void commitTemporary(const std::filesystem::path& tmp, const std::filesystem::path& target);
 
-// Creates the folder (and parents) that will hold `file`; throws with the folder named if it cannot.
+// Writes `size` bytes to a temporary file beside `target`, flushes them to the disk
+// (fdatasync), closes the file and checks that it holds exactly `size` bytes before renaming it
+// over `target`. A full disk (ENOSPC), a file size limit (EFBIG) or an I/O error at any step
+// removes the temporary and throws pluvia::Error naming `target` and the reason, so a file
+// under the target's name is always whole.
+void writeFileAtomically(const std::filesystem::path& target, const void* bytes, size_t size);
+
+// Removes the temporaries in `folder` whose names start with `namePrefix` (one output's files:
+// "o." for o.####.exr) and whose process is gone (the pid in their name, see temporaryPathFor,
+// runs no process here: a render killed by SIGKILL or a crash), with a movie temporary's ffmpeg
+// log. Returns how many files were removed.
+int removeStaleTemporaries(const std::filesystem::path& folder, const std::string& namePrefix);
+
+// Creates the folder (and parents) that will hold `file`; throws with the folder named if it
+// cannot.
 void ensureParentFolder(const std::filesystem::path& file);
 
 // True if two paths name the same existing file (follows links), or the same path when absent.

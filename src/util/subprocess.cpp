@@ -2,9 +2,12 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <cstring>
 
 #include "util/error.h"
@@ -64,6 +67,9 @@ PipeProcess::PipeProcess(const std::vector<std::string>& argv, const std::string
   pid_ = fork();
   if (pid_ < 0) throw Error("cannot start " + argv.at(0));
   if (pid_ == 0) {
+    // Its own process group: a Ctrl-C reaches only pluvia, which stops the encoder itself and
+    // removes what it wrote.
+    setpgid(0, 0);
     dup2(fds[0], 0);
     ::close(fds[0]);
     ::close(fds[1]);
@@ -112,7 +118,24 @@ int PipeProcess::close() {
 }
 
 bool programAvailable(const std::string& program) {
-  return runProcess({"sh", "-c", "command -v " + program}).exitCode == 0;
+  // Searched here, as execvp() would, never through a shell: the name may come from the
+  // environment ($PLUVIA_COLMAP) and must not run as a command line.
+  auto executable = [](const std::string& path) {
+    struct stat info {};
+    return ::stat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode) &&
+           ::access(path.c_str(), X_OK) == 0;
+  };
+  if (program.empty()) return false;
+  if (program.find('/') != std::string::npos) return executable(program);
+  const char* path = std::getenv("PATH");
+  const std::string folders = path ? path : "/usr/local/bin:/usr/bin:/bin";
+  for (size_t start = 0; start <= folders.size();) {
+    const size_t colon = std::min(folders.find(':', start), folders.size());
+    const std::string folder = folders.substr(start, colon - start);
+    if (executable((folder.empty() ? "." : folder) + "/" + program)) return true;
+    start = colon + 1;
+  }
+  return false;
 }
 
 }  // namespace pluvia

@@ -29,7 +29,8 @@ class PipeProcess {
   int stdinFd_ = -1;
 };
 
-// True when `program` is found on PATH.
+// True when `program` is an executable file: found on PATH, or at the path given when it holds
+// a '/'. No shell is involved.
 bool programAvailable(const std::string& program);
 
 }  // namespace pluvia

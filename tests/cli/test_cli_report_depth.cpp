@@ -15,6 +15,7 @@
 
 #include "sfm/colmap_runner.h"
 #include "test_support.h"
+#include "util/subprocess.h"
 
 using namespace pluvia;
 using namespace pluvia::test;
@@ -105,6 +106,16 @@ TEST(CliReportDepth, RejectsAMissingDataFolder) {
       runPluvia({"report", "depth", "--quick", "--data", (dir / "missing").string()});
   EXPECT_EQ(r.exitCode, 2) << r.output;
   EXPECT_NE(r.output.find("--data"), std::string::npos) << r.output;
+}
+
+// A row that fails (here every COLMAP step: the program is `false`) fails the command, after
+// the table is printed.
+TEST(CliReportDepth, AFailedRowFailsTheCommand) {
+  const ProcessResult r = runProcess(
+      {"env", "PLUVIA_COLMAP=/bin/false", pluviaBinary().string(), "report", "depth", "--quick"});
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_NE(r.output.find("failed"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("report depth: 1 of its rows failed"), std::string::npos) << r.output;
 }
 
 }  // namespace
