@@ -90,8 +90,10 @@ TEST(DropSimulation, DropsStayInTheBoxAndTheCountIsSteady) {
       ASSERT_TRUE(sim.insideBox(sim.positionOf(i))) << "drop " << i << " frame " << f;
   }
   DropSimulation again(settingsFor(200), fixedCamera(), constantRain(25.0));
-  // Statistical fluctuation of a few thousand drawn drops: well under 5 % per frame.
-  EXPECT_LT(worstCountJump(again, 120, StreakSettings{}), 0.05);
+  // Statistical fluctuation of a few thousand drawn drops crossing the near and far planes
+  // (drops in the box's margins are not drawn): about 2 % per frame, under 8 % at worst over
+  // 120 frames; a wrap-around that lost or bunched drops would jump by tens of per cent.
+  EXPECT_LT(worstCountJump(again, 120, StreakSettings{}), 0.08);
 }
 
 TEST(DropSimulation, CameraFasterThanTheRainKeepsASteadyCount) {
@@ -100,7 +102,7 @@ TEST(DropSimulation, CameraFasterThanTheRainKeepsASteadyCount) {
   DropSimulation sim(settingsFor(200), walkingCamera(30.0), constantRain(25.0));
   StreakSettings streak;
   streak.exposureSeconds = 1.0 / 200.0;
-  EXPECT_LT(worstCountJump(sim, 120, streak), 0.06);
+  EXPECT_LT(worstCountJump(sim, 120, streak), 0.08);
   for (size_t i = 0; i < sim.poolSize(); i += 41) EXPECT_TRUE(sim.insideBox(sim.positionOf(i)));
 }
 
@@ -219,8 +221,12 @@ TEST(DropSimulation, DefocusWidensStreaksAndKeepsTheirCoverage) {
       ++near;
       EXPECT_NEAR(b.widthPx, a.widthPx, 0.05f * a.widthPx + 1e-3f);
     }
-    if (a.alpha < 1.0f && b.alpha < 1.0f)  // unclamped: alpha x width (the coverage) is kept
-      EXPECT_NEAR(a.alpha * a.widthPx, b.alpha * b.widthPx, 1e-3 * a.alpha * a.widthPx);
+    // Unclamped: alpha over the quad (width x (length + width)), the drop's area, is kept.
+    const auto carried = [](const gpu::StreakInstance& k) {
+      const double length = std::hypot(k.tailX - k.headX, k.tailY - k.headY);
+      return double(k.alpha) * k.widthPx * (length + k.widthPx);
+    };
+    if (a.alpha < 1.0f && b.alpha < 1.0f) EXPECT_NEAR(carried(a), carried(b), 1e-3 * carried(a));
   }
   EXPECT_GT(matched, 200);
   EXPECT_GT(wider, matched / 4);
@@ -243,8 +249,9 @@ TEST(DropSimulation, StreakAlphaIsTwoRadiiOverTheDistanceFallen) {
   ASSERT_GT(streaks.size(), 50u);
   for (const auto& st : streaks) {
     const double lengthPx = std::hypot(st.tailX - st.headX, st.tailY - st.headY);
-    // Garg and Nayar: alpha = 2r / (v T); on the image, width / length at the same depth.
-    EXPECT_NEAR(st.alpha, std::min(1.0, st.widthPx / std::max<double>(lengthPx, st.widthPx)), 1e-5);
+    // Garg and Nayar: alpha = 2r / (v T); on the image, width / length at the same depth, over
+    // the quad that is a width longer than the path: width / (length + width).
+    EXPECT_NEAR(st.alpha, std::min(1.0, st.widthPx / (lengthPx + st.widthPx)), 1e-5);
     EXPECT_GT(st.tailY, st.headY);  // falling means moving down the image
     // The fall during the exposure, v_t T, seen at the drop's depth.
     const double fallMeters = lengthPx * st.depthMeters / camera.focalPx;
