@@ -102,8 +102,8 @@ struct RenderTiming {
 // streak upload, draw, read-back and the CPU-side planes. The process CPU time is reported too:
 // on a shared machine it varies less than the wall time.
 RenderTiming timeRenders(gpu::RainRenderer& renderer, const Image& background,
-                         const std::vector<gpu::StreakInstance>& streaks,
-                         const gpu::ShadingParams& shading, int frames) {
+                         const std::vector<rain::StreakInstance>& streaks,
+                         const rain::ShadingParams& shading, int frames) {
   std::vector<double> wall, cpu;
   Image frame;
   for (int i = 0; i < 3 + frames; ++i) {
@@ -130,7 +130,7 @@ void runStrokeBench(const std::string& strokeList, const std::string& size, int 
   const rain::StrokeLibrary library = rain::loadStrokeLibrary(rain::builtinStrokeLibraryPath());
   renderer.setStrokeAtlas(library.atlas);
   const int strokeCount = static_cast<int>(library.atlas.rects.size());
-  gpu::ShadingParams shading;  // pluvia's default: the map term alone, c = 0
+  rain::ShadingParams shading;  // pluvia's default: the map term alone, c = 0
   shading.radianceMap = optics::builtinTestEnvironment(128);
 
   Image background(width, height);
