@@ -13,11 +13,11 @@
 #include <vector>
 
 #include "image/equirect.h"
+#include "lab/optics_report.h"
+#include "lab/test_environment.h"
 #include "optics/drop_transfer.h"
-#include "optics/optics_report.h"
 #include "optics/paper_transfer_table.h"
 #include "optics/sh.h"
-#include "optics/test_environment.h"
 #include "rain/streak_types.h"
 
 namespace pluvia::optics {
