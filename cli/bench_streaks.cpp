@@ -13,7 +13,7 @@
 namespace pluvia {
 namespace {
 
-double quadArea(const gpu::StreakInstance& s) {
+double quadArea(const rain::StreakInstance& s) {
   const double length = std::hypot(s.tailX - s.headX, s.tailY - s.headY);
   return (length + s.widthPx) * s.widthPx;
 }
@@ -54,7 +54,8 @@ StreakPopulation syntheticStreaks(int count, int width, int height, int strokeCo
   return population;
 }
 
-StreakPopulation simulatedStreaks(int count, int width, int height, const gpu::StrokeAtlas& atlas) {
+StreakPopulation simulatedStreaks(int count, int width, int height,
+                                  const rain::StrokeAtlas& atlas) {
   rain::DropSimulationSettings settings;
   settings.maxDrops = std::max<int64_t>(100000, int64_t(count) * 8);
   settings.seed = 20060101u;

@@ -4,13 +4,13 @@
 #include <string>
 #include <vector>
 
-#include "gpu/rain_renderer.h"
+#include "rain/streak_types.h"
 
 namespace pluvia {
 
 struct StreakPopulation {
   std::string description;
-  std::vector<gpu::StreakInstance> streaks;
+  std::vector<rain::StreakInstance> streaks;
   double pixelsCovered = 0.0;  // sum of the quads' areas
 };
 
@@ -23,6 +23,6 @@ StreakPopulation syntheticStreaks(int count, int width, int height, int strokeCo
 // camera 1.6 m above the ground with a 1/60 s exposure and a 3 m/s breeze: drop sizes, depths
 // 0.5-15 m, streak lengths and widths from the physics, the density scaled until `count`
 // streaks are visible (the first `count` are kept).
-StreakPopulation simulatedStreaks(int count, int width, int height, const gpu::StrokeAtlas& atlas);
+StreakPopulation simulatedStreaks(int count, int width, int height, const rain::StrokeAtlas& atlas);
 
 }  // namespace pluvia

@@ -20,9 +20,8 @@
 #include "commands.h"
 #include "common.h"
 #include "gpu/rain_renderer.h"
-#include "optics/test_environment.h"
+#include "lab/test_environment.h"
 #include "pipeline/render_job.h"
-#include "pluvia/version.h"
 #include "rain/stroke_library.h"
 #include "stages/registry.h"
 #include "util/error.h"
@@ -36,13 +35,13 @@ namespace {
 
 // The bundled example scaled to 1920x1080 when no clip is given.
 std::string makeBenchClip(const stdfs::path& folder, int frames) {
-  stdfs::path example =
-      stdfs::path(kSourcePresetDir).parent_path() / "examples/street/street_plate.mp4";
-  if (!stdfs::exists(example))
-    throw UsageError("give a clip to bench: the bundled example was not found at " +
-                     example.string());
+  const std::string example = findBesideInstall("examples/street/street_plate.mp4");
+  if (example.empty())
+    throw UsageError(
+        "give a clip to bench: the bundled example examples/street/street_plate.mp4 is neither "
+        "beside the install prefix nor in the current directory");
   stdfs::path clip = folder / "bench_1080p.mp4";
-  auto r = runProcess({"ffmpeg", "-y", "-v", "error", "-i", example.string(), "-frames:v",
+  auto r = runProcess({"ffmpeg", "-y", "-v", "error", "-i", example, "-frames:v",
                        std::to_string(frames), "-vf", "scale=1920:1080", "-c:v", "libx264",
                        "-preset", "veryfast", "-crf", "18", clip.string()});
   if (r.exitCode != 0) throw Error("ffmpeg could not make the benchmark clip: " + r.output);
@@ -102,8 +101,8 @@ struct RenderTiming {
 // streak upload, draw, read-back and the CPU-side planes. The process CPU time is reported too:
 // on a shared machine it varies less than the wall time.
 RenderTiming timeRenders(gpu::RainRenderer& renderer, const Image& background,
-                         const std::vector<gpu::StreakInstance>& streaks,
-                         const gpu::ShadingParams& shading, int frames) {
+                         const std::vector<rain::StreakInstance>& streaks,
+                         const rain::ShadingParams& shading, int frames) {
   std::vector<double> wall, cpu;
   Image frame;
   for (int i = 0; i < 3 + frames; ++i) {
@@ -130,7 +129,7 @@ void runStrokeBench(const std::string& strokeList, const std::string& size, int 
   const rain::StrokeLibrary library = rain::loadStrokeLibrary(rain::builtinStrokeLibraryPath());
   renderer.setStrokeAtlas(library.atlas);
   const int strokeCount = static_cast<int>(library.atlas.rects.size());
-  gpu::ShadingParams shading;  // pluvia's default: the map term alone, c = 0
+  rain::ShadingParams shading;  // pluvia's default: the map term alone, c = 0
   shading.radianceMap = optics::builtinTestEnvironment(128);
 
   Image background(width, height);

@@ -9,13 +9,13 @@
 #include <fmt/format.h>
 
 #include "commands.h"
-#include "derain/derain_report.h"
-#include "envmap/envmap_report.h"
+#include "common.h"
+#include "lab/derain_report.h"
+#include "lab/envmap_report.h"
+#include "lab/optics_report.h"
+#include "lab/report_depth.h"
+#include "lab/test_environment.h"
 #include "optics/environment_file.h"
-#include "optics/optics_report.h"
-#include "optics/test_environment.h"
-#include "pluvia/version.h"
-#include "report_depth.h"
 #include "util/error.h"
 #include "util/log.h"
 
@@ -23,13 +23,9 @@ namespace pluvia::cli {
 
 namespace {
 
-// The repository root, from where the shipped presets are (version.h).
-std::filesystem::path sourceRoot() {
-  return std::filesystem::path(kSourcePresetDir).parent_path();
-}
-
 // The folder of shared test data: --data, else $PLUVIA_SHARED_DATA, else ../shared/data beside
-// the checkout; empty when none is there (the reports then skip what needs it).
+// the binary's install prefix or the current directory (findBesideInstall); empty when none is
+// there (the reports then skip what needs it).
 std::string sharedDataFolder(const std::string& option) {
   if (!option.empty()) {
     if (!std::filesystem::is_directory(option))
@@ -37,9 +33,7 @@ std::string sharedDataFolder(const std::string& option) {
     return option;
   }
   if (const char* env = std::getenv("PLUVIA_SHARED_DATA"); env && *env) return env;
-  if (std::filesystem::is_directory(sourceRoot() / "../shared/data"))
-    return (sourceRoot() / "../shared/data").lexically_normal().string();
-  return "";
+  return findBesideInstall("../shared/data");
 }
 
 void addReportDerain(CLI::App& report, Invocation& invocation) {
@@ -56,12 +50,13 @@ void addReportDerain(CLI::App& report, Invocation& invocation) {
                      "write previews here (PNG): clean plates, mattes x4, input frames");
   derain->add_option("--data", args->data,
                      "shared data folder (default: $PLUVIA_SHARED_DATA, else ../shared/data "
-                     "beside the source tree); without it only the example plate is used");
+                     "beside the install prefix or the current directory); without it only the "
+                     "example plate is used");
   derain->add_flag("--quick", args->settings.quick,
                    "one 320x240 case, short sweeps, no real footage (for tests)");
   derain->callback([=, &invocation] {
     derain::DerainReportSettings settings = args->settings;
-    settings.examplePlate = (sourceRoot() / "examples/street/street_plate.mp4").string();
+    settings.examplePlate = findBesideInstall("examples/street/street_plate.mp4");
     settings.sharedData = sharedDataFolder(args->data);
     settings.imagesDir = args->images;
     const derain::DerainReport result = derain::runDerainReport(settings);
@@ -89,7 +84,8 @@ void addReportEnvmap(CLI::App& report, Invocation& invocation) {
                      "write panoramas here (PNG; the real photos' also as EXR)");
   envmap->add_option("--data", args->data,
                      "shared data folder (default: $PLUVIA_SHARED_DATA, else ../shared/data "
-                     "beside the source tree); without it only the built-in environment is used");
+                     "beside the install prefix or the current directory); without it only the "
+                     "built-in environment is used");
   envmap->add_flag("--quick", args->settings.quick,
                    "the built-in environment, 640x360 frames, 3 and 12 frames, no photos (for "
                    "tests)");
@@ -113,7 +109,7 @@ void addReportDepth(CLI::App& report, Invocation& invocation) {
       "depth", "camera tracking and depth (COLMAP): pose and depth error vs frames, size, time");
   struct Args {
     std::string csv, plot, images, data, workspace;
-    DepthReportSettings settings;
+    lab::DepthReportSettings settings;
   };
   auto args = std::make_shared<Args>();
   depth->add_option("--csv", args->csv, "also write the table as CSV");
@@ -122,7 +118,8 @@ void addReportDepth(CLI::App& report, Invocation& invocation) {
                     "write depth vs truth previews here (PNG, the middle frame of each row)");
   depth->add_option("--data", args->data,
                     "shared data folder (default: $PLUVIA_SHARED_DATA, else ../shared/data "
-                    "beside the source tree); without it the real photos are skipped");
+                    "beside the install prefix or the current directory); without it the real "
+                    "photos are skipped");
   depth->add_option("--workspace", args->workspace,
                     "keep COLMAP's folders (frames, database, models, colmap.log) here, one per "
                     "row (default: a temporary folder, removed unless COLMAP failed)");
@@ -130,17 +127,17 @@ void addReportDepth(CLI::App& report, Invocation& invocation) {
       "--quick", args->settings.quick,
       "one row: every 4th of the 48 frames (13) at 1280x720, no real photos (for tests)");
   depth->callback([=, &invocation] {
-    DepthReportSettings settings = args->settings;
+    lab::DepthReportSettings settings = args->settings;
     settings.sharedData = sharedDataFolder(args->data);
     settings.imagesDir = args->images;
     settings.workspace = args->workspace;
-    const DepthReport result = runDepthReport(settings);
-    std::cout << formatDepthReport(result);
-    if (!args->csv.empty()) writeDepthReportCsv(result, args->csv);
-    if (!args->plot.empty()) writeDepthReportPlot(result, args->plot);
+    const lab::DepthReport result = lab::runDepthReport(settings);
+    std::cout << lab::formatDepthReport(result);
+    if (!args->csv.empty()) lab::writeDepthReportCsv(result, args->csv);
+    if (!args->plot.empty()) lab::writeDepthReportPlot(result, args->plot);
     // The table is printed either way; a row that failed makes the command fail.
     int failed = result.real.status == "failed" ? 1 : 0;
-    for (const DepthReportRow& row : result.rows) failed += row.status == "failed" ? 1 : 0;
+    for (const lab::DepthReportRow& row : result.rows) failed += row.status == "failed" ? 1 : 0;
     if (failed > 0) log::error(fmt::format("report depth: {} of its rows failed", failed));
     invocation.exitCode = failed > 0 ? 1 : 0;
   });

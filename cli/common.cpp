@@ -98,4 +98,16 @@ void refuseOverwritingInput(const std::vector<std::string>& inputFiles, const st
             {"write", {}, in});
 }
 
+std::string findBesideInstall(const std::filesystem::path& relative) {
+  std::error_code ec;
+  const std::filesystem::path binary = std::filesystem::read_symlink("/proc/self/exe", ec);
+  std::vector<std::filesystem::path> roots = {std::filesystem::current_path()};
+  if (!ec) roots.insert(roots.begin(), binary.parent_path().parent_path());
+  for (const auto& root : roots) {
+    if (std::filesystem::exists(root / relative))
+      return (root / relative).lexically_normal().string();
+  }
+  return "";
+}
+
 }  // namespace pluvia::cli

@@ -1,6 +1,7 @@
 #pragma once
 // Helpers shared by the subcommands.
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <utility>
@@ -28,5 +29,9 @@ void refuseOverwritingInput(const std::vector<std::string>& inputFiles, const st
                             const std::vector<std::string>& outputs);
 // The command line as one shell-quoted string, for logs and metadata.
 std::string joinCommandLine(int argc, char** argv);
+// `relative` beside the running binary's install prefix (the folder above the binary's: the
+// repository for build/pluvia, /usr/local for /usr/local/bin/pluvia), else in the current
+// directory; "" when it is in neither. Nothing is found through a compiled-in source path.
+std::string findBesideInstall(const std::filesystem::path& relative);
 
 }  // namespace pluvia::cli

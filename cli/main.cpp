@@ -57,10 +57,11 @@ int main(int argc, char** argv) {
     for (const auto* sub : app.get_subcommands({})) names.push_back(sub->get_name());
     if (std::find(names.begin(), names.end(), word) == names.end()) {
       std::string nearest = nearestWord(word, names);
+      std::string commands;
+      for (const auto& name : names) commands += (commands.empty() ? "" : ", ") + name;
       log::error("unknown command '" + word + "'" +
                  (nearest.empty() ? "" : ", did you mean '" + nearest + "'?") +
-                 " (commands: render, preview, plan, validate, describe, bench, shade-drop, "
-                 "report, derain, strokes, envmap, depth; see pluvia --help)");
+                 " (commands: " + commands + "; see pluvia --help)");
       return 2;
     }
     break;

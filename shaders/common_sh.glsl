@@ -1,5 +1,5 @@
 // Real spherical harmonics up to order 3 (16 functions, index l*l + l + m), the GPU twin of
-// shEvaluate() in src/gpu/sh_basis.cpp: keep the formulas identical, the CPU renderer is
+// shEvaluate() in src/rain/sh_basis.cpp: keep the formulas identical, the CPU renderer is
 // compared with this one pixel by pixel. Sloan's constants without the Condon-Shortley phase;
 // the order-3 forms assume a unit direction.
 void shEvaluate(vec3 d, out float basis[16]) {

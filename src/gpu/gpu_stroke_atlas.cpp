@@ -7,7 +7,7 @@
 
 namespace pluvia::gpu {
 
-void GpuStrokeAtlas::upload(const StrokeAtlas& atlas) {
+void GpuStrokeAtlas::upload(const rain::StrokeAtlas& atlas) {
   validateAtlas(atlas);
   if (atlas.width != width_ || atlas.height != height_) {
     texture_ = makeTexture2D(GL_R32F, atlas.width, atlas.height);

@@ -2,14 +2,14 @@
 // The stroke atlas on the GPU: the mattes as an R32F texture (GL_LINEAR, CLAMP_TO_EDGE, as
 // renderRainCpu samples them) and the per-stroke rectangles as a shader storage buffer.
 #include "gpu/gl_objects.h"
-#include "gpu/rain_renderer.h"
+#include "rain/streak_types.h"
 
 namespace pluvia::gpu {
 
 class GpuStrokeAtlas {
  public:
   // Replaces the atlas; the texture is re-made only when the atlas size changes.
-  void upload(const StrokeAtlas& atlas);
+  void upload(const rain::StrokeAtlas& atlas);
   void bind(GLuint textureUnit, GLuint rectBinding) const;
 
   int strokeCount() const { return strokeCount_; }

@@ -17,7 +17,7 @@ namespace {
 
 // What a GL sampler does for GL_LINEAR with CLAMP_TO_EDGE at normalised coordinates (s, t):
 // texel centres at +0.5, both neighbours clamped into the texture, lerps as v0 + f * (v1 - v0).
-float sampleLinearClampToEdge(const StrokeAtlas& atlas, float s, float t) {
+float sampleLinearClampToEdge(const rain::StrokeAtlas& atlas, float s, float t) {
   const float x = s * static_cast<float>(atlas.width) - 0.5f;
   const float y = t * static_cast<float>(atlas.height) - 0.5f;
   const float x0 = std::floor(x);
@@ -62,8 +62,8 @@ PixelRange candidatePixels(const StreakQuad& quad, int width, int height) {
 
 }  // namespace
 
-void renderRainCpu(Image& frame, const std::vector<StreakInstance>& streaks,
-                   const ShadingParams& shading, const StrokeAtlas& atlas) {
+void renderRainCpu(Image& frame, const std::vector<rain::StreakInstance>& streaks,
+                   const rain::ShadingParams& shading, const rain::StrokeAtlas& atlas) {
   validateFrame(frame);
   validateShading(shading);
   if (!streaks.empty()) validateAtlas(atlas);
@@ -76,7 +76,7 @@ void renderRainCpu(Image& frame, const std::vector<StreakInstance>& streaks,
   const float atlasWidth = static_cast<float>(atlas.width);
   const float atlasHeight = static_cast<float>(atlas.height);
 
-  for (const StreakInstance& streak : orderForDrawing(streaks).streaks) {
+  for (const rain::StreakInstance& streak : orderForDrawing(streaks).streaks) {
     const StreakQuad quad = StreakQuad::of(streak);
     const std::array<float, 3> radiance = streakRadiance(shading, streak);
     const std::array<float, 4>& rect = atlas.rects[static_cast<size_t>(streak.strokeIndex)];

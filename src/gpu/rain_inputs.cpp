@@ -25,7 +25,7 @@ void validateFrame(const Image& frame) {
 
 namespace {
 
-void validateShTerm(const ShadingParams& shading) {
+void validateShTerm(const rain::ShadingParams& shading) {
   if (shading.shOrder < 0 || shading.shOrder > 3) {
     throwRainError(fmt::format("SH order {} is outside 0..3", shading.shOrder));
   }
@@ -66,7 +66,7 @@ void validateRadianceMap(const EquirectMap& map) {
 
 }  // namespace
 
-void validateShading(const ShadingParams& shading) {
+void validateShading(const rain::ShadingParams& shading) {
   validateRadianceMap(shading.radianceMap);
   const bool hasSh = !shading.envSh.empty();
   if (!hasSh && shading.radianceMap.empty()) {
@@ -76,7 +76,7 @@ void validateShading(const ShadingParams& shading) {
   if (hasSh) validateShTerm(shading);
 }
 
-void validateAtlas(const StrokeAtlas& atlas) {
+void validateAtlas(const rain::StrokeAtlas& atlas) {
   if (atlas.width <= 0 || atlas.height <= 0) {
     throwRainError(fmt::format("stroke atlas has no pixels ({}x{})", atlas.width, atlas.height));
   }
@@ -86,12 +86,12 @@ void validateAtlas(const StrokeAtlas& atlas) {
   }
 }
 
-void validateStreaks(const std::vector<StreakInstance>& streaks, int strokeCount) {
+void validateStreaks(const std::vector<rain::StreakInstance>& streaks, int strokeCount) {
   if (!streaks.empty() && strokeCount == 0) {
     throwRainError("streaks to draw but no strokes: set a stroke atlas with strokes first");
   }
   for (size_t i = 0; i < streaks.size(); ++i) {
-    const StreakInstance& streak = streaks[i];
+    const rain::StreakInstance& streak = streaks[i];
     if (!std::isfinite(streak.headX) || !std::isfinite(streak.headY) ||
         !std::isfinite(streak.tailX) || !std::isfinite(streak.tailY)) {
       throwRainError(fmt::format("streak {} has a non-finite end point", i));

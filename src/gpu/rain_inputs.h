@@ -3,8 +3,8 @@
 // reject the same inputs and compare against the same depths.
 #include <vector>
 
-#include "gpu/rain_renderer.h"
 #include "image/image.h"
+#include "rain/streak_types.h"
 
 namespace pluvia::gpu {
 
@@ -14,9 +14,9 @@ inline constexpr float kFarDepthMeters = 3.0e38f;
 
 // Throw pluvia::Error (stage "rain") naming what is wrong.
 void validateFrame(const Image& frame);
-void validateShading(const ShadingParams& shading);
-void validateAtlas(const StrokeAtlas& atlas);
-void validateStreaks(const std::vector<StreakInstance>& streaks, int strokeCount);
+void validateShading(const rain::ShadingParams& shading);
+void validateAtlas(const rain::StrokeAtlas& atlas);
+void validateStreaks(const std::vector<rain::StreakInstance>& streaks, int strokeCount);
 
 // The frame's "depth" plane with every non-finite or missing value replaced by kFarDepthMeters.
 void comparableSceneDepth(const Image& frame, std::vector<float>& depthMeters);

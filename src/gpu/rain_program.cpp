@@ -23,7 +23,7 @@ RainProgram::Variant::Variant(const char* defines)
 
 RainProgram::RainProgram() : farScene_(""), withDepth_("#define SCENE_DEPTH\n") {}
 
-void RainProgram::setShUniforms(const Variant& variant, const ShadingParams& shading) {
+void RainProgram::setShUniforms(const Variant& variant, const rain::ShadingParams& shading) {
   glUniform1i(variant.shOrder, shading.shOrder);
   // Always all 16 / 4 entries: the shader reads only up to shOrder, the rest are zeros.
   std::array<float, 16 * 3> envSh{};
@@ -36,7 +36,7 @@ void RainProgram::setShUniforms(const Variant& variant, const ShadingParams& sha
   glUniform1fv(variant.transferZonal, 4, zonal.data());
 }
 
-void RainProgram::use(const ShadingParams& shading, bool sceneDepth, int targetWidth,
+void RainProgram::use(const rain::ShadingParams& shading, bool sceneDepth, int targetWidth,
                       int targetHeight, int atlasWidth, int atlasHeight) const {
   const Variant& variant = sceneDepth ? withDepth_ : farScene_;
   inUse_ = &variant;

@@ -2,7 +2,7 @@
 // shaders/rain_stroke.vert + .frag, linked once per variant (with and without a scene depth
 // plane), with their uniforms and the blend state.
 #include "gpu/gl_objects.h"
-#include "gpu/rain_renderer.h"
+#include "rain/streak_types.h"
 
 namespace pluvia::gpu {
 
@@ -19,7 +19,7 @@ class RainProgram {
 
   // Binds the variant for a frame with or without a scene depth plane, sets its uniforms and
   // the blending of the rain layer.
-  void use(const ShadingParams& shading, bool sceneDepth, int targetWidth, int targetHeight,
+  void use(const rain::ShadingParams& shading, bool sceneDepth, int targetWidth, int targetHeight,
            int atlasWidth, int atlasHeight) const;
   // Switches the vertex shader of the variant in use between one line and two triangles per
   // streak (see streak_batches.h).
@@ -32,7 +32,7 @@ class RainProgram {
     GLint targetSize, lines, hasSh, shOrder, envSh, transferZonal, hasRadianceMap, atlasSize;
   };
   // uShOrder, uEnvSh, uTransferZonal from a validated SH term.
-  static void setShUniforms(const Variant& variant, const ShadingParams& shading);
+  static void setShUniforms(const Variant& variant, const rain::ShadingParams& shading);
 
   Variant farScene_;   // no depth plane: no depth fetch
   Variant withDepth_;  // SCENE_DEPTH

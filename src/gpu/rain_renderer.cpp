@@ -93,13 +93,13 @@ RainRenderer::RainRenderer(int width, int height) : impl_(std::make_unique<Impl>
 
 RainRenderer::~RainRenderer() = default;
 
-void RainRenderer::setStrokeAtlas(const StrokeAtlas& atlas) {
+void RainRenderer::setStrokeAtlas(const rain::StrokeAtlas& atlas) {
   impl_->context.makeCurrent();
   impl_->gpu->atlas.upload(atlas);
 }
 
-void RainRenderer::render(Image& frame, const std::vector<StreakInstance>& streaks,
-                          const ShadingParams& shading) {
+void RainRenderer::render(Image& frame, const std::vector<rain::StreakInstance>& streaks,
+                          const rain::ShadingParams& shading) {
   validateFrame(frame);
   validateShading(shading);
   GpuObjects& gpu = *impl_->gpu;

@@ -20,7 +20,7 @@ float classLineWidthPx(int lineClass) {
   return kClassLineWidthsPx[static_cast<size_t>(lineClass)];
 }
 
-int widthClass(const StreakInstance& streak) {
+int widthClass(const rain::StreakInstance& streak) {
   const float needed = lineWidthHolding(streak);
   for (int k = 0; k < kLineClassCount; ++k) {
     if (classLineWidthPx(k) >= needed) return k;
@@ -30,14 +30,14 @@ int widthClass(const StreakInstance& streak) {
 
 }  // namespace
 
-float lineWidthHolding(const StreakInstance& streak) {
+float lineWidthHolding(const rain::StreakInstance& streak) {
   const StreakQuad quad = StreakQuad::of(streak);
   const float major = std::max(std::abs(quad.axisX), std::abs(quad.axisY));
   // 1e-4 relative: the shader recomputes the axis in its own float operations.
   return streak.widthPx / major * 1.0001f + 2.0f * kCoverageMarginPx;
 }
 
-OrderedStreaks orderForDrawing(const std::vector<StreakInstance>& streaks) {
+OrderedStreaks orderForDrawing(const std::vector<rain::StreakInstance>& streaks) {
   // A stable counting sort by class: O(n), and instance order within a class.
   std::vector<int> classOf(streaks.size(), -1);
   std::vector<size_t> countOf(kLineClassCount + 1, 0);

@@ -16,7 +16,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "gpu/rain_renderer.h"
+#include "rain/streak_types.h"
 
 namespace pluvia::gpu {
 
@@ -42,16 +42,16 @@ struct StreakBatch {
 };
 
 struct OrderedStreaks {
-  std::vector<StreakInstance> streaks;  // the visible streaks in drawing order
-  std::vector<StreakBatch> batches;     // consecutive, covering `streaks`
+  std::vector<rain::StreakInstance> streaks;  // the visible streaks in drawing order
+  std::vector<StreakBatch> batches;           // consecutive, covering `streaks`
 };
 
 // The line width that holds a streak's quad: widthPx across, divided by the cosine of the
 // angle between the streak and the line's major axis (GL widens a line along its minor
 // axis, x or y), plus the margin on both sides.
-float lineWidthHolding(const StreakInstance& streak);
+float lineWidthHolding(const rain::StreakInstance& streak);
 
 // Drops the invisible streaks (zero width or alpha) and orders the rest for drawing.
-OrderedStreaks orderForDrawing(const std::vector<StreakInstance>& streaks);
+OrderedStreaks orderForDrawing(const std::vector<rain::StreakInstance>& streaks);
 
 }  // namespace pluvia::gpu

@@ -4,7 +4,7 @@
 // float operations; renderRainCpu() relies on that to match the GPU pixel for pixel.
 #include <cmath>
 
-#include "gpu/rain_renderer.h"
+#include "rain/streak_types.h"
 
 namespace pluvia::gpu {
 
@@ -18,7 +18,7 @@ struct StreakQuad {
   float lengthPx = 0;          // head to tail
   float widthPx = 0;
 
-  static StreakQuad of(const StreakInstance& streak) {
+  static StreakQuad of(const rain::StreakInstance& streak) {
     StreakQuad quad;
     quad.headX = streak.headX;
     quad.headY = streak.headY;
@@ -58,7 +58,7 @@ struct StreakQuad {
 };
 
 // A streak that cannot cover any pixel: zero (or NaN) width or alpha. Both renderers skip it.
-inline bool isInvisible(const StreakInstance& streak) {
+inline bool isInvisible(const rain::StreakInstance& streak) {
   return !(streak.widthPx > 0.0f) || !(streak.alpha > 0.0f);
 }
 

@@ -6,8 +6,9 @@ namespace pluvia::gpu {
 namespace {
 
 // The SH (PRT) term, clamped to >= 0.
-std::array<float, 3> shRadiance(const ShadingParams& shading, const StreakInstance& streak) {
-  const std::array<float, 16> basis = shEvaluate(streak.viewX, streak.viewY, streak.viewZ);
+std::array<float, 3> shRadiance(const rain::ShadingParams& shading,
+                                const rain::StreakInstance& streak) {
+  const std::array<float, 16> basis = rain::shEvaluate(streak.viewX, streak.viewY, streak.viewZ);
   std::array<float, 3> radiance{0.0f, 0.0f, 0.0f};
   for (int l = 0; l <= shading.shOrder; ++l) {
     std::array<float, 3> band{0.0f, 0.0f, 0.0f};
@@ -23,7 +24,8 @@ std::array<float, 3> shRadiance(const ShadingParams& shading, const StreakInstan
 
 }  // namespace
 
-std::array<float, 3> streakRadiance(const ShadingParams& shading, const StreakInstance& streak) {
+std::array<float, 3> streakRadiance(const rain::ShadingParams& shading,
+                                    const rain::StreakInstance& streak) {
   std::array<float, 3> radiance{0.0f, 0.0f, 0.0f};
   if (!shading.envSh.empty()) radiance = shRadiance(shading, streak);
   if (!shading.radianceMap.empty()) {

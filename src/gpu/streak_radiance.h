@@ -5,10 +5,11 @@
 //     + sampleEquirect(radianceMap, view)                      when shading.radianceMap is set
 #include <array>
 
-#include "gpu/rain_renderer.h"
+#include "rain/streak_types.h"
 
 namespace pluvia::gpu {
 
-std::array<float, 3> streakRadiance(const ShadingParams& shading, const StreakInstance& streak);
+std::array<float, 3> streakRadiance(const rain::ShadingParams& shading,
+                                    const rain::StreakInstance& streak);
 
 }  // namespace pluvia::gpu

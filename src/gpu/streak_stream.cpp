@@ -17,8 +17,8 @@ StreakStream::StreakStream()
   checkGl("querying the line width range");
 }
 
-void StreakStream::upload(const std::vector<StreakInstance>& streaks) {
-  const auto bytes = static_cast<GLsizeiptr>(streaks.size() * sizeof(StreakInstance));
+void StreakStream::upload(const std::vector<rain::StreakInstance>& streaks) {
+  const auto bytes = static_cast<GLsizeiptr>(streaks.size() * sizeof(rain::StreakInstance));
   GLint64 maxBytes = 0;
   glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBytes);
   if (bytes > maxBytes) {

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "gpu/gl_objects.h"
-#include "gpu/rain_renderer.h"
+#include "rain/streak_types.h"
 
 namespace pluvia::gpu {
 
@@ -18,7 +18,7 @@ class StreakStream {
 
   // Copies the streaks to the GPU. The buffers are reallocated only when the count outgrows
   // them, so a long clip settles on one allocation.
-  void upload(const std::vector<StreakInstance>& streaks);
+  void upload(const std::vector<rain::StreakInstance>& streaks);
   // Binds the streak buffer to storage binding `binding` for the draws below.
   void bind(GLuint binding) const;
   // Streaks [first, first + count) of the upload as lines `widthPx` wide, or as triangles;

@@ -24,7 +24,7 @@ ShCoefficients projectEnvironment(const EquirectMap& environment, int order,
                                   ShWindow window = ShWindow::None);
 
 // sqrt(4 pi / (2l + 1)): turns the zonal coefficient d_l into band l of the transfer rotated to
-// any view direction (the GPU's ShadingParams::transferZonal holds d_l times this).
+// any view direction (rain::ShadingParams::transferZonal holds d_l times this).
 double zonalRotationFactor(int l);
 
 // The drop's radiance along `view` by the closed-form rotation of a zonal transfer

@@ -17,11 +17,11 @@
 
 #include "geometry/camera.h"
 #include "geometry/camera_path.h"
-#include "gpu/rain_renderer.h"
 #include "image/equirect.h"
 #include "image/image.h"
 #include "io/clip_reader.h"
 #include "preset/preset.h"
+#include "rain/streak_types.h"
 #include "util/timer.h"
 
 namespace pluvia {
@@ -52,7 +52,7 @@ struct ClipContext {
   ArtifactCache* cache = nullptr;  // null without --cache
   StageTimes* times = nullptr;
   std::optional<Environment> environment;
-  std::optional<gpu::StrokeAtlas> footageStrokes;
+  std::optional<rain::StrokeAtlas> footageStrokes;
   // The camera tracked from the footage (depth stage, COLMAP): it replaces the preset's camera
   // for the rain.
   std::optional<CameraPath> trackedPath;

@@ -220,14 +220,14 @@ bool DropSimulation::insideBox(const Eigen::Vector3d& worldMeters) const {
   return true;
 }
 
-std::vector<gpu::StreakInstance> DropSimulation::buildStreaks(const StreakSettings& s) const {
+std::vector<StreakInstance> DropSimulation::buildStreaks(const StreakSettings& s) const {
   const Camera start = cameraAt_(double(frame_));
   const Camera end = cameraAt_(double(frame_) + s.exposureSeconds / settings_.stepSeconds);
   const ThinLens lens =
       ThinLens::of(start.focalPx, start.width, s.sensorWidthMm, s.focusMeters, s.fNumber);
   constexpr double kMarginPx = 8.0, kMinDepthMeters = 0.05;
 
-  std::vector<gpu::StreakInstance> streaks;
+  std::vector<StreakInstance> streaks;
   streaks.reserve(positions_.size() / 2);
   for (size_t i = 0; i < positions_.size(); ++i) {
     const Eigen::Vector3d p = positions_[i].cast<double>();
@@ -259,7 +259,7 @@ std::vector<gpu::StreakInstance> DropSimulation::buildStreaks(const StreakSettin
     if (!(alpha >= 1.0 / 1024.0)) continue;  // invisible in any 10-bit output (and never NaN)
     const Eigen::Vector3d view = (p - start.positionMeters).normalized();
     CounterRng rng(settings_.seed ^ 0x5712u, i);
-    gpu::StreakInstance streak{};
+    StreakInstance streak{};
     streak.headX = float(hx);
     streak.headY = float(hy);
     streak.tailX = float(tx);

@@ -28,9 +28,9 @@
 #include <Eigen/Core>
 
 #include "geometry/camera.h"
-#include "gpu/rain_renderer.h"
 #include "rain/drop_physics.h"
 #include "rain/rain_cells.h"
+#include "rain/streak_types.h"
 #include "rain/wind_field.h"
 
 namespace pluvia::rain {
@@ -114,7 +114,7 @@ class DropSimulation {
   // widthPx / (lengthPx + drawnWidthPx), so alpha x area is the drop's widthPx^2), times the
   // fraction of a drawn pixel the drop covers when thinner than minWidthPx, spread over the circle
   // of confusion when defocused, divided by the matte's mean.
-  std::vector<gpu::StreakInstance> buildStreaks(const StreakSettings& settings) const;
+  std::vector<StreakInstance> buildStreaks(const StreakSettings& settings) const;
 
  private:
   void restart();

@@ -30,7 +30,7 @@ bool rectInside(int x, int y, int w, int h, int width, int height) {
   return x >= 0 && y >= 0 && w > 0 && h > 0 && x + w <= width && y + h <= height;
 }
 
-void checkAtlasShape(const gpu::StrokeAtlas& atlas, const std::string& path) {
+void checkAtlasShape(const StrokeAtlas& atlas, const std::string& path) {
   if (atlas.width <= 0 || atlas.height <= 0 ||
       atlas.alpha.size() != size_t(atlas.width) * size_t(atlas.height)) {
     throw libraryError(path, fmt::format("atlas of {}x{} pixels holds {} values", atlas.width,
@@ -80,7 +80,7 @@ stdfs::path executableDir() {
 }  // namespace
 
 void saveStrokeLibrary(const StrokeLibrary& library, const std::string& jsonPath) {
-  const gpu::StrokeAtlas& atlas = library.atlas;
+  const StrokeAtlas& atlas = library.atlas;
   checkAtlasShape(atlas, jsonPath);
   if (library.strokes.empty()) throw libraryError(jsonPath, "no strokes to write");
   nlohmann::json strokes = nlohmann::json::array();
@@ -246,7 +246,7 @@ std::string builtinStrokeLibraryPath() {
   return ((env ? stdfs::path(env) : stdfs::path(kSourceAssetDir)) / relative).string();
 }
 
-double meanMatte(const gpu::StrokeAtlas& atlas) {
+double meanMatte(const StrokeAtlas& atlas) {
   double sum = 0.0;
   size_t count = 0;
   for (const auto& r : atlas.rects) {
@@ -259,15 +259,15 @@ double meanMatte(const gpu::StrokeAtlas& atlas) {
   return count && sum > 0 ? sum / double(count) : 1.0;
 }
 
-nlohmann::json strokeAtlasToJson(const gpu::StrokeAtlas& atlas) {
+nlohmann::json strokeAtlasToJson(const StrokeAtlas& atlas) {
   return {{"width", atlas.width},
           {"height", atlas.height},
           {"alpha", atlas.alpha},
           {"rects", atlas.rects}};
 }
 
-gpu::StrokeAtlas strokeAtlasFromJson(const nlohmann::json& json, const std::string& source) {
-  gpu::StrokeAtlas atlas;
+StrokeAtlas strokeAtlasFromJson(const nlohmann::json& json, const std::string& source) {
+  StrokeAtlas atlas;
   try {
     atlas.width = json.at("width").get<int>();
     atlas.height = json.at("height").get<int>();

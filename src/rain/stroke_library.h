@@ -16,7 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "gpu/rain_renderer.h"
+#include "rain/streak_types.h"
 
 namespace pluvia::rain {
 
@@ -30,7 +30,7 @@ struct StrokeInfo {
 };
 
 struct StrokeLibrary {
-  gpu::StrokeAtlas atlas;  // rects filled from `strokes`
+  StrokeAtlas atlas;  // rects filled from `strokes`
   std::vector<StrokeInfo> strokes;
   std::string source;   // footage it was cut from
   std::string command;  // command line that made it
@@ -46,11 +46,11 @@ StrokeLibrary loadStrokeLibrary(const std::string& jsonPath);
 std::string builtinStrokeLibraryPath();
 
 // Mean matte value over all strokes' rectangles (1 for an empty atlas).
-double meanMatte(const gpu::StrokeAtlas& atlas);
+double meanMatte(const StrokeAtlas& atlas);
 
 // A whole atlas as one JSON value (alpha inline), for the artifact cache.
-nlohmann::json strokeAtlasToJson(const gpu::StrokeAtlas& atlas);
+nlohmann::json strokeAtlasToJson(const StrokeAtlas& atlas);
 // Throws pluvia::Error naming `source` when the JSON is not a valid atlas.
-gpu::StrokeAtlas strokeAtlasFromJson(const nlohmann::json& json, const std::string& source);
+StrokeAtlas strokeAtlasFromJson(const nlohmann::json& json, const std::string& source);
 
 }  // namespace pluvia::rain

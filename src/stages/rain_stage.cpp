@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "gpu/rain_renderer.h"
 #include "optics/drop_shading.h"
 #include "preset/camera_path_preset.h"
 #include "rain/drop_simulation.h"
@@ -89,12 +90,12 @@ double exposureSeconds(const Preset& p, double fps, double frame) {
 // How the drops are shaded (src/optics/drop_shading.h): "default" looks the drop's radiance up
 // in the environment convolved with the drop's transfer function; "paper" is Wang et al.'s 16
 // SH coefficients plus c * B.
-gpu::ShadingParams dropShading(const Preset& p, const EquirectMap& environment) {
+rain::ShadingParams dropShading(const Preset& p, const EquirectMap& environment) {
   const std::array<double, 3> eta =
       p.boolean("rain.dispersion")
           ? optics::kWaterEtaDispersion
           : std::array<double, 3>{optics::kWaterEta, optics::kWaterEta, optics::kWaterEta};
-  gpu::ShadingParams shading;
+  rain::ShadingParams shading;
   const auto started = std::chrono::steady_clock::now();
   if (p.string("rain.shading") == "default") {
     shading.radianceMap = optics::buildDropRadianceMap(
@@ -178,7 +179,7 @@ class RainStage : public Stage {
   }
 
  private:
-  gpu::StrokeAtlas loadAtlas(ClipContext& clip) const {
+  rain::StrokeAtlas loadAtlas(ClipContext& clip) const {
     const std::string strokes = preset_.string("rain.strokes");
     if (strokes == "derain") {
       if (!clip.footageStrokes)
@@ -197,7 +198,7 @@ class RainStage : public Stage {
   // A looming camera's environment changes over the shot: the shading of the key frames around
   // `frame`, blended linearly (both terms are linear in the environment), the nearest key's
   // beyond the first and last.
-  gpu::ShadingParams shadingAt(int64_t frame) const {
+  rain::ShadingParams shadingAt(int64_t frame) const {
     if (frame <= keyShading_.front().first) return keyShading_.front().second;
     if (frame >= keyShading_.back().first) return keyShading_.back().second;
     size_t next = 1;
@@ -205,7 +206,7 @@ class RainStage : public Stage {
     const auto& [frameA, a] = keyShading_[next - 1];
     const auto& [frameB, b] = keyShading_[next];
     const float t = float(frame - frameA) / float(frameB - frameA);
-    gpu::ShadingParams mixed = a;
+    rain::ShadingParams mixed = a;
     for (size_t i = 0; i < mixed.radianceMap.rgb.size(); ++i)
       mixed.radianceMap.rgb[i] = (1 - t) * a.radianceMap.rgb[i] + t * b.radianceMap.rgb[i];
     for (size_t i = 0; i < mixed.envSh.size(); ++i)
@@ -217,10 +218,10 @@ class RainStage : public Stage {
   const Preset& preset_;
   std::unique_ptr<rain::DropSimulation> simulation_;
   double fps_ = 24.0;
-  gpu::StrokeAtlas atlas_;
+  rain::StrokeAtlas atlas_;
   rain::StreakSettings streakParams_;
-  gpu::ShadingParams shading_;
-  std::vector<std::pair<int64_t, gpu::ShadingParams>>
+  rain::ShadingParams shading_;
+  std::vector<std::pair<int64_t, rain::ShadingParams>>
       keyShading_;  // empty: shading_ for every frame
   std::unique_ptr<gpu::RainRenderer> renderer_;
 };

@@ -15,7 +15,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "gpu/synthetic_scene.h"
+#include "lab/synthetic_scene.h"
 #include "sfm/colmap_runner.h"
 #include "sfm/dense_import.h"
 #include "test_support.h"

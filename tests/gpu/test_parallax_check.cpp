@@ -5,8 +5,8 @@
 
 #include <vector>
 
-#include "gpu/synthetic_scene.h"
 #include "image/image.h"
+#include "lab/synthetic_scene.h"
 #include "sfm/parallax_check.h"
 
 namespace pluvia {

@@ -25,8 +25,8 @@ constexpr double kEdgeBandPx = 1e-3;
 // Three strokes with non-uniform profiles in a 24 x 20 atlas: a soft Gaussian streak, a
 // streak that brightens toward its tail, and a ring with a transparent hole (matte 0, which
 // exercises the alpha <= 0 discard).
-StrokeAtlas threeStrokeAtlas() {
-  StrokeAtlas atlas;
+rain::StrokeAtlas threeStrokeAtlas() {
+  rain::StrokeAtlas atlas;
   atlas.width = 24;
   atlas.height = 20;
   atlas.alpha.assign(24 * 20, 0.0f);
@@ -51,10 +51,10 @@ StrokeAtlas threeStrokeAtlas() {
 // A dozen-plus streaks: many angles, widths 1..6 px, alphas (one above 1, one zero), still
 // drops, streaks leaving the frame, overlaps whose order matters, and depths on both sides
 // of the depth plane.
-std::vector<StreakInstance> mixedStreaks() {
+std::vector<rain::StreakInstance> mixedStreaks() {
   std::mt19937 random(2024);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  std::vector<StreakInstance> streaks;
+  std::vector<rain::StreakInstance> streaks;
   const float angles[] = {90, 80, 100, 45, 135, 0, 30, 170, 60, 115, 95, 10, 250, 300};
   for (int i = 0; i < 14; ++i) {
     const float radians = angles[i] * 3.14159265f / 180.0f;
@@ -109,8 +109,8 @@ Image uniformBackground(float value) {
   return frame;
 }
 
-ShadingParams orderZeroShading() {
-  ShadingParams shading;
+rain::ShadingParams orderZeroShading() {
+  rain::ShadingParams shading;
   shading.shOrder = 0;
   shading.envSh = {{1.2f, 0.9f, 0.7f}};
   shading.transferZonal = {0.8f};
@@ -120,8 +120,8 @@ ShadingParams orderZeroShading() {
 
 // An order-3 environment bright from +z and slightly coloured, with every coefficient
 // non-zero, so each of the 16 basis functions contributes.
-ShadingParams orderThreeShading() {
-  ShadingParams shading;
+rain::ShadingParams orderThreeShading() {
+  rain::ShadingParams shading;
   shading.shOrder = 3;
   std::mt19937 random(99);
   std::uniform_real_distribution<float> spread(-0.3f, 0.3f);
@@ -167,8 +167,8 @@ EquirectMap testRadianceMap(int width, int height) {
   return map;
 }
 
-ShadingParams mapOnlyShading(const EquirectMap& map) {
-  ShadingParams shading;
+rain::ShadingParams mapOnlyShading(const EquirectMap& map) {
+  rain::ShadingParams shading;
   shading.radianceMap = map;
   return shading;
 }
@@ -211,10 +211,10 @@ std::vector<std::array<float, 3>> probeViews(int width, int height, int count) {
 
 // Still drops (3 x 3 px squares, no pixel centre near an edge) on a 4 px grid, one per view.
 // The rain planes hold alpha * C', so their comparison checks C' of every view.
-std::vector<StreakInstance> probeDrops(const EquirectMap& map) {
+std::vector<rain::StreakInstance> probeDrops(const EquirectMap& map) {
   constexpr int kColumns = kWidth / 4, kRows = kHeight / 4;
   const auto views = probeViews(map.width, map.height, kColumns * kRows);
-  std::vector<StreakInstance> drops;
+  std::vector<rain::StreakInstance> drops;
   for (int k = 0; k < kColumns * kRows; ++k) {
     const float x = 4.0f * (k % kColumns) + 2.5f, y = 4.0f * (k / kColumns) + 2.5f;
     const auto& v = views[k];
@@ -225,7 +225,7 @@ std::vector<StreakInstance> probeDrops(const EquirectMap& map) {
 
 // True when (x, y) lies within `band` px of an edge of the streak's quad (double precision,
 // independent of the renderers' own geometry code).
-bool nearQuadEdge(const StreakInstance& s, double x, double y, double band) {
+bool nearQuadEdge(const rain::StreakInstance& s, double x, double y, double band) {
   double ax = s.tailX - s.headX, ay = s.tailY - s.headY;
   double length = std::hypot(ax, ay);
   if (length > 1e-4) {
@@ -256,7 +256,8 @@ bool close(float gpu, float cpu) {
   return std::abs(gpu - cpu) <= 1e-3f * std::abs(cpu) || std::abs(gpu - cpu) <= 1e-5f;
 }
 
-Comparison compare(const Image& gpu, const Image& cpu, const std::vector<StreakInstance>& streaks) {
+Comparison compare(const Image& gpu, const Image& cpu,
+                   const std::vector<rain::StreakInstance>& streaks) {
   Comparison result;
   const char* planes[] = {"rain.R", "rain.G", "rain.B", "rain.A", "matte"};
   for (int y = 0; y < kHeight; ++y) {
@@ -305,8 +306,9 @@ class GpuVsCpu : public ::testing::Test {
   }
 
   // Renders `background` both ways and checks they agree; returns the comparison.
-  static Comparison renderBoth(const Image& background, const std::vector<StreakInstance>& streaks,
-                               const ShadingParams& shading,
+  static Comparison renderBoth(const Image& background,
+                               const std::vector<rain::StreakInstance>& streaks,
+                               const rain::ShadingParams& shading,
                                int maxSkippedNearEdges = kWidth * kHeight / 100) {
     Image gpu = background, cpu = background;
     renderer_->render(gpu, streaks, shading);
@@ -349,7 +351,7 @@ TEST_F(GpuVsCpu, BlackBackground) {
 
 TEST_F(GpuVsCpu, ManyThinStreaksAtSubPixelOffsets) {
   // Width 1 streaks at fractional positions: the pixel-centre coverage test at its finest.
-  std::vector<StreakInstance> streaks;
+  std::vector<rain::StreakInstance> streaks;
   for (int i = 0; i < 60; ++i) {
     const float x = 0.37f + 0.79f * i, y = 0.21f + 0.43f * (i % 17);
     streaks.push_back({x, y, x + 3.3f + 0.1f * i, y + 12.7f - 0.2f * i, 1.0f + 0.05f * (i % 7),
@@ -363,11 +365,11 @@ TEST_F(GpuVsCpu, EveryLineWidthClassTrianglesAndTheFrameEdges) {
   // both sides of 45 degrees (where GL switches the line's major axis), with heads on and
   // beyond all four edges of the frame: a wide line whose centre leaves the viewport must
   // still cover the pixels its width reaches inside (the guard band).
-  std::vector<StreakInstance> streaks;
+  std::vector<rain::StreakInstance> streaks;
   const float widths[] = {0.6f, 1.0f, 1.9f, 2.2f, 3.1f, 4.5f, 7.0f, 11.0f, 20.0f, 70.0f};
   const float angles[] = {90.0f, 44.0f, 46.0f, 135.0f, 3.0f, 178.0f, 270.0f, 61.0f};
   const float heads[][2] = {{-2.5f, 10.3f}, {50.2f, 20.7f}, {20.4f, -3.1f}, {30.6f, 33.8f},
-                            {12.3f, 14.9f}, {47.4f, 0.6f}, {0.4f, 31.2f}, {35.5f, 16.1f}};
+                            {12.3f, 14.9f}, {47.4f, 0.6f},  {0.4f, 31.2f},  {35.5f, 16.1f}};
   int k = 0;
   for (float width : widths) {
     for (int j = 0; j < 2; ++j, ++k) {
@@ -375,8 +377,8 @@ TEST_F(GpuVsCpu, EveryLineWidthClassTrianglesAndTheFrameEdges) {
       const float x = heads[(k * 3) % 8][0], y = heads[(k * 3) % 8][1];
       const float length = 3.0f + 2.5f * (k % 7);
       streaks.push_back({x, y, x + length * std::cos(radians), y + length * std::sin(radians),
-                         width, width > 10.0f ? 0.08f : 0.3f, 1.0f, static_cast<float>(k % 3),
-                         0.0f, 0.6f, 0.8f, 0.0f});
+                         width, width > 10.0f ? 0.08f : 0.3f, 1.0f, static_cast<float>(k % 3), 0.0f,
+                         0.6f, 0.8f, 0.0f});
     }
   }
   // The widest streaks run edges across the whole frame: allow 3 % of pixels near an edge.
@@ -391,7 +393,7 @@ TEST_F(GpuVsCpu, SceneDepthHidesTheFarStreaksOnTheLeft) {
   // (far) it shows.
   Image frame = gradientBackground();
   addDepthPlane(frame);
-  const std::vector<StreakInstance> streaks = {
+  const std::vector<rain::StreakInstance> streaks = {
       {10.0f, 4.0f, 10.0f, 28.0f, 4.0f, 1.0f, 12.0f, 1.0f, 0, 0, 1, 0},
       {36.0f, 4.0f, 36.0f, 28.0f, 4.0f, 1.0f, 12.0f, 1.0f, 0, 0, 1, 0}};
   Image cpu = frame;
@@ -429,7 +431,7 @@ TEST_F(GpuVsCpu, RadianceMapAloneOnOverlappingStreaks) {
 TEST_F(GpuVsCpu, RadianceMapWithShAndBackground) {
   for (auto [width, height] : {std::pair{16, 8}, {128, 64}}) {
     SCOPED_TRACE(std::to_string(width) + "x" + std::to_string(height) + " map");
-    ShadingParams shading = orderThreeShading();  // c = 0.55
+    rain::ShadingParams shading = orderThreeShading();  // c = 0.55
     shading.radianceMap = testRadianceMap(width, height);
     Image background = gradientBackground();
     addDepthPlane(background);

@@ -11,8 +11,8 @@
 
 #include "gpu/rain_renderer.h"
 #include "image/equirect.h"
-#include "util/error.h"
 #include "test_support.h"
+#include "util/error.h"
 
 namespace pluvia::gpu {
 namespace {
@@ -32,12 +32,12 @@ class RainRendererTest : public ::testing::Test {
 RainRenderer* RainRendererTest::renderer_ = nullptr;
 
 // A 2x2 atlas of ones: bilinear sampling anywhere gives exactly 1.
-StrokeAtlas solidAtlas() {
+rain::StrokeAtlas solidAtlas() {
   return {2, 2, {1, 1, 1, 1}, {{0, 0, 2, 2}}};
 }
 
-ShadingParams constantShading(std::array<float, 3> l0, float backgroundWeight) {
-  ShadingParams shading;
+rain::ShadingParams constantShading(std::array<float, 3> l0, float backgroundWeight) {
+  rain::ShadingParams shading;
   shading.shOrder = 0;
   shading.envSh = {l0};
   shading.transferZonal = {1.0f};
@@ -53,8 +53,8 @@ Image uniformFrame(int width, int height, std::array<float, 4> rgba) {
   return frame;
 }
 
-StreakInstance verticalStreak(float x, float headY, float tailY, float width, float alpha,
-                              float depth) {
+rain::StreakInstance verticalStreak(float x, float headY, float tailY, float width, float alpha,
+                                    float depth) {
   return {x, headY, x, tailY, width, alpha, depth, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
 }
 
@@ -113,13 +113,13 @@ TEST_F(RainRendererTest, ConstantEnvironmentIsAWhiteFurnace) {
   // the higher-order transfer.
   const std::array<float, 3> e{0.25f, 1.5f, 4.0f};
   const float scale = 2.0f * std::sqrt(std::numbers::pi_v<float>);
-  ShadingParams shading;
+  rain::ShadingParams shading;
   shading.shOrder = 3;
   shading.envSh.assign(16, {0, 0, 0});
   shading.envSh[0] = {scale * e[0], scale * e[1], scale * e[2]};
   shading.transferZonal = {1.0f, 0.8f, -0.4f, 0.3f};
   shading.backgroundWeight = 0.0f;
-  std::vector<StreakInstance> drops;
+  std::vector<rain::StreakInstance> drops;
   const float views[][3] = {{0, 0, 1},  {0, 0, -1},         {1, 0, 0},
                             {0, -1, 0}, {0.6f, 0.0f, 0.8f}, {0.48f, -0.6f, 0.64f}};
   for (int k = 0; k < 6; ++k) {
@@ -155,8 +155,8 @@ EquirectMap smoothRadianceMap(int width, int height) {
 TEST_F(RainRendererTest, OpaqueStreakShowsTheRadianceMap) {
   // The map term alone, alpha 1 over black: C' = C = the map's value for the view. c must
   // default to 0, the physically based choice.
-  EXPECT_EQ(ShadingParams{}.backgroundWeight, 0.0f);
-  ShadingParams shading;
+  EXPECT_EQ(rain::ShadingParams{}.backgroundWeight, 0.0f);
+  rain::ShadingParams shading;
   shading.radianceMap = smoothRadianceMap(128, 64);
   renderer().setStrokeAtlas(solidAtlas());
   // A general view, the map's centre (-Z), near both poles, both sides of the u seam (+Z).
@@ -164,7 +164,7 @@ TEST_F(RainRendererTest, OpaqueStreakShowsTheRadianceMap) {
                             {-0.05f, -0.999f, 0.01f}, {1e-3f, 0.2f, 0.98f}, {-1e-3f, 0.2f, 0.98f}};
   for (const auto& [x, y, z] : views) {
     const float n = std::sqrt(x * x + y * y + z * z);
-    StreakInstance streak = verticalStreak(16.0f, 5.0f, 17.0f, 8.0f, 1.0f, 10.0f);
+    rain::StreakInstance streak = verticalStreak(16.0f, 5.0f, 17.0f, 8.0f, 1.0f, 10.0f);
     streak.viewX = x / n;
     streak.viewY = y / n;
     streak.viewZ = z / n;
@@ -187,7 +187,7 @@ TEST_F(RainRendererTest, ShAndMapTermsAdd) {
   const std::array<float, 4> b{0.2f, 0.4f, 0.8f, 1.0f};
   const std::array<float, 3> l0{1.0f, -2.0f, 3.0f}, map{0.5f, 0.25f, 2.0f};
   const float c = 0.3f, alpha = 0.6f;
-  ShadingParams shading = constantShading(l0, c);
+  rain::ShadingParams shading = constantShading(l0, c);
   shading.radianceMap = uniformEquirect(16, 8, map);
   Image frame = uniformFrame(32, 24, b);
   renderer().render(frame, {verticalStreak(16.0f, 5.0f, 17.0f, 4.0f, alpha, 10.0f)}, shading);
@@ -202,8 +202,9 @@ TEST_F(RainRendererTest, FollowsAChangeOfRadianceMap) {
   // Uploads happen only when the map differs from the resident one; a map edited in place
   // or resized must still show.
   renderer().setStrokeAtlas(solidAtlas());
-  const std::vector<StreakInstance> streak{verticalStreak(16.0f, 5.0f, 17.0f, 4.0f, 1.0f, 1.0f)};
-  ShadingParams shading;
+  const std::vector<rain::StreakInstance> streak{
+      verticalStreak(16.0f, 5.0f, 17.0f, 4.0f, 1.0f, 1.0f)};
+  rain::ShadingParams shading;
   shading.radianceMap = uniformEquirect(16, 8, {1.0f, 2.0f, 3.0f});
   auto centre = [&] {
     Image frame = uniformFrame(32, 24, {0, 0, 0, 1});
@@ -223,7 +224,7 @@ TEST_F(RainRendererTest, FollowsAChangeOfRadianceMap) {
 
 // Rendering with `shading` must throw a pluvia::Error (stage "rain") whose message holds
 // `needle`.
-void expectShadingError(RainRenderer& renderer, const ShadingParams& shading,
+void expectShadingError(RainRenderer& renderer, const rain::ShadingParams& shading,
                         const std::string& needle) {
   Image frame(32, 24);
   try {
@@ -237,23 +238,23 @@ void expectShadingError(RainRenderer& renderer, const ShadingParams& shading,
 
 TEST_F(RainRendererTest, RejectsBadRadianceMaps) {
   renderer().setStrokeAtlas(solidAtlas());
-  expectShadingError(renderer(), ShadingParams{},
+  expectShadingError(renderer(), rain::ShadingParams{},
                      "neither SH environment coefficients nor a radiance map");
 
-  ShadingParams shortMap;
+  rain::ShadingParams shortMap;
   shortMap.radianceMap = uniformEquirect(16, 8, {1, 1, 1});
   shortMap.radianceMap.rgb.pop_back();
   expectShadingError(renderer(), shortMap, "16x8 texels holds 383 floats instead of 384");
 
-  ShadingParams sizeless;
+  rain::ShadingParams sizeless;
   sizeless.radianceMap.rgb.assign(24, 1.0f);
   expectShadingError(renderer(), sizeless, "0x0 texels holds 24 floats");
 
-  ShadingParams nan;
+  rain::ShadingParams nan;
   nan.radianceMap = uniformEquirect(16, 8, {1, 1, 1});
   nan.radianceMap.texel(3, 2)[1] = NAN;
   expectShadingError(renderer(), nan, "texel (3, 2) has a non-finite G value");
-  ShadingParams inf = constantShading({1, 1, 1}, 0.0f);  // an SH term does not excuse the map
+  rain::ShadingParams inf = constantShading({1, 1, 1}, 0.0f);  // an SH term does not excuse the map
   inf.radianceMap = uniformEquirect(16, 8, {1, 1, 1});
   inf.radianceMap.texel(15, 7)[2] = -INFINITY;
   expectShadingError(renderer(), inf, "texel (15, 7) has a non-finite B value");
@@ -285,7 +286,8 @@ TEST_F(RainRendererTest, MatteCoordinatesRunAcrossLeftToRightAndAlongHeadToTail)
   // Atlas 2 x 4: the left column is 0.25, the right 1; rows grow downward by +0 .. (uniform in
   // the right column). Sampled through a wide streak falling down the screen (head at the
   // bottom, tail above), u runs left to right on screen and v from the head (bottom) up.
-  StrokeAtlas atlas{2, 4, {0.25f, 1.0f, 0.25f, 1.0f, 0.25f, 1.0f, 0.25f, 1.0f}, {{0, 0, 2, 4}}};
+  rain::StrokeAtlas atlas{
+      2, 4, {0.25f, 1.0f, 0.25f, 1.0f, 0.25f, 1.0f, 0.25f, 1.0f}, {{0, 0, 2, 4}}};
   renderer().setStrokeAtlas(atlas);
   Image frame = uniformFrame(32, 24, {0, 0, 0, 1});
   renderer().render(frame, {verticalStreak(16.0f, 18.0f, 6.0f, 8.0f, 1.0f, 1.0f)},
@@ -302,8 +304,8 @@ TEST_F(RainRendererTest, MatteCoordinatesRunAcrossLeftToRightAndAlongHeadToTail)
   EXPECT_EQ(frame.plane("matte")[4 * 32 + 16], 1.0f) << "v = 1 at the tail";
 }
 
-std::vector<StreakInstance> crossingStreaks() {
-  std::vector<StreakInstance> streaks;
+std::vector<rain::StreakInstance> crossingStreaks() {
+  std::vector<rain::StreakInstance> streaks;
   for (int i = 0; i < 40; ++i) {
     const float x = 2.0f + (i * 7) % 28, y = 1.0f + (i * 5) % 20;
     const float angle = 0.3f * i;
@@ -317,7 +319,7 @@ std::vector<StreakInstance> crossingStreaks() {
 TEST_F(RainRendererTest, RenderingTwiceIsByteIdentical) {
   renderer().setStrokeAtlas(
       {3, 3, {0.1f, 0.5f, 0.1f, 0.4f, 1.0f, 0.4f, 0.1f, 0.5f, 0.1f}, {{0, 0, 3, 3}}});
-  ShadingParams shading = constantShading({0.9f, 1.1f, 1.3f}, 0.7f);
+  rain::ShadingParams shading = constantShading({0.9f, 1.1f, 1.3f}, 0.7f);
   Image first = uniformFrame(32, 24, {0.3f, 0.2f, 0.1f, 1.0f});
   first.plane("depth").assign(first.pixelCount(), 2.5f);
   Image second = first;
@@ -356,15 +358,15 @@ TEST_F(RainRendererTest, FollowsAChangeOfFrameSize) {
 TEST_F(RainRendererTest, RejectsInconsistentInputs) {
   renderer().setStrokeAtlas(solidAtlas());
   Image frame(32, 24);
-  const std::vector<StreakInstance> one{verticalStreak(8, 2, 9, 2, 1, 1)};
-  ShadingParams tooHigh = constantShading({1, 1, 1}, 0.7f);
+  const std::vector<rain::StreakInstance> one{verticalStreak(8, 2, 9, 2, 1, 1)};
+  rain::ShadingParams tooHigh = constantShading({1, 1, 1}, 0.7f);
   tooHigh.shOrder = 4;
   EXPECT_THROW(renderer().render(frame, one, tooHigh), Error);
-  ShadingParams shortEnv = constantShading({1, 1, 1}, 0.7f);
+  rain::ShadingParams shortEnv = constantShading({1, 1, 1}, 0.7f);
   shortEnv.shOrder = 2;
   shortEnv.transferZonal = {1, 1, 1};
   EXPECT_THROW(renderer().render(frame, one, shortEnv), Error);
-  std::vector<StreakInstance> badStroke = one;
+  std::vector<rain::StreakInstance> badStroke = one;
   badStroke[0].strokeIndex = 1.0f;  // the atlas has one stroke
   try {
     renderer().render(frame, badStroke, constantShading({1, 1, 1}, 0.7f));
@@ -384,8 +386,9 @@ TEST_F(RainRendererTest, DescribesItsDevice) {
 TEST_F(RainRendererTest, SeveralRenderersShareTheDisplay) {
   // Renderers on one thread switch contexts as they go, and destroying one must not
   // terminate the EGL display under the others.
-  const ShadingParams shading = constantShading({1, 1, 1}, 0.0f);
-  const std::vector<StreakInstance> streak{verticalStreak(4.0f, 1.0f, 6.0f, 2.0f, 1.0f, 1.0f)};
+  const rain::ShadingParams shading = constantShading({1, 1, 1}, 0.0f);
+  const std::vector<rain::StreakInstance> streak{
+      verticalStreak(4.0f, 1.0f, 6.0f, 2.0f, 1.0f, 1.0f)};
   auto second = std::make_unique<RainRenderer>(8, 8);
   second->setStrokeAtlas(solidAtlas());
   renderer().setStrokeAtlas(solidAtlas());
@@ -407,8 +410,8 @@ TEST_F(RainRendererTest, MemoryStaysFlatOverAThousandFrames) {
   GTEST_SKIP() << "AddressSanitizer's quarantine grows resident memory by design";
 #endif
   renderer().setStrokeAtlas(solidAtlas());
-  const ShadingParams shading = constantShading({1, 1, 1}, 0.7f);
-  std::vector<StreakInstance> streaks = crossingStreaks();
+  const rain::ShadingParams shading = constantShading({1, 1, 1}, 0.7f);
+  std::vector<rain::StreakInstance> streaks = crossingStreaks();
   Image frame = uniformFrame(32, 24, {0.1f, 0.1f, 0.1f, 1.0f});
   size_t warm = 0;
   for (int i = 0; i < 1000; ++i) {

@@ -24,8 +24,8 @@ TEST(ShBasis, IsOrthonormalOverTheSphere) {
     const double r = std::sqrt(1.0 - z * z);
     for (int ip = 0; ip < kPhiSteps; ++ip) {
       const double phi = (ip + 0.5) * 2.0 * kPi / kPhiSteps;
-      const auto y = shEvaluate(static_cast<float>(r * std::cos(phi)),
-                                static_cast<float>(r * std::sin(phi)), static_cast<float>(z));
+      const auto y = rain::shEvaluate(static_cast<float>(r * std::cos(phi)),
+                                      static_cast<float>(r * std::sin(phi)), static_cast<float>(z));
       for (int i = 0; i < 16; ++i) {
         for (int j = 0; j < 16; ++j) gram[i][j] += double(y[i]) * y[j] * cellArea;
       }
@@ -40,7 +40,7 @@ TEST(ShBasis, IsOrthonormalOverTheSphere) {
 
 TEST(ShBasis, MatchesTheDocumentedFormulas) {
   const float x = 0.36f, y = -0.48f, z = 0.8f;  // unit length
-  const auto b = shEvaluate(x, y, z);
+  const auto b = rain::shEvaluate(x, y, z);
   const double expected[16] = {0.282095,
                                0.488603 * y,
                                0.488603 * z,
@@ -67,7 +67,7 @@ TEST(ShBasis, BandEnergyIsRotationInvariant) {
   for (int trial = 0; trial < 50; ++trial) {
     double v[3] = {normal(random), normal(random), normal(random)};
     const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    const auto b = shEvaluate(float(v[0] / n), float(v[1] / n), float(v[2] / n));
+    const auto b = rain::shEvaluate(float(v[0] / n), float(v[1] / n), float(v[2] / n));
     for (int l = 0; l <= 3; ++l) {
       double energy = 0;
       for (int m = -l; m <= l; ++m) energy += double(b[l * l + l + m]) * b[l * l + l + m];
@@ -83,7 +83,7 @@ TEST(ShBasis, GlslBasisEqualsShEvaluate) {
   constexpr int kSize = 32, kGrid = 6, kCell = kSize / kGrid;  // 36 drops, 5 px apart
   std::mt19937 random(11);
   std::normal_distribution<float> normal;
-  std::vector<StreakInstance> drops;
+  std::vector<rain::StreakInstance> drops;
   std::vector<std::array<float, 3>> views;
   for (int k = 0; k < kGrid * kGrid; ++k) {
     float v[3] = {normal(random), normal(random), normal(random)};
@@ -100,7 +100,7 @@ TEST(ShBasis, GlslBasisEqualsShEvaluate) {
   RainRenderer renderer(kSize, kSize);
   renderer.setStrokeAtlas({2, 2, {1, 1, 1, 1}, {{0, 0, 2, 2}}});
   for (int i = 0; i < 16; ++i) {
-    ShadingParams shading;
+    rain::ShadingParams shading;
     shading.shOrder = 3;
     shading.envSh.assign(16, {0, 0, 0});
     shading.envSh[i] = {1.0f, -1.0f, 0.0f};
@@ -111,7 +111,7 @@ TEST(ShBasis, GlslBasisEqualsShEvaluate) {
     for (size_t k = 0; k < drops.size(); ++k) {
       const float* p =
           frame.pixel(static_cast<int>(drops[k].headX), static_cast<int>(drops[k].headY));
-      const float expected = shEvaluate(views[k][0], views[k][1], views[k][2])[i];
+      const float expected = rain::shEvaluate(views[k][0], views[k][1], views[k][2])[i];
       EXPECT_NEAR(p[0] - p[1], expected, 1e-5f) << "Y" << i << " at drop " << k;
     }
   }

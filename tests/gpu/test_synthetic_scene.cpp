@@ -19,8 +19,8 @@
 
 #include "geometry/camera.h"
 #include "geometry/camera_path.h"
-#include "gpu/synthetic_scene.h"
 #include "image/image.h"
+#include "lab/synthetic_scene.h"
 #include "test_support.h"
 #include "util/error.h"
 

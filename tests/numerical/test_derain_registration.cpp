@@ -10,7 +10,7 @@
 #include "derain/clip_derain.h"
 #include "derain/derain_solver.h"
 #include "derain/registration.h"
-#include "derain/synthetic_rain.h"
+#include "lab/synthetic_rain.h"
 #include "test_support.h"
 
 namespace pluvia::derain {

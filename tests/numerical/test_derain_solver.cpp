@@ -7,7 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "derain/derain_solver.h"
-#include "derain/synthetic_rain.h"
+#include "lab/synthetic_rain.h"
 #include "test_support.h"
 
 namespace pluvia::derain {

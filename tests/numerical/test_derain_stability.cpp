@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "derain/derain_solver.h"
-#include "derain/synthetic_rain.h"
+#include "lab/synthetic_rain.h"
 #include "util/error.h"
 
 namespace pluvia::derain {

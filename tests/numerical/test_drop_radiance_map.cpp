@@ -13,13 +13,13 @@
 #include <vector>
 
 #include "image/equirect.h"
+#include "lab/optics_report.h"
+#include "lab/test_environment.h"
 #include "optics/drop_radiance_map.h"
 #include "optics/drop_shading.h"
 #include "optics/drop_trace.h"
 #include "optics/drop_transfer.h"
 #include "optics/environment_file.h"
-#include "optics/optics_report.h"
-#include "optics/test_environment.h"
 #include "test_support.h"
 
 namespace pluvia::optics {

@@ -57,7 +57,7 @@ DropSimulationSettings settingsFor(int64_t lastFrame, int64_t maxDrops = 20000) 
   return s;
 }
 
-bool allFinite(const std::vector<gpu::StreakInstance>& streaks) {
+bool allFinite(const std::vector<rain::StreakInstance>& streaks) {
   for (const auto& s : streaks) {
     const float* f = &s.headX;
     for (int k = 0; k < 11; ++k)
@@ -206,13 +206,13 @@ TEST(DropSimulation, DefocusWidensStreaksAndKeepsTheirCoverage) {
   blurred.focusMeters = 2.0;
   blurred.fNumber = 4.0;
   // The same drops (matched by their head position; faint ones drop out of the blurred set).
-  std::map<std::pair<float, float>, gpu::StreakInstance> byHead;
+  std::map<std::pair<float, float>, rain::StreakInstance> byHead;
   for (const auto& a : sim.buildStreaks(sharp)) byHead[{a.headX, a.headY}] = a;
   int matched = 0, wider = 0, near = 0;
   for (const auto& b : sim.buildStreaks(blurred)) {
     const auto it = byHead.find({b.headX, b.headY});
     ASSERT_NE(it, byHead.end());
-    const gpu::StreakInstance& a = it->second;
+    const rain::StreakInstance& a = it->second;
     ++matched;
     EXPECT_GE(b.widthPx, a.widthPx - 1e-4f);
     wider += b.widthPx > 1.5f * a.widthPx;
@@ -222,7 +222,7 @@ TEST(DropSimulation, DefocusWidensStreaksAndKeepsTheirCoverage) {
       EXPECT_NEAR(b.widthPx, a.widthPx, 0.05f * a.widthPx + 1e-3f);
     }
     // Unclamped: alpha over the quad (width x (length + width)), the drop's area, is kept.
-    const auto carried = [](const gpu::StreakInstance& k) {
+    const auto carried = [](const StreakInstance& k) {
       const double length = std::hypot(k.tailX - k.headX, k.tailY - k.headY);
       return double(k.alpha) * k.widthPx * (length + k.widthPx);
     };

@@ -10,8 +10,8 @@
 
 #include "envmap/panorama.h"
 #include "envmap/perspective_view.h"
+#include "lab/test_environment.h"
 #include "optics/environment_file.h"
-#include "optics/test_environment.h"
 #include "test_support.h"
 
 namespace pluvia::envmap {

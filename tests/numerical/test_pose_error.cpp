@@ -12,7 +12,7 @@
 
 #include "geometry/camera.h"
 #include "geometry/camera_path.h"
-#include "sfm/pose_error.h"
+#include "lab/pose_error.h"
 #include "util/error.h"
 
 using namespace pluvia;

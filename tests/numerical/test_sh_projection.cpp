@@ -12,13 +12,13 @@
 #include <random>
 #include <vector>
 
-#include "gpu/rain_renderer.h"
 #include "image/equirect.h"
+#include "lab/optics_report.h"
+#include "lab/test_environment.h"
 #include "optics/drop_transfer.h"
-#include "optics/optics_report.h"
 #include "optics/paper_transfer_table.h"
 #include "optics/sh.h"
-#include "optics/test_environment.h"
+#include "rain/streak_types.h"
 
 namespace pluvia::optics {
 namespace {
@@ -118,7 +118,7 @@ TEST(ShProjection, MatchesTheGpuBasisUpToOrderThree) {
   std::vector<double> basis;
   for (const Vec& d : randomDirections(500, 7)) {
     const float x = float(d[0]), y = float(d[1]), z = float(d[2]);
-    const std::array<float, 16> gpuBasis = gpu::shEvaluate(x, y, z);
+    const std::array<float, 16> gpuBasis = rain::shEvaluate(x, y, z);
     shBasis(3, {double(x), double(y), double(z)}, basis);
     ASSERT_EQ(basis.size(), 16u);
     for (size_t i = 0; i < 16; ++i) {

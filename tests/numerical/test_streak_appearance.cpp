@@ -44,7 +44,7 @@ struct Layer {
 
 // The streaks of frame 24 at `rate` with the shipped lens (or a pinhole), wind and eddies.
 Layer rainLayer(double rate, double windSpeed, bool lens,
-                std::vector<gpu::StreakInstance>* out = nullptr) {
+                std::vector<rain::StreakInstance>* out = nullptr) {
   const Camera camera = shippedCamera();
   const ThinLens thin = ThinLens::of(camera.focalPx, kWidth, kSensorMm, kFocusMeters, kFNumber);
   DropSimulationSettings s;
@@ -116,7 +116,7 @@ TEST(StreakAppearance, NoThinStreakSpansAQuarterOfTheFrame) {
 }
 
 TEST(StreakAppearance, EddiesSpreadTheDirectionsOfDrivenRain) {
-  std::vector<gpu::StreakInstance> streaks;
+  std::vector<rain::StreakInstance> streaks;
   rainLayer(40.0, 8.0, true, &streaks);
   // Angle of each streak against its neighbours' mean: image direction spread over streaks
   // within one depth band (the same perspective), 2-4 m.

@@ -7,7 +7,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "derain/synthetic_rain.h"
+#include "lab/synthetic_rain.h"
 
 using namespace pluvia;
 using namespace pluvia::derain;

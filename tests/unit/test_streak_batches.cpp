@@ -8,7 +8,7 @@
 namespace pluvia::gpu {
 namespace {
 
-StreakInstance streak(float widthPx, float angleDeg, float alpha = 0.5f, float tag = 0.0f) {
+rain::StreakInstance streak(float widthPx, float angleDeg, float alpha = 0.5f, float tag = 0.0f) {
   const float radians = angleDeg * 3.14159265f / 180.0f;
   return {10.0f,
           10.0f,
@@ -31,14 +31,14 @@ TEST(StreakBatches, LineWidthHoldsTheQuadAlongEitherAxis) {
   // At 45 degrees the quad's cross-section along x (or y) is width * sqrt 2.
   EXPECT_NEAR(lineWidthHolding(streak(2.0f, 45.0f)), 2.0f * std::sqrt(2.0f) + margin, 1e-3f);
   // A still drop is a square: its axis is vertical.
-  StreakInstance still = streak(3.0f, 0.0f);
+  rain::StreakInstance still = streak(3.0f, 0.0f);
   still.tailX = still.headX, still.tailY = still.headY;
   EXPECT_NEAR(lineWidthHolding(still), 3.0f + margin, 1e-3f);
 }
 
 TEST(StreakBatches, NarrowClassesFirstInstanceOrderWithinAClass) {
   // Tags record the instance order; widths go wide, narrow, invisible, medium, narrow, huge.
-  std::vector<StreakInstance> streaks = {
+  std::vector<rain::StreakInstance> streaks = {
       streak(5.0f, 80.0f, 0.5f, 0.0f),  streak(1.5f, 95.0f, 0.5f, 1.0f),
       streak(2.0f, 90.0f, 0.0f, 2.0f),  // alpha 0
       streak(2.5f, 85.0f, 0.5f, 3.0f),  streak(1.6f, 100.0f, 0.5f, 4.0f),

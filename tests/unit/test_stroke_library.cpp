@@ -181,8 +181,8 @@ TEST(StrokeLibrary, SaveRefusesAnEmptyLibrary) {
 }
 
 TEST(StrokeLibrary, AtlasJsonForTheCacheRoundTrips) {
-  const gpu::StrokeAtlas atlas = smallLibrary().atlas;
-  const gpu::StrokeAtlas back = rain::strokeAtlasFromJson(rain::strokeAtlasToJson(atlas), "cache");
+  const rain::StrokeAtlas atlas = smallLibrary().atlas;
+  const rain::StrokeAtlas back = rain::strokeAtlasFromJson(rain::strokeAtlasToJson(atlas), "cache");
   EXPECT_EQ(back.width, atlas.width);
   EXPECT_EQ(back.height, atlas.height);
   EXPECT_EQ(back.alpha, atlas.alpha);

@@ -8,7 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "optics/optics_report.h"
+#include "lab/optics_report.h"
 #include "util/error.h"
 
 namespace pluvia::optics {

@@ -1,4 +1,4 @@
-#include "optics/optics_report.h"
+#include "lab/optics_report.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,4 +1,4 @@
-#include "sfm/pose_error.h"
+#include "lab/pose_error.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 // SyntheticSceneRenderer: one headless GL context, one vertex buffer of the scene's triangles
 // and one framebuffer (RGBA32F colour, R32F z-depth in metres, 32F depth buffer for occlusion).
-#include "gpu/synthetic_scene.h"
+#include "lab/synthetic_scene.h"
 
 #include <algorithm>
 #include <cmath>
@@ -207,7 +207,7 @@ std::vector<SyntheticPathKey> defaultSyntheticPath(int frameCount) {
 
 SyntheticView syntheticViewAt(const SyntheticView& intrinsics, const SyntheticPathKey& key) {
   // worldFromCamera = Ry(-yaw) Rx(pitch) Rz(-roll), as worldFromCameraRotation() in
-  // geometry/camera_path.cpp (not linked here: pluvia_gpu does not depend on geometry).
+  // geometry/camera_path.cpp, written out on plain arrays.
   const double yaw = -key.yawDeg * M_PI / 180.0;
   const double pitch = key.pitchDeg * M_PI / 180.0;
   const double roll = -key.rollDeg * M_PI / 180.0;

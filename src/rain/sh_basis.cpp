@@ -3,9 +3,9 @@
 // the CPU renderer are compared pixel by pixel. Constants and signs follow Sloan, "Stupid
 // Spherical Harmonics (SH) Tricks" without the Condon-Shortley phase; the order-3 forms use
 // x^2 + y^2 + z^2 = 1, so the direction must be a unit vector.
-#include "gpu/rain_renderer.h"
+#include "rain/streak_types.h"
 
-namespace pluvia::gpu {
+namespace pluvia::rain {
 
 std::array<float, 16> shEvaluate(float x, float y, float z) {
   std::array<float, 16> basis;
@@ -32,4 +32,4 @@ std::array<float, 16> shEvaluate(float x, float y, float z) {
   return basis;
 }
 
-}  // namespace pluvia::gpu
+}  // namespace pluvia::rain

@@ -1,6 +1,6 @@
 // `pluvia report envmap`: environments stitched from a simulated pan against the full HDR, and
 // the real weir photos stitched (envmap_report.h says what is measured).
-#include "envmap/envmap_report.h"
+#include "lab/envmap_report.h"
 
 #include <algorithm>
 #include <chrono>
@@ -18,17 +18,17 @@
 #include "envmap/panorama.h"
 #include "envmap/perspective_view.h"
 #include "image/equirect.h"
-#include "image/log_grid.h"
 #include "io/image_file_writer.h"
+#include "lab/log_grid.h"
+#include "lab/optics_report.h"
+#include "lab/report_numbers.h"
+#include "lab/test_environment.h"
 #include "optics/drop_radiance_map.h"
 #include "optics/drop_shading.h"
 #include "optics/environment_file.h"
-#include "optics/optics_report.h"
 #include "optics/sh.h"
-#include "optics/test_environment.h"
 #include "util/error.h"
 #include "util/log.h"
-#include "util/report_numbers.h"
 #include "util/timer.h"
 
 namespace pluvia::envmap {

@@ -9,8 +9,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "derain/derain_report.h"
-#include "image/log_grid.h"
+#include "lab/derain_report.h"
+#include "lab/log_grid.h"
 #include "util/error.h"
 
 namespace pluvia::derain {

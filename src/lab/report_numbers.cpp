@@ -1,4 +1,4 @@
-#include "util/report_numbers.h"
+#include "lab/report_numbers.h"
 
 #include <cmath>
 

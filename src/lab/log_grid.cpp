@@ -1,4 +1,4 @@
-#include "image/log_grid.h"
+#include "lab/log_grid.h"
 
 #include <cmath>
 #include <vector>

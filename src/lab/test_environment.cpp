@@ -1,4 +1,4 @@
-#include "optics/test_environment.h"
+#include "lab/test_environment.h"
 
 #include <cmath>
 

@@ -8,9 +8,10 @@
 // and textured from world position with non-periodic procedural noise and sharp-edged blotches,
 // so that feature matchers find many distinct features from frame to frame.
 //
-// This header exposes no GL, EGL or Eigen type: pluvia_gpu is compiled without Eigen's include
-// path, so the Camera-taking entry points are templates, instantiated in the caller's
-// translation unit, which reads the Camera's members into a plain SyntheticView.
+// This header exposes no GL, EGL or Eigen type (it began in pluvia_gpu, which has no Eigen): the
+// Camera-taking entry points are templates, instantiated in the caller's translation unit, which
+// reads the Camera's members into a plain SyntheticView. The GL work uses pluvia_gpu's context
+// and object helpers (gpu/egl_context.h, gpu/gl_objects.h, gpu/shader_program.h).
 #include <array>
 #include <memory>
 #include <string>

@@ -1,6 +1,6 @@
 // `pluvia report depth`: SfM poses and depth against the synthetic street's ground truth, and
 // the real opensfm_lund photos (report_depth.h says what is measured).
-#include "report_depth.h"
+#include "lab/report_depth.h"
 
 #include <unistd.h>
 
@@ -20,16 +20,16 @@
 
 #include "geometry/camera.h"
 #include "geometry/camera_path.h"
-#include "gpu/synthetic_scene.h"
-#include "image/log_grid.h"
+#include "lab/log_grid.h"
+#include "lab/pose_error.h"
+#include "lab/report_numbers.h"
+#include "lab/synthetic_scene.h"
 #include "sfm/clip_tracking.h"
 #include "sfm/colmap_runner.h"
-#include "sfm/pose_error.h"
 #include "util/error.h"
-#include "util/report_numbers.h"
 #include "util/timer.h"
 
-namespace pluvia::cli {
+namespace pluvia::lab {
 namespace {
 
 namespace fs = std::filesystem;
@@ -648,4 +648,4 @@ void writeDepthReportPlot(const DepthReport& report, const std::string& path) {
     throw Error("cannot write the plot (is it a .png path?)", {"report", {}, path});
 }
 
-}  // namespace pluvia::cli
+}  // namespace pluvia::lab

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-namespace pluvia::cli {
+namespace pluvia::lab {
 
 struct DepthReportSettings {
   std::string sharedData;    // ../shared/data; empty or missing: no real photos
@@ -85,4 +85,4 @@ void writeDepthReportCsv(const DepthReport& report, const std::string& path);
 // Two panels against the total time (log): the worst rotation error and the median depth error.
 void writeDepthReportPlot(const DepthReport& report, const std::string& path);
 
-}  // namespace pluvia::cli
+}  // namespace pluvia::lab

@@ -1,7 +1,7 @@
 // Synthetic rain with a known answer. Everything here is drawn from first principles and shares
 // no code with the solver (not even the angle convention's helpers), so that a bug in one cannot
 // hide the same bug in the other.
-#include "derain/synthetic_rain.h"
+#include "lab/synthetic_rain.h"
 
 #include <algorithm>
 #include <cmath>

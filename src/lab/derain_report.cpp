@@ -1,6 +1,6 @@
 // `pluvia report derain`: rain extraction against synthetic ground truth, error against run
 // time, and convergence on real panning footage (derain_report.h says what is measured).
-#include "derain/derain_report.h"
+#include "lab/derain_report.h"
 
 #include <algorithm>
 #include <chrono>
@@ -16,12 +16,12 @@
 
 #include "derain/rain_direction.h"
 #include "derain/registration.h"
-#include "derain/synthetic_rain.h"
 #include "image/image_metrics.h"
 #include "io/clip_reader.h"
+#include "lab/report_numbers.h"
+#include "lab/synthetic_rain.h"
 #include "util/error.h"
 #include "util/log.h"
-#include "util/report_numbers.h"
 #include "util/timer.h"
 
 namespace pluvia::derain {
