@@ -438,7 +438,7 @@ std::string formatDepthReport(const DepthReport& report) {
   std::string out;
   out += "GL renderer: " + report.device + "\n";
   out += fmt::format(
-      "Synthetic street (gpu/synthetic_scene.h) along defaultSyntheticPath: a {:.2f} m walk at "
+      "Synthetic street (lab/synthetic_scene.h) along defaultSyntheticPath: a {:.2f} m walk at "
       "{:g} m, 4° of yaw, {:g}° hfov; frames to COLMAP as 8-bit sRGB PNG, the poses of the others "
       "interpolated; metric scale from the camera height. Depth compared on every {}th frame.\n",
       0.05 * 47, gpu::kSyntheticCameraHeightMeters, gpu::kSyntheticHfovDeg, 48 / kEvaluationFrames);

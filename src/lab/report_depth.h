@@ -2,11 +2,11 @@
 // `pluvia report depth`: camera tracking and depth from structure from motion (COLMAP through
 // sfm/clip_tracking.h) against ground truth, and against run time.
 //
-//  (a) Synthetic: the street of gpu/synthetic_scene.h rendered through the project's own EGL
+//  (a) Synthetic: the street of lab/synthetic_scene.h rendered through the project's own EGL
 //      code along defaultSyntheticPath(48) (a 2.35 m walk at 1.6 m, 4 degrees of yaw), frames
 //      sRGB-encoded (8-bit PNG, as a camera's file), at 1280x720, 640x360 and 320x180, with every
 //      frame or every 2nd or 4th handed to COLMAP (the poses of the others interpolated). Per row:
-//      frames with a pose, pose error after aligning the SfM world to the truth (sfm/pose_error.h:
+//      frames with a pose, pose error after aligning the SfM world to the truth (lab/pose_error.h:
 //      chordal-mean rotation, translation, no scale re-fit; the scale ratio on its own), and the
 //      densified depth of every 8th frame against the exact z-depth: median relative error
 //      (pooled over those frames; also split by ground, walls and boxes), how much true sky comes

@@ -1,5 +1,5 @@
 // The depth stage's COLMAP source in a render: clips of the synthetic street
-// (gpu/synthetic_scene.h) written as PNG sequences, tracked by the real colmap. A walk tracks,
+// (lab/synthetic_scene.h) written as PNG sequences, tracked by the real colmap. A walk tracks,
 // renders with the tracked camera, caches its tracking (plan: needed, then cached) and reuses it; a
 // colmap that cannot run (naming its log) and a tripod pan (no parallax, found before COLMAP runs)
 // stop the render before any frame, unless depth.fallback = layers, which renders with the manual

@@ -1,5 +1,5 @@
 // The parallax measurements before COLMAP (sfm/parallax_check.h) on frames of the synthetic
-// street (gpu/synthetic_scene.h): a walk shows parallax and its keyframes are spaced so that
+// street (lab/synthetic_scene.h): a walk shows parallax and its keyframes are spaced so that
 // each pair of consecutive ones shows the wanted parallax; a tripod pan shows none.
 #include <gtest/gtest.h>
 

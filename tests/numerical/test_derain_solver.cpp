@@ -1,5 +1,5 @@
 // Eq. (1) on synthetic ground truth: real static images with rain of known matte, colour and
-// direction composited over them (derain/synthetic_rain.h) and sensor noise. The targets of
+// direction composited over them (lab/synthetic_rain.h) and sensor noise. The targets of
 // the issue: S at least 1 dB PSNR above the temporal median, the rain direction within 2 deg.
 #include <gtest/gtest.h>
 #include <Eigen/Dense>

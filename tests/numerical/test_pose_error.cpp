@@ -1,4 +1,4 @@
-// sfm/pose_error.h on analytic cases: a path turned by a known yaw and shifted aligns to zero
+// lab/pose_error.h on analytic cases: a path turned by a known yaw and shifted aligns to zero
 // error, a 1 degree perturbation of one frame reads 1 degree, a path 1.1 times too large reads a
 // scale of 1.1 (and its position error is not hidden by a re-fitted scale), a tilted world reads
 // its tilt as the levelling error, and the depth metric on small hand-made arrays.
