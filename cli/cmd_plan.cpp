@@ -18,10 +18,7 @@ void addPlanCommand(CLI::App& app, Invocation& invocation) {
     bool resolved = false;
   };
   auto args = std::make_shared<Args>();
-  cmd->add_option("INPUT", args->input, "movie, image sequence (plate.####.exr) or image")
-      ->required();
-  cmd->add_option("-p,--preset", args->preset, "preset name or path")->required();
-  cmd->add_option("--set", args->sets, "override KEY=VALUE (dotted key path)");
+  addClipPresetOptions(cmd, args->input, args->preset, args->sets);
   cmd->add_option("--cache", args->cache, "cache folder for per-clip analysis");
   cmd->add_flag("--resolved", args->resolved, "print the fully resolved preset as JSON instead");
   cmd->callback([=] {

@@ -64,17 +64,10 @@ void addPreviewCommand(CLI::App& app, Invocation& invocation) {
     std::optional<double> proxy;
   };
   auto args = std::make_shared<Args>();
-  cmd->add_option("INPUT", args->input,
-                  "movie (mp4/mov/avi), image sequence (plate.####.exr, plate.%04d.png) or image")
-      ->required();
-  cmd->add_option("-p,--preset", args->preset,
-                  "preset name (drizzle, moderate, heavy, storm) or path")
-      ->required();
+  addClipPresetOptions(cmd, args->input, args->preset, args->sets);
   cmd->add_option("-o,--output", args->output, "the contact sheet, SHEET.png")->required();
   cmd->add_option("--frames", args->frames, "FIRST-LAST to sample from, in the clip's numbers");
   cmd->add_option("--count", args->count, "frames on the sheet, spread evenly (default 3)");
-  cmd->add_option("--set", args->sets,
-                  "override KEY=VALUE (dotted key path, e.g. rain.rate_mm_h=40)");
   cmd->add_option("--proxy", args->proxy,
                   fmt::format("render at this fraction of the plate's size, in (0, 1] (default: "
                               "columns at most {} px wide)",

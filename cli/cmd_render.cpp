@@ -22,18 +22,11 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
     bool skipExisting = false, stats = false;
   };
   auto args = std::make_shared<Args>();
-  cmd->add_option("INPUT", args->input,
-                  "movie (mp4/mov/avi), image sequence (plate.####.exr, plate.%04d.png) or image")
-      ->required();
-  cmd->add_option("-p,--preset", args->preset,
-                  "preset name (drizzle, moderate, heavy, storm) or path")
-      ->required();
+  addClipPresetOptions(cmd, args->input, args->preset, args->sets);
   cmd->add_option("-o,--output", args->output,
                   "sequence pattern (out.####.exr/png/tif/dpx) or movie (out.mp4)")
       ->required();
   cmd->add_option("--frames", args->frames, "FIRST-LAST, in the clip's frame numbers");
-  cmd->add_option("--set", args->sets,
-                  "override KEY=VALUE (dotted key path, e.g. rain.rate_mm_h=40)");
   cmd->add_option("--threads", args->threads, "writer threads")->check(CLI::Range(1, 64));
   cmd->add_option("--cache", args->cache, "cache folder for per-clip analysis");
   cmd->add_flag("--skip-existing", args->skipExisting,

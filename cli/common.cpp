@@ -110,4 +110,14 @@ std::string findBesideInstall(const std::filesystem::path& relative) {
   return "";
 }
 
+void addClipPresetOptions(CLI::App* cmd, std::string& input, std::string& preset,
+                          std::vector<std::string>& sets) {
+  cmd->add_option("INPUT", input,
+                  "movie (mp4/mov/avi), image sequence (plate.####.exr, plate.%04d.png) or image")
+      ->required();
+  cmd->add_option("-p,--preset", preset, "preset name (drizzle, moderate, heavy, storm) or path")
+      ->required();
+  cmd->add_option("--set", sets, "override KEY=VALUE (dotted key path, e.g. rain.rate_mm_h=40)");
+}
+
 }  // namespace pluvia::cli

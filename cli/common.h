@@ -7,6 +7,8 @@
 #include <utility>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+
 #include "preset/preset.h"
 
 namespace pluvia::cli {
@@ -29,6 +31,10 @@ void refuseOverwritingInput(const std::vector<std::string>& inputFiles, const st
                             const std::vector<std::string>& outputs);
 // The command line as one shell-quoted string, for logs and metadata.
 std::string joinCommandLine(int argc, char** argv);
+
+// The options every command that renders a clip takes alike: INPUT, -p/--preset and --set.
+void addClipPresetOptions(CLI::App* cmd, std::string& input, std::string& preset,
+                          std::vector<std::string>& sets);
 // `relative` beside the running binary's install prefix (the folder above the binary's: the
 // repository for build/pluvia, /usr/local for /usr/local/bin/pluvia), else in the current
 // directory; "" when it is in neither. Nothing is found through a compiled-in source path.

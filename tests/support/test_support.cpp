@@ -129,4 +129,11 @@ std::string writePlateSequence(const stdfs::path& dir, int first, int last, int 
   return (dir / "plate.####.png").string();
 }
 
+stdfs::path writeTextFile(const stdfs::path& dir, const std::string& name,
+                          const std::string& text) {
+  const stdfs::path path = dir / name;
+  std::ofstream(path) << text;
+  return path;
+}
+
 }  // namespace pluvia::test

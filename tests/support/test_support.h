@@ -36,6 +36,10 @@ double parseNumber(const std::string& text, const std::string& line);
 // How many lines of `text` start with one of `firstWords` (a report's table rows).
 int countLinesStartingWith(const std::string& text, const std::set<std::string>& firstWords);
 
+// Writes `text` to dir/name and returns the path.
+std::filesystem::path writeTextFile(const std::filesystem::path& dir, const std::string& name,
+                                    const std::string& text);
+
 // Reads an image file with OpenImageIO as float RGBA (no colour conversion).
 Image readImageFile(const std::filesystem::path& path);
 // Writes float RGBA (alpha dropped when `channels` is 3) to any format OpenImageIO knows.

@@ -14,12 +14,6 @@
 using namespace pluvia;
 
 namespace {
-std::filesystem::path writePreset(const std::filesystem::path& dir, const std::string& name,
-                                  const std::string& text) {
-  auto path = dir / name;
-  std::ofstream(path) << text;
-  return path;
-}
 
 std::vector<std::string> problemsOf(const std::string& preset,
                                     const std::vector<std::string>& sets = {}) {
@@ -57,8 +51,8 @@ TEST(Preset, RainTypesShipAtTheirTableRate) {
 
 TEST(Preset, ExtendsMergesAndOverridesApply) {
   auto dir = test::freshTempDir("preset_extends");
-  auto path = writePreset(dir, "mine.json",
-                          R"({"pluvia": 1, "extends": "heavy", "fog": {"density": 0.5}})");
+  auto path = test::writeTextFile(dir, "mine.json",
+                                  R"({"pluvia": 1, "extends": "heavy", "fog": {"density": 0.5}})");
   Preset p = Preset::resolve(path.string(), {"rain.seed=3", "blur.sigma_px=2.5"}, presetSchema());
   EXPECT_DOUBLE_EQ(p.number("fog.density"), 0.5);      // own value wins
   EXPECT_DOUBLE_EQ(p.number("rain.rate_mm_h"), 40.0);  // from heavy
@@ -71,7 +65,7 @@ TEST(Preset, ExtendsMergesAndOverridesApply) {
 
 TEST(Preset, ReportsEveryProblemAtOnceWithPathsAndSuggestions) {
   auto dir = test::freshTempDir("preset_problems");
-  auto path = writePreset(dir, "bad.json", R"({
+  auto path = test::writeTextFile(dir, "bad.json", R"({
     "pluvia": 1,
     "rain": {"rate_mm_hr": 10, "seed": "seven", "wind": {"speed_m_s": -3}},
     "fogg": {},
@@ -94,13 +88,13 @@ TEST(Preset, ReportsEveryProblemAtOnceWithPathsAndSuggestions) {
 
 TEST(Preset, SchemaVersionCycleAndMissingPresetAreErrors) {
   auto dir = test::freshTempDir("preset_cycle");
-  writePreset(dir, "a.json", R"({"pluvia": 1, "extends": "b.json"})");
-  writePreset(dir, "b.json", R"({"pluvia": 1, "extends": "a.json"})");
+  test::writeTextFile(dir, "a.json", R"({"pluvia": 1, "extends": "b.json"})");
+  test::writeTextFile(dir, "b.json", R"({"pluvia": 1, "extends": "a.json"})");
   EXPECT_TRUE(anyContains(problemsOf((dir / "a.json").string()), "cycle"));
-  writePreset(dir, "v2.json", R"({"pluvia": 2})");
+  test::writeTextFile(dir, "v2.json", R"({"pluvia": 2})");
   EXPECT_TRUE(
       anyContains(problemsOf((dir / "v2.json").string()), "schema version 2 is not supported"));
-  writePreset(dir, "broken.json", R"({"pluvia": 1, )");
+  test::writeTextFile(dir, "broken.json", R"({"pluvia": 1, )");
   EXPECT_TRUE(anyContains(problemsOf((dir / "broken.json").string()), "not valid JSON"));
   EXPECT_TRUE(anyContains(problemsOf("moderat"), "did you mean 'moderate'?"));
 }
@@ -161,7 +155,7 @@ TEST(Ramp, InterpolatesHoldsAndSmooths) {
 
 TEST(Preset, NumbersAcceptKeyframes) {
   auto dir = test::freshTempDir("preset_keys");
-  auto path = writePreset(dir, "ramp.json", R"({"pluvia": 1, "extends": "moderate",
+  auto path = test::writeTextFile(dir, "ramp.json", R"({"pluvia": 1, "extends": "moderate",
     "rain": {"rate_mm_h": {"keys": [[0, 0], [48, 40]], "interpolation": "linear"},
              "wind": {"speed_m_s": {"keys": [[10, 2], [20, 8]], "interpolation": "hold"},
                       "dir_deg": {"keys": [[0, 0], [100, 90]], "interpolation": "smooth"}}},
@@ -210,7 +204,7 @@ TEST(Preset, SetAcceptsKeyShorthandAndConstants) {
 
 TEST(Preset, KeyframeProblemsNameTheirPaths) {
   auto dir = test::freshTempDir("preset_bad_keys");
-  auto path = writePreset(dir, "bad.json", R"({"pluvia": 1,
+  auto path = test::writeTextFile(dir, "bad.json", R"({"pluvia": 1,
     "rain": {"rate_mm_h": {"keys": [[0, 0], [48, 4000], [40, 1]], "interpolation": "cubic"},
              "seed": {"keys": [[0, 1], [10, 2.5]]},
              "wind": {"speed_m_s": {"keys": []}, "dir_deg": {"key": [[0, 1]]}}},

@@ -14,13 +14,6 @@ using namespace pluvia;
 
 namespace {
 
-std::filesystem::path writePreset(const std::filesystem::path& dir, const std::string& name,
-                                  const std::string& text) {
-  auto path = dir / name;
-  std::ofstream(path) << text;
-  return path;
-}
-
 // The message of the PresetError that resolving gives; fails the test when there is none.
 std::string errorOf(const std::string& preset, const std::vector<std::string>& sets = {}) {
   try {
@@ -40,8 +33,8 @@ std::string nested(int levels) {
 
 TEST(PresetLimits, DeepNestingIsRefusedNamingTheFile) {
   auto dir = test::freshTempDir("preset_deep");
-  auto path =
-      writePreset(dir, "deep.json", "{\"pluvia\": 1, \"description\": " + nested(60000) + "}");
+  auto path = test::writeTextFile(dir, "deep.json",
+                                  "{\"pluvia\": 1, \"description\": " + nested(60000) + "}");
   const std::string message = errorOf(path.string());
   EXPECT_NE(message.find("deep.json"), std::string::npos) << message;
   EXPECT_NE(message.find("nest deeper than 64 levels at line 1"), std::string::npos) << message;
@@ -73,7 +66,8 @@ TEST(PresetLimits, ImpossibleValuesAreRefusedByValidation) {
 
 TEST(PresetLimits, BadTextNamesTheFileOrKey) {
   auto dir = test::freshTempDir("preset_text");
-  auto huge = writePreset(dir, "huge.json", R"({"pluvia": 1, "rain": {"rate_mm_h": 1e400}})");
+  auto huge =
+      test::writeTextFile(dir, "huge.json", R"({"pluvia": 1, "rain": {"rate_mm_h": 1e400}})");
   const std::string file = errorOf(huge.string());
   EXPECT_NE(file.find("huge.json"), std::string::npos) << file;
   EXPECT_NE(file.find("too large for a double"), std::string::npos) << file;
@@ -85,7 +79,7 @@ TEST(PresetLimits, BadTextNamesTheFileOrKey) {
             std::string::npos)
       << index;
   EXPECT_NE(errorOf("drizzle", {"extends=storm"}).find("extends cannot be set"), std::string::npos);
-  auto broken = writePreset(dir, "broken.json", "{\"pluvia\": 1,\n  \"rain\": {oops}}");
+  auto broken = test::writeTextFile(dir, "broken.json", "{\"pluvia\": 1,\n  \"rain\": {oops}}");
   EXPECT_NE(errorOf(broken.string()).find("not valid JSON at line 2, column 12"), std::string::npos)
       << errorOf(broken.string());
 }
@@ -94,10 +88,10 @@ TEST(PresetLimits, OtherFilesAreNamedNeverQuoted) {
   auto dir = test::freshTempDir("preset_quote");
   // The parser's own message would quote what it read of a number: "last read: '31415926x'".
   const std::string secret = "31415926xsecret-first-line";
-  writePreset(dir, "secret.txt", secret + "\n");
-  auto extending =
-      writePreset(dir, "extends.json",
-                  R"({"pluvia": 1, "extends": ")" + (dir / "secret.txt").string() + R"("})");
+  test::writeTextFile(dir, "secret.txt", secret + "\n");
+  auto extending = test::writeTextFile(
+      dir, "extends.json",
+      R"({"pluvia": 1, "extends": ")" + (dir / "secret.txt").string() + R"("})");
   const std::string viaExtends = errorOf(extending.string());
   EXPECT_NE(viaExtends.find("secret.txt"), std::string::npos) << viaExtends;
   EXPECT_EQ(viaExtends.find("31415926"), std::string::npos) << viaExtends;
