@@ -22,7 +22,7 @@ inline constexpr int kPaperShOrder = 3;
 inline constexpr int kPaperTerms = 9;
 inline constexpr double kPaperBackgroundWeight = 0.7;
 // Terms of D the default method keeps: the power left out beyond it is below 1e-3 for
-// eta = 1.333 (see the optics report and tests/numerical/test_drop_transfer.cpp).
+// eta = 1.333 (see the optics report and tests/optics/test_drop_transfer.cpp).
 inline constexpr int kDefaultTerms = 20;
 inline constexpr double kWaterEta = 1.333;
 // Dispersion of water, R / G / B (the refractive index of water at about 650 / 550 / 450 nm).
