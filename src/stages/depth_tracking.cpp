@@ -16,7 +16,7 @@
 namespace pluvia {
 namespace {
 
-constexpr const char* kTrackingVersion = "3";
+constexpr const char* kTrackingVersion = "4";  // 4: gravity from façade lines, sloping ground
 constexpr const char* kCacheStage = "depth";
 
 // The preset keys the tracking depends on (not the layers or the fallback).
