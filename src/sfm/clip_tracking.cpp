@@ -279,10 +279,17 @@ SfmReconstruction trackingFromModel(const std::filesystem::path& textModelFolder
     const auto& names = own ? ownNames : fileNames;
     if (auto it = names.find(image.name); it != names.end()) inModel.insert(*it);
   }
-  // The façade lines need the images: a sequence's own files (pluvia's frame PNGs are gone).
-  const std::filesystem::path imageFolder = own || files.empty()
-                                                ? std::filesystem::path()
-                                                : std::filesystem::path(files[0]).parent_path();
+  // The façade lines need the images by the model's names: the sequence's own files, else the
+  // frames a kept pluvia workspace holds beside its model (<workspace>/frames, <workspace>/model).
+  std::filesystem::path imageFolder;
+  for (const std::filesystem::path& folder :
+       {files.empty() ? std::filesystem::path() : std::filesystem::path(files[0]).parent_path(),
+        textModelFolder.parent_path() / "frames"})
+    if (!inModel.empty() && !folder.empty() &&
+        std::filesystem::exists(folder / inModel.begin()->first)) {
+      imageFolder = folder;
+      break;
+    }
   SfmReconstruction sfm = reconstructionFromColmap(model, inModel, options, imageFolder);
   logGravityAndScale(sfm);
   return sfm;
