@@ -16,7 +16,7 @@
 namespace pluvia {
 namespace {
 
-constexpr const char* kTrackingVersion = "3";
+constexpr const char* kTrackingVersion = "4";  // 4: gravity from façade lines, sloping ground
 constexpr const char* kCacheStage = "depth";
 
 // The preset keys the tracking depends on (not the layers or the fallback).
@@ -82,6 +82,8 @@ SfmReconstruction trackedClipReconstruction(ClipContext& clip) {
     }
   }
   ClipTrackingSettings settings = depthTrackingSettings(preset);
+  // A movie's rate checks the scale (camera speed); a sequence's 24 fps is only a default.
+  if (clip.clip->isMovie) settings.sfm.framesPerSecond = clip.clip->fps;
   // A workspace per process: farm chunks of one clip may track at the same time.
   const std::string folder = fmt::format("colmap-{}-{}", key, ::getpid());
   settings.workspace = clip.cache ? clip.cache->pathFor(kCacheStage, key).parent_path() / folder
