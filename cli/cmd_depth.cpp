@@ -54,36 +54,38 @@ void writeColmapDepth(ClipReader& reader, const std::vector<int64_t>& frames,
                       const Metadata& metadata) {
   const ClipInfo& clip = reader.info();
   const DepthSettings depth = depthSettings(preset);
-  ClipTrackingSettings settings = depthTrackingSettings(depth, cameraSettings(preset));
+  sfm::ClipTrackingSettings settings = depthTrackingSettings(depth, cameraSettings(preset));
   settings.workspace = std::filesystem::absolute(outputs.front()).parent_path() / "colmap";
   const std::string& model = depth.colmapModel;
-  SfmReconstruction sfm;
+  sfm::SfmReconstruction reconstruction;
   std::string log;
   if (model.empty()) {
-    ClipTracking tracking = trackClip(
+    sfm::ClipTracking tracking = sfm::trackClip(
         frames, [&reader](int64_t f) { return reader.read(f); }, settings);
-    sfm = std::move(tracking.sfm);
+    reconstruction = std::move(tracking.sfm);
     if (!tracking.run.logPath.empty()) log = " (COLMAP log: " + tracking.run.logPath.string() + ")";
   } else {
     // The whole clip's frames, so that --frames may select frames between registered ones.
-    sfm = trackingFromModel(model, clip.frames,
-                            clip.isMovie ? std::vector<std::string>{} : clip.files, settings.sfm);
+    reconstruction = sfm::trackingFromModel(
+        model, clip.frames, clip.isMovie ? std::vector<std::string>{} : clip.files, settings.sfm);
     log = " (depth.colmap_model: " + model + ")";
   }
-  if (!sfm.ok())
-    throw Error(fmt::format("{}{}; use --source layers for this clip", sfm.message, log),
+  if (!reconstruction.ok())
+    throw Error(fmt::format("{}{}; use --source layers for this clip", reconstruction.message, log),
                 {"depth", {}, clip.path});
   log::info(fmt::format("colmap: {} of {} frames registered, {:.2f} px mean reprojection error{}",
-                        sfm.registeredCount, sfm.frameCount, sfm.meanReprojectionErrorPx,
-                        sfm.message.empty() ? "" : "; " + sfm.message));
+                        reconstruction.registeredCount, reconstruction.frameCount,
+                        reconstruction.meanReprojectionErrorPx,
+                        reconstruction.message.empty() ? "" : "; " + reconstruction.message));
   for (size_t i = 0; i < frames.size(); ++i) {
     const std::vector<float> depthMeters =
-        colmapFrameDepth(sfm, frames[i], reader.read(frames[i]), depth.colmapDense);
+        sfm::colmapFrameDepth(reconstruction, frames[i], reader.read(frames[i]), depth.colmapDense);
     writeImageFile(outputs[i], clip.width, clip.height, {{"Z", depthMeters.data(), 1, true}},
                    metadata, frames[i]);
   }
   std::filesystem::create_directories(settings.workspace);
-  fs::writeTextFile(settings.workspace / "poses.json", posesJson(sfm, frames).dump(2) + "\n");
+  fs::writeTextFile(settings.workspace / "poses.json",
+                    sfm::posesJson(reconstruction, frames).dump(2) + "\n");
 }
 
 }  // namespace

@@ -5,7 +5,7 @@
 
 #include <Eigen/Eigenvalues>
 
-namespace pluvia {
+namespace pluvia::sfm {
 namespace {
 
 // Least-squares plane through points: the normal is the covariance's smallest eigenvector.
@@ -76,4 +76,4 @@ PlaneFit fitGroundPlane(const std::vector<Eigen::Vector3d>& points, const Eigen:
   return best;
 }
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

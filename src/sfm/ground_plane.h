@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-namespace pluvia {
+namespace pluvia::sfm {
 
 struct PlaneFit {
   bool found = false;
@@ -31,4 +31,4 @@ struct PlaneFitOptions {
 PlaneFit fitGroundPlane(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& up,
                         const PlaneFitOptions& options = {});
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

@@ -9,7 +9,7 @@
 
 #include "sfm/ground_plane.h"
 
-namespace pluvia {
+namespace pluvia::sfm {
 namespace {
 
 // COLMAP camera axes (x right, y down, z forward) <-> pluvia camera axes (x right, y up, z back).
@@ -228,4 +228,4 @@ SfmReconstruction reconstructionFromColmap(const ColmapModel& model,
   return result;
 }
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

@@ -18,7 +18,7 @@
 #include "geometry/camera_path.h"
 #include "sfm/colmap_model.h"
 
-namespace pluvia {
+namespace pluvia::sfm {
 
 // x_world = scale * rotation * x_model + translationMeters.
 struct ModelToWorld {
@@ -97,4 +97,4 @@ SfmReconstruction reconstructionFromColmap(const ColmapModel& model,
                                            const std::map<std::string, int64_t>& frameOfImage,
                                            const SfmOptions& options = {});
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

@@ -94,7 +94,7 @@ class DepthStage : public Stage {
       return;
     }
     if (sfm_) {
-      frame.image.planes["depth"] = colmapFrameDepth(*sfm_, frame.frame, frame.image, dense_);
+      frame.image.planes["depth"] = sfm::colmapFrameDepth(*sfm_, frame.frame, frame.image, dense_);
       return;
     }
     if (perFrame_) {
@@ -156,7 +156,7 @@ class DepthStage : public Stage {
   DepthSettings depth_;
   CameraSettings camera_;
   std::filesystem::path dense_;
-  std::optional<SfmReconstruction> sfm_;
+  std::optional<sfm::SfmReconstruction> sfm_;
   std::optional<DepthSequence> file_;
   CameraPath path_;
   bool perFrame_ = false;

@@ -28,9 +28,9 @@ constexpr const char* kTrackingCameraKeys[] = {"fov_deg", "height_m"};
 
 }  // namespace
 
-ClipTrackingSettings depthTrackingSettings(const DepthSettings& depth,
-                                           const CameraSettings& camera) {
-  ClipTrackingSettings settings;
+sfm::ClipTrackingSettings depthTrackingSettings(const DepthSettings& depth,
+                                                const CameraSettings& camera) {
+  sfm::ClipTrackingSettings settings;
   settings.frameStep = depth.frameStep;
   settings.maxFrames = depth.maxFrames;
   settings.horizontalFovDeg = camera.fovDeg;
@@ -55,44 +55,44 @@ std::string depthTrackingCacheKey(const DepthSettings& depth, const CameraSettin
   return hasher.hex();
 }
 
-SfmReconstruction trackedClipReconstruction(ClipContext& clip, const DepthSettings& depth,
-                                            const CameraSettings& camera) {
+sfm::SfmReconstruction trackedClipReconstruction(ClipContext& clip, const DepthSettings& depth,
+                                                 const CameraSettings& camera) {
   if (const std::string& model = depth.colmapModel; !model.empty()) {
     if (!std::filesystem::exists(std::filesystem::path(model) / "images.txt"))
       throw Error(
           fmt::format("depth.colmap_model: {} holds no COLMAP text model (images.txt)", model),
           {"depth", {}, model});
     const ClipInfo& info = *clip.clip;
-    SfmReconstruction sfm = trackingFromModel(
+    sfm::SfmReconstruction reconstruction = sfm::trackingFromModel(
         model, info.frames, info.isMovie ? std::vector<std::string>{} : info.files,
         depthTrackingSettings(depth, camera).sfm);
-    if (!sfm.ok())
-      throw Error(fmt::format("depth.colmap_model {}: {}", model, sfm.message),
+    if (!reconstruction.ok())
+      throw Error(fmt::format("depth.colmap_model {}: {}", model, reconstruction.message),
                   {"depth", {}, model});
     log::info(fmt::format("depth: COLMAP model {}: {} of {} frames registered", model,
-                          sfm.registeredCount, info.frames.size()));
-    return sfm;
+                          reconstruction.registeredCount, info.frames.size()));
+    return reconstruction;
   }
   const std::string key = depthTrackingCacheKey(depth, camera, *clip.clip);
   if (clip.cache) {
     if (auto cached = clip.cache->load(kCacheStage, key)) {
       try {
-        SfmReconstruction sfm = reconstructionFromJson(*cached);
+        sfm::SfmReconstruction reconstruction = sfm::reconstructionFromJson(*cached);
         log::info(fmt::format("depth: COLMAP tracking from cache ({})",
                               clip.cache->pathFor(kCacheStage, key).string()));
-        return sfm;
+        return reconstruction;
       } catch (const std::exception& e) {
         log::warning(fmt::format("depth: cached tracking {} is unreadable ({}); tracking again",
                                  clip.cache->pathFor(kCacheStage, key).string(), e.what()));
       }
     }
   }
-  ClipTrackingSettings settings = depthTrackingSettings(depth, camera);
+  sfm::ClipTrackingSettings settings = depthTrackingSettings(depth, camera);
   // A workspace per process: farm chunks of one clip may track at the same time.
   const std::string folder = fmt::format("colmap-{}-{}", key, ::getpid());
   settings.workspace = clip.cache ? clip.cache->pathFor(kCacheStage, key).parent_path() / folder
                                   : std::filesystem::temp_directory_path() / ("pluvia-" + folder);
-  const ClipTracking tracking = trackClip(
+  const sfm::ClipTracking tracking = sfm::trackClip(
       clip.clip->frames, [&clip](int64_t frame) { return clip.reader->read(frame); }, settings);
   if (!tracking.run.logPath.empty())
     log::info(fmt::format(
@@ -109,7 +109,7 @@ SfmReconstruction trackedClipReconstruction(ClipContext& clip, const DepthSettin
     throw Error(fmt::format("{}: {}{}", clip.clip->path, tracking.sfm.message, log),
                 {"depth", {}, clip.clip->path});
   }
-  if (clip.cache) clip.cache->store(kCacheStage, key, reconstructionToJson(tracking.sfm));
+  if (clip.cache) clip.cache->store(kCacheStage, key, sfm::reconstructionToJson(tracking.sfm));
   std::error_code ignored;
   std::filesystem::remove_all(settings.workspace, ignored);
   return tracking.sfm;

@@ -12,8 +12,8 @@ namespace pluvia {
 
 // depth.frame_step, depth.max_frames, depth.colmap_image_px, the scale hint (depth.scale) and the
 // camera's field of view. The workspace is left for the caller to choose.
-ClipTrackingSettings depthTrackingSettings(const DepthSettings& depth,
-                                           const CameraSettings& camera);
+sfm::ClipTrackingSettings depthTrackingSettings(const DepthSettings& depth,
+                                                const CameraSettings& camera);
 
 // Hash of what the tracking depends on: the clip, those settings, pluvia's version. Empty when
 // depth.source is not "colmap" or the model is given (depth.colmap_model).
@@ -25,7 +25,7 @@ std::string depthTrackingCacheKey(const DepthSettings& depth, const CameraSettin
 // workspace of its own (in the cache folder, else the system's temporary folder), removed after
 // success and kept, with its log, after a failure. Throws pluvia::Error naming the COLMAP log when
 // COLMAP fails.
-SfmReconstruction trackedClipReconstruction(ClipContext& clip, const DepthSettings& depth,
-                                            const CameraSettings& camera);
+sfm::SfmReconstruction trackedClipReconstruction(ClipContext& clip, const DepthSettings& depth,
+                                                 const CameraSettings& camera);
 
 }  // namespace pluvia
