@@ -130,7 +130,7 @@ void runStrokeBench(const std::string& strokeList, const std::string& size, int 
   renderer.setStrokeAtlas(library.atlas);
   const int strokeCount = static_cast<int>(library.atlas.rects.size());
   rain::ShadingParams shading;  // pluvia's default: the map term alone, c = 0
-  shading.radianceMap = optics::builtinTestEnvironment(128);
+  shading.radianceMap = lab::builtinTestEnvironment(128);
 
   Image background(width, height);
   for (int y = 0; y < height; ++y) {

@@ -19,7 +19,7 @@
 #include "util/log.h"
 #include "util/timer.h"
 
-namespace pluvia {
+namespace pluvia::sfm {
 namespace {
 
 // The registered frame nearest to `frame`: its sparse points are the ones a frame between
@@ -451,4 +451,4 @@ nlohmann::json posesJson(const SfmReconstruction& sfm, const std::vector<int64_t
           {"frames", poses}};
 }
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

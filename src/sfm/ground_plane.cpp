@@ -6,7 +6,7 @@
 
 #include <Eigen/Eigenvalues>
 
-namespace pluvia {
+namespace pluvia::sfm {
 namespace {
 
 // Least-squares plane through points: the normal is the covariance's smallest eigenvector.
@@ -141,4 +141,4 @@ GroundBelowCameras fitGroundBelowCameras(const std::vector<Eigen::Vector3d>& poi
   return result;
 }
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

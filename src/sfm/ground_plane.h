@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-namespace pluvia {
+namespace pluvia::sfm {
 
 struct PlaneFit {
   bool found = false;
@@ -50,4 +50,4 @@ GroundBelowCameras fitGroundBelowCameras(const std::vector<Eigen::Vector3d>& poi
                                          const PlaneFitOptions& options = {},
                                          double maxCameraTiltDeg = 5.0);
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-namespace pluvia {
+namespace pluvia::sfm {
 namespace {
 
 double percentile(std::vector<double> values, double fraction) {
@@ -80,4 +80,4 @@ void checkScaleCues(SfmReconstruction& sfm, const SfmOptions& options) {
   checkSpeed(sfm, options);
 }
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

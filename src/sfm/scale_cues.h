@@ -6,7 +6,7 @@
 // its numbers (SfmReconstruction::warnings), and nothing is changed: the cues can be wrong too.
 #include "sfm/sfm_poses.h"
 
-namespace pluvia {
+namespace pluvia::sfm {
 
 // Fills structureHeightMeters and medianCameraSpeedMetersPerSecond of `sfm` (metric, with its
 // keyframes' heights when it stands on a ground) and appends a warning for each cue that
@@ -14,4 +14,4 @@ namespace pluvia {
 // structures' height, the camera's speed.
 void checkScaleCues(SfmReconstruction& sfm, const SfmOptions& options);
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

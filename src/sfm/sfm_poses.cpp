@@ -10,7 +10,7 @@
 #include "sfm/ground_plane.h"
 #include "sfm/scale_cues.h"
 
-namespace pluvia {
+namespace pluvia::sfm {
 namespace {
 
 // COLMAP camera axes (x right, y down, z forward) <-> pluvia camera axes (x right, y up, z back).
@@ -252,4 +252,4 @@ SfmReconstruction reconstructionFromColmap(const ColmapModel& model,
   return result;
 }
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

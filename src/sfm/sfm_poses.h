@@ -21,7 +21,7 @@
 #include "sfm/colmap_model.h"
 #include "sfm/vertical_lines.h"
 
-namespace pluvia {
+namespace pluvia::sfm {
 
 // x_world = scale * rotation * x_model + translationMeters.
 struct ModelToWorld {
@@ -128,4 +128,4 @@ SfmReconstruction reconstructionFromColmap(const ColmapModel& model,
                                            const SfmOptions& options = {},
                                            const std::filesystem::path& imageFolder = {});
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

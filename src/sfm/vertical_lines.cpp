@@ -11,7 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-namespace pluvia {
+namespace pluvia::sfm {
 namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
@@ -175,4 +175,4 @@ VerticalLineGravity verticalFromLines(const ColmapModel& model,
   return result;
 }
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

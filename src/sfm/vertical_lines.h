@@ -19,7 +19,7 @@
 
 #include "sfm/colmap_model.h"
 
-namespace pluvia {
+namespace pluvia::sfm {
 
 struct VerticalLineOptions {
   double minLengthFraction = 0.04;  // of the image diagonal
@@ -50,4 +50,4 @@ VerticalLineGravity verticalFromLines(const ColmapModel& model,
                                       const std::filesystem::path& imageFolder,
                                       const VerticalLineOptions& options = {});
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

@@ -21,6 +21,7 @@
 #include "util/error.h"
 
 using namespace pluvia;
+using namespace pluvia::sfm;
 
 TEST(SfmColmap, MissingBinaryErrorNamesStepAndLog) {
   auto dir = test::freshTempDir("sfm_colmap_missing");

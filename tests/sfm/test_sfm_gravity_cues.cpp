@@ -10,6 +10,7 @@
 #include "sfm/sfm_poses.h"
 
 using namespace pluvia;
+using namespace pluvia::sfm;
 
 namespace {
 
