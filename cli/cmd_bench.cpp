@@ -119,19 +119,7 @@ RenderTiming timeRenders(gpu::RainRenderer& renderer, const Image& background,
   return {median(wall), median(cpu)};
 }
 
-void runStrokeBench(const std::string& strokeList, const std::string& size, int frames,
-                    bool depthPlane) {
-  const std::vector<int> counts = parseCounts(strokeList);
-  int width = 0, height = 0;
-  parseSize(size, width, height);
-
-  gpu::RainRenderer renderer(width, height);
-  const rain::StrokeLibrary library = rain::loadStrokeLibrary(rain::builtinStrokeLibraryPath());
-  renderer.setStrokeAtlas(library.atlas);
-  const int strokeCount = static_cast<int>(library.atlas.rects.size());
-  rain::ShadingParams shading;  // pluvia's default: the map term alone, c = 0
-  shading.radianceMap = optics::builtinTestEnvironment(128);
-
+Image benchBackground(int width, int height, bool depthPlane) {
   Image background(width, height);
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
@@ -149,40 +137,79 @@ void runStrokeBench(const std::string& strokeList, const std::string& size, int 
       }
     }
   }
+  return background;
+}
+
+gpu::RainBackend parseBackend(const std::string& name) {
+  if (name == "egl") return gpu::RainBackend::Egl;
+  if (name == "cpu") return gpu::RainBackend::Cpu;
+  return gpu::RainBackend::Auto;
+}
+
+// Each backend asked for ("both": EGL, then the CPU rasteriser) times every count on both
+// populations in this one run; with two backends a last table gives the CPU's frames per second
+// over EGL's.
+void runStrokeBench(const std::string& strokeList, const std::string& size, int frames,
+                    bool depthPlane, const std::string& backends) {
+  const std::vector<int> counts = parseCounts(strokeList);
+  int width = 0, height = 0;
+  parseSize(size, width, height);
+  const rain::StrokeLibrary library = rain::loadStrokeLibrary(rain::builtinStrokeLibraryPath());
+  const int strokeCount = static_cast<int>(library.atlas.rects.size());
+  rain::ShadingParams shading;  // pluvia's default: the map term alone, c = 0
+  shading.radianceMap = optics::builtinTestEnvironment(128);
+  const Image background = benchBackground(width, height, depthPlane);
 
   std::cout << fmt::format("bench strokes: {}x{}, {} frames each (median, after 3 warm-up)\n",
                            width, height, frames);
-  std::cout << fmt::format("device: {}\n", renderer.deviceDescription());
   std::cout << fmt::format("atlas: {} strokes ({}x{}); radiance map {}x{}; scene depth: {}\n",
                            strokeCount, library.atlas.width, library.atlas.height,
                            shading.radianceMap.width, shading.radianceMap.height,
                            depthPlane ? "plane 3-50 m" : "none (far)");
   std::cout << "timing: RainRenderer::render end to end (streak upload, draw, read-back, planes)\n";
 
-  const RenderTiming overhead =
-      timeRenders(renderer, background, syntheticStreaks(1, width, height, strokeCount).streaks,
-                  shading, frames);
-  std::cout << fmt::format(
-      "fixed cost per frame (1 streak: uploads, read-back, planes): {:.2f} ms ({:.2f} ms CPU)\n",
-      overhead.wallMs, overhead.cpuMs);
-  for (bool simulated : {false, true}) {
-    std::cout << fmt::format("\n{:>9} {:>10} {:>9} {:>12} {:>9} {:>12}  {}\n", "strokes",
-                             "ms/frame", "fps", "Mpx covered", "Mpx/s", "CPU ms/frame",
-                             simulated ? "simulated rain" : "synthetic stress test");
-    std::string description;
-    for (int count : counts) {
-      const StreakPopulation population =
-          simulated ? simulatedStreaks(count, width, height, library.atlas)
-                    : syntheticStreaks(count, width, height, strokeCount);
-      description = population.description;
-      const RenderTiming t = timeRenders(renderer, background, population.streaks, shading, frames);
-      const double megapixels = population.pixelsCovered / 1e6;
-      std::cout << fmt::format("{:>9} {:>10.2f} {:>9.1f} {:>12.2f} {:>9.1f} {:>12.2f}\n",
-                               population.streaks.size(), t.wallMs, 1000.0 / t.wallMs, megapixels,
-                               megapixels / (t.wallMs / 1000.0), t.cpuMs);
-      std::cout.flush();
+  std::vector<StreakPopulation> populations[2];
+  for (int count : counts) {
+    populations[0].push_back(syntheticStreaks(count, width, height, strokeCount));
+    populations[1].push_back(simulatedStreaks(count, width, height, library.atlas));
+  }
+  const std::vector<std::string> names =
+      backends == "both" ? std::vector<std::string>{"egl", "cpu"} : std::vector{backends};
+  std::vector<std::vector<double>> fps(names.size());  // [backend][population * counts + i]
+  for (size_t b = 0; b < names.size(); ++b) {
+    gpu::RainRenderer renderer(width, height, parseBackend(names[b]));
+    renderer.setStrokeAtlas(library.atlas);
+    std::cout << fmt::format("\nbackend {}: {}\n", names[b], renderer.deviceDescription());
+    const RenderTiming overhead =
+        timeRenders(renderer, background, syntheticStreaks(1, width, height, strokeCount).streaks,
+                    shading, frames);
+    std::cout << fmt::format(
+        "fixed cost per frame (1 streak: uploads, read-back, planes): {:.2f} ms ({:.2f} ms CPU)\n",
+        overhead.wallMs, overhead.cpuMs);
+    for (int simulated = 0; simulated < 2; ++simulated) {
+      std::cout << fmt::format("{:>9} {:>10} {:>9} {:>12} {:>9} {:>12}  {}\n", "strokes",
+                               "ms/frame", "fps", "Mpx covered", "Mpx/s", "CPU ms/frame",
+                               simulated ? "simulated rain" : "synthetic stress test");
+      for (const StreakPopulation& population : populations[simulated]) {
+        const RenderTiming t =
+            timeRenders(renderer, background, population.streaks, shading, frames);
+        const double megapixels = population.pixelsCovered / 1e6;
+        fps[b].push_back(1000.0 / t.wallMs);
+        std::cout << fmt::format("{:>9} {:>10.2f} {:>9.1f} {:>12.2f} {:>9.1f} {:>12.2f}\n",
+                                 population.streaks.size(), t.wallMs, 1000.0 / t.wallMs, megapixels,
+                                 megapixels / (t.wallMs / 1000.0), t.cpuMs);
+        std::cout.flush();
+      }
+      std::cout << "  (" << populations[simulated].front().description << ")\n";
     }
-    std::cout << "  (" << description << ")\n";
+  }
+  if (names.size() == 2) {
+    std::cout << fmt::format("\n{:>9} {:>16} {:>16}  (frames/s, {} over {}, same run)\n", "strokes",
+                             "synthetic", "simulated", names[1], names[0]);
+    for (size_t i = 0; i < counts.size(); ++i) {
+      std::cout << fmt::format("{:>9} {:>16.2f} {:>16.2f}\n", counts[i], fps[1][i] / fps[0][i],
+                               fps[1][counts.size() + i] / fps[0][counts.size() + i]);
+    }
   }
   std::cout << "(CPU ms/frame: all threads of the process, llvmpipe's included; on a shared "
                "machine it varies less than the wall time)\n";
@@ -197,7 +224,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     std::string input, preset = "moderate";
     std::vector<std::string> sets;
     int frames = 48;
-    std::string strokes, size = "720x480";
+    std::string strokes, size = "720x480", backend = "both";
     int64_t drops = 0;
     bool depthPlane = false;
   };
@@ -215,6 +242,10 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
   cmd->add_option("--drops", args->drops,
                   "bench the drop simulation alone (CPU per frame), e.g. 100000")
       ->check(CLI::Range(int64_t(1), int64_t(10000000)));
+  cmd->add_option("--backend", args->backend,
+                  "with --strokes: the rain renderer to time: egl, cpu, auto (as a render "
+                  "chooses) or both (egl then cpu, and their ratio; the default)")
+      ->check(CLI::IsMember({"egl", "cpu", "auto", "both"}));
   cmd->add_flag("--depth-plane", args->depthPlane,
                 "with --strokes: give the frame a scene depth plane (3-50 m)");
   cmd->callback([=, &invocation] {
@@ -224,7 +255,8 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     }
     if (!args->strokes.empty()) {
       const bool framesGiven = cmd->count("--frames") > 0;
-      runStrokeBench(args->strokes, args->size, framesGiven ? args->frames : 30, args->depthPlane);
+      runStrokeBench(args->strokes, args->size, framesGiven ? args->frames : 30, args->depthPlane,
+                     args->backend);
       return;
     }
     stdfs::path folder = stdfs::temp_directory_path() / fmt::format("pluvia-bench-{}", ::getpid());

@@ -34,6 +34,11 @@ void storeRainLayer(const std::vector<float>& rainRgba, Image& frame);
 void compositeRainLayer(const std::vector<float>& radianceLayer, float backgroundWeight,
                         Image& frame);
 
+// The same as compositeRainLayer for a layer already in the planes "rain.R", "rain.G", "rain.B",
+// "rain.A" (the CPU rasteriser draws there): adds c * B * A to the rain planes, composites
+// frame.rgba and sets "matte". Parallel over rows.
+void compositeRainPlanes(float backgroundWeight, Image& frame);
+
 // Sets the rain planes to zero: the result when no streak is drawn.
 void clearRainLayer(Image& frame);
 
