@@ -187,6 +187,7 @@ RainRenderer::RainRenderer(int width, int height, RainBackend backend)
     log::debug("rain renderer: EGL, " + impl_->description);
     return;
   }
+  keepFreedBlocksForTheNextFrame();  // the rain planes of a frame are megabytes too
   impl_->cpu = std::make_unique<StreakRasterCpu>();
   impl_->description =
       fmt::format("CPU streak rasteriser, {} threads{}", tbb::info::default_concurrency(),

@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "gpu/streak_tile.h"
 #include "image/image.h"
 #include "rain/streak_types.h"
 
@@ -40,35 +41,16 @@ class StreakRasterCpu {
 
   // Tile edge in pixels: small enough to give both cores many tiles on a 720x480 frame, large
   // enough that most streaks fall in one or two tiles.
-  static constexpr int kTilePx = 32;
-
-  // What one streak needs, computed once per frame.
-  struct Setup {
-    // The centres cx of row y (centre cy = y + 0.5) that may lie on the quad: from
-    // max(lo[0] + loSlope[0] * cy, lo[1] + ...) to min(hi[0] + hiSlope[0] * cy, hi[1] + ...),
-    // one pair of bounds per matte coordinate (u across, v along); a coordinate that does not
-    // change along a row bounds nothing (-inf, +inf).
-    std::array<float, 2> lo, loSlope, hi, hiSlope;
-    // Matte coordinates at the centre of pixel (x, y), with rx = (x - headPixelX) + headOffsetX
-    // and ry = y + 0.5 - headY: u = 0.5 + (rx * -axisY + ry * axisX) / width, v = (rx * axisX +
-    // ry * axisY + width / 2) / (length + width), as StreakQuad::matteCoordinates.
-    int headPixelX;
-    float headOffsetX, headY, axisX, axisY;
-    float halfWidth, inverseWidth, inverseLengthPlusWidth;
-    float alpha, depthMeters;
-    float rectX0, rectY0, rectWidth, rectHeight;  // in the padded atlas's texels
-    std::array<float, 3> radiance;                // C
-    int x0, y0, x1, y1;                           // pixels that may hold centres (inclusive)
-  };
+  static constexpr int kTilePx = 64;
 
  private:
-  // The atlas with one texel of clamp-to-edge border on every side.
+  // The atlas with one texel of clamp-to-edge border on every side, as PaddedAtlas's quads.
   int paddedWidth_ = 0, paddedHeight_ = 0;
-  std::vector<float> padded_;
+  std::vector<float> quads_;
   std::vector<std::array<float, 4>> rects_;
 
   // Scratch kept between frames: a long clip allocates once.
-  std::vector<Setup> setups_, binned_;
+  std::vector<StreakSetup> setups_, binned_;
   std::vector<size_t> tileStart_, next_;
 };
 
