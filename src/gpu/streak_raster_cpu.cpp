@@ -150,7 +150,8 @@ void StreakRasterCpu::render(Image& frame, const std::vector<rain::StreakInstanc
       const int tx0 = static_cast<int>(t % tilesX) * kTilePx;
       const int ty0 = static_cast<int>(t / tilesX) * kTilePx;
       drawTile(binned_.data() + tileStart_[t], tileStart_[t + 1] - tileStart_[t], atlas, target,
-               tx0, ty0, std::min(tx0 + kTilePx, width) - 1, std::min(ty0 + kTilePx, height) - 1);
+               tx0, ty0, std::min(tx0 + kTilePx, width) - 1, std::min(ty0 + kTilePx, height) - 1,
+               portableOnly_);
     }
   });
   compositeRainPlanes(shading.backgroundWeight, frame);

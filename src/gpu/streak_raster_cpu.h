@@ -31,6 +31,9 @@ namespace pluvia::gpu {
 
 class StreakRasterCpu {
  public:
+  // portableOnly: never the AVX2 path (for the test that compares the two).
+  explicit StreakRasterCpu(bool portableOnly = false) : portableOnly_(portableOnly) {}
+
   void setStrokeAtlas(const rain::StrokeAtlas& atlas);
   int strokeCount() const { return static_cast<int>(rects_.size()); }
 
@@ -44,6 +47,7 @@ class StreakRasterCpu {
   static constexpr int kTilePx = 64;
 
  private:
+  bool portableOnly_;
   // The atlas with one texel of clamp-to-edge border on every side, as PaddedAtlas's quads.
   int paddedWidth_ = 0, paddedHeight_ = 0;
   std::vector<float> quads_;

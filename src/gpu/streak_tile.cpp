@@ -258,8 +258,8 @@ bool cpuHasAvx2() {
 }  // namespace detail
 
 void drawTile(const StreakSetup* streaks, size_t count, const PaddedAtlas& atlas,
-              const TileTarget& target, int x0, int y0, int x1, int y1) {
-  if (detail::cpuHasAvx2() && x1 - x0 + 1 >= 4) {
+              const TileTarget& target, int x0, int y0, int x1, int y1, bool portableOnly) {
+  if (!portableOnly && detail::cpuHasAvx2() && x1 - x0 + 1 >= 4) {
     detail::drawTileAvx2(streaks, count, atlas, target, x0, y0, x1, y1);
   } else {
     detail::drawTilePortable(streaks, count, atlas, target, x0, y0, x1, y1);

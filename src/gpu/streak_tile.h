@@ -49,8 +49,9 @@ struct PaddedAtlas {
 // it in order: the pixels whose centres have u, v in [0, 1] and lie in front of the scene
 // blend alpha * C over the layer, alpha = clamp(matte(u, v) * streak alpha, 0, 1), matte the
 // bilinear atlas sample. Touches no pixel outside the tile.
+// portableOnly: never the AVX2 path.
 void drawTile(const StreakSetup* streaks, size_t count, const PaddedAtlas& atlas,
-              const TileTarget& target, int x0, int y0, int x1, int y1);
+              const TileTarget& target, int x0, int y0, int x1, int y1, bool portableOnly = false);
 
 namespace detail {
 // The two paths, for the test that compares them; drawTile picks one.
