@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <random>
 #include <sstream>
@@ -20,6 +21,8 @@
 #include "commands.h"
 #include "common.h"
 #include "gpu/rain_renderer.h"
+#include "image/color.h"
+#include "image/ops.h"
 #include "lab/test_environment.h"
 #include "pipeline/render_job.h"
 #include "rain/stroke_library.h"
@@ -215,6 +218,65 @@ void runStrokeBench(const std::string& strokeList, const std::string& size, int 
                "machine it varies less than the wall time)\n";
 }
 
+// The per-pixel passes of a render on one frame of `size`: colour in (sRGB to linear), darken,
+// blur, fog, colour out (linear to sRGB) with the `moderate` preset's settings, each timed
+// `frames` times (median wall and process CPU time, after one warm-up), and their sum.
+void runPassBench(const std::string& size, int frames) {
+  int width = 0, height = 0;
+  parseSize(size, width, height);
+  Image plate(width, height);
+  std::mt19937 random(3);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (size_t i = 0; i < plate.pixelCount(); ++i) {
+    for (int c = 0; c < 3; ++c) plate.rgba[i * 4 + c] = std::round(255.0f * unit(random)) / 255.0f;
+  }
+  std::vector<float>& depth = plate.plane("depth");
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      depth[static_cast<size_t>(y) * width + x] =
+          y < height / 3 ? INFINITY : 20.0f * static_cast<float>(height) / (3.0f * y - height + 3);
+    }
+  }
+  const ColorConverter toLinear("sRGB", "linear-rec709"), toSrgb("linear-rec709", "sRGB");
+  struct Pass {
+    const char* name;
+    std::function<void(Image&)> run;
+  };
+  const std::vector<Pass> passes = {
+      {"colour in", [&](Image& i) { toLinear.apply(i); }},
+      {"darken", [](Image& i) { ops::darken(i, 0.2f, 0.5f); }},
+      {"blur", [](Image& i) { ops::gaussianBlur(i, 0.4f); }},
+      {"fog",
+       [](Image& i) {
+         ops::fog(i, 0.0015f, {0.6f, 0.65f, 0.7f}, 2000.0f);
+       }},
+      {"colour out", [&](Image& i) { toSrgb.apply(i); }},
+  };
+  std::cout << fmt::format(
+      "bench passes: {}x{}, moderate's settings, {} runs each (median after 1 warm-up)\n", width,
+      height, frames);
+  std::cout << fmt::format("{:<12} {:>10} {:>12}\n", "pass", "ms/frame", "CPU ms/frame");
+  Image frame = plate;
+  double wallSum = 0.0, cpuSum = 0.0;
+  for (const Pass& pass : passes) {
+    std::vector<double> wall, cpu;
+    for (int i = 0; i <= frames; ++i) {
+      const Image before = frame;
+      const auto started = std::chrono::steady_clock::now();
+      const double cpuStarted = processCpuMs();
+      pass.run(frame);
+      if (i > 0) {
+        wall.push_back(1000.0 * secondsSince(started));
+        cpu.push_back(processCpuMs() - cpuStarted);
+      }
+      if (i < frames) frame = before;  // every run sees the same input
+    }
+    wallSum += median(wall), cpuSum += median(cpu);
+    std::cout << fmt::format("{:<12} {:>10.2f} {:>12.2f}\n", pass.name, median(wall), median(cpu));
+  }
+  std::cout << fmt::format("{:<12} {:>10.2f} {:>12.2f}\n", "all five", wallSum, cpuSum);
+}
+
 }  // namespace
 
 void addBenchCommand(CLI::App& app, Invocation& invocation) {
@@ -226,7 +288,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     int frames = 48;
     std::string strokes, size = "720x480", backend = "both";
     int64_t drops = 0;
-    bool depthPlane = false;
+    bool depthPlane = false, passes = false;
   };
   auto args = std::make_shared<Args>();
   cmd->add_option("INPUT", args->input, "clip to bench; default: the example scaled to 1080p");
@@ -246,11 +308,19 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
                   "with --strokes: the rain renderer to time: egl, cpu, auto (as a render "
                   "chooses) or both (egl then cpu, and their ratio; the default)")
       ->check(CLI::IsMember({"egl", "cpu", "auto", "both"}));
+  cmd->add_flag("--passes", args->passes,
+                "bench the per-pixel passes alone (colour in and out, darken, blur, fog) on one "
+                "frame of --size (default 1920x1080)");
   cmd->add_flag("--depth-plane", args->depthPlane,
                 "with --strokes: give the frame a scene depth plane (3-50 m)");
   cmd->callback([=, &invocation] {
     if (args->drops > 0) {
       runDropBench(args->drops, cmd->count("--frames") > 0 ? args->frames : 30);
+      return;
+    }
+    if (args->passes) {
+      runPassBench(cmd->count("--size") > 0 ? args->size : "1920x1080",
+                   cmd->count("--frames") > 0 ? args->frames : 20);
       return;
     }
     if (!args->strokes.empty()) {

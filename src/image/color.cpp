@@ -1,7 +1,6 @@
 #include "image/color.h"
 
 #include <algorithm>
-#include <exception>
 #include <map>
 #include <memory>
 #include <mutex>

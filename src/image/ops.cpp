@@ -34,11 +34,15 @@ int reflect(int i, int size) {
   return i;
 }
 
+// Kernel radii with their own unrolled loops (the presets' sigmas of 0.4-0.8 px give 2-4);
+// others take the general loop. kAnyRadius marks the general case.
+constexpr int kAnyRadius = 0;
+
 // out = row convolved with the kernel along x, all four channels (alpha's result is unused).
-__attribute__((target_clones("arch=x86-64-v3", "default"))) void blurRow(const float* row,
-                                                                         int width,
-                                                                         const float* weights,
-                                                                         int radius, float* out) {
+template <int kRadius>
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void blurRow(
+    const float* row, int width, const float* weights, int runtimeRadius, float* out) {
+  const int radius = kRadius == kAnyRadius ? runtimeRadius : kRadius;
   auto tap = [&](int x) {
     float sum[4] = {0, 0, 0, 0};
     for (int k = -radius; k <= radius; ++k) {
@@ -49,30 +53,60 @@ __attribute__((target_clones("arch=x86-64-v3", "default"))) void blurRow(const f
   };
   const int interiorFirst = std::min(radius, width), interiorEnd = std::max(width - radius, 0);
   for (int x = 0; x < interiorFirst; ++x) tap(x);
-  // The interior needs no reflection: a plain loop over floats the compiler vectorises.
-  if (interiorFirst < interiorEnd) {
-    const size_t first = static_cast<size_t>(interiorFirst) * 4;
-    const size_t end = static_cast<size_t>(interiorEnd) * 4;
-    std::fill(out + first, out + end, 0.0f);
-    for (int k = -radius; k <= radius; ++k) {
-      const float w = weights[k + radius];
-      const float* in = row + k * 4;
-      for (size_t i = first; i < end; ++i) out[i] += w * in[i];
-    }
+  // The interior needs no reflection: plain loops over floats the compiler vectorises.
+  for (size_t i = static_cast<size_t>(interiorFirst) * 4; i < static_cast<size_t>(interiorEnd) * 4;
+       ++i) {
+    float sum = 0.0f;
+    for (int k = -radius; k <= radius; ++k) sum += weights[k + radius] * row[i + k * 4];
+    out[i] = sum;
   }
   for (int x = std::max(interiorEnd, interiorFirst); x < width; ++x) tap(x);
 }
 
-// out[i] = sum_k weights[k] * rows[k][i] over 2 * radius + 1 rows.
-__attribute__((target_clones("arch=x86-64-v3", "default"))) void sumRows(const float* const* rows,
-                                                                         const float* weights,
-                                                                         int radius, size_t floats,
-                                                                         float* out) {
-  std::fill(out, out + floats, 0.0f);
-  for (int k = 0; k <= 2 * radius; ++k) {
-    const float w = weights[k];
-    const float* in = rows[k];
-    for (size_t i = 0; i < floats; ++i) out[i] += w * in[i];
+// The image row out gets sum_k weights[k] * rows[k] in R, G, B; its alpha is kept.
+template <int kRadius>
+__attribute__((target_clones("arch=x86-64-v3", "default"))) void sumRowsInto(
+    const float* const* rows, const float* weights, int runtimeRadius, size_t floats, float* out) {
+  const int radius = kRadius == kAnyRadius ? runtimeRadius : kRadius;
+  if constexpr (kRadius != kAnyRadius) {
+    // Rows and weights in locals, so the compiler keeps them in registers and vectorises.
+    const float* __restrict in[2 * kRadius + 1];
+    float w[2 * kRadius + 1];
+    for (int k = 0; k <= 2 * kRadius; ++k) in[k] = rows[k], w[k] = weights[k];
+    for (size_t i = 0; i < floats; i += 4) {
+      for (size_t c = 0; c < 3; ++c) {
+        float sum = 0.0f;
+        for (int k = 0; k <= 2 * kRadius; ++k) sum += w[k] * in[k][i + c];
+        out[i + c] = sum;
+      }
+    }
+    return;
+  }
+  for (size_t i = 0; i < floats; ++i) {
+    float sum = 0.0f;
+    for (int k = 0; k <= 2 * radius; ++k) sum += weights[k] * rows[k][i];
+    out[i] = (i & 3) == 3 ? out[i] : sum;
+  }
+}
+
+// The two passes of a kernel radius.
+struct BlurPasses {
+  void (*row)(const float*, int, const float*, int, float*);
+  void (*column)(const float* const*, const float*, int, size_t, float*);
+};
+
+BlurPasses blurPasses(int radius) {
+  switch (radius) {
+    case 1:
+      return {blurRow<1>, sumRowsInto<1>};
+    case 2:
+      return {blurRow<2>, sumRowsInto<2>};
+    case 3:
+      return {blurRow<3>, sumRowsInto<3>};
+    case 4:
+      return {blurRow<4>, sumRowsInto<4>};
+    default:
+      return {blurRow<kAnyRadius>, sumRowsInto<kAnyRadius>};
   }
 }
 
@@ -100,6 +134,7 @@ void gaussianBlur(Image& image, float sigmaPx) {
   const int radius = std::max(1, static_cast<int>(std::ceil(4.0f * sigmaPx)));
   const cv::Mat kernel = cv::getGaussianKernel(2 * radius + 1, sigmaPx, CV_32F);
   const float* weights = kernel.ptr<float>();
+  const BlurPasses passes = blurPasses(radius);
   const int width = image.width, height = image.height;
   const size_t rowFloats = static_cast<size_t>(width) * 4;
   auto inputRow = [&](int y) { return image.rgba.data() + static_cast<size_t>(y) * rowFloats; };
@@ -114,15 +149,15 @@ void gaussianBlur(Image& image, float sigmaPx) {
   tbb::parallel_for(0, bands, [&](int band) {
     const int y0 = band * bandRows, y1 = std::min(y0 + bandRows, height);
     for (int k = 0; k < radius; ++k) {
-      blurRow(inputRow(reflect(y0 - radius + k, height)), width, weights, radius, halo(band, k));
-      blurRow(inputRow(reflect(y1 + k, height)), width, weights, radius, halo(band, radius + k));
+      passes.row(inputRow(reflect(y0 - radius + k, height)), width, weights, radius, halo(band, k));
+      passes.row(inputRow(reflect(y1 + k, height)), width, weights, radius, halo(band, radius + k));
     }
   });
 
   tbb::parallel_for(0, bands, [&](int band) {
     const int y0 = band * bandRows, y1 = std::min(y0 + bandRows, height);
     const int taps = 2 * radius + 1;
-    std::vector<float> ring(static_cast<size_t>(taps) * rowFloats), sum(rowFloats);
+    std::vector<float> ring(static_cast<size_t>(taps) * rowFloats);
     std::vector<const float*> window(static_cast<size_t>(taps));
     // Virtual row j, blurred along x: from the halo outside the band, else blurred now into
     // the ring (rows of the band below the output row are not yet overwritten).
@@ -130,17 +165,14 @@ void gaussianBlur(Image& image, float sigmaPx) {
       if (j < y0) return halo(band, j - (y0 - radius));
       if (j >= y1) return halo(band, radius + (j - y1));
       float* slot = ring.data() + static_cast<size_t>(j % taps) * rowFloats;
-      blurRow(inputRow(j), width, weights, radius, slot);
+      passes.row(inputRow(j), width, weights, radius, slot);
       return slot;
     };
     for (int j = y0 - radius; j < y0 + radius; ++j)
       window[static_cast<size_t>(j - y0 + radius)] = rowAt(j);
     for (int y = y0; y < y1; ++y) {
       window[static_cast<size_t>(taps - 1)] = rowAt(y + radius);
-      sumRows(window.data(), weights, radius, rowFloats, sum.data());
-      float* out = inputRow(y);
-      for (int x = 0; x < width; ++x)
-        std::copy_n(sum.data() + x * 4, 3, out + x * 4);  // alpha kept
+      passes.column(window.data(), weights, radius, rowFloats, inputRow(y));
       std::rotate(window.begin(), window.begin() + 1, window.end());
     }
   });
