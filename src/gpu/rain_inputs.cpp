@@ -4,8 +4,6 @@
 #include <cmath>
 
 #include <fmt/format.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include "gpu/rain_error.h"
 
@@ -148,27 +146,32 @@ void compositeRainLayer(const std::vector<float>& radianceLayer, float backgroun
   frame.planes["matte"] = frame.planes["rain.A"];
 }
 
-void compositeRainPlanes(float backgroundWeight, Image& frame) {
-  float* planes[4] = {frame.plane("rain.R").data(), frame.plane("rain.G").data(),
-                      frame.plane("rain.B").data(), frame.plane("rain.A").data()};
+void compositeRainPixels(float backgroundWeight, const RainPlanes& planes, size_t first,
+                         size_t count) {
   const float c = backgroundWeight;
-  const size_t width = static_cast<size_t>(frame.width);
-  tbb::parallel_for(tbb::blocked_range<int>(0, frame.height, 16), [&](const auto& rows) {
-    for (size_t i = rows.begin() * width; i < rows.end() * width; ++i) {
-      float* background = frame.rgba.data() + i * 4;
-      const float coverage = planes[3][i];
-      for (int ch = 0; ch < 3; ++ch) {
-        // As compositeRainLayer: c = 0 adds nothing, not even 0 * an infinite background.
-        const float rain =
-            c == 0.0f ? planes[ch][i] : planes[ch][i] + c * background[ch] * coverage;
-        planes[ch][i] = rain;
-        if (coverage != 0.0f || rain != 0.0f) {
-          background[ch] = rain + (1.0f - coverage) * background[ch];
-        }
+  for (size_t i = first; i < first + count; ++i) {
+    float* background = planes.rgba + i * 4;
+    const float coverage = planes.a[i];
+    float* rgb[3] = {planes.r + i, planes.g + i, planes.b + i};
+    for (int ch = 0; ch < 3; ++ch) {
+      // As compositeRainLayer: c = 0 adds nothing, not even 0 * an infinite background.
+      const float rain = c == 0.0f ? *rgb[ch] : *rgb[ch] + c * background[ch] * coverage;
+      *rgb[ch] = rain;
+      if (coverage != 0.0f || rain != 0.0f) {
+        background[ch] = rain + (1.0f - coverage) * background[ch];
       }
     }
-  });
-  frame.planes["matte"] = frame.planes["rain.A"];
+    planes.matte[i] = coverage;
+  }
+}
+
+RainPlanes rainPlanesOf(Image& frame) {
+  return {frame.rgba.data(),
+          frame.plane("rain.R").data(),
+          frame.plane("rain.G").data(),
+          frame.plane("rain.B").data(),
+          frame.plane("rain.A").data(),
+          frame.plane("matte").data()};
 }
 
 void clearRainLayer(Image& frame) {

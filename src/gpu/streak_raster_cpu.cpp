@@ -141,20 +141,26 @@ void StreakRasterCpu::render(Image& frame, const std::vector<rain::StreakInstanc
   for (const Setup& s : setups_) forEachTile(s, [&](size_t t) { binned_[next_[t]++] = s; });
 
   const std::vector<float>* depth = frame.findPlane("depth");
-  const TileTarget target{frame.plane("rain.R").data(),    frame.plane("rain.G").data(),
-                          frame.plane("rain.B").data(),    frame.plane("rain.A").data(),
-                          depth ? depth->data() : nullptr, width};
+  const RainPlanes planes = rainPlanesOf(frame);
+  const TileTarget target{planes.r, planes.g, planes.b, planes.a, depth ? depth->data() : nullptr,
+                          width};
   const PaddedAtlas atlas{quads_.data(), paddedWidth_};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles, 1), [&](const auto& range) {
     for (size_t t = range.begin(); t != range.end(); ++t) {
       const int tx0 = static_cast<int>(t % tilesX) * kTilePx;
       const int ty0 = static_cast<int>(t / tilesX) * kTilePx;
+      const int tx1 = std::min(tx0 + kTilePx, width) - 1;
+      const int ty1 = std::min(ty0 + kTilePx, height) - 1;
       drawTile(binned_.data() + tileStart_[t], tileStart_[t + 1] - tileStart_[t], atlas, target,
-               tx0, ty0, std::min(tx0 + kTilePx, width) - 1, std::min(ty0 + kTilePx, height) - 1,
-               portableOnly_);
+               tx0, ty0, tx1, ty1, portableOnly_);
+      // The tile's layer is still in cache: finish Eq. 2 on it now.
+      for (int y = ty0; y <= ty1; ++y) {
+        compositeRainPixels(shading.backgroundWeight, planes,
+                            static_cast<size_t>(y) * width + static_cast<size_t>(tx0),
+                            static_cast<size_t>(tx1 - tx0 + 1));
+      }
     }
   });
-  compositeRainPlanes(shading.backgroundWeight, frame);
 }
 
 }  // namespace pluvia::gpu

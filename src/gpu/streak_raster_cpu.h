@@ -9,7 +9,8 @@
 // [0, 1]; the matte is the atlas sampled bilinearly with clamp-to-edge at (u, v) of the
 // stroke's rectangle; the fragment is dropped behind the scene's depth; the premultiplied layer
 // of alpha * C is blended in drawing order (streak_batches.h); c * B enters afterwards, as
-// compositeRainPlanes() does for both. What differs is the evaluation:
+// compositeRainLayer() does for the EGL path (here tile by tile, compositeRainPixels()). What
+// differs is the evaluation:
 //   - the frame is cut into tiles; each streak is binned (in drawing order) to the tiles its
 //     bounding box touches, and tiles are drawn in parallel (TBB), so every pixel is blended by
 //     one thread in drawing order and the picture does not depend on the thread count;
