@@ -113,19 +113,8 @@ void StreakRasterCpu::render(Image& frame, const std::vector<rain::StreakInstanc
                              const rain::ShadingParams& shading) {
   const int width = frame.width, height = frame.height;
   const size_t count = streaks.size();
-  setups_.resize(count);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1024), [&](const auto& range) {
-    for (size_t i = range.begin(); i != range.end(); ++i) {
-      const auto& rect = rects_[static_cast<size_t>(streaks[i].strokeIndex)];
-      setups_[i] = setupOf(streaks[i], shading, rect, width, height);
-    }
-  });
-
-  // Bin the streaks to tiles in drawing order (a counting sort by tile). Each tile gets its own
-  // copies: a tile then reads its streaks in sequence instead of hopping over all of them.
   const int tilesX = (width + kTilePx - 1) / kTilePx, tilesY = (height + kTilePx - 1) / kTilePx;
   const size_t tiles = static_cast<size_t>(tilesX) * static_cast<size_t>(tilesY);
-  tileStart_.assign(tiles + 1, 0);
   auto forEachTile = [&](const Setup& s, auto&& visit) {
     if (s.x0 > s.x1 || s.y0 > s.y1) return;
     for (int ty = s.y0 / kTilePx; ty <= s.y1 / kTilePx; ++ty) {
@@ -134,11 +123,41 @@ void StreakRasterCpu::render(Image& frame, const std::vector<rain::StreakInstanc
       }
     }
   };
-  for (const Setup& s : setups_) forEachTile(s, [&](size_t t) { ++tileStart_[t + 1]; });
-  for (size_t t = 0; t < tiles; ++t) tileStart_[t + 1] += tileStart_[t];
-  binned_.resize(tileStart_[tiles]);
-  next_.assign(tileStart_.begin(), tileStart_.end() - 1);
-  for (const Setup& s : setups_) forEachTile(s, [&](size_t t) { binned_[next_[t]++] = s; });
+
+  // Bin the streaks to tiles in drawing order: a counting sort by tile, in parallel over chunks
+  // of streaks (chunk k's streaks of a tile follow chunk k - 1's). Each tile gets its own copies:
+  // a tile then reads its streaks in sequence instead of hopping over all of them.
+  const size_t chunks = std::clamp<size_t>(count / kStreaksPerChunk, 1, kMaxChunks);
+  const size_t perChunk = (count + chunks - 1) / chunks;
+  setups_.resize(count);
+  chunkCounts_.assign(chunks * tiles, 0);
+  tbb::parallel_for(size_t{0}, chunks, [&](size_t chunk) {
+    size_t* counts = chunkCounts_.data() + chunk * tiles;
+    for (size_t i = chunk * perChunk; i < std::min(count, (chunk + 1) * perChunk); ++i) {
+      const auto& rect = rects_[static_cast<size_t>(streaks[i].strokeIndex)];
+      setups_[i] = setupOf(streaks[i], shading, rect, width, height);
+      forEachTile(setups_[i], [&](size_t t) { ++counts[t]; });
+    }
+  });
+  // Where each chunk's streaks of each tile start; tileStart_ where each tile's do.
+  tileStart_.assign(tiles + 1, 0);
+  size_t position = 0;
+  for (size_t t = 0; t < tiles; ++t) {
+    tileStart_[t] = position;
+    for (size_t chunk = 0; chunk < chunks; ++chunk) {
+      const size_t n = chunkCounts_[chunk * tiles + t];
+      chunkCounts_[chunk * tiles + t] = position;
+      position += n;
+    }
+  }
+  tileStart_[tiles] = position;
+  binned_.resize(position);
+  tbb::parallel_for(size_t{0}, chunks, [&](size_t chunk) {
+    size_t* next = chunkCounts_.data() + chunk * tiles;
+    for (size_t i = chunk * perChunk; i < std::min(count, (chunk + 1) * perChunk); ++i) {
+      forEachTile(setups_[i], [&](size_t t) { binned_[next[t]++] = setups_[i]; });
+    }
+  });
 
   const std::vector<float>* depth = frame.findPlane("depth");
   const RainPlanes planes = rainPlanesOf(frame);

@@ -46,6 +46,9 @@ class StreakRasterCpu {
   // Tile edge in pixels: small enough to give both cores many tiles on a 720x480 frame, large
   // enough that most streaks fall in one or two tiles.
   static constexpr int kTilePx = 64;
+  // Streaks are set up and binned in parallel chunks of about this many (at most kMaxChunks).
+  static constexpr size_t kStreaksPerChunk = 4096;
+  static constexpr size_t kMaxChunks = 64;
 
  private:
   bool portableOnly_;
@@ -56,7 +59,7 @@ class StreakRasterCpu {
 
   // Scratch kept between frames: a long clip allocates once.
   std::vector<StreakSetup> setups_, binned_;
-  std::vector<size_t> tileStart_, next_;
+  std::vector<size_t> tileStart_, chunkCounts_;
 };
 
 }  // namespace pluvia::gpu
