@@ -16,6 +16,8 @@ namespace {
 
 using Setup = StreakSetup;
 
+constexpr std::array<const char*, 4> kRainPlaneNames = {"rain.R", "rain.G", "rain.B", "rain.A"};
+
 // The pixels whose centres may lie on the quad, as in renderRainCpu's candidatePixels(); an
 // empty range (x0 > x1) when the quad misses the frame.
 void boundingPixels(const StreakQuad& quad, int width, int height, Setup& setup) {
@@ -160,9 +162,12 @@ void StreakRasterCpu::render(Image& frame, const std::vector<rain::StreakInstanc
   });
 
   const std::vector<float>* depth = frame.findPlane("depth");
+  // A frame from the reader has no rain planes: made now, they hold zeros already.
+  const bool fresh = std::none_of(kRainPlaneNames.begin(), kRainPlaneNames.end(),
+                                  [&](const char* name) { return frame.findPlane(name); });
   const RainPlanes planes = rainPlanesOf(frame);
   const TileTarget target{planes.r, planes.g, planes.b, planes.a, depth ? depth->data() : nullptr,
-                          width};
+                          width,    fresh};
   const PaddedAtlas atlas{quads_.data(), paddedWidth_};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles, 1), [&](const auto& range) {
     for (size_t t = range.begin(); t != range.end(); ++t) {

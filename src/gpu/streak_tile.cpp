@@ -34,6 +34,7 @@ inline float comparableDepth(float depthMeters) {
 }
 
 void clearTile(const TileTarget& target, int x0, int y0, int x1, int y1) {
+  if (target.cleared) return;
   for (int y = y0; y <= y1; ++y) {
     const size_t first = static_cast<size_t>(y) * target.width + x0;
     const size_t n = static_cast<size_t>(x1 - x0 + 1);

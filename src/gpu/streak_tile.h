@@ -34,6 +34,7 @@ struct TileTarget {
   float* a;
   const float* depth;  // metres; null: no depth plane (everything far)
   int width;           // of the frame, the planes' row stride
+  bool cleared;        // the planes hold zeros already (just made): no need to clear a tile
 };
 
 // The stroke atlas with one texel of clamp-to-edge border on every side, stored as the 2 x 2
@@ -45,11 +46,11 @@ struct PaddedAtlas {
   int stride;          // texels per row
 };
 
-// Clears the tile [x0, x1] x [y0, y1] (inclusive) of the layer and draws `count` streaks into
-// it in order: the pixels whose centres have u, v in [0, 1] and lie in front of the scene
-// blend alpha * C over the layer, alpha = clamp(matte(u, v) * streak alpha, 0, 1), matte the
-// bilinear atlas sample. Touches no pixel outside the tile.
-// portableOnly: never the AVX2 path.
+// Clears the tile [x0, x1] x [y0, y1] (inclusive) of the layer (unless target.cleared) and draws
+// `count` streaks into it in order: the pixels whose centres have u, v in [0, 1] and lie in front
+// of the scene blend alpha * C over the layer, alpha = clamp(matte(u, v) * streak alpha, 0, 1),
+// matte the bilinear atlas sample. Touches no pixel outside the tile. portableOnly: never the AVX2
+// path.
 void drawTile(const StreakSetup* streaks, size_t count, const PaddedAtlas& atlas,
               const TileTarget& target, int x0, int y0, int x1, int y1, bool portableOnly = false);
 
