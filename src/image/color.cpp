@@ -1,6 +1,7 @@
 #include "image/color.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <exception>
 #include <map>
 #include <mutex>
@@ -12,6 +13,7 @@
 
 #include "util/error.h"
 #include "util/fs.h"
+#include "util/thread_limit.h"
 
 namespace OCIO = OCIO_NAMESPACE;
 
@@ -92,8 +94,9 @@ OCIO::ConstConfigRcPtr buildBuiltinConfig() {
 // process, keyed by config path ("" for the built-in one).
 std::mutex cacheMutex;
 
-OCIO::ConstConfigRcPtr configFor(const std::string& configPath) {
+OCIO::ConstConfigRcPtr configFor(const std::string& given) {
   static std::map<std::string, OCIO::ConstConfigRcPtr> configs;
+  const std::string configPath = chosenConfigPath(given);
   std::lock_guard lock(cacheMutex);
   auto found = configs.find(configPath);
   if (found != configs.end()) return found->second;
@@ -102,12 +105,27 @@ OCIO::ConstConfigRcPtr configFor(const std::string& configPath) {
     config = configPath.empty() ? buildBuiltinConfig()
                                 : OCIO::Config::CreateFromFile(configPath.c_str());
   } catch (const OCIO::Exception& e) {
+    const bool fromEnvironment = given.empty() && !configPath.empty();
     throw Error(std::string("cannot load the OpenColorIO config ") +
-                    (configPath.empty() ? "(built-in)" : configPath) + ": " + e.what(),
+                    (configPath.empty() ? "(built-in)" : configPath) +
+                    (fromEnvironment ? " (from $OCIO)" : "") + ": " + e.what(),
                 {"color", {}, configPath});
   }
   return configs.emplace(configPath, config).first->second;
 }
+
+// Spaces that hold display-encoded sRGB (8-bit files) in the usual configs, best first: the
+// built-in one, the ACES CG and studio configs (OCIO 2), the ACES 1.x config, and plain names.
+constexpr const char* kSrgbEncodedNames[] = {"sRGB",
+                                             "sRGB - Texture",
+                                             "srgb_tx",
+                                             "Utility - sRGB - Texture",
+                                             "sRGB Encoded Rec.709 (sRGB)",
+                                             "srgb_texture",
+                                             "sRGB - Display",
+                                             "srgb_display"};
+// Roles that name such a space when none of the names above exists.
+constexpr const char* kSrgbEncodedRoles[] = {"texture_paint", "matte_paint"};
 
 std::vector<std::string> namesIn(const OCIO::ConstConfigRcPtr& config) {
   std::vector<std::string> names;
@@ -124,8 +142,11 @@ std::string resolveName(const OCIO::ConstConfigRcPtr& config, const std::string&
   std::string available;
   for (const std::string& known : namesIn(config))
     available += (available.empty() ? "" : ", ") + known;
-  throw Error("unknown colour space '" + name + "' (available: " + available + ")",
-              {"color", {}, configPath});
+  const std::string used = chosenConfigPath(configPath);
+  throw Error("unknown colour space '" + name + "' in the config " +
+                  (used.empty() ? std::string("(built-in)") : used) + " (available: " + available +
+                  "; roles such as scene_linear name spaces too)",
+              {"color", {}, used});
 }
 
 OCIO::ConstCPUProcessorRcPtr processorFor(const OCIO::ConstConfigRcPtr& config,
@@ -153,6 +174,43 @@ OCIO::ConstCPUProcessorRcPtr processorFor(const OCIO::ConstConfigRcPtr& config,
 
 }  // namespace
 
+std::string chosenConfigPath(const std::string& configPath) {
+  if (!configPath.empty()) return configPath;
+  const char* environment = std::getenv("OCIO");
+  return environment ? environment : "";
+}
+
+std::string describeConfig(const std::string& configPath) {
+  const std::string used = chosenConfigPath(configPath);
+  if (used.empty()) return "pluvia's built-in config";
+  return used + (configPath.empty() ? " (from $OCIO)" : "");
+}
+
+std::vector<std::string> colorSpaceNamesOf(const std::string& name, const std::string& configPath) {
+  OCIO::ConstConfigRcPtr config = configFor(configPath);
+  OCIO::ConstColorSpaceRcPtr space =
+      config->getColorSpace(resolveName(config, name, configPath).c_str());
+  std::vector<std::string> names{space->getName()};
+  for (size_t i = 0; i < space->getNumAliases(); ++i) names.emplace_back(space->getAlias(i));
+  return names;
+}
+
+std::string srgbEncodedSpace(const std::string& configPath) {
+  OCIO::ConstConfigRcPtr config = configFor(configPath);
+  for (const char* name : kSrgbEncodedNames)
+    if (OCIO::ConstColorSpaceRcPtr space = config->getColorSpace(name)) return space->getName();
+  for (const char* role : kSrgbEncodedRoles)
+    if (config->hasRole(role)) return config->getColorSpace(role)->getName();
+  std::string names;
+  for (const char* name : kSrgbEncodedNames)
+    names += (names.empty() ? "" : ", ") + std::string(name);
+  throw Error("the config " + describeConfig(configPath) +
+                  " has no sRGB-encoded colour space for 8/16-bit files (looked for " + names +
+                  " and the roles texture_paint, matte_paint): set color.input / color.output "
+                  "(or --in-colorspace / --out-colorspace)",
+              {"color", {}, chosenConfigPath(configPath)});
+}
+
 struct ColorConverter::Impl {
   OCIO::ConstCPUProcessorRcPtr processor;
   bool noOp = false;
@@ -168,7 +226,7 @@ ColorConverter::ColorConverter(const std::string& from, const std::string& to,
     impl_->noOp = true;
     return;
   }
-  impl_->processor = processorFor(config, configPath, fromName, toName);
+  impl_->processor = processorFor(config, chosenConfigPath(configPath), fromName, toName);
   impl_->noOp = impl_->processor->isNoOp();
 }
 
@@ -182,8 +240,7 @@ bool ColorConverter::isNoOp() const {
 
 void ColorConverter::apply(Image& image) const {
   if (impl_->noOp || image.empty()) return;
-  const int hardwareThreads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const int bands = std::clamp(image.height / kMinRowsPerBand, 1, hardwareThreads);
+  const int bands = std::clamp(image.height / kMinRowsPerBand, 1, threadLimit());
   const int rowsPerBand = (image.height + bands - 1) / bands;
   const ptrdiff_t pixelBytes = 4 * sizeof(float);
   // RGB only, read with the RGBA buffer's strides: OCIO never sees (or changes) alpha.

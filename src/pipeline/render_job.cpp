@@ -1,5 +1,6 @@
 #include "pipeline/render_job.h"
 
+#include <algorithm>
 #include <condition_variable>
 #include <deque>
 #include <exception>
@@ -14,8 +15,10 @@
 #include "image/color.h"
 #include "image/ops.h"
 #include "io/clip_writer.h"
+#include "io/color_tags.h"
 #include "io/output_lock.h"
 #include "io/sequence_pattern.h"
+#include "io/timecode.h"
 #include "io/written_frame.h"
 #include "pipeline/cache.h"
 #include "pipeline/frame_metadata.h"
@@ -85,19 +88,33 @@ class ErrorSlot {
   std::exception_ptr error_;
 };
 
+// "auto": float files are scene-linear (the config's scene_linear role), integer ones
+// display-encoded sRGB (the config's space for it: image/color.h).
 std::string resolveInputSpace(const Preset& p, const ClipInfo& clip) {
   std::string space = p.string("color.input");
-  if (space == "auto") return clip.isFloat ? "linear-rec709" : "sRGB";
+  if (space == "auto")
+    return clip.isFloat ? "scene_linear" : srgbEncodedSpace(p.string("color.config"));
   return space;
 }
 
+// "auto": EXR and HDR get the working space, other formats display-encoded sRGB.
 std::string resolveOutputSpace(const Preset& p, const std::string& output) {
   std::string space = p.string("color.output");
-  if (space == "auto") return outputIsLinear(output) ? "linear-rec709" : "sRGB";
+  if (space == "auto")
+    return outputIsLinear(output) ? p.string("color.working")
+                                  : srgbEncodedSpace(p.string("color.config"));
   return space;
 }
 
 std::vector<int64_t> selectFrames(const RenderRequest& request, const ClipInfo& clip) {
+  for (int64_t f : request.frameList) {
+    if (!std::binary_search(clip.frames.begin(), clip.frames.end(), f)) {
+      throw Error(fmt::format("frame {} of --frames is not in {} (it has frames {}-{})", f,
+                              clip.path, clip.frames.front(), clip.frames.back()),
+                  {"read", f, clip.path});
+    }
+  }
+  if (!request.frameList.empty()) return request.frameList;
   std::vector<int64_t> frames;
   for (int64_t f : clip.frames) {
     if (request.firstFrame && f < *request.firstFrame) continue;
@@ -216,12 +233,37 @@ std::optional<ArtifactCache> openCache(const RenderRequest& request, const ClipI
                        fmt::format("proxy-{}x{}", clip.width, clip.height));
 }
 
+// What the input says about itself goes on to the output (io/clip_reader.h): camera and lens
+// fields as they are, the timecode counted on to the first frame rendered, and an EXR's data
+// window (scaled with a proxy).
+void carryInputMetadata(WriterOptions& options, const ClipInfo& clip,
+                        const std::vector<int64_t>& frames, double proxyScale) {
+  for (const auto& [key, value] : clip.metadata)
+    if (key != "smpte:TimeCode") options.metadata[key] = value;
+  auto timecode = clip.metadata.find("smpte:TimeCode");
+  if (timecode != clip.metadata.end()) {
+    if (auto start = Timecode::parse(timecode->second, options.fps)) {
+      options.timecode = start->plus(frames.front() - clip.frames.front());
+      options.firstFrame = frames.front();
+    } else {
+      log::warning(
+          fmt::format("the timecode '{}' of {} does not read as HH:MM:SS:FF at {:g} fps: "
+                      "not carried to the output",
+                      timecode->second, clip.path, options.fps));
+    }
+  }
+  if (clip.dataWindow && proxyScale == 1.0) options.dataWindow = clip.dataWindow;
+}
+
 WriterOptions writerOptionsFor(const RenderRequest& request, const Preset& preset,
-                               const ClipInfo& clip) {
-  WriterOptions options;
+                               const ClipInfo& clip, const std::vector<int64_t>& frames) {
+  WriterOptions options = request.format;
   options.fps = preset.number("camera.fps") > 0 ? preset.number("camera.fps") : clip.fps;
   options.aovs = request.aovs;
   options.metadata = frameMetadata(preset);
+  carryInputMetadata(options, clip, frames, request.proxyScale);
+  options.color = colorTagsFor(
+      colorSpaceNamesOf(resolveOutputSpace(preset, request.output), preset.string("color.config")));
   // A proxy frame must never pass for a final one: it says so in its header.
   if (request.proxyScale != 1.0)
     options.metadata["pluvia:proxy"] =
@@ -245,8 +287,12 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
                  preset.string("color.config")),
       toOutput_(preset.string("color.working"), resolveOutputSpace(preset, request.output),
                 preset.string("color.config")),
-      writerOptions_(writerOptionsFor(request, preset, clip())) {
+      writerOptions_(writerOptionsFor(request, preset, clip(), frames_)) {
   log::info("command: " + request.commandLine);
+  log::info(fmt::format("colour: {} -> {} (working) -> {}, config: {}",
+                        resolveInputSpace(preset, clip()), preset.string("color.working"),
+                        resolveOutputSpace(preset, request.output),
+                        describeConfig(preset.string("color.config"))));
   // The bounded copy the frames record: a preset with a 50 MB description stays out of the log.
   log::info("preset (resolved): " + writerOptions_.metadata.at("pluvia:preset"));
   log::info("plan:\n" + plan_.text());
@@ -436,7 +482,7 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset,
         } catch (...) {
           error.set(std::current_exception());
         }
-        progress.step();
+        progress.step(frame->frame);
       }
     });
   }

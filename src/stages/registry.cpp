@@ -5,9 +5,9 @@
 namespace pluvia {
 
 const std::vector<StageInfo>& allStages() {
-  static const std::vector<StageInfo> stages{derainStageInfo(), environmentStageInfo(), depthStageInfo(),
-                                             darkenStageInfo(), blurStageInfo(),        fogStageInfo(),
-                                             rainStageInfo()};
+  static const std::vector<StageInfo> stages{
+      derainStageInfo(), environmentStageInfo(), depthStageInfo(), darkenStageInfo(),
+      blurStageInfo(),   fogStageInfo(),         rainStageInfo()};
   return stages;
 }
 
@@ -69,10 +69,40 @@ SectionSpec colorSection() {
   s.name = "color";
   s.help = "OpenColorIO colour spaces at the two ends; everything between is scene-linear float.";
   s.params = {
-      {"input", ParamType::String, "auto", {}, {}, {}, "", "input colour space; auto: linear-rec709 for EXR/HDR, sRGB otherwise"},
-      {"working", ParamType::String, "linear-rec709", {}, {}, {}, "", "scene-linear working space"},
-      {"output", ParamType::String, "auto", {}, {}, {}, "", "output colour space; auto: linear-rec709 for EXR, sRGB otherwise"},
-      {"config", ParamType::String, "", {}, {}, {}, "", "path of an .ocio config; empty uses pluvia's built-in one"},
+      {"input",
+       ParamType::String,
+       "auto",
+       {},
+       {},
+       {},
+       "",
+       "input colour space (name, alias or role); auto: scene_linear for EXR/HDR, the config's "
+       "sRGB space otherwise (--in-colorspace)"},
+      {"working",
+       ParamType::String,
+       "scene_linear",
+       {},
+       {},
+       {},
+       "",
+       "scene-linear working space (the config's scene_linear role by default)"},
+      {"output",
+       ParamType::String,
+       "auto",
+       {},
+       {},
+       {},
+       "",
+       "output colour space; auto: the working space for EXR/HDR, the config's sRGB space "
+       "otherwise (--out-colorspace)"},
+      {"config",
+       ParamType::String,
+       "",
+       {},
+       {},
+       {},
+       "",
+       "path of an .ocio config; empty: $OCIO, else pluvia's built-in one"},
   };
   return s;
 }
