@@ -127,7 +127,12 @@ std::vector<unsigned char> encode(Encoding encoding, size_t pixels,
 void describe(OIIO::ImageSpec& spec, const std::string& extension,
               const ImageFileOptions& options) {
   if (const ColorTags* color = options.color) {
-    if (!color->name.empty()) spec.attribute("oiio:ColorSpace", color->name);
+    if (!color->name.empty()) {
+      spec.attribute("oiio:ColorSpace", color->name);
+      // OpenImageIO keeps no "oiio:" attribute in an EXR header: there the name goes into a
+      // string attribute of its own.
+      if (extension == "exr") spec.attribute("colorspace", color->name);
+    }
     if (extension == "exr" && color->chromaticities) {
       spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8),
                      color->chromaticities->data());

@@ -100,6 +100,9 @@ class MovieReader final : public ClipReader {
     }
     argv.insert(argv.end(),
                 {"-f", "rawvideo", "-pix_fmt", sampleBytes_ == 2 ? "rgb48le" : "rgb24", "pipe:1"});
+    std::string command;
+    for (const std::string& arg : argv) command += (command.empty() ? "" : " ") + arg;
+    log::debug("decoding: " + command);
     decoder_.emplace(argv);
     next_ = first;
     raw_.resize(frameBytes());

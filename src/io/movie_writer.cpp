@@ -56,8 +56,9 @@ struct MovieCodec {
   std::string name;
   std::vector<std::string> arguments;  // -c:v ... -pix_fmt ...
   std::vector<std::string> containers;
-  bool chromaSubsampled = false;  // 4:2:x: chroma shared by 2 columns (an even width)
-  bool yuv420 = false;            // 4:2:0: and by 2 rows (an even height)
+  bool chromaSubsampled = false;    // 4:2:x: chroma shared by 2 columns (an even width)
+  bool yuv420 = false;              // 4:2:0: and by 2 rows (an even height)
+  int minWidth = 1, minHeight = 1;  // DNxHR's smallest frame is 256x120
 };
 
 // The codecs, with what each needs: libx264 at 4:2:0 (every player), ProRes 4444 (12-bit
@@ -80,14 +81,24 @@ const std::vector<MovieCodec>& codecs() {
       {"dnxhr_hq",
        {"-c:v", "dnxhd", "-profile:v", "dnxhr_hq", "-pix_fmt", "yuv422p"},
        {"mov", "mkv"},
-       true},
+       true,
+       false,
+       256,
+       120},
       {"dnxhr_hqx",
        {"-c:v", "dnxhd", "-profile:v", "dnxhr_hqx", "-pix_fmt", "yuv422p10le"},
        {"mov", "mkv"},
-       true},
+       true,
+       false,
+       256,
+       120},
       {"dnxhr_444",
        {"-c:v", "dnxhd", "-profile:v", "dnxhr_444", "-pix_fmt", "yuv444p10le"},
-       {"mov", "mkv"}},
+       {"mov", "mkv"},
+       false,
+       false,
+       256,
+       120},
   };
   return kCodecs;
 }
@@ -111,22 +122,18 @@ const MovieCodec& movieCodec(const std::string& name, const std::string& path) {
   return *found;
 }
 
-// The colour tags, and the matrix ffmpeg converts our RGB to YUV with: the tagged one, so that
-// a player decoding by the tag gets our RGB back (ffmpeg's default is BT.601's).
-std::vector<std::string> colorArguments(const ColorTags& tags, const MovieCodec&) {
+// The matrix ffmpeg converts our RGB to YUV with, and the colour tags, set on the frames so
+// that the encoder and the container both carry them (ffmpeg 5.1 takes the stream's tags from
+// the frames: its -color_* options alone leave ProRes untagged). The matrix is the tagged
+// one, so a player decoding by the tag gets our RGB back; ffmpeg's own default is BT.601's.
+std::vector<std::string> colorArguments(const ColorTags& tags) {
   const std::string matrix = tags.movieMatrix.empty() ? "bt709" : tags.movieMatrix;
-  std::vector<std::string> args{
-      "-vf",
-      "scale=out_color_matrix=" + std::string(matrix == "bt2020nc" ? "bt2020" : matrix) +
-          ":out_range=tv",
-      "-colorspace",
-      matrix,
-      "-color_range",
-      "tv"};
-  if (!tags.moviePrimaries.empty())
-    args.insert(args.end(), {"-color_primaries", tags.moviePrimaries});
-  if (!tags.movieTransfer.empty()) args.insert(args.end(), {"-color_trc", tags.movieTransfer});
-  return args;
+  std::string filter =
+      fmt::format("scale=out_color_matrix={}:out_range=tv,setparams=range=tv:colorspace={}",
+                  matrix == "bt2020nc" ? "bt2020" : matrix, matrix);
+  if (!tags.moviePrimaries.empty()) filter += ":color_primaries=" + tags.moviePrimaries;
+  if (!tags.movieTransfer.empty()) filter += ":color_trc=" + tags.movieTransfer;
+  return {"-vf", filter};
 }
 
 class MovieWriter final : public ClipWriter {
@@ -145,6 +152,11 @@ class MovieWriter final : public ClipWriter {
           fmt::format("cannot write the movie {} at {} frames per second", path, options.fps),
           {"write", {}, path});
     }
+    if (width < codec_.minWidth || height < codec_.minHeight) {
+      throw Error(fmt::format("the codec {} needs frames of at least {}x{}; {} would be {}x{}",
+                              codec_.name, codec_.minWidth, codec_.minHeight, path, width, height),
+                  {"write", {}, path});
+    }
     if (!programAvailable("ffmpeg")) {
       throw Error("ffmpeg is needed to write the movie " + path + " but is not on PATH",
                   {"write", {}, path});
@@ -159,8 +171,8 @@ class MovieWriter final : public ClipWriter {
                                   "-i",       "-"};
     argv.insert(argv.end(), codec.arguments.begin(), codec.arguments.end());
     argv.insert(argv.end(), {"-threads", std::to_string(threadLimit())});
-    argv.insert(argv.end(), colorArguments(options.color, codec).begin(),
-                colorArguments(options.color, codec).end());
+    const std::vector<std::string> color = colorArguments(options.color);
+    argv.insert(argv.end(), color.begin(), color.end());
     if (options.timecode) {
       argv.insert(argv.end(), {"-timecode", options.timecode->text()});
     }

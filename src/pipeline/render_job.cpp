@@ -296,6 +296,11 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
   // The bounded copy the frames record: a preset with a 50 MB description stays out of the log.
   log::info("preset (resolved): " + writerOptions_.metadata.at("pluvia:preset"));
   log::info("plan:\n" + plan_.text());
+  log::debug(fmt::format(
+      "input: {}x{}, {} bits a sample, {:g} fps; output tagged '{}'{}{}", clip().width,
+      clip().height, clip().bitsPerSample, writerOptions_.fps, writerOptions_.color.name,
+      writerOptions_.timecode ? ", timecode " + writerOptions_.timecode->text() : std::string(),
+      writerOptions_.dataWindow ? ", the input's data window" : ""));
   if (request.proxyScale != 1.0)
     log::info(fmt::format("proxy render (not a final): {}x{}, {:g} of the plate's size",
                           clip().width, clip().height, request.proxyScale));
