@@ -16,11 +16,11 @@ namespace pluvia {
 
 ReadPipe::ReadPipe(const std::vector<std::string>& argv) {
   char errorTemplate[] = "/tmp/pluvia-pipe-XXXXXX";
-  stderrFd_ = mkstemp(errorTemplate);
+  stderrFd_ = mkostemp(errorTemplate, O_CLOEXEC);
   if (stderrFd_ < 0) throw Error("cannot create a temporary file to run " + argv.at(0));
   unlink(errorTemplate);
   int fds[2];
-  if (pipe(fds) != 0) throw Error("cannot create a pipe to run " + argv.at(0));
+  if (pipe2(fds, O_CLOEXEC) != 0) throw Error("cannot create a pipe to run " + argv.at(0));
   std::vector<char*> args;
   for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
   args.push_back(nullptr);
