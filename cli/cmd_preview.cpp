@@ -66,7 +66,8 @@ void addPreviewCommand(CLI::App& app, Invocation& invocation) {
   auto args = std::make_shared<Args>();
   addClipPresetOptions(cmd, args->input, args->preset, args->sets);
   cmd->add_option("-o,--output", args->output, "the contact sheet, SHEET.png")->required();
-  cmd->add_option("--frames", args->frames, "FIRST-LAST to sample from, in the clip's numbers");
+  cmd->add_option("--frames", args->frames,
+                  "FIRST-LAST (or a stepped or comma list) to sample from, in the clip's numbers");
   cmd->add_option("--count", args->count, "frames on the sheet, spread evenly (default 3)");
   cmd->add_option("--proxy", args->proxy,
                   fmt::format("render at this fraction of the plate's size, in (0, 1] (default: "
@@ -83,9 +84,7 @@ void addPreviewCommand(CLI::App& app, Invocation& invocation) {
     request.input = args->input;
     request.output = args->output;  // refused when it names an input file; sets the colour-out
     if (!args->frames.empty()) {
-      auto [first, last] = parseFrameRange(args->frames);
-      request.firstFrame = first;
-      request.lastFrame = last;
+      setFrames(request, args->frames);
     }
     request.cacheDir = args->cache;
     request.aovs = {"rain"};

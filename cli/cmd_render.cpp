@@ -9,6 +9,7 @@
 #include "util/error.h"
 #include "util/interrupt.h"
 #include "util/log.h"
+#include "util/thread_limit.h"
 
 namespace pluvia::cli {
 
@@ -16,6 +17,7 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
   auto* cmd = app.add_subcommand("render", "render rained frames from a clip");
   struct Args {
     std::string input, output, preset, frames, cache, aov;
+    std::string codec = "h264", exrType = "half", exrCompression = "piz";
     std::vector<std::string> sets;
     int threads = 2;
     double proxy = 1.0;
@@ -26,8 +28,20 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
   cmd->add_option("-o,--output", args->output,
                   "sequence pattern (out.####.exr/png/tif/dpx) or movie (out.mp4)")
       ->required();
-  cmd->add_option("--frames", args->frames, "FIRST-LAST, in the clip's frame numbers");
-  cmd->add_option("--threads", args->threads, "writer threads")->check(CLI::Range(1, 64));
+  cmd->add_option("--frames", args->frames,
+                  "FIRST-LAST, FIRST-LASTxSTEP or a comma list (1001-1100x2,1150), in the clip's "
+                  "frame numbers");
+  cmd->add_option("--threads", args->threads,
+                  "threads for every pool: decoding, colour conversion, encoding (default 2)")
+      ->check(CLI::Range(1, 64));
+  cmd->add_option("--codec", args->codec,
+                  "movie codec: h264 (default), prores_4444, prores_422hq, dnxhr_hq, dnxhr_hqx, "
+                  "dnxhr_444 (ProRes and DNxHR in .mov or .mkv)");
+  cmd->add_option("--exr-type", args->exrType, "EXR samples: half (default) or float")
+      ->check(CLI::IsMember({"half", "float"}));
+  cmd->add_option("--exr-compression", args->exrCompression,
+                  "EXR compression: piz (default), zip, zips, dwaa, dwab, b44, b44a, pxr24, rle, "
+                  "none");
   cmd->add_option("--cache", args->cache, "cache folder for per-clip analysis");
   cmd->add_flag("--skip-existing", args->skipExisting,
                 "leave frames that already exist (resume a job)");
@@ -41,11 +55,12 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
     request.input = args->input;
     request.output = args->output;
     if (!args->frames.empty()) {
-      auto [first, last] = parseFrameRange(args->frames);
-      request.firstFrame = first;
-      request.lastFrame = last;
+      setFrames(request, args->frames);
     }
     request.threads = args->threads;
+    request.format.codec = args->codec;
+    request.format.exrSampleType = args->exrType;
+    request.format.exrCompression = args->exrCompression;
     request.cacheDir = args->cache;
     request.skipExisting = args->skipExisting;
     request.commandLine = invocation.commandLine;
@@ -63,6 +78,7 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
     }
     Preset preset = loadPresetForProxy(args->preset, args->sets, args->proxy);
     InterruptHandlers stopCleanly;
+    const ThreadLimit threadCap(args->threads);
     StageTimes times;
     auto started = std::chrono::steady_clock::now();
     RenderSummary summary = renderJob(request, preset, allStages(), times);

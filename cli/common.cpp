@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "io/frame_list.h"
 #include "stages/blur_settings.h"
 #include "stages/lighting_settings.h"
 #include "stages/registry.h"
@@ -33,6 +34,16 @@ std::pair<int64_t, int64_t> parseFrameRange(const std::string& text) {
   if (last < first)
     throw UsageError(fmt::format("--frames '{}': the last frame comes before the first", text));
   return {first, last};
+}
+
+void setFrames(RenderRequest& request, const std::string& text) {
+  std::vector<int64_t> frames = parseFrameList(text);
+  if (isContiguous(frames)) {
+    request.firstFrame = frames.front();
+    request.lastFrame = frames.back();
+  } else {
+    request.frameList = std::move(frames);
+  }
 }
 
 void checkProxyScale(double scale) {
@@ -119,6 +130,19 @@ void addClipPresetOptions(CLI::App* cmd, std::string& input, std::string& preset
   cmd->add_option("-p,--preset", preset, "preset name (drizzle, moderate, heavy, storm) or path")
       ->required();
   cmd->add_option("--set", sets, "override KEY=VALUE (dotted key path, e.g. rain.rate_mm_h=40)");
+  // Shorthands for the colour keys: the same overrides, applied after any --set.
+  cmd->add_option_function<std::string>(
+      "--in-colorspace",
+      [&sets](const std::string& space) { sets.push_back("color.input=" + space); },
+      "input colour space (name, alias or role in the OCIO config): --set color.input=SPACE");
+  cmd->add_option_function<std::string>(
+      "--out-colorspace",
+      [&sets](const std::string& space) { sets.push_back("color.output=" + space); },
+      "output colour space: --set color.output=SPACE");
+  cmd->add_option_function<std::string>(
+      "--ocio", [&sets](const std::string& path) { sets.push_back("color.config=" + path); },
+      "OpenColorIO config file (default: $OCIO, else pluvia's built-in config): "
+      "--set color.config=FILE");
 }
 
 }  // namespace pluvia::cli

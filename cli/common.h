@@ -9,12 +9,16 @@
 
 #include <CLI/CLI.hpp>
 
+#include "pipeline/render_job.h"
 #include "preset/preset.h"
 
 namespace pluvia::cli {
 
 // "1001-1048" or "12" -> (first, last). Throws UsageError naming the text.
 std::pair<int64_t, int64_t> parseFrameRange(const std::string& text);
+// --frames of render and preview: a range sets the request's first and last frame, a stepped or
+// comma list ("1001-1100x2", "1,5,9") its frame list (io/frame_list.h). Throws UsageError.
+void setFrames(RenderRequest& request, const std::string& text);
 // --proxy: throws UsageError unless `scale` is in (0, 1].
 void checkProxyScale(double scale);
 // Resolves a preset against the full schema (every stage's table).

@@ -29,8 +29,14 @@ int main(int argc, char** argv) {
   app.footer(kExitCodes);
   app.set_version_flag("--version", std::string("pluvia ") + kVersion);
   app.require_subcommand(1);
-  bool quiet = false;
+  // -q, -v and --log belong to the program, and may stand anywhere on the line: before the
+  // command or among its options (a farm template appends them at the end).
+  app.fallthrough();
+  bool quiet = false, verbose = false;
+  std::string logFile;
   app.add_flag("-q,--quiet", quiet, "only warnings and errors");
+  app.add_flag("-v,--verbose", verbose, "debug messages too");
+  app.add_option("--log", logFile, "append every message and progress line to FILE too");
 
   cli::Invocation invocation;
   invocation.commandLine = cli::joinCommandLine(argc, argv);
@@ -46,12 +52,15 @@ int main(int argc, char** argv) {
   cli::addStrokesCommand(app, invocation);
   cli::addEnvmapCommand(app, invocation);
   cli::addDepthCommand(app, invocation);
-  app.parse_complete_callback(
-      [&] { log::setLevel(quiet ? log::Level::Warning : log::Level::Info); });
+  app.parse_complete_callback([&] {
+    log::setLevel(quiet ? log::Level::Warning : verbose ? log::Level::Debug : log::Level::Info);
+    if (!logFile.empty()) log::setFile(logFile);
+  });
 
   // CLI11 would only say "a subcommand is required" for a mistyped command: name it.
   for (int i = 1; i < argc; ++i) {
     std::string word = argv[i];
+    if (word == "--log") ++i;  // its FILE is not a command
     if (word.rfind('-', 0) == 0) continue;
     std::vector<std::string> names;
     for (const auto* sub : app.get_subcommands({})) names.push_back(sub->get_name());

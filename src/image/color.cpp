@@ -1,6 +1,7 @@
 #include "image/color.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -97,8 +98,9 @@ OCIO::ConstConfigRcPtr buildBuiltinConfig() {
 // process, keyed by config path ("" for the built-in one).
 std::mutex cacheMutex;
 
-OCIO::ConstConfigRcPtr configFor(const std::string& configPath) {
+OCIO::ConstConfigRcPtr configFor(const std::string& given) {
   static std::map<std::string, OCIO::ConstConfigRcPtr> configs;
+  const std::string configPath = chosenConfigPath(given);
   std::lock_guard lock(cacheMutex);
   auto found = configs.find(configPath);
   if (found != configs.end()) return found->second;
@@ -107,12 +109,27 @@ OCIO::ConstConfigRcPtr configFor(const std::string& configPath) {
     config = configPath.empty() ? buildBuiltinConfig()
                                 : OCIO::Config::CreateFromFile(configPath.c_str());
   } catch (const OCIO::Exception& e) {
+    const bool fromEnvironment = given.empty() && !configPath.empty();
     throw Error(std::string("cannot load the OpenColorIO config ") +
-                    (configPath.empty() ? "(built-in)" : configPath) + ": " + e.what(),
+                    (configPath.empty() ? "(built-in)" : configPath) +
+                    (fromEnvironment ? " (from $OCIO)" : "") + ": " + e.what(),
                 {"color", {}, configPath});
   }
   return configs.emplace(configPath, config).first->second;
 }
+
+// Spaces that hold display-encoded sRGB (8-bit files) in the usual configs, best first: the
+// built-in one, the ACES CG and studio configs (OCIO 2), the ACES 1.x config, and plain names.
+constexpr const char* kSrgbEncodedNames[] = {"sRGB",
+                                             "sRGB - Texture",
+                                             "srgb_tx",
+                                             "Utility - sRGB - Texture",
+                                             "sRGB Encoded Rec.709 (sRGB)",
+                                             "srgb_texture",
+                                             "sRGB - Display",
+                                             "srgb_display"};
+// Roles that name such a space when none of the names above exists.
+constexpr const char* kSrgbEncodedRoles[] = {"texture_paint", "matte_paint"};
 
 std::vector<std::string> namesIn(const OCIO::ConstConfigRcPtr& config) {
   std::vector<std::string> names;
@@ -129,8 +146,11 @@ std::string resolveName(const OCIO::ConstConfigRcPtr& config, const std::string&
   std::string available;
   for (const std::string& known : namesIn(config))
     available += (available.empty() ? "" : ", ") + known;
-  throw Error("unknown colour space '" + name + "' (available: " + available + ")",
-              {"color", {}, configPath});
+  const std::string used = chosenConfigPath(configPath);
+  throw Error("unknown colour space '" + name + "' in the config " +
+                  (used.empty() ? std::string("(built-in)") : used) + " (available: " + available +
+                  "; roles such as scene_linear name spaces too)",
+              {"color", {}, used});
 }
 
 // A processor and, when it has no channel crosstalk, its lookup table (transfer_lut.h).
@@ -176,6 +196,43 @@ Conversion conversionFor(const OCIO::ConstConfigRcPtr& config, const std::string
 
 }  // namespace
 
+std::string chosenConfigPath(const std::string& configPath) {
+  if (!configPath.empty()) return configPath;
+  const char* environment = std::getenv("OCIO");
+  return environment ? environment : "";
+}
+
+std::string describeConfig(const std::string& configPath) {
+  const std::string used = chosenConfigPath(configPath);
+  if (used.empty()) return "pluvia's built-in config";
+  return used + (configPath.empty() ? " (from $OCIO)" : "");
+}
+
+std::vector<std::string> colorSpaceNamesOf(const std::string& name, const std::string& configPath) {
+  OCIO::ConstConfigRcPtr config = configFor(configPath);
+  OCIO::ConstColorSpaceRcPtr space =
+      config->getColorSpace(resolveName(config, name, configPath).c_str());
+  std::vector<std::string> names{space->getName()};
+  for (size_t i = 0; i < space->getNumAliases(); ++i) names.emplace_back(space->getAlias(i));
+  return names;
+}
+
+std::string srgbEncodedSpace(const std::string& configPath) {
+  OCIO::ConstConfigRcPtr config = configFor(configPath);
+  for (const char* name : kSrgbEncodedNames)
+    if (OCIO::ConstColorSpaceRcPtr space = config->getColorSpace(name)) return space->getName();
+  for (const char* role : kSrgbEncodedRoles)
+    if (config->hasRole(role)) return config->getColorSpace(role)->getName();
+  std::string names;
+  for (const char* name : kSrgbEncodedNames)
+    names += (names.empty() ? "" : ", ") + std::string(name);
+  throw Error("the config " + describeConfig(configPath) +
+                  " has no sRGB-encoded colour space for 8/16-bit files (looked for " + names +
+                  " and the roles texture_paint, matte_paint): set color.input / color.output "
+                  "(or --in-colorspace / --out-colorspace)",
+              {"color", {}, chosenConfigPath(configPath)});
+}
+
 struct ColorConverter::Impl {
   Conversion conversion;
   bool noOp = false;
@@ -191,7 +248,7 @@ ColorConverter::ColorConverter(const std::string& from, const std::string& to,
     impl_->noOp = true;
     return;
   }
-  impl_->conversion = conversionFor(config, configPath, fromName, toName);
+  impl_->conversion = conversionFor(config, chosenConfigPath(configPath), fromName, toName);
   impl_->noOp = impl_->conversion.processor->isNoOp();
 }
 

@@ -1,6 +1,8 @@
 #pragma once
-// Colour management through OpenColorIO. The config is built in code from OCIO's built-in
-// transforms (Debian's OCIO 2.1 has no built-in config), or loaded from `configPath`.
+// Colour management through OpenColorIO. The config is the one at `configPath`, else the one
+// $OCIO names (as every OCIO application does), else pluvia's own, built in code from OCIO's
+// built-in transforms (Debian's OCIO 2.1 has no built-in config). Colour spaces are named by
+// their names, their aliases or a role ("scene_linear").
 // Colour spaces of the built-in config:
 //   "linear-rec709"  scene-linear, Rec.709 primaries (the default working space)
 //   "ACEScg"         scene-linear, AP1 primaries
@@ -18,7 +20,8 @@ namespace pluvia {
 class ColorConverter {
  public:
   // Throws pluvia::Error naming the colour space when one is unknown.
-  ColorConverter(const std::string& from, const std::string& to, const std::string& configPath = "");
+  ColorConverter(const std::string& from, const std::string& to,
+                 const std::string& configPath = "");
   ~ColorConverter();
   ColorConverter(ColorConverter&&) noexcept;
   ColorConverter& operator=(ColorConverter&&) noexcept;
@@ -30,6 +33,17 @@ class ColorConverter {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// The config file used for `configPath`: itself, else $OCIO, else "" (the built-in config).
+std::string chosenConfigPath(const std::string& configPath);
+// The config used, for logs: "PATH", "PATH (from $OCIO)" or "pluvia's built-in config".
+std::string describeConfig(const std::string& configPath);
+// A space's name in the config, then its aliases. Throws pluvia::Error when it is unknown.
+std::vector<std::string> colorSpaceNamesOf(const std::string& name,
+                                           const std::string& configPath = "");
+// The config's space for display-encoded sRGB files (PNG, JPEG, 8-bit movies): "sRGB" or its
+// usual names in the ACES configs, or the texture_paint role. Throws when there is none.
+std::string srgbEncodedSpace(const std::string& configPath = "");
 
 // Names of the colour spaces available (built-in config or the given one).
 std::vector<std::string> colorSpaceNames(const std::string& configPath = "");

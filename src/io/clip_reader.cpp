@@ -53,6 +53,9 @@ void describeFirstFrame(ClipInfo& info, const std::string& path, int64_t frame) 
   info.height = header.height;
   info.channels = header.channels;
   info.isFloat = header.isFloat;
+  info.bitsPerSample = header.bitsPerSample;
+  info.dataWindow = header.dataWindow;
+  info.metadata = header.metadata;
 }
 
 // Gaps are not an error here (a render may cover only the frames that exist), but reading a

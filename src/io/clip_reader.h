@@ -1,27 +1,36 @@
 #pragma once
-// Reading clips: a movie file (OpenCV videoio over FFmpeg), an image sequence (OpenImageIO:
-// EXR, DPX, TIFF, PNG, JPEG, HDR) or a single image. Frames come back as float RGBA in the
-// file's own encoding (no colour conversion here: see image/color.h), alpha 1 where absent,
+// Reading clips: a movie file (an ffmpeg process, at the file's bit depth), an image sequence
+// (OpenImageIO: EXR, DPX, TIFF, PNG, JPEG, HDR) or a single image. Frames come back as float RGBA
+// in the file's own encoding (no colour conversion here: see image/color.h), alpha 1 where absent,
 // grayscale expanded to RGB, 8/16-bit normalised to 0..1, half and float as they are.
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "image/image.h"
+#include "io/pixel_window.h"
 
 namespace pluvia {
 
 struct ClipInfo {
-  std::string path;                 // as given by the user
-  std::vector<int64_t> frames;      // frame numbers, in order (sequences keep theirs; movies 0..N-1)
+  std::string path;             // as given by the user
+  std::vector<int64_t> frames;  // frame numbers, in order (sequences keep theirs; movies 0..N-1)
   int width = 0;
   int height = 0;
-  double fps = 24.0;                // from the movie; 24 for sequences and stills unless told
+  double fps = 24.0;  // from the movie; 24 for sequences and stills unless told
   bool isMovie = false;
-  bool isFloat = false;             // EXR/HDR/float TIFF: scene-linear by convention
-  int channels = 3;                 // as stored in the file
-  std::vector<std::string> files;   // the files read (one for a movie or a still); for hashing
+  bool isFloat = false;   // EXR/HDR/float TIFF: scene-linear by convention
+  int channels = 3;       // as stored in the file
+  int bitsPerSample = 8;  // as stored: 8, 10, 12, 16 (integer), 16 or 32 (float)
+  // What the input says about itself, to be carried to the output, in OpenImageIO's names:
+  // "smpte:TimeCode", "Make", "Model", ... (see io/movie_probe.h, io/image_file_reader.h).
+  std::map<std::string, std::string> metadata;
+  // The first frame's data window where it is not the whole frame (EXR), clipped to the frame.
+  std::optional<PixelWindow> dataWindow;
+  std::vector<std::string> files;  // the files read (one for a movie or a still); for hashing
 };
 
 class ClipReader {

@@ -123,10 +123,18 @@ class ImageSequenceWriter final : public ClipWriter {
         aovFiles.push_back(aovFile(aov, image, frame));
       }
     }
-    writeImageFile(path, width_, height_, channels, options_.metadata, frame);
+    ImageFileOptions fileOptions;
+    fileOptions.exrFullFloat = options_.exrSampleType == "float";
+    fileOptions.exrCompression = options_.exrCompression;
+    fileOptions.dataWindow = options_.dataWindow;
+    if (options_.timecode)
+      fileOptions.timecode = options_.timecode->plus(frame - options_.firstFrame);
+    // AOV files hold mattes, depth and rain alone: only the beauty is tagged with a colour space.
     for (const auto& [aovPath, aovSamples] : aovFiles) {
-      writeImageFile(aovPath, width_, height_, aovSamples, options_.metadata, frame);
+      writeImageFile(aovPath, width_, height_, aovSamples, options_.metadata, frame, fileOptions);
     }
+    fileOptions.color = &options_.color;
+    writeImageFile(path, width_, height_, channels, options_.metadata, frame, fileOptions);
   }
 
   void close() override {}
@@ -186,6 +194,11 @@ std::unique_ptr<ClipWriter> openClipWriter(const std::string& output, int width,
   }
   if (width <= 0 || height <= 0) {
     throw Error(fmt::format("cannot write {}: frame size {}x{} is empty", output, width, height),
+                {"write", {}, output});
+  }
+  if (options.exrSampleType != "half" && options.exrSampleType != "float") {
+    throw Error(fmt::format("unknown EXR sample type '{}' for {} (known: half, float)",
+                            options.exrSampleType, output),
                 {"write", {}, output});
   }
   if (isMovieFormat && !options.aovs.empty()) {

@@ -1,14 +1,20 @@
 #pragma once
-// Writing clips: an image sequence (EXR half with metadata, PNG 8-bit, TIFF 16-bit, DPX 10-bit,
-// JPEG) through OpenImageIO, or a movie (mp4/mov through an ffmpeg process, libx264).
+// Writing clips: an image sequence (EXR half or float with metadata, PNG 8-bit, TIFF 16-bit,
+// DPX 10-bit, JPEG) through OpenImageIO, or a movie (an ffmpeg process: H.264, ProRes 4444 or
+// 422 HQ, DNxHR), each tagged with the colour space its RGB is in.
 // Every sequence frame is written to a temporary file and renamed into place, so a killed job
 // never leaves a truncated frame. A movie is encoded to a temporary file and renamed on close().
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "image/image.h"
+#include "io/color_tags.h"
+#include "io/pixel_window.h"
+#include "io/timecode.h"
 
 namespace pluvia {
 
@@ -21,6 +27,22 @@ struct WriterOptions {
   // they are extra channels of the same file, for other formats separate files
   // "<prefix>.<aov>.<frame><suffix>".
   std::vector<std::string> aovs;
+  // Movies: "h264" (mp4/mov/mkv/m4v), "prores_4444", "prores_422hq", "dnxhr_hq", "dnxhr_hqx",
+  // "dnxhr_444" (mov/mkv). See movieCodecs().
+  std::string codec = "h264";
+  // EXR: "half" or "float" samples, and the compression as OpenImageIO names it (see
+  // exrCompressions()).
+  std::string exrSampleType = "half";
+  std::string exrCompression = "piz";
+  // The colour space the frames' RGB is in, as the files say it (io/color_tags.h).
+  ColorTags color;
+  // The input's timecode at frame `firstFrame`: frame f gets it plus (f - firstFrame). A
+  // sequence writes each frame's into its header (EXR, DPX), a movie its first frame's.
+  std::optional<Timecode> timecode;
+  int64_t firstFrame = 0;
+  // EXR: the data window to write, inside the frame (the input's, carried through); pixels
+  // outside it are not stored. Empty: the whole frame.
+  std::optional<PixelWindow> dataWindow;
 };
 
 class ClipWriter {

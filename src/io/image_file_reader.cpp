@@ -9,6 +9,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "io/oiio_message.h"
+#include "io/timecode.h"
 #include "util/error.h"
 
 namespace pluvia {
@@ -64,10 +65,57 @@ void expandChannels(Image& image, int channelsRead) {
 
 }  // namespace
 
+const std::vector<std::string>& carriedMetadataNames() {
+  static const std::vector<std::string> kNames{"Make",
+                                               "Model",
+                                               "Exif:LensModel",
+                                               "Exif:FocalLength",
+                                               "FNumber",
+                                               "ExposureTime",
+                                               "Exif:ISOSpeedRatings",
+                                               "Exif:BodySerialNumber",
+                                               "cameraMake",
+                                               "cameraModel",
+                                               "cameraSerialNumber",
+                                               "lensMake",
+                                               "lensModel",
+                                               "lensSerialNumber",
+                                               "dpx:InputDevice",
+                                               "dpx:InputDeviceSerialNumber",
+                                               "smpte:TimeCode"};
+  return kNames;
+}
+
 ImageFileHeader readImageHeader(const std::string& path, std::optional<int64_t> frame) {
   std::unique_ptr<OIIO::ImageInput> input = openImage(path, frame);
   const OIIO::ImageSpec& spec = input->spec();
-  return {spec.full_width, spec.full_height, spec.nchannels, isFloatFormat(spec)};
+  ImageFileHeader header;
+  header.width = spec.full_width;
+  header.height = spec.full_height;
+  header.channels = spec.nchannels;
+  header.isFloat = isFloatFormat(spec);
+  header.bitsPerSample =
+      spec.get_int_attribute("oiio:BitsPerSample", static_cast<int>(spec.format.size() * 8));
+  const int x0 = std::max(spec.x, spec.full_x), y0 = std::max(spec.y, spec.full_y);
+  const int x1 = std::min(spec.x + spec.width, spec.full_x + spec.full_width);
+  const int y1 = std::min(spec.y + spec.height, spec.full_y + spec.full_height);
+  const PixelWindow window{x0 - spec.full_x, y0 - spec.full_y, x1 - x0, y1 - y0};
+  if (window.width > 0 && window.height > 0 &&
+      !(window == PixelWindow{0, 0, spec.full_width, spec.full_height})) {
+    header.dataWindow = window;
+  }
+  for (const std::string& name : carriedMetadataNames()) {
+    const OIIO::ParamValue* value = spec.find_attribute(name);
+    if (!value) continue;
+    if (value->type() == OIIO::TypeTimeCode) {
+      // Held as two SMPTE words; as text here, so every format and the log can carry it.
+      header.metadata[name] =
+          Timecode::textOfSmpteWord(static_cast<const uint32_t*>(value->data())[0]);
+    } else {
+      header.metadata[name] = value->get_string();
+    }
+  }
+  return header;
 }
 
 Image readImageFile(const std::string& path, std::optional<int64_t> frame) {

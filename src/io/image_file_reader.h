@@ -1,10 +1,13 @@
 #pragma once
 // One image file through OpenImageIO, as pluvia's float RGBA (see clip_reader.h for the rules).
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "image/image.h"
+#include "io/pixel_window.h"
 
 namespace pluvia {
 
@@ -13,7 +16,17 @@ struct ImageFileHeader {
   int height = 0;
   int channels = 0;      // as stored
   bool isFloat = false;  // half or float samples
+  int bitsPerSample = 8;
+  // The data window, clipped to the frame, where it is not the whole frame.
+  std::optional<PixelWindow> dataWindow;
+  // Metadata to carry to the output (see carriedMetadataNames()): timecode as
+  // "smpte:TimeCode" = "HH:MM:SS:FF", camera and lens fields as text.
+  std::map<std::string, std::string> metadata;
 };
+
+// The header fields carried from an input to the output: timecode, and the camera, lens and
+// exposure fields in OpenImageIO's names.
+const std::vector<std::string>& carriedMetadataNames();
 
 // Reads only the header. Throws pluvia::Error naming the file (and frame, when given).
 ImageFileHeader readImageHeader(const std::string& path, std::optional<int64_t> frame);

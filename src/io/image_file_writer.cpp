@@ -1,6 +1,7 @@
 #include "io/image_file_writer.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -9,29 +10,32 @@
 #include <Imath/half.h>
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "io/oiio_message.h"
 #include "io/sequence_pattern.h"
 #include "util/error.h"
 #include "util/fs.h"
+#include "util/thread_limit.h"
 
 namespace pluvia {
 namespace {
 
 // Compression, measured on a 1920x1080 RGBA street frame with grain, 2 loaded cores:
-//  EXR half: none 47 ms / 16.6 MB, PIZ 52 ms / 6.9 MB, ZIP 131 ms / 6.8 MB: PIZ, the faster of
+//  EXR half: none 47 ms / 16.6 MB, PIZ 52 ms / 6.9 MB, ZIP 131 ms / 6.8 MB: PIZ (the default
+//    of ImageFileOptions), the faster of
 //    the lossless two (and quick for compositors to read);
 //  PNG 8-bit: zlib level 1 170 ms / 3.6 MB against the default (6) 704 ms / 3.1 MB;
 //  TIFF 16-bit: zip level 1 318 ms / 11.1 MB against the default (zip 6) 954 ms / 10.6 MB.
-constexpr const char* kExrCompression = "piz";
 constexpr int kPngZlibLevel = 1;
 constexpr const char* kTiffCompression = "zip:1";
 constexpr int kJpegQuality = 95;
 
 enum class Encoding { Uint8, Uint16, Dpx10, Half, Float };
 
-Encoding encodingFor(const std::string& extension) {
-  if (extension == "exr") return Encoding::Half;
+Encoding encodingFor(const std::string& extension, const ImageFileOptions& options) {
+  if (extension == "exr") return options.exrFullFloat ? Encoding::Float : Encoding::Half;
   if (extension == "hdr") return Encoding::Float;
   if (extension == "tif" || extension == "tiff") return Encoding::Uint16;
   if (extension == "dpx") return Encoding::Dpx10;
@@ -119,9 +123,36 @@ std::vector<unsigned char> encode(Encoding encoding, size_t pixels,
   return bytes;
 }
 
+// What the file says about its colour and its time (see io/color_tags.h, io/timecode.h).
+void describe(OIIO::ImageSpec& spec, const std::string& extension,
+              const ImageFileOptions& options) {
+  if (const ColorTags* color = options.color) {
+    if (!color->name.empty()) {
+      spec.attribute("oiio:ColorSpace", color->name);
+      // OpenImageIO keeps no "oiio:" attribute in an EXR header: there the name goes into a
+      // string attribute of its own.
+      if (extension == "exr") spec.attribute("colorspace", color->name);
+    }
+    if (extension == "exr" && color->chromaticities) {
+      spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8),
+                     color->chromaticities->data());
+    }
+    if (extension == "dpx") {
+      if (!color->dpxTransfer.empty()) spec.attribute("dpx:Transfer", color->dpxTransfer);
+      if (!color->dpxColorimetric.empty())
+        spec.attribute("dpx:Colorimetric", color->dpxColorimetric);
+    }
+  }
+  if (options.timecode && (extension == "exr" || extension == "dpx")) {
+    const std::array<uint32_t, 2> words = options.timecode->smpteWords();
+    spec.attribute("smpte:TimeCode", OIIO::TypeTimeCode, words.data());
+  }
+}
+
 OIIO::ImageSpec makeSpec(const std::string& extension, Encoding encoding, int width, int height,
                          const std::vector<OutputChannel>& channels,
-                         const std::map<std::string, std::string>& metadata) {
+                         const std::map<std::string, std::string>& metadata,
+                         const ImageFileOptions& options) {
   const OIIO::TypeDesc fileType = encoding == Encoding::Half    ? OIIO::TypeDesc::HALF
                                   : encoding == Encoding::Float ? OIIO::TypeDesc::FLOAT
                                   : encoding == Encoding::Uint8 ? OIIO::TypeDesc::UINT8
@@ -140,7 +171,7 @@ OIIO::ImageSpec makeSpec(const std::string& extension, Encoding encoding, int wi
       spec.channelformats.push_back(sampleType(encoding, channel));
   }
   if (encoding == Encoding::Dpx10) spec.attribute("oiio:BitsPerSample", 10);
-  if (extension == "exr") spec.attribute("compression", kExrCompression);
+  if (extension == "exr") spec.attribute("compression", options.exrCompression);
   if (extension == "png") spec.attribute("png:compressionLevel", kPngZlibLevel);
   if (extension == "tif" || extension == "tiff") spec.attribute("compression", kTiffCompression);
   if (extension == "jpg" || extension == "jpeg")
@@ -162,10 +193,23 @@ OIIO::ImageSpec makeSpec(const std::string& extension, Encoding encoding, int wi
   const bool describes =
       extension == "tif" || extension == "tiff" || extension == "jpg" || extension == "jpeg";
   if (describes && !description.empty()) spec.attribute("ImageDescription", description);
+  describe(spec, extension, options);
+  if (extension == "exr" && options.dataWindow) {
+    spec.x = options.dataWindow->x;
+    spec.y = options.dataWindow->y;
+    spec.width = options.dataWindow->width;
+    spec.height = options.dataWindow->height;
+  }
   return spec;
 }
 
 }  // namespace
+
+const std::vector<std::string>& exrCompressions() {
+  static const std::vector<std::string> kCompressions{"none",  "rle", "zips", "zip",  "piz",
+                                                      "pxr24", "b44", "b44a", "dwaa", "dwab"};
+  return kCompressions;
+}
 
 const std::vector<std::string>& imageOutputExtensions() {
   static const std::vector<std::string> kExtensions{"exr",  "hdr", "png", "tif",
@@ -176,13 +220,34 @@ const std::vector<std::string>& imageOutputExtensions() {
 void writeImageFile(const std::string& path, int width, int height,
                     const std::vector<OutputChannel>& channels,
                     const std::map<std::string, std::string>& metadata,
-                    std::optional<int64_t> frame) {
+                    std::optional<int64_t> frame, const ImageFileOptions& options) {
   const ErrorContext context{"write", frame, path};
   const std::string extension = lowerExtension(path);
-  const Encoding encoding = encodingFor(extension);
-  const OIIO::ImageSpec spec = makeSpec(extension, encoding, width, height, channels, metadata);
+  const std::vector<std::string>& compressions = exrCompressions();
+  if (extension == "exr" && std::find(compressions.begin(), compressions.end(),
+                                      options.exrCompression) == compressions.end()) {
+    throw Error(fmt::format("unknown EXR compression '{}' for {} (known: {})",
+                            options.exrCompression, path, fmt::join(compressions, ", ")),
+                context);
+  }
+  if (const auto& window = options.dataWindow) {
+    if (window->width <= 0 || window->height <= 0 || window->x < 0 || window->y < 0 ||
+        window->x + window->width > width || window->y + window->height > height) {
+      throw Error(
+          fmt::format("data window {}x{} at ({}, {}) is not inside the {}x{} frame of {}",
+                      window->width, window->height, window->x, window->y, width, height, path),
+          context);
+    }
+  }
+  const Encoding encoding = encodingFor(extension, options);
+  const OIIO::ImageSpec spec =
+      makeSpec(extension, encoding, width, height, channels, metadata, options);
   const std::vector<unsigned char> pixels =
       encode(encoding, static_cast<size_t>(width) * height, channels);
+  // The data window's first pixel and the frame's row length: only the window is stored.
+  const size_t pixelBytes = pixels.size() / (static_cast<size_t>(width) * height);
+  const unsigned char* first =
+      pixels.data() + (static_cast<size_t>(spec.y) * width + spec.x) * pixelBytes;
 
   // Encoded into memory, then written by fs::writeFileAtomically, which checks every step down
   // to the disk: OIIO's own file writers miss some failures (a PNG on a full disk came out
@@ -192,12 +257,16 @@ void writeImageFile(const std::string& path, int width, int height,
   OIIO::ImageSpec memorySpec = spec;
   void* proxy = &memory;
   memorySpec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+  // OpenImageIO's and OpenEXR's pools keep to --threads too (util/thread_limit.h).
+  OIIO::attribute("threads", threadLimit());
+  OIIO::attribute("exr_threads", threadLimit());
   std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(path);
   if (!out) throw Error("cannot write " + path + ": " + oiioMessage(OIIO::geterror()), context);
   // The file's name only: DPX records it in its header, and a frame must not depend on the folder.
   const std::string fileName = std::filesystem::path(path).filename().string();
-  bool encoded =
-      out->open(fileName, memorySpec) && out->write_image(OIIO::TypeUnknown, pixels.data());
+  bool encoded = out->open(fileName, memorySpec) &&
+                 out->write_image(OIIO::TypeUnknown, first, static_cast<OIIO::stride_t>(pixelBytes),
+                                  static_cast<OIIO::stride_t>(pixelBytes * width));
   encoded = out->close() && encoded;
   if (!encoded || fileBytes.empty())
     throw Error("cannot encode " + path + ": " + oiioMessage(out->geterror()), context);

@@ -9,6 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "io/color_tags.h"
+#include "io/pixel_window.h"
+#include "io/timecode.h"
+
 namespace pluvia {
 
 // One channel of the file, gathered from pluvia's buffers.
@@ -19,6 +23,20 @@ struct OutputChannel {
   bool fullFloat = false;  // EXR: 32-bit float instead of half (depth in metres)
 };
 
+// How a file is written beyond its extension's defaults.
+struct ImageFileOptions {
+  bool exrFullFloat = false;           // EXR: every channel 32-bit float instead of half
+  std::string exrCompression = "piz";  // EXR: as OpenImageIO names it (exrCompressions())
+  const ColorTags* color = nullptr;    // the colour space: EXR chromaticities, oiio:ColorSpace,
+                                       // DPX transfer and colorimetric fields
+  std::optional<Timecode> timecode;    // EXR and DPX headers
+  // EXR: the data window (inside the frame); only its pixels are stored. Others: ignored.
+  std::optional<PixelWindow> dataWindow;
+};
+
+// EXR compressions ImageFileOptions::exrCompression may name.
+const std::vector<std::string>& exrCompressions();
+
 // Extensions writeImageFile() accepts, lower case.
 const std::vector<std::string>& imageOutputExtensions();
 
@@ -28,6 +46,6 @@ const std::vector<std::string>& imageOutputExtensions();
 void writeImageFile(const std::string& path, int width, int height,
                     const std::vector<OutputChannel>& channels,
                     const std::map<std::string, std::string>& metadata,
-                    std::optional<int64_t> frame);
+                    std::optional<int64_t> frame, const ImageFileOptions& options = {});
 
 }  // namespace pluvia

@@ -3,39 +3,53 @@
 #include <algorithm>
 #include <cmath>
 #include <mutex>
+#include <optional>
 
 #include <fmt/format.h>
-#include <opencv2/core.hpp>
-#include <opencv2/videoio.hpp>
 
+#include "io/movie_probe.h"
 #include "util/error.h"
+#include "util/log.h"
+#include "util/read_pipe.h"
+#include "util/thread_limit.h"
 
 namespace pluvia {
 namespace {
 
 // Up to this many frames ahead, decoding forward is cheaper than a seek (which decodes from
 // the previous keyframe anyway).
-constexpr int64_t kMaxForwardGrabFrames = 16;
+constexpr int64_t kMaxForwardSkipFrames = 16;
 // Containers that estimate their frame count from the duration may be off by a frame or 1 %.
 constexpr double kFrameCountSlack = 0.01;
 
+// Frames come from an ffmpeg process writing raw RGB to a pipe: rgb24 for 8-bit movies (the
+// same codes OpenCV gave) and rgb48le for deeper ones (10-bit DNxHR, 12-bit ProRes 4444), so
+// that every bit the file holds reaches the float frame. A variable-rate movie is conformed to
+// its nominal rate by ffmpeg's fps filter: a frame held on screen repeats, as an editor shows it.
 class MovieReader final : public ClipReader {
  public:
-  explicit MovieReader(const std::string& path) {
+  explicit MovieReader(const std::string& path) : probe_(probeMovie(path)) {
     info_.path = path;
     info_.isMovie = true;
     info_.files = {path};
-    open();
-    double fps = capture_.get(cv::CAP_PROP_FPS);
-    info_.fps = std::isfinite(fps) && fps > 0 ? fps : 24.0;
-    int64_t frames = countFrames();
+    info_.fps = probe_.fps;
+    info_.width = probe_.width;
+    info_.height = probe_.height;
+    info_.channels = 3;
+    info_.bitsPerSample = probe_.bitsPerSample;
+    info_.metadata = probe_.metadata;
+    sampleBytes_ = probe_.bitsPerSample > 8 ? 2 : 1;
+    if (info_.width <= 0 || info_.height <= 0)
+      throw Error("movie has no picture (zero size): " + path, {"read", {}, path});
+    if (probe_.variableRate) {
+      log::warning(fmt::format(
+          "movie {} has a variable frame rate ({} coded frames): conformed to its nominal {} fps "
+          "as {} frames, a held frame repeating",
+          path, probe_.packets, fmt::format("{:g}", probe_.fps), probe_.frames));
+    }
+    const int64_t frames = countFrames();
     if (frames == 0) throw Error("movie has no decodable frames: " + path, {"read", {}, path});
     for (int64_t i = 0; i < frames; ++i) info_.frames.push_back(i);
-    // Decoding frame 0 gives the size as decoded (rotation applied); kept for the first read.
-    pending_ = decodeAt(0);
-    info_.width = pending_.cols;
-    info_.height = pending_.rows;
-    info_.channels = pending_.channels();
   }
 
   const ClipInfo& info() const override { return info_; }
@@ -47,125 +61,117 @@ class MovieReader final : public ClipReader {
                               info_.frames.size() - 1),
                   {"read", frame, info_.path});
     }
-    cv::Mat bgr;
-    if (!pending_.empty() && frame == 0) {
-      bgr = pending_;  // decoded while opening
-    } else {
-      bgr = decodeAt(frame);
-    }
-    pending_.release();
-    if (bgr.cols != info_.width || bgr.rows != info_.height) {
-      throw Error(fmt::format("frame {} of {} is {}x{}, the movie started at {}x{}", frame,
-                              info_.path, bgr.cols, bgr.rows, info_.width, info_.height),
+    if (!decoder_ || frame < next_ || frame - next_ > kMaxForwardSkipFrames) startAt(frame);
+    if (!decoder_->skip((frame - next_) * frameBytes()) ||
+        !decoder_->readExactly(raw_.data(), raw_.size())) {
+      const std::string why = decoder_->errorText();
+      decoder_.reset();
+      throw Error(fmt::format("cannot decode frame {} of movie {} (truncated or corrupt file?){}",
+                              frame, info_.path, why),
                   {"read", frame, info_.path});
     }
-    return toImage(bgr);
+    next_ = frame + 1;
+    return toImage();
   }
 
  private:
-  void open() {
-    capture_.release();
-    if (!capture_.open(info_.path, cv::CAP_FFMPEG)) {
-      throw Error(
-          "cannot open movie " + info_.path + " (not a movie FFmpeg can decode, or truncated)",
-          {"read", {}, info_.path});
-    }
-    next_ = 0;
+  size_t frameBytes() const {
+    return static_cast<size_t>(info_.width) * info_.height * 3 * sampleBytes_;
   }
 
-  // The container's frame count is a hint (estimated from the duration in some containers,
-  // wrong for truncated files): check that its last frame decodes and that none follow, and
-  // count by decoding everything only when that check fails. Decoding that stops short of the
-  // count by more than an estimate's rounding is a truncated or corrupt file: an error naming
-  // the first frame that does not decode, rather than a render of the frames before it.
-  int64_t countFrames() {
-    const double hint = capture_.get(cv::CAP_PROP_FRAME_COUNT);
-    const bool hinted = std::isfinite(hint) && hint >= 1;
-    int64_t frames = 0;
-    if (hinted && seekTo(static_cast<int64_t>(hint) - 1) && capture_.grab()) {
-      frames = static_cast<int64_t>(hint);
-    } else {
-      open();
+  // Starts ffmpeg so that the next frame it writes is `frame`. A constant-rate movie seeks
+  // (ffmpeg decodes from the keyframe before and drops what comes before the time asked for,
+  // half a frame early so rounding cannot drop the frame itself); a conformed variable-rate one
+  // decodes from the start, since its frame numbers exist only after the fps filter.
+  void startAt(int64_t frame) {
+    decoder_.reset();
+    std::vector<std::string> argv{"ffmpeg",   "-v",       "error",
+                                  "-nostdin", "-threads", std::to_string(threadLimit())};
+    int64_t first = 0;
+    if (frame > 0 && !probe_.variableRate) {
+      argv.insert(argv.end(), {"-ss", fmt::format("{:.6f}", (frame - 0.5) / probe_.fps)});
+      first = frame;
     }
-    while (capture_.grab()) ++frames;
-    next_ = frames;
-    if (hinted && static_cast<double>(frames) < hint - std::max(1.0, hint * kFrameCountSlack)) {
+    argv.insert(argv.end(), {"-i", "file:" + info_.path, "-map", "0:v:0"});
+    if (probe_.variableRate) {
+      argv.insert(argv.end(), {"-vf", "fps=" + probe_.rate, "-fps_mode", "cfr"});
+    } else {
+      argv.insert(argv.end(), {"-fps_mode", "passthrough"});
+    }
+    argv.insert(argv.end(),
+                {"-f", "rawvideo", "-pix_fmt", sampleBytes_ == 2 ? "rgb48le" : "rgb24", "pipe:1"});
+    std::string command;
+    for (const std::string& arg : argv) command += (command.empty() ? "" : " ") + arg;
+    log::debug("decoding: " + command);
+    decoder_.emplace(argv);
+    next_ = first;
+    raw_.resize(frameBytes());
+  }
+
+  // The count from the probe is checked by decoding from the last frame it promises: that frame
+  // must decode, and those after it are counted too. When it does not decode, every frame is
+  // decoded and counted; a movie that stops short of its count by more than an estimate's
+  // rounding is truncated or corrupt: an error naming the first frame that does not decode,
+  // rather than a render of the frames before it.
+  int64_t countFrames() {
+    const int64_t promised = probe_.frames;
+    int64_t frames = 0;
+    if (promised >= 1 && !probe_.variableRate) {
+      startAt(promised - 1);
+      frames = promised - 1;
+      while (decoder_->skip(frameBytes())) ++frames;
+    }
+    if (frames < promised || promised < 1 || probe_.variableRate) {
+      startAt(0);
+      frames = 0;
+      while (decoder_->skip(frameBytes())) ++frames;
+    }
+    decoder_.reset();
+    if (promised >= 1 &&
+        static_cast<double>(frames) <
+            static_cast<double>(promised) - std::max(1.0, promised * kFrameCountSlack)) {
       throw Error(fmt::format("movie {} is truncated or corrupt: its container lists {} frames, "
                               "but frame {} and those after it do not decode",
-                              info_.path, static_cast<int64_t>(hint), frames),
+                              info_.path, promised, frames),
                   {"read", frames, info_.path});
     }
     return frames;
   }
 
-  // Positions the capture so that the next grab() returns `frame`; false when it cannot.
-  bool seekTo(int64_t frame) {
-    bool landed = capture_.set(cv::CAP_PROP_POS_FRAMES, static_cast<double>(frame)) &&
-                  std::llround(capture_.get(cv::CAP_PROP_POS_FRAMES)) == frame;
-    next_ = landed ? frame : -1;
-    return landed;
-  }
-
-  cv::Mat decodeAt(int64_t frame) {
-    if (frame != next_) {
-      if (frame > next_ && frame - next_ <= kMaxForwardGrabFrames) {
-        skipTo(frame);
-      } else if (!seekTo(frame)) {
-        // FFmpeg could not land exactly on the frame: decode from the start instead.
-        open();
-        skipTo(frame);
+  Image toImage() const {
+    Image image(info_.width, info_.height);
+    const size_t samples = static_cast<size_t>(info_.width) * info_.height * 3;
+    float* dst = image.rgba.data();
+    if (sampleBytes_ == 1) {
+      constexpr float kScale = 1.0f / 255.0f;
+      const uint8_t* src = raw_.data();
+      for (size_t i = 0; i < samples; i += 3, dst += 4) {
+        dst[0] = src[i] * kScale;
+        dst[1] = src[i + 1] * kScale;
+        dst[2] = src[i + 2] * kScale;
       }
-    }
-    cv::Mat bgr;
-    if (!capture_.grab() || !capture_.retrieve(bgr) || bgr.empty()) {
-      next_ = -1;  // the decoder's position is unknown now: seek next time
-      throw Error(fmt::format("cannot decode frame {} of movie {} (truncated or corrupt file?)",
-                              frame, info_.path),
-                  {"read", frame, info_.path});
-    }
-    next_ = frame + 1;
-    return bgr;
-  }
-
-  void skipTo(int64_t frame) {
-    while (next_ < frame) {
-      if (!capture_.grab()) {
-        const int64_t failed = next_;
-        next_ = -1;
-        throw Error(fmt::format("cannot decode frame {} of movie {}: decoding stops at frame {} "
-                                "(truncated or corrupt file?)",
-                                frame, info_.path, failed),
-                    {"read", frame, info_.path});
-      }
-      ++next_;
-    }
-  }
-
-  Image toImage(const cv::Mat& decoded) const {
-    if (decoded.depth() != CV_8U || (decoded.channels() != 3 && decoded.channels() != 1)) {
-      throw Error("unexpected pixel layout decoded from movie " + info_.path,
-                  {"read", {}, info_.path});
-    }
-    Image image(decoded.cols, decoded.rows);
-    const int channels = decoded.channels();
-    constexpr float kScale = 1.0f / 255.0f;
-    for (int y = 0; y < decoded.rows; ++y) {
-      const uint8_t* src = decoded.ptr<uint8_t>(y);
-      float* dst = image.pixel(0, y);
-      for (int x = 0; x < decoded.cols; ++x, src += channels, dst += 4) {
-        // OpenCV hands out BGR.
-        dst[0] = src[channels == 3 ? 2 : 0] * kScale;
-        dst[1] = src[channels == 3 ? 1 : 0] * kScale;
-        dst[2] = src[0] * kScale;
+    } else {
+      constexpr float kScale = 1.0f / 65535.0f;
+      const uint8_t* src = raw_.data();
+      // Little-endian 16-bit samples, assembled byte by byte: no alignment or host-order trap.
+      auto sample = [&](size_t i) {
+        return static_cast<float>(src[2 * i] | (src[2 * i + 1] << 8));
+      };
+      for (size_t i = 0; i < samples; i += 3, dst += 4) {
+        dst[0] = sample(i) * kScale;
+        dst[1] = sample(i + 1) * kScale;
+        dst[2] = sample(i + 2) * kScale;
       }
     }
     return image;
   }
 
+  MovieProbe probe_;
   ClipInfo info_;
-  cv::VideoCapture capture_;
-  int64_t next_ = 0;  // frame the next grab() returns; -1 when unknown
-  cv::Mat pending_;   // frame 0, decoded while opening to learn the size
+  int sampleBytes_ = 1;
+  std::optional<ReadPipe> decoder_;
+  int64_t next_ = 0;  // the frame the decoder writes next
+  std::vector<uint8_t> raw_;
   std::mutex mutex_;
 };
 

@@ -1,5 +1,7 @@
 #pragma once
-// A movie file decoded through OpenCV's FFmpeg backend (8-bit RGB, frames numbered 0..N-1).
+// A movie file decoded by an ffmpeg process at its own bit depth (8-bit movies as 8-bit codes,
+// deeper ones through 16 bits), frames numbered 0..N-1 at the nominal rate; a variable-rate
+// movie is conformed to that rate, with a warning.
 #include <memory>
 #include <string>
 

@@ -9,11 +9,15 @@
 #include <optional>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <opencv2/core/utility.hpp>
+
+#include "io/sequence_pattern.h"
 
 #include "util/error.h"
 #include "util/fs.h"
 #include "util/subprocess.h"
+#include "util/thread_limit.h"
 
 namespace pluvia {
 namespace stdfs = std::filesystem;
@@ -49,14 +53,99 @@ std::string lastLines(const stdfs::path& path, int count) {
   return text.empty() ? " (ffmpeg printed nothing)" : text;
 }
 
+struct MovieCodec {
+  std::string name;
+  std::vector<std::string> arguments;  // -c:v ... -pix_fmt ...
+  std::vector<std::string> containers;
+  bool chromaSubsampled = false;    // 4:2:x: chroma shared by 2 columns (an even width)
+  bool yuv420 = false;              // 4:2:0: and by 2 rows (an even height)
+  int minWidth = 1, minHeight = 1;  // DNxHR's smallest frame is 256x120
+};
+
+// The codecs, with what each needs: libx264 at 4:2:0 (every player), ProRes 4444 (12-bit
+// 4:4:4) and 422 HQ (10-bit 4:2:2) through prores_ks, DNxHR HQ (8-bit 4:2:2), HQX (10-bit
+// 4:2:2) and 444 (10-bit 4:4:4) through dnxhd.
+const std::vector<MovieCodec>& codecs() {
+  static const std::vector<MovieCodec> kCodecs{
+      {"h264",
+       {"-c:v", "libx264", "-preset", "medium", "-crf", "16", "-pix_fmt", "yuv420p"},
+       {"mp4", "mov", "mkv", "m4v"},
+       true,
+       true},
+      {"prores_4444",
+       {"-c:v", "prores_ks", "-profile:v", "4444", "-pix_fmt", "yuv444p12le", "-vendor", "apl0"},
+       {"mov", "mkv"}},
+      {"prores_422hq",
+       {"-c:v", "prores_ks", "-profile:v", "hq", "-pix_fmt", "yuv422p10le", "-vendor", "apl0"},
+       {"mov", "mkv"},
+       true},
+      {"dnxhr_hq",
+       {"-c:v", "dnxhd", "-profile:v", "dnxhr_hq", "-pix_fmt", "yuv422p"},
+       {"mov", "mkv"},
+       true,
+       false,
+       256,
+       120},
+      {"dnxhr_hqx",
+       {"-c:v", "dnxhd", "-profile:v", "dnxhr_hqx", "-pix_fmt", "yuv422p10le"},
+       {"mov", "mkv"},
+       true,
+       false,
+       256,
+       120},
+      {"dnxhr_444",
+       {"-c:v", "dnxhd", "-profile:v", "dnxhr_444", "-pix_fmt", "yuv444p10le"},
+       {"mov", "mkv"},
+       false,
+       false,
+       256,
+       120},
+  };
+  return kCodecs;
+}
+
+const MovieCodec& movieCodec(const std::string& name, const std::string& path) {
+  const std::vector<MovieCodec>& all = codecs();
+  auto found =
+      std::find_if(all.begin(), all.end(), [&](const MovieCodec& c) { return c.name == name; });
+  if (found == all.end()) {
+    throw Error(fmt::format("unknown movie codec '{}' for {} (known: {})", name, path,
+                            fmt::join(movieCodecs(), ", ")),
+                {"write", {}, path});
+  }
+  const std::string extension = lowerExtension(path);
+  if (std::find(found->containers.begin(), found->containers.end(), extension) ==
+      found->containers.end()) {
+    throw Error(fmt::format("the codec {} does not go into a .{} file ({}): use {}", name,
+                            extension, path, fmt::join(found->containers, " or ")),
+                {"write", {}, path});
+  }
+  return *found;
+}
+
+// The matrix ffmpeg converts our RGB to YUV with, and the colour tags, set on the frames so
+// that the encoder and the container both carry them (ffmpeg 5.1 takes the stream's tags from
+// the frames: its -color_* options alone leave ProRes untagged). The matrix is the tagged
+// one, so a player decoding by the tag gets our RGB back; ffmpeg's own default is BT.601's.
+std::vector<std::string> colorArguments(const ColorTags& tags) {
+  const std::string matrix = tags.movieMatrix.empty() ? "bt709" : tags.movieMatrix;
+  std::string filter =
+      fmt::format("scale=out_color_matrix={}:out_range=tv,setparams=range=tv:colorspace={}",
+                  matrix == "bt2020nc" ? "bt2020" : matrix, matrix);
+  if (!tags.moviePrimaries.empty()) filter += ":color_primaries=" + tags.moviePrimaries;
+  if (!tags.movieTransfer.empty()) filter += ":color_trc=" + tags.movieTransfer;
+  return {"-vf", filter};
+}
+
 class MovieWriter final : public ClipWriter {
  public:
   MovieWriter(const std::string& path, int width, int height, const WriterOptions& options)
       : path_(path),
         width_(width),
         height_(height),
-        encodedWidth_(width + width % 2),
-        encodedHeight_(height + height % 2),
+        codec_(movieCodec(options.codec, path)),
+        encodedWidth_(codec_.chromaSubsampled ? width + width % 2 : width),
+        encodedHeight_(codec_.yuv420 ? height + height % 2 : height),
         tmp_(fs::temporaryPathFor(path)),
         log_(tmp_.string() + ".log") {
     if (!(options.fps > 0) || !std::isfinite(options.fps)) {
@@ -64,10 +153,16 @@ class MovieWriter final : public ClipWriter {
           fmt::format("cannot write the movie {} at {} frames per second", path, options.fps),
           {"write", {}, path});
     }
+    if (width < codec_.minWidth || height < codec_.minHeight) {
+      throw Error(fmt::format("the codec {} needs frames of at least {}x{}; {} would be {}x{}",
+                              codec_.name, codec_.minWidth, codec_.minHeight, path, width, height),
+                  {"write", {}, path});
+    }
     if (!programAvailable("ffmpeg")) {
       throw Error("ffmpeg is needed to write the movie " + path + " but is not on PATH",
                   {"write", {}, path});
     }
+    const MovieCodec& codec = codec_;
     std::vector<std::string> argv{"ffmpeg",   "-y",
                                   "-v",       "error",
                                   "-f",       "rawvideo",
@@ -75,8 +170,13 @@ class MovieWriter final : public ClipWriter {
                                   "-s",       fmt::format("{}x{}", encodedWidth_, encodedHeight_),
                                   "-r",       frameRateArgument(options.fps),
                                   "-i",       "-"};
-    argv.insert(argv.end(),
-                {"-c:v", "libx264", "-preset", "medium", "-crf", "16", "-pix_fmt", "yuv420p"});
+    argv.insert(argv.end(), codec.arguments.begin(), codec.arguments.end());
+    argv.insert(argv.end(), {"-threads", std::to_string(threadLimit())});
+    const std::vector<std::string> color = colorArguments(options.color);
+    argv.insert(argv.end(), color.begin(), color.end());
+    if (options.timecode) {
+      argv.insert(argv.end(), {"-timecode", options.timecode->text()});
+    }
     if (!options.metadata.empty())
       argv.insert(argv.end(), {"-metadata", "comment=" + metadataComment(options.metadata)});
     // "file:" keeps a name that starts with "-" from reading as an option, and one such as
@@ -140,10 +240,10 @@ class MovieWriter final : public ClipWriter {
   std::string pathFor(int64_t) const override { return path_; }
 
  private:
-  // To rgb48le (on a little-endian host), clamped and rounded. libx264 cannot encode 4:2:0 at
-  // odd sizes, so odd frames get their last column/row repeated to reach an even size (rather
-  // than ffmpeg's pad filter: black there would bleed into the edge through the shared chroma).
-  // Rows in parallel (OpenCV's TBB backend): a 1080p frame is 6 million values.
+  // To rgb48le (on a little-endian host), clamped and rounded. 4:2:0 and 4:2:2 cannot be
+  // encoded at odd sizes, so odd frames get their last column/row repeated to reach an even size
+  // (rather than ffmpeg's pad filter: black there would bleed into the edge through the shared
+  // chroma). Rows in parallel (OpenCV's TBB backend): a 1080p frame is 6 million values.
   void pack(const Image& image) {
     packed_.resize(static_cast<size_t>(encodedWidth_) * encodedHeight_ * 3);
     cv::parallel_for_(cv::Range(0, encodedHeight_), [&](const cv::Range& rows) {
@@ -171,7 +271,8 @@ class MovieWriter final : public ClipWriter {
   std::string path_;
   int width_;
   int height_;
-  int encodedWidth_;  // even: what libx264 gets
+  const MovieCodec& codec_;
+  int encodedWidth_;  // even for codecs that share chroma between columns
   int encodedHeight_;
   stdfs::path tmp_;  // encoded here, renamed to path_ by close()
   stdfs::path log_;  // ffmpeg's output, quoted in errors
@@ -182,6 +283,12 @@ class MovieWriter final : public ClipWriter {
 };
 
 }  // namespace
+
+std::vector<std::string> movieCodecs() {
+  std::vector<std::string> names;
+  for (const MovieCodec& codec : codecs()) names.push_back(codec.name);
+  return names;
+}
 
 const std::vector<std::string>& movieOutputExtensions() {
   static const std::vector<std::string> kExtensions{"mp4", "mov", "mkv", "m4v"};

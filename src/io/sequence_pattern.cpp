@@ -20,13 +20,21 @@ struct Token {
   int padding = 0;
 };
 
-// The last run of '#' ("####": padding 4).
-std::optional<Token> findHashToken(const std::string& text) {
-  size_t end = text.rfind('#');
+// The last run of `digit` ('#' or '@'), one character per digit ("####", "@@@@": padding 4).
+// ('@' is one digit in OpenImageIO and Houdini too; '#' is one digit here as in Nuke, where
+// OpenImageIO reads a single '#' as four.)
+std::optional<Token> findRunToken(const std::string& text, char digit) {
+  size_t end = text.rfind(digit);
   if (end == std::string::npos) return std::nullopt;
   size_t begin = end;
-  while (begin > 0 && text[begin - 1] == '#') --begin;
+  while (begin > 0 && text[begin - 1] == digit) --begin;
   return Token{begin, end - begin + 1, static_cast<int>(end - begin + 1)};
+}
+
+// The later of two tokens (either may be absent).
+std::optional<Token> later(std::optional<Token> a, std::optional<Token> b) {
+  if (!a || (b && b->position > a->position)) return b;
+  return a;
 }
 
 // The last "%d" or "%0Nd" ("%04d": padding 4). "%4d" (space padding) is not a frame token.
@@ -50,12 +58,10 @@ std::optional<Token> findPrintfToken(const std::string& text) {
 }  // namespace
 
 std::optional<SequencePattern> SequencePattern::parse(const std::string& text) {
-  std::optional<Token> hash = findHashToken(text);
-  std::optional<Token> printf = findPrintfToken(text);
-  // Both kinds in one string is odd; the later one is taken, since frame numbers live in the
+  // Two kinds in one string is odd; the last one is taken, since frame numbers live in the
   // file name rather than in a folder name.
-  std::optional<Token> token = hash;
-  if (!token || (printf && printf->position > token->position)) token = printf;
+  const std::optional<Token> token =
+      later(later(findRunToken(text, '#'), findRunToken(text, '@')), findPrintfToken(text));
   if (!token) return std::nullopt;
   SequencePattern pattern;
   pattern.prefix = text.substr(0, token->position);

@@ -1,5 +1,6 @@
 #pragma once
-// Image-sequence patterns: "plate.####.exr" (one # per digit, padded) and "plate.%04d.png".
+// Image-sequence patterns: "plate.####.exr" or "plate.@@@@.exr" (one # or @ per digit, padded)
+// and "plate.%04d.png".
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -8,11 +9,11 @@
 namespace pluvia {
 
 struct SequencePattern {
-  std::string prefix;   // everything before the frame number (folder included)
-  std::string suffix;   // everything after it
-  int padding = 0;      // minimum digits (0: no padding)
+  std::string prefix;  // everything before the frame number (folder included)
+  std::string suffix;  // everything after it
+  int padding = 0;     // minimum digits (0: no padding)
 
-  // Parses "####" or "%0Nd"/"%d"; nullopt when the string holds no frame-number token.
+  // Parses "####", "@@@@" or "%0Nd"/"%d"; nullopt when the string holds no frame-number token.
   static std::optional<SequencePattern> parse(const std::string& text);
   std::string pathFor(int64_t frame) const;
   // Frame numbers of existing files that match the pattern, sorted.

@@ -8,11 +8,14 @@ SectionSpec colorSection() {
   s.help = "OpenColorIO colour spaces at the two ends; everything between is scene-linear float.";
   s.params = {
       stringParam("input", "auto",
-                  "input colour space; auto: linear-rec709 for EXR/HDR, sRGB otherwise"),
-      stringParam("working", "linear-rec709", "scene-linear working space"),
+                  "input colour space (name, alias or role); auto: scene_linear for EXR/HDR, the "
+                  "config's sRGB space otherwise (--in-colorspace)"),
+      stringParam("working", "scene_linear",
+                  "scene-linear working space (the config's scene_linear role by default)"),
       stringParam("output", "auto",
-                  "output colour space; auto: linear-rec709 for EXR, sRGB otherwise"),
-      stringParam("config", "", "path of an .ocio config; empty uses pluvia's built-in one"),
+                  "output colour space; auto: the working space for EXR/HDR, the config's sRGB "
+                  "space otherwise (--out-colorspace)"),
+      stringParam("config", "", "path of an .ocio config; empty: $OCIO, else pluvia's built-in one"),
   };
   return s;
 }

@@ -15,10 +15,10 @@ namespace pluvia {
 SectionSpec colorSection();
 
 struct ColorSettings {
-  std::string inputSpace = "auto";  // auto: linear-rec709 for float files, sRGB otherwise
-  std::string workingSpace = "linear-rec709";
-  std::string outputSpace = "auto";  // auto: linear-rec709 for EXR, sRGB otherwise
-  std::string configPath;            // an .ocio config; empty: pluvia's built-in one
+  std::string inputSpace = "auto";  // auto: scene_linear for float files, the config's sRGB otherwise
+  std::string workingSpace = "scene_linear";  // a name, alias or role of the config
+  std::string outputSpace = "auto";  // auto: the working space for EXR, the config's sRGB otherwise
+  std::string configPath;            // an .ocio config; empty: $OCIO, else pluvia's built-in one
   // The section as the preset resolved it, for the cache keys of per-clip analyses that depend
   // on it (see CameraSettings::resolved).
   nlohmann::json resolved;

@@ -116,7 +116,7 @@ int renderFrames(RenderSession& session, const RenderRequest& request,
         } catch (...) {
           error.set(std::current_exception());
         }
-        progress.step();
+        progress.step(frame->frame);
       }
     });
   }

@@ -9,8 +9,10 @@
 #include "image/color.h"
 #include "image/ops.h"
 #include "io/clip_writer.h"
+#include "io/color_tags.h"
 #include "io/output_lock.h"
 #include "io/sequence_pattern.h"
+#include "io/timecode.h"
 #include "pipeline/cache.h"
 #include "pipeline/frame_metadata.h"
 #include "pipeline/frame_threads.h"
@@ -22,17 +24,30 @@
 namespace pluvia {
 namespace {
 
+// "auto": float files are scene-linear (the config's scene_linear role), integer ones
+// display-encoded sRGB (the config's space for it: image/color.h).
 std::string resolveInputSpace(const ColorSettings& color, const ClipInfo& clip) {
-  if (color.inputSpace == "auto") return clip.isFloat ? "linear-rec709" : "sRGB";
+  if (color.inputSpace == "auto")
+    return clip.isFloat ? "scene_linear" : srgbEncodedSpace(color.configPath);
   return color.inputSpace;
 }
 
+// "auto": EXR and HDR get the working space, other formats display-encoded sRGB.
 std::string resolveOutputSpace(const ColorSettings& color, const std::string& output) {
-  if (color.outputSpace == "auto") return outputIsLinear(output) ? "linear-rec709" : "sRGB";
+  if (color.outputSpace == "auto")
+    return outputIsLinear(output) ? color.workingSpace : srgbEncodedSpace(color.configPath);
   return color.outputSpace;
 }
 
 std::vector<int64_t> selectFrames(const RenderRequest& request, const ClipInfo& clip) {
+  for (int64_t f : request.frameList) {
+    if (!std::binary_search(clip.frames.begin(), clip.frames.end(), f)) {
+      throw Error(fmt::format("frame {} of --frames is not in {} (it has frames {}-{})", f,
+                              clip.path, clip.frames.front(), clip.frames.back()),
+                  {"read", f, clip.path});
+    }
+  }
+  if (!request.frameList.empty()) return request.frameList;
   std::vector<int64_t> frames;
   for (int64_t f : clip.frames) {
     if (request.firstFrame && f < *request.firstFrame) continue;
@@ -151,13 +166,39 @@ std::optional<ArtifactCache> openCache(const RenderRequest& request, const ClipI
                        fmt::format("proxy-{}x{}", clip.width, clip.height));
 }
 
+// What the input says about itself goes on to the output (io/clip_reader.h): camera and lens
+// fields as they are, the timecode counted on to the first frame rendered, and an EXR's data
+// window (scaled with a proxy).
+void carryInputMetadata(WriterOptions& options, const ClipInfo& clip,
+                        const std::vector<int64_t>& frames, double proxyScale) {
+  for (const auto& [key, value] : clip.metadata)
+    if (key != "smpte:TimeCode") options.metadata[key] = value;
+  auto timecode = clip.metadata.find("smpte:TimeCode");
+  if (timecode != clip.metadata.end()) {
+    if (auto start = Timecode::parse(timecode->second, options.fps)) {
+      options.timecode = start->plus(frames.front() - clip.frames.front());
+      options.firstFrame = frames.front();
+    } else {
+      log::warning(
+          fmt::format("the timecode '{}' of {} does not read as HH:MM:SS:FF at {:g} fps: "
+                      "not carried to the output",
+                      timecode->second, clip.path, options.fps));
+    }
+  }
+  if (clip.dataWindow && proxyScale == 1.0) options.dataWindow = clip.dataWindow;
+}
+
 WriterOptions writerOptionsFor(const RenderRequest& request, const Preset& preset,
                                const std::vector<StageInfo>& stages, const CameraSettings& camera,
-                               const ClipInfo& clip) {
-  WriterOptions options;
+                               const ColorSettings& color, const ClipInfo& clip,
+                               const std::vector<int64_t>& frames) {
+  WriterOptions options = request.format;
   options.fps = camera.framesPerSecond > 0 ? camera.framesPerSecond : clip.fps;
   options.aovs = request.aovs;
   options.metadata = frameMetadata(preset, stages);
+  carryInputMetadata(options, clip, frames, request.proxyScale);
+  options.color =
+      colorTagsFor(colorSpaceNamesOf(resolveOutputSpace(color, request.output), color.configPath));
   // A proxy frame must never pass for a final one: it says so in its header.
   if (request.proxyScale != 1.0)
     options.metadata["pluvia:proxy"] =
@@ -187,11 +228,20 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
       camera_(cameraSettings(preset)),
       toWorking_(resolveInputSpace(color_, clip()), color_.workingSpace, color_.configPath),
       toOutput_(color_.workingSpace, resolveOutputSpace(color_, request.output), color_.configPath),
-      writerOptions_(writerOptionsFor(request, preset, stages, camera_, clip())) {
+      writerOptions_(writerOptionsFor(request, preset, stages, camera_, color_, clip(), frames_)) {
   log::info("command: " + request.commandLine);
+  log::info(fmt::format("colour: {} -> {} (working) -> {}, config: {}",
+                        resolveInputSpace(color_, clip()), color_.workingSpace,
+                        resolveOutputSpace(color_, request.output),
+                        describeConfig(color_.configPath)));
   // The bounded copy the frames record: a preset with a 50 MB description stays out of the log.
   log::info("preset (resolved): " + writerOptions_.metadata.at("pluvia:preset"));
   log::info("plan:\n" + plan_.text());
+  log::debug(fmt::format(
+      "input: {}x{}, {} bits a sample, {:g} fps; output tagged '{}'{}{}", clip().width,
+      clip().height, clip().bitsPerSample, writerOptions_.fps, writerOptions_.color.name,
+      writerOptions_.timecode ? ", timecode " + writerOptions_.timecode->text() : std::string(),
+      writerOptions_.dataWindow ? ", the input's data window" : ""));
   if (request.proxyScale != 1.0)
     log::info(fmt::format("proxy render (not a final): {}x{}, {:g} of the plate's size",
                           clip().width, clip().height, request.proxyScale));

@@ -26,6 +26,9 @@ struct RenderRequest {
   std::string output;
   std::optional<int64_t> firstFrame;  // inclusive, clip frame numbers
   std::optional<int64_t> lastFrame;
+  // A stepped or comma list ("1001-1100x2", "1,5,9"), ascending; every one must be in the clip.
+  // Empty: the range above.
+  std::vector<int64_t> frameList;
   int threads = 2;       // writer threads for sequences
   std::string cacheDir;  // per-clip analysis cache; empty: none
   bool skipExisting = false;
@@ -35,6 +38,9 @@ struct RenderRequest {
   // Proxy render, in (0, 1]: every frame is resized by this factor right after reading, so the
   // camera, the analysis, the rain and the output all work at the reduced size. 1: full size.
   double proxyScale = 1.0;
+  // How the output is written: movie codec, EXR sample type and compression (the rest of
+  // WriterOptions is filled in from the clip and the preset).
+  WriterOptions format;
 };
 
 struct RenderSummary {

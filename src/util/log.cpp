@@ -1,23 +1,60 @@
 #include "util/log.h"
 
+#include <unistd.h>
+
 #include <atomic>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
+#include <ctime>
 #include <mutex>
+
+#include "util/error.h"
 
 namespace pluvia::log {
 namespace {
 std::atomic<Level> gLevel{Level::Info};
 std::mutex gMutex;
+std::FILE* gFile = nullptr;  // --log FILE, guarded by gMutex
+const bool gTerminal = isatty(fileno(stderr)) != 0;
+
+void toFile(const char* tag, const std::string& message) {
+  if (!gFile) return;
+  char stamp[32];
+  const std::time_t now = std::time(nullptr);
+  std::tm local{};
+  localtime_r(&now, &local);
+  std::strftime(stamp, sizeof stamp, "%Y-%m-%d %H:%M:%S", &local);
+  std::fprintf(gFile, "%s pluvia: %s%s\n", stamp, tag, message.c_str());
+  std::fflush(gFile);
+}
 
 void emit(const char* tag, const std::string& message) {
   std::lock_guard lock(gMutex);
   std::fprintf(stderr, "pluvia: %s%s\n", tag, message.c_str());
   std::fflush(stderr);
+  toFile(tag, message);
 }
 }  // namespace
 
-void setLevel(Level level) { gLevel = level; }
-Level level() { return gLevel; }
+void setLevel(Level level) {
+  gLevel = level;
+}
+Level level() {
+  return gLevel;
+}
+
+void setFile(const std::string& path) {
+  std::lock_guard lock(gMutex);
+  if (gFile) std::fclose(gFile);
+  gFile = nullptr;
+  if (path.empty()) return;
+  gFile = std::fopen(path.c_str(), "a");
+  if (!gFile)
+    throw Error("cannot open the log file " + path + ": " + std::strerror(errno),
+                {"write", {}, path});
+}
+
 void warning(const std::string& m) {
   if (gLevel >= Level::Warning) emit("warning: ", m);
 }
@@ -27,6 +64,23 @@ void info(const std::string& m) {
 void debug(const std::string& m) {
   if (gLevel >= Level::Debug) emit("debug: ", m);
 }
-void error(const std::string& m) { emit("error: ", m); }
+void error(const std::string& m) {
+  emit("error: ", m);
+}
+
+void progress(const std::string& line, const std::string& terminalText, bool lastStep) {
+  if (gLevel < Level::Info) return;
+  std::lock_guard lock(gMutex);
+  if (gTerminal) {
+    std::fprintf(stderr, "\r%s%s", terminalText.c_str(), lastStep ? "\n" : "");
+  } else if (!line.empty()) {
+    std::fprintf(stderr, "%s\n", line.c_str());
+  }
+  std::fflush(stderr);
+  if (gFile && !line.empty()) {
+    std::fprintf(gFile, "%s\n", line.c_str());
+    std::fflush(gFile);
+  }
+}
 
 }  // namespace pluvia::log

@@ -33,9 +33,12 @@ int waitExit(int pid) {
 
 }  // namespace
 
+// Every pipe is made close-on-exec: a child must not keep another child's pipe ends. An
+// encoder's stdin write end held open by a decoder started after it (a movie in, a movie out)
+// keeps the encoder from ever seeing the end of its input, and the render hangs at close().
 ProcessResult runProcess(const std::vector<std::string>& argv) {
   int fds[2];
-  if (pipe(fds) != 0) throw Error("cannot create a pipe to run " + argv.at(0));
+  if (pipe2(fds, O_CLOEXEC) != 0) throw Error("cannot create a pipe to run " + argv.at(0));
   int pid = fork();
   if (pid < 0) throw Error("cannot start " + argv.at(0));
   if (pid == 0) {
@@ -63,7 +66,7 @@ ProcessResult runProcess(const std::vector<std::string>& argv) {
 
 PipeProcess::PipeProcess(const std::vector<std::string>& argv, const std::string& logPath) {
   int fds[2];
-  if (pipe(fds) != 0) throw Error("cannot create a pipe to run " + argv.at(0));
+  if (pipe2(fds, O_CLOEXEC) != 0) throw Error("cannot create a pipe to run " + argv.at(0));
   pid_ = fork();
   if (pid_ < 0) throw Error("cannot start " + argv.at(0));
   if (pid_ == 0) {

@@ -48,6 +48,34 @@ TEST(SequencePattern, SingleHashAndTokenAtTheEdges) {
   EXPECT_EQ(single->pathFor(10), "10.tif");
 }
 
+TEST(SequencePattern, AtSignsAreOneDigitEach) {
+  auto pattern = SequencePattern::parse("shots/plate.@@@@.exr");
+  ASSERT_TRUE(pattern);
+  EXPECT_EQ(pattern->prefix, "shots/plate.");
+  EXPECT_EQ(pattern->suffix, ".exr");
+  EXPECT_EQ(pattern->padding, 4);
+  EXPECT_EQ(pattern->pathFor(7), "shots/plate.0007.exr");
+  auto single = SequencePattern::parse("f.@.png");
+  ASSERT_TRUE(single);
+  EXPECT_EQ(single->padding, 1);
+  EXPECT_EQ(single->pathFor(12), "f.12.png");
+  // The last token wins, whichever kind: '@' in a folder name, '#' in the file name.
+  auto mixed = SequencePattern::parse("take@2/plate.###.png");
+  ASSERT_TRUE(mixed);
+  EXPECT_EQ(mixed->prefix, "take@2/plate.");
+  EXPECT_EQ(mixed->padding, 3);
+}
+
+TEST(SequencePattern, AtPatternFindsTheSameFramesAsHashes) {
+  auto dir = test::freshTempDir("sequence_pattern_at");
+  for (const char* name : {"p.1001.exr", "p.1003.exr", "p.101.exr"}) touch(dir / name);
+  auto at = SequencePattern::parse((dir / "p.@@@@.exr").string());
+  auto hash = SequencePattern::parse((dir / "p.####.exr").string());
+  ASSERT_TRUE(at && hash);
+  EXPECT_EQ(at->existingFrames(), (std::vector<int64_t>{1001, 1003}));
+  EXPECT_EQ(at->existingFrames(), hash->existingFrames());
+}
+
 TEST(SequencePattern, RejectsStringsWithoutAFrameToken) {
   EXPECT_FALSE(SequencePattern::parse("plate.exr"));
   EXPECT_FALSE(SequencePattern::parse("movie.mp4"));

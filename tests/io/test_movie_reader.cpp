@@ -1,0 +1,133 @@
+// Movies decoded by ffmpeg at their own bit depth, and variable-rate movies conformed to their
+// nominal rate. The inputs are small clips ffmpeg makes here.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+
+#include "io/clip_reader.h"
+#include "test_support.h"
+#include "util/error.h"
+#include "util/subprocess.h"
+
+namespace pluvia {
+namespace {
+namespace stdfs = std::filesystem;
+
+void ffmpeg(std::vector<std::string> args) {
+  args.insert(args.begin(), {"ffmpeg", "-v", "error", "-y"});
+  const ProcessResult result = runProcess(args);
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+}
+
+// A dark grey ramp (code 16 to 48 of 255 across 512 pixels, made at 16 bits) as 12-bit ProRes
+// 4444: 8 bits hold 33 levels of it, 12 bits up to 16 times as many.
+stdfs::path deepRamp(const stdfs::path& dir) {
+  constexpr int kWidth = 512, kHeight = 8;
+  std::vector<uint16_t> samples;
+  for (int y = 0; y < kHeight; ++y) {
+    for (int x = 0; x < kWidth; ++x) {
+      const double code8 = 16.0 + 32.0 * x / (kWidth - 1);
+      const auto value = static_cast<uint16_t>(std::lround(code8 / 255.0 * 65535.0));
+      samples.insert(samples.end(), {value, value, value});
+    }
+  }
+  const stdfs::path raw = dir / "ramp.rgb48le";
+  std::ofstream(raw, std::ios::binary)
+      .write(reinterpret_cast<const char*>(samples.data()),
+             static_cast<std::streamsize>(samples.size() * sizeof(uint16_t)));
+  const stdfs::path path = dir / "deep.mov";
+  ffmpeg({"-f", "rawvideo", "-pix_fmt", "rgb48le", "-s", "512x8", "-r", "10", "-i", raw.string(),
+          "-vf", "format=yuv444p12le", "-c:v", "prores_ks", "-profile:v", "4444", path.string()});
+  return path;
+}
+
+std::set<float> greenLevelsOfRow(const Image& image, int y) {
+  std::set<float> levels;
+  for (int x = 0; x < image.width; ++x) levels.insert(image.pixel(x, y)[1]);
+  return levels;
+}
+
+TEST(MovieReader, TwelveBitProResKeepsMoreThanEightBitsOfGradient) {
+  if (!programAvailable("ffmpeg")) GTEST_SKIP() << "ffmpeg not on PATH";
+  auto dir = test::freshTempDir("movie_deep_prores");
+  auto clip = openClip(deepRamp(dir).string());
+  EXPECT_EQ(clip->info().bitsPerSample, 12);
+  EXPECT_EQ(clip->info().frames.size(), 1u);
+  const Image frame = clip->read(0);
+  ASSERT_EQ(frame.width, 512);
+  const std::set<float> levels = greenLevelsOfRow(frame, 4);
+  // 8 bits would give at most 33 levels over this ramp (every value k/255).
+  EXPECT_GT(levels.size(), 4u * 33u) << "levels: " << levels.size();
+  int offGrid = 0;
+  for (float v : levels) offGrid += std::abs(v * 255.0f - std::round(v * 255.0f)) > 0.05f;
+  EXPECT_GT(offGrid, static_cast<int>(levels.size()) / 2);
+  // The ramp is the one asked for: 16/255 at the left, 48/255 at the right (within 1 code),
+  // rising.
+  EXPECT_NEAR(frame.pixel(0, 4)[1], 16.0f / 255.0f, 1.5f / 255.0f);
+  EXPECT_NEAR(frame.pixel(511, 4)[1], 48.0f / 255.0f, 1.5f / 255.0f);
+  EXPECT_LT(frame.pixel(100, 4)[1], frame.pixel(400, 4)[1]);
+}
+
+TEST(MovieReader, EightBitMovieGivesEightBitCodes) {
+  auto clip = openClip(test::exampleClip().string());
+  EXPECT_EQ(clip->info().bitsPerSample, 8);
+  const Image frame = clip->read(1);
+  for (size_t i = 0; i < frame.rgba.size(); i += 997) {
+    const float scaled = frame.rgba[i] * 255.0f;
+    ASSERT_NEAR(scaled, std::round(scaled), 1e-3);
+  }
+}
+
+// An AVI whose index lists 37 frames at 10 fps, of which only 11 are coded (frames 0-4, then
+// every 6th): the others are empty "hold the last frame" entries, as capture tools write
+// when they drop frames. Decoded frame by frame it is 11 frames and its timing is lost.
+TEST(MovieReader, VariableRateAviIsConformedToItsNominalRate) {
+  if (!programAvailable("ffmpeg")) GTEST_SKIP() << "ffmpeg not on PATH";
+  auto dir = test::freshTempDir("movie_vfr");
+  const stdfs::path avi = dir / "vfr.avi";
+  ffmpeg({"-f", "lavfi", "-i", "testsrc=s=64x36:r=10:d=4", "-vf",
+          "select='not(mod(n\\,6))+lt(n\\,5)'", "-fps_mode", "passthrough", "-c:v", "cinepak",
+          avi.string()});
+  auto clip = openClip(avi.string());
+  const ClipInfo& info = clip->info();
+  EXPECT_DOUBLE_EQ(info.fps, 10.0);
+  ASSERT_EQ(info.frames.size(), 37u);
+  std::vector<Image> frames;
+  for (int64_t f = 0; f < 37; ++f) frames.push_back(clip->read(f));
+  // Coded frames differ (testsrc's counter moves); held frames repeat the last coded one.
+  EXPECT_NE(frames[3].rgba, frames[4].rgba);
+  EXPECT_NE(frames[4].rgba, frames[6].rgba);
+  for (int64_t f : {5}) EXPECT_EQ(frames[f].rgba, frames[4].rgba) << f;
+  for (int64_t f : {7, 8, 11}) EXPECT_EQ(frames[f].rgba, frames[6].rgba) << f;
+  EXPECT_NE(frames[12].rgba, frames[11].rgba);
+  EXPECT_EQ(frames[36].rgba, frames[36 - 36 % 6].rgba);
+  // Random access gives the same frames as reading in order.
+  EXPECT_EQ(clip->read(30).rgba, frames[30].rgba);
+  EXPECT_EQ(clip->read(9).rgba, frames[9].rgba);
+}
+
+TEST(MovieReader, SeekingLandsOnTheFrameAskedFor) {
+  auto clip = openClip(test::exampleClip().string());
+  std::vector<Image> sequential;
+  for (int64_t f = 0; f < 48; ++f) sequential.push_back(clip->read(f));
+  auto seeking = openClip(test::exampleClip().string());
+  for (int64_t f : {47, 20, 1, 33, 0, 46})
+    EXPECT_EQ(seeking->read(f).rgba, sequential[f].rgba) << f;
+}
+
+TEST(MovieReader, NotAMovieNamesTheFile) {
+  auto dir = test::freshTempDir("movie_not_a_movie");
+  const stdfs::path fake = dir / "fake.mov";
+  test::writeTextFile(dir, "fake.mov", "this is not a movie");
+  try {
+    openClip(fake.string());
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(fake.string()), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace pluvia
