@@ -15,7 +15,8 @@ SectionSpec colorSection() {
       stringParam("output", "auto",
                   "output colour space; auto: the working space for EXR/HDR, the config's sRGB "
                   "space otherwise (--out-colorspace)"),
-      stringParam("config", "", "path of an .ocio config; empty: $OCIO, else pluvia's built-in one"),
+      stringParam("config", "",
+                  "path of an .ocio config; empty: $OCIO, else pluvia's built-in one"),
   };
   return s;
 }

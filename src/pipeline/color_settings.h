@@ -15,7 +15,8 @@ namespace pluvia {
 SectionSpec colorSection();
 
 struct ColorSettings {
-  std::string inputSpace = "auto";  // auto: scene_linear for float files, the config's sRGB otherwise
+  std::string inputSpace =
+      "auto";  // auto: scene_linear for float files, the config's sRGB otherwise
   std::string workingSpace = "scene_linear";  // a name, alias or role of the config
   std::string outputSpace = "auto";  // auto: the working space for EXR, the config's sRGB otherwise
   std::string configPath;            // an .ocio config; empty: $OCIO, else pluvia's built-in one
