@@ -31,7 +31,7 @@ inline constexpr float kBeadDepth = 0.5f;
 // The bead factor at matte coordinate v: 1 + kBeadDepth * (2 g - 1) with g = 4 f (1 - f) and
 // f = fract(phase + cycles * v), a parabolic stand-in for (1 - cos 2 pi f) / 2 (within 0.06),
 // chosen because every backend (GLSL, AVX2, plain C++) evaluates it with the same few
-// operations. Its mean over a period is 1 - kBeadDepth / 3.
+// operations. Its mean over a period is 1 + kBeadDepth / 3 (the cosine's would be 1).
 inline float localLightBead(float cycles, float phase, float v) {
   const float x = phase + cycles * v;
   const float f = x - std::floor(x);

@@ -69,9 +69,9 @@ TEST(CliNightLights, HalosBeamsAndLitStreaksOnADarkenedStreet) {
        "color": [0.8, 0.9, 1.0]}]}
   })");
   const stdfs::path out = dir / "night.####.exr";
-  r = runPluvia({"-q", "render", plate, "-p", preset.string(), "-o", out.string(), "--frames",
+  const auto rendered = runPluvia({"-q", "render", plate, "-p", preset.string(), "-o", out.string(), "--frames",
                  "1-1", "--aov", "rain,lights"});
-  ASSERT_EQ(r.exitCode, 0) << r.output;
+  ASSERT_EQ(rendered.exitCode, 0) << rendered.output;
   const Image lights = aovOf(dir / "night.0001.exr", "lights", dir);
   const Image rain = aovOf(dir / "night.0001.exr", "rain", dir);
   ASSERT_EQ(lights.width, kWidth);

@@ -452,9 +452,6 @@ INSTANTIATE_TEST_SUITE_P(Backends, GpuVsCpu, ::testing::Values(RainBackend::Egl,
                            return std::string(info.param == RainBackend::Egl ? "Egl" : "Cpu");
                          });
 
-}  // namespace
-}  // namespace pluvia::gpu
-
 // Streaks lit by local lights: the term C + bead(v) * local, beaded along the streak, agrees
 // between the backends and the exact twin, and adds light where it is set.
 TEST(GpuVsCpuLocalLights, BeadedLocalLightTermAgrees) {
@@ -487,11 +484,14 @@ TEST(GpuVsCpuLocalLights, BeadedLocalLightTermAgrees) {
 }
 
 TEST(LocalLightBead, PeriodAndRangeAndMean) {
-  // Period 1 in phase, 1 / cycles in v; between 1 - depth and 1 + depth; mean 1 - depth / 3.
+  // Period 1 in phase, 1 / cycles in v; between 1 - depth and 1 + depth; mean 1 + depth / 3.
   EXPECT_NEAR(rain::localLightBead(2.0f, 0.1f, 0.3f), rain::localLightBead(2.0f, 0.1f, 0.8f), 1e-5);
   EXPECT_NEAR(rain::localLightBead(1.0f, 0.0f, 0.5f), 1.0f + rain::kBeadDepth, 1e-6);
   EXPECT_NEAR(rain::localLightBead(1.0f, 0.0f, 0.0f), 1.0f - rain::kBeadDepth, 1e-6);
   double mean = 0;
   for (int i = 0; i < 1000; ++i) mean += rain::localLightBead(1.0f, 0.0f, (i + 0.5f) / 1000) / 1000;
-  EXPECT_NEAR(mean, 1.0 - rain::kBeadDepth / 3.0, 1e-4);
+  EXPECT_NEAR(mean, 1.0 + rain::kBeadDepth / 3.0, 1e-4);
 }
+
+}  // namespace
+}  // namespace pluvia::gpu
