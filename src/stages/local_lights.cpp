@@ -86,14 +86,15 @@ HaloResult addHalos(Image& image, const Camera& camera, const std::vector<FrameL
                     double betaPerMeter, const optics::ScatteringTables& tables,
                     double thresholdRadiance) {
   HaloResult result;
+  // The lights AOV (--aov lights): the light added, alone; its alpha stays 0 (light adds, it
+  // covers nothing).
+  std::array<std::vector<float>*, 3> aov{&image.plane("lights.R"), &image.plane("lights.G"),
+                                         &image.plane("lights.B")};
+  image.plane("lights.A");
   if (lights.empty() || !(betaPerMeter > 0.0)) return result;
   const int width = image.width, height = image.height;
   const int tilesX = (width + kTilePx - 1) / kTilePx, tilesY = (height + kTilePx - 1) / kTilePx;
   const std::vector<float>* depth = image.findPlane("depth");
-  std::array<std::vector<float>*, 3> aov{nullptr, nullptr, nullptr};
-  if (image.findPlane("lights.R")) {
-    aov = {&image.plane("lights.R"), &image.plane("lights.G"), &image.plane("lights.B")};
-  }
   std::atomic<size_t> evaluations{0};
   for (const FrameLight& frameLight : lights) {
     const optics::LocalLight light = localLight(frameLight);
@@ -160,7 +161,7 @@ HaloResult addHalos(Image& image, const Camera& camera, const std::vector<FrameL
         for (int c = 0; c < 3; ++c) {
           const float add = float(glow * frameLight.rgbIntensity[size_t(c)]);
           image.rgba[pixel * 4 + size_t(c)] += add;
-          if (aov[0]) (*aov[size_t(c)])[pixel] += add;
+          (*aov[size_t(c)])[pixel] += add;
         }
       }
       evaluations += done;

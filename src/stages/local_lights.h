@@ -28,10 +28,10 @@ struct HaloResult {
   size_t pixelsLit = 0;  // pixel x light evaluations done (after the tile culling)
 };
 
-// Adds every light's in-scattered radiance to image.rgba (and to the planes "lights.R".."B"
-// when the image has them): per pixel, the ray through its centre up to the scene there (the
-// "depth" plane's z-depth; none or +inf: the sky, an infinite ray). Culling: each light is first
-// evaluated unoccluded (an upper bound) at the corners of 16 px tiles; tiles whose own and
+// Adds every light's in-scattered radiance to image.rgba and to the planes "lights.R".."B"
+// (made here, with "lights.A" left 0): per pixel, the ray through its centre up to the scene there
+// (the "depth" plane's z-depth; none or +inf: the sky, an infinite ray). Culling: each light is
+// first evaluated unoccluded (an upper bound) at the corners of 16 px tiles; tiles whose own and
 // neighbours' corners are all below `thresholdRadiance` are skipped, and a light with no such
 // sample above it is culled. A beam narrower than a tile that passes between all the corners of
 // three tiles in a row would be missed.
