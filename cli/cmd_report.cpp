@@ -12,6 +12,7 @@
 #include "common.h"
 #include "lab/derain_report.h"
 #include "lab/envmap_report.h"
+#include "lab/lights_report.h"
 #include "lab/optics_report.h"
 #include "lab/report_depth.h"
 #include "lab/test_environment.h"
@@ -142,6 +143,31 @@ void addReportDepth(CLI::App& report, Invocation& invocation) {
     invocation.exitCode = failed > 0 ? 1 : 0;
   });
 }
+// `pluvia report lights`: halos, beams and lit drops against their brute-force references.
+void addReportLights(CLI::App& report, Invocation& invocation) {
+  auto* lights = report.add_subcommand(
+      "lights", "local lights: halo, beam and lit-drop error against their references vs time");
+  struct Args {
+    std::string csv, plot;
+    lab::LightsReportSettings settings;
+  };
+  auto args = std::make_shared<Args>();
+  lights->add_option("--csv", args->csv, "also write the table as CSV");
+  lights->add_option("--plot", args->plot, "also write error vs time as a PNG");
+  lights->add_option("--samples", args->settings.samples, "(light, ray) pairs per table row")
+      ->check(CLI::Range(1, 100000));
+  lights->add_option("--trace-rays", args->settings.traceRays, "drop tracer rays per angle")
+      ->check(CLI::Range(1, 1 << 26));
+  lights->add_flag("--quick", args->settings.quick, "fewer samples (a smoke run)");
+  lights->callback([=, &invocation] {
+    const lab::LightsReport report = lab::runLightsReport(args->settings);
+    std::cout << lab::formatLightsReport(report);
+    if (!args->csv.empty()) lab::writeLightsReportCsv(report, args->csv);
+    if (!args->plot.empty()) lab::writeLightsReportPlot(report, args->plot);
+    invocation.exitCode = 0;
+  });
+}
+
 }  // namespace
 
 void addReportCommand(CLI::App& app, Invocation& invocation) {
@@ -183,6 +209,7 @@ void addReportCommand(CLI::App& app, Invocation& invocation) {
   addReportDerain(*cmd, invocation);
   addReportEnvmap(*cmd, invocation);
   addReportDepth(*cmd, invocation);
+  addReportLights(*cmd, invocation);
 }
 
 }  // namespace pluvia::cli

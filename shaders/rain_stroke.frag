@@ -19,6 +19,17 @@ flat in vec4 vFrame;
 flat in vec4 vStreak;
 flat in vec4 vRectPx;
 flat in vec3 vRadiance;
+flat in vec4 vLocal;
+flat in float vBeadCycles;
+
+// kBeadDepth and localLightBead() of src/rain/streak_types.h: keep them in step.
+const float kBeadDepth = 0.5;
+float localLightBead(float cycles, float phase, float v) {
+  float x = phase + cycles * v;
+  float f = x - floor(x);
+  float g = 4.0 * f * (1.0 - f);
+  return 1.0 + kBeadDepth * (2.0 * g - 1.0);
+}
 
 // The rain layer (starts transparent black): premultiplied, (ONE, ONE_MINUS_SRC_ALPHA) on all
 // four channels.
@@ -45,5 +56,6 @@ void main() {
   float alpha = clamp(matte * vStreak.z, 0.0, 1.0);
   if (alpha <= 0.0) discard;
 
-  oRain = vec4(alpha * vRadiance, alpha);
+  vec3 radiance = vRadiance + localLightBead(vBeadCycles, vLocal.w, v) * vLocal.rgb;
+  oRain = vec4(alpha * radiance, alpha);
 }

@@ -12,11 +12,12 @@
 #include "common_sh.glsl"
 #include "common_trig.glsl"
 
-// StreakInstance of rain_renderer.h, 12 floats.
+// StreakInstance of rain/streak_types.h, 16 floats.
 struct Streak {
   vec4 endsPx;  // headX, headY, tailX, tailY; pixels, y down
   vec4 streak;  // widthPx, alpha, depthMeters, strokeIndex
-  vec4 view;    // unit direction camera -> drop, padding
+  vec4 view;    // unit direction camera -> drop, beadCycles
+  vec4 local;   // the local lights' radiance RGB, beadPhase
 };
 layout(std430, binding = 1) readonly buffer Streaks { Streak streaks[]; };
 
@@ -38,6 +39,8 @@ flat out vec4 vFrame;     // head.xy (pixels), axis.xy (unit, head -> tail)
 flat out vec4 vStreak;    // widthPx, lengthPx, alpha, depthMeters
 flat out vec4 vRectPx;    // the stroke's rectangle in the atlas
 flat out vec3 vRadiance;  // C
+flat out vec4 vLocal;     // the local lights' radiance RGB (beaded per fragment), beadPhase
+flat out float vBeadCycles;
 
 // Same threshold as kDegenerateStreakLengthPx: a shorter streak is a still drop, drawn as a
 // square with a vertical axis.
@@ -149,4 +152,6 @@ void main() {
   vStreak = vec4(widthPx, lengthPx, aStreak.y, aStreak.z);
   vRectPx = strokeRects[int(aStreak.w)];
   vRadiance = streakRadiance(instance.view.xyz);
+  vLocal = instance.local;
+  vBeadCycles = instance.view.w;
 }

@@ -96,8 +96,11 @@ void renderRainCpu(Image& frame, const std::vector<rain::StreakInstance>& streak
         if (alpha <= 0.0f) continue;
         float* composite = frame.rgba.data() + pixel * 4;
         float* layer = rain.data() + pixel * 4;
+        const float bead = rain::localLightBead(streak.beadCycles, streak.beadPhase, v);
+        const std::array<float, 3> local{streak.localR, streak.localG, streak.localB};
         for (int c = 0; c < 3; ++c) {
-          const float shaded = radiance[c] + shading.backgroundWeight * background[pixel * 4 + c];
+          const float shaded =
+              radiance[c] + bead * local[c] + shading.backgroundWeight * background[pixel * 4 + c];
           // Attachment 0: (SRC_ALPHA, ONE_MINUS_SRC_ALPHA) on RGB, alpha kept.
           composite[c] = shaded * alpha + composite[c] * (1.0f - alpha);
           // Attachment 1: premultiplied source, (ONE, ONE_MINUS_SRC_ALPHA).

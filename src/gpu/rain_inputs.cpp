@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cfloat>
 #include <cmath>
 #include <cstdint>
 
@@ -97,6 +98,18 @@ void validateStreaks(const std::vector<rain::StreakInstance>& streaks, int strok
     if (!std::isfinite(streak.headX) || !std::isfinite(streak.headY) ||
         !std::isfinite(streak.tailX) || !std::isfinite(streak.tailY)) {
       throwRainError(fmt::format("streak {} has a non-finite end point", i));
+    }
+    // The local lights' term enters C as it is: finite and >= 0, and its beads finite (a huge
+    // cycle count would lose the phase in float, so it is bounded).
+    if (!(streak.localR >= 0.0f && streak.localR <= FLT_MAX && streak.localG >= 0.0f &&
+          streak.localG <= FLT_MAX && streak.localB >= 0.0f && streak.localB <= FLT_MAX)) {
+      throwRainError(
+          fmt::format("streak {} has local-light radiance ({}, {}, {}): not finite and >= 0", i,
+                      streak.localR, streak.localG, streak.localB));
+    }
+    if (!(std::abs(streak.beadCycles) <= 1e4f && std::abs(streak.beadPhase) <= 1e4f)) {
+      throwRainError(fmt::format("streak {} has bead cycles {} and phase {}: not within +/-1e4", i,
+                                 streak.beadCycles, streak.beadPhase));
     }
     const float index = streak.strokeIndex;
     // Both renderers truncate the index to an integer, as GLSL's int() does; for index >= 0

@@ -82,6 +82,10 @@ Setup setupOf(const rain::StreakInstance& streak, const rain::ShadingParams& sha
   setup.rectX0 = rect[0] - 0.5f + 1.0f, setup.rectY0 = rect[1] - 0.5f + 1.0f;
   setup.rectWidth = rect[2] - rect[0], setup.rectHeight = rect[3] - rect[1];
   setup.radiance = streakRadiance(shading, streak);
+  setup.local = {streak.localR, streak.localG, streak.localB};
+  setup.beadCycles = streak.beadCycles;
+  setup.beadPhase = streak.beadPhase;
+  setup.hasLocal = streak.localR > 0.0f || streak.localG > 0.0f || streak.localB > 0.0f;
   boundingPixels(quad, width, height, setup);
   return setup;
 }

@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "gpu/rain_inputs.h"
+#include "rain/streak_types.h"
 
 namespace pluvia::gpu {
 namespace {
@@ -83,9 +84,10 @@ void drawStreakPortable(const StreakSetup& s, const PaddedAtlas& atlas, const Ti
       const float covered = std::max(0.0f, std::min(matte * s.alpha, 1.0f));
       const float alpha = inside && inFront ? covered : 0.0f;
       const float keep = 1.0f - alpha;
-      target.r[pixel] = alpha * s.radiance[0] + target.r[pixel] * keep;
-      target.g[pixel] = alpha * s.radiance[1] + target.g[pixel] * keep;
-      target.b[pixel] = alpha * s.radiance[2] + target.b[pixel] * keep;
+      const float bead = s.hasLocal ? rain::localLightBead(s.beadCycles, s.beadPhase, v) : 0.0f;
+      target.r[pixel] = alpha * (s.radiance[0] + bead * s.local[0]) + target.r[pixel] * keep;
+      target.g[pixel] = alpha * (s.radiance[1] + bead * s.local[1]) + target.g[pixel] * keep;
+      target.b[pixel] = alpha * (s.radiance[2] + bead * s.local[2]) + target.b[pixel] * keep;
       target.a[pixel] = alpha + target.a[pixel] * keep;
     }
   }
@@ -160,6 +162,10 @@ PLUVIA_AVX2 void drawStreakAvx2(const StreakSetup& s, const PaddedAtlas& atlas,
   const __m256 streakAlpha = _mm256_set1_ps(s.alpha), streakDepth = _mm256_set1_ps(s.depthMeters);
   const __m256 red = _mm256_set1_ps(s.radiance[0]), green = _mm256_set1_ps(s.radiance[1]);
   const __m256 blue = _mm256_set1_ps(s.radiance[2]);
+  const __m256 localRed = _mm256_set1_ps(s.local[0]), localGreen = _mm256_set1_ps(s.local[1]);
+  const __m256 localBlue = _mm256_set1_ps(s.local[2]);
+  const __m256 beadCycles = _mm256_set1_ps(s.beadCycles), beadPhase = _mm256_set1_ps(s.beadPhase);
+  const __m256 four = _mm256_set1_ps(4.0f), beadDepth = _mm256_set1_ps(rain::kBeadDepth);
   const __m256i stride = _mm256_set1_epi32(atlas.stride);
   alignas(32) int32_t quad[8];
   for (int y = y0; y <= y1; y += 2) {
@@ -227,9 +233,24 @@ PLUVIA_AVX2 void drawStreakAvx2(const StreakSetup& s, const PaddedAtlas& atlas,
       const __m256 alpha = _mm256_and_ps(covered, live);
       const __m256 keep = _mm256_sub_ps(one, alpha);
       const size_t a = rowA + static_cast<size_t>(wx), b = rowB + static_cast<size_t>(wx);
-      blendRows(target.r + a, target.r + b, second, alpha, keep, red);
-      blendRows(target.g + a, target.g + b, second, alpha, keep, green);
-      blendRows(target.b + a, target.b + b, second, alpha, keep, blue);
+      if (s.hasLocal) {
+        // localLightBead() per lane: f = fract(phase + cycles * v), 1 + depth * (8 f (1 - f) - 1).
+        const __m256 x = _mm256_fmadd_ps(beadCycles, v, beadPhase);
+        const __m256 f = _mm256_sub_ps(x, _mm256_floor_ps(x));
+        const __m256 g = _mm256_mul_ps(_mm256_mul_ps(four, f), _mm256_sub_ps(one, f));
+        const __m256 bead =
+            _mm256_add_ps(one, _mm256_mul_ps(beadDepth, _mm256_sub_ps(_mm256_add_ps(g, g), one)));
+        blendRows(target.r + a, target.r + b, second, alpha, keep,
+                  _mm256_fmadd_ps(bead, localRed, red));
+        blendRows(target.g + a, target.g + b, second, alpha, keep,
+                  _mm256_fmadd_ps(bead, localGreen, green));
+        blendRows(target.b + a, target.b + b, second, alpha, keep,
+                  _mm256_fmadd_ps(bead, localBlue, blue));
+      } else {
+        blendRows(target.r + a, target.r + b, second, alpha, keep, red);
+        blendRows(target.g + a, target.g + b, second, alpha, keep, green);
+        blendRows(target.b + a, target.b + b, second, alpha, keep, blue);
+      }
       blendRows(target.a + a, target.a + b, second, alpha, keep, one);
     }
   }

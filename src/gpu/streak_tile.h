@@ -23,7 +23,11 @@ struct StreakSetup {
   float alpha, depthMeters;
   float rectX0, rectY0, rectWidth, rectHeight;  // texel coordinates in the padded atlas
   std::array<float, 3> radiance;                // C
-  int x0, y0, x1, y1;                           // pixels that may hold centres (inclusive)
+  // The local lights' radiance, beaded along v (rain::localLightBead); hasLocal: any is > 0.
+  std::array<float, 3> local;
+  float beadCycles, beadPhase;
+  bool hasLocal;
+  int x0, y0, x1, y1;  // pixels that may hold centres (inclusive)
 };
 
 // The frame's rain layer (premultiplied alpha * C, one plane per channel) and scene depth.
@@ -48,9 +52,9 @@ struct PaddedAtlas {
 
 // Clears the tile [x0, x1] x [y0, y1] (inclusive) of the layer (unless target.cleared) and draws
 // `count` streaks into it in order: the pixels whose centres have u, v in [0, 1] and lie in front
-// of the scene blend alpha * C over the layer, alpha = clamp(matte(u, v) * streak alpha, 0, 1),
-// matte the bilinear atlas sample. Touches no pixel outside the tile. portableOnly: never the AVX2
-// path.
+// of the scene blend alpha * (C + bead(v) * local) over the layer, alpha = clamp(matte(u, v) *
+// streak alpha, 0, 1), matte the bilinear atlas sample. Touches no pixel outside the tile.
+// portableOnly: never the AVX2 path.
 void drawTile(const StreakSetup* streaks, size_t count, const PaddedAtlas& atlas,
               const TileTarget& target, int x0, int y0, int x1, int y1, bool portableOnly = false);
 

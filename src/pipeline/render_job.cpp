@@ -134,8 +134,8 @@ void refuseSingleFileForManyFrames(const std::string& output, const std::vector<
 
 void ensureAovPlanes(Image& image, const std::vector<std::string>& aovs) {
   for (const auto& aov : aovs) {
-    if (aov == "rain") {
-      for (const char* c : {"rain.R", "rain.G", "rain.B", "rain.A"}) image.plane(c);
+    if (aov == "rain" || aov == "lights") {
+      for (const char* c : {"R", "G", "B", "A"}) image.plane(aov + "." + c);
     } else {
       image.plane(aov);
     }

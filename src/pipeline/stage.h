@@ -62,10 +62,27 @@ struct ClipContext {
   std::optional<std::vector<uint8_t>> stillSky;  // width * height, 1 where sky
 };
 
+// A local light of one frame in the frame's camera space (geometry/camera.h: +X right, +Y up,
+// looking along -Z), as the lights stage resolved it (the preset's, following the camera, and
+// the ones found in the plate) for the rain to light its drops with.
+struct FrameLight {
+  std::array<double, 3> positionMeters{0, 0, 0};
+  // Radiant intensity per channel: a surface facing the light at d metres receives the
+  // irradiance rgbIntensity / d^2, in the working space's linear units.
+  std::array<double, 3> rgbIntensity{0, 0, 0};
+  double radiusMeters = 0.05;
+  bool spot = false;
+  std::array<double, 3> axis{0, 0, -1};  // unit, spot only
+  double cosHalfAngle = 0.0;
+  double falloffQ = 0.0;  // Huang et al.'s q
+};
+
 struct FrameContext {
   int64_t frame = 0;
   double timeSeconds = 0.0;
   Image image;
+  std::vector<FrameLight> lights;         // set by the lights stage; empty without local lights
+  double lightsExtinctionPerMeter = 0.0;  // the medium between the lights and the drops
 };
 
 class Stage {

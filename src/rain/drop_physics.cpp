@@ -183,4 +183,14 @@ double rainVisibilityMeters(double rainRateMmPerHour) {
   return sigma > 0.0 ? 3.912 / sigma : std::numeric_limits<double>::infinity();
 }
 
+double oscillationFrequencyHz(double diameterMm) {
+  constexpr double kSurfaceTensionNewtonsPerMeter = 0.0728, kWaterDensityKgPerCubicMeter = 1000.0;
+  const double radiusMeters = 0.5e-3 * diameterMm;
+  if (!(radiusMeters > 0.0)) return 0.0;
+  const double omega =
+      std::sqrt(8.0 * kSurfaceTensionNewtonsPerMeter /
+                (kWaterDensityKgPerCubicMeter * radiusMeters * radiusMeters * radiusMeters));
+  return omega / (2.0 * M_PI);
+}
+
 }  // namespace pluvia::rain

@@ -62,4 +62,11 @@ double rainExtinctionPerMeter(double rainRateMmPerHour);
 // 15 mm/h and 590 m at 100 mm/h.
 double rainVisibilityMeters(double rainRateMmPerHour);
 
+// Frequency of a drop's oblate-prolate oscillation, mode (2, 0), in Hz (Garg and Nayar 2006,
+// Eq. 2, after Rayleigh): omega_n = sqrt(n (n - 1) (n + 2) sigma / (rho r0^3)) with r0 the
+// undistorted radius, sigma = 0.0728 N/m, rho = 1000 kg/m^3; f = omega_2 / (2 pi). About 60 Hz
+// (a 1/60 s period) at r0 = 1.6 mm, and f ~ r0^-3/2. The transverse mode (3, 1) runs at
+// sqrt(30 / 8) = 1.94 times this.
+double oscillationFrequencyHz(double diameterMm);
+
 }  // namespace pluvia::rain

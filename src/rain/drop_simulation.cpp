@@ -273,6 +273,13 @@ std::vector<StreakInstance> DropSimulation::buildStreaks(const StreakSettings& s
     streak.viewX = float(view.x());
     streak.viewY = float(view.y());
     streak.viewZ = float(view.z());
+    // The drop oscillates (Garg and Nayar): its glint under a local light is beaded, one bead
+    // per period of mode (2, 0) over the exposure, at a random phase per drop. Bounded so that
+    // the phase stays exact in float (a still frame of a tiny drop).
+    const double diameterMm = d * rain_.sizeScale;
+    streak.beadCycles =
+        float(std::min(1e3, oscillationFrequencyHz(diameterMm) * s.exposureSeconds));
+    streak.beadPhase = float(rng.uniform());
     streaks.push_back(streak);
   }
   return streaks;

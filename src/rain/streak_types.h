@@ -4,19 +4,40 @@
 // inputs. Plain CPU types: nothing here needs a GPU. The maths they feed is written out in
 // gpu/rain_renderer.h.
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include "image/equirect.h"
 
 namespace pluvia::rain {
 
-// One streak, 12 floats (laid out for the shaders' streak storage buffer, std430).
+// One streak, 16 floats (laid out for the shaders' streak storage buffer, std430).
 struct StreakInstance {
   float headX, headY, tailX, tailY;  // pixels; origin at the top-left corner, y down
   float widthPx, alpha, depthMeters, strokeIndex;
-  float viewX, viewY, viewZ, padding;  // unit direction camera -> drop (world space)
+  float viewX, viewY, viewZ;  // unit direction camera -> drop (world space)
+  // The drop's oscillation (Garg and Nayar 2006): the local lights' glint is beaded along the
+  // streak with beadCycles periods over its length (v from 0 to 1), starting at beadPhase
+  // (in periods). See localLightBead().
+  float beadCycles;
+  float localR, localG, localB;  // radiance the local lights add to the drop (scene-linear)
+  float beadPhase;
 };
-static_assert(sizeof(StreakInstance) == 12 * sizeof(float));
+static_assert(sizeof(StreakInstance) == 16 * sizeof(float));
+
+// How deep the beads are: the local-light term is scaled by 1 +/- kBeadDepth.
+inline constexpr float kBeadDepth = 0.5f;
+
+// The bead factor at matte coordinate v: 1 + kBeadDepth * (2 g - 1) with g = 4 f (1 - f) and
+// f = fract(phase + cycles * v), a parabolic stand-in for (1 - cos 2 pi f) / 2 (within 0.06),
+// chosen because every backend (GLSL, AVX2, plain C++) evaluates it with the same few
+// operations. Its mean over a period is 1 + kBeadDepth / 3 (the cosine's would be 1).
+inline float localLightBead(float cycles, float phase, float v) {
+  const float x = phase + cycles * v;
+  const float f = x - std::floor(x);
+  const float g = 4.0f * f * (1.0f - f);
+  return 1.0f + kBeadDepth * (2.0f * g - 1.0f);
+}
 
 // The quad of a streak: it spans from head to tail along its axis, extended by widthPx / 2 at
 // both ends, and widthPx across. Matte coordinates: u across (0 left edge .. 1 right edge when

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "gpu/rain_renderer.h"
 #include "optics/drop_shading.h"
@@ -12,6 +13,8 @@
 #include "rain/stroke_library.h"
 #include "rain/thin_lens.h"
 #include "stages/fog_settings.h"
+#include "stages/lights_settings.h"
+#include "stages/local_lights.h"
 #include "stages/rain_settings.h"
 #include "stages/registry.h"
 #include "util/error.h"
@@ -114,12 +117,19 @@ rain::ShadingParams dropShading(const RainSettings& rain, const EquirectMap& env
 
 class RainStage : public Stage {
  public:
-  RainStage(RainSettings rain, CameraSettings camera, FogSettings fog)
-      : rain_(std::move(rain)), camera_(std::move(camera)), fog_(std::move(fog)) {}
+  RainStage(RainSettings rain, CameraSettings camera, FogSettings fog, bool litDrops)
+      : rain_(std::move(rain)),
+        camera_(std::move(camera)),
+        fog_(std::move(fog)),
+        litDrops_(litDrops) {}
 
   void prepare(ClipContext& clip) override {
     fps_ = clip.fps;
     const CameraPath path = clip.trackedPath ? *clip.trackedPath : camera_.path(clip.camera);
+    path_ = path;
+    // D(theta) per steradian for drops lit by the local lights (lights stage), 512 bins in
+    // cos(theta): the paper's water, 9 terms.
+    if (litDrops_) transfer_ = optics::binTransfer(optics::DropOptics{}, 512);
     if (clip.trackedPath)
       log::info(fmt::format("rain: camera tracked by COLMAP ({} keys, focal length {:.1f} px)",
                             path.keys().size(), path.cameraAt(0.0).focalPx));
@@ -164,7 +174,8 @@ class RainStage : public Stage {
     simulation_->advanceTo(frame.frame);
     streakParams_.exposureSeconds = camera_.exposureSecondsAt(fps_, double(frame.frame));
     streakParams_.opacity = rain_.opacity.valueAt(double(frame.frame));
-    const auto streaks = simulation_->buildStreaks(streakParams_);
+    auto streaks = simulation_->buildStreaks(streakParams_);
+    if (litDrops_ && !frame.lights.empty()) lightDrops(streaks, frame);
     if (keyShading_.empty()) {
       renderer_->render(frame.image, streaks, shading_);
     } else {
@@ -187,6 +198,27 @@ class RainStage : public Stage {
     } catch (const Error& e) {
       throw Error(std::string("rain.strokes: ") + e.what(), {"rain", {}, e.context().file});
     }
+  }
+
+  // Each drop's radiance from the frame's local lights (stages/local_lights.h), at the drop's
+  // place in camera space: along its view ray, at its z-depth.
+  void lightDrops(std::vector<rain::StreakInstance>& streaks, const FrameContext& frame) const {
+    const Eigen::Matrix3d cameraFromWorld =
+        path_.cameraAt(double(frame.frame)).worldFromCamera.transpose();
+    tbb::parallel_for(size_t(0), streaks.size(), [&](size_t i) {
+      rain::StreakInstance& streak = streaks[i];
+      const Eigen::Vector3d view =
+          cameraFromWorld * Eigen::Vector3d(streak.viewX, streak.viewY, streak.viewZ);
+      const double distance = streak.depthMeters / std::max(1e-6, -view.z());
+      const std::array<double, 3> drop{view.x() * distance, view.y() * distance,
+                                       view.z() * distance};
+      const std::array<float, 3> local =
+          dropLocalRadiance(transfer_, frame.lights, frame.lightsExtinctionPerMeter, drop,
+                            {view.x(), view.y(), view.z()});
+      streak.localR = local[0];
+      streak.localG = local[1];
+      streak.localB = local[2];
+    });
   }
 
   // A looming camera's environment changes over the shot: the shading of the key frames around
@@ -220,6 +252,9 @@ class RainStage : public Stage {
   std::vector<std::pair<int64_t, rain::ShadingParams>>
       keyShading_;  // empty: shading_ for every frame
   std::unique_ptr<gpu::RainRenderer> renderer_;
+  bool litDrops_ = false;
+  CameraPath path_;
+  optics::TransferTable transfer_;
 };
 
 }  // namespace
@@ -246,7 +281,9 @@ StageInfo rainStageInfo() {
     return {{"pluvia:seed", std::to_string(int64_t(rainSettings(p).seed))}};
   };
   info.create = [](const Preset& p) {
-    return std::make_unique<RainStage>(rainSettings(p), cameraSettings(p), fogSettings(p));
+    const LightsSettings lights = lightsSettings(p);
+    return std::make_unique<RainStage>(rainSettings(p), cameraSettings(p), fogSettings(p),
+                                       lights.enabled && lights.drops && !lights.lights.empty());
   };
   return info;
 }

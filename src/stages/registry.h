@@ -8,9 +8,9 @@
 
 namespace pluvia {
 
-// derain, lighting, depth, darken, blur, fog, rain. Darken, blur and fog act on the plate before
-// the rain is composited: rain falls in front of the scene, so the scene's fog must not cover
-// the drops (fog reaches the drops per drop instead, through their own depth).
+// derain, lighting, depth, darken, blur, fog, lights, rain. Darken, blur and fog act on the plate
+// before the rain is composited: rain falls in front of the scene, so the scene's fog must not
+// cover the drops (fog reaches the drops per drop instead, through their own depth).
 const std::vector<StageInfo>& allStages();
 const StageInfo* findStage(const std::string& name);
 
@@ -24,6 +24,7 @@ StageInfo depthStageInfo();
 StageInfo darkenStageInfo();
 StageInfo blurStageInfo();
 StageInfo fogStageInfo();
+StageInfo lightsStageInfo();
 StageInfo rainStageInfo();
 
 }  // namespace pluvia

@@ -452,5 +452,46 @@ INSTANTIATE_TEST_SUITE_P(Backends, GpuVsCpu, ::testing::Values(RainBackend::Egl,
                            return std::string(info.param == RainBackend::Egl ? "Egl" : "Cpu");
                          });
 
+// Streaks lit by local lights: the term C + bead(v) * local, beaded along the streak, agrees
+// between the backends and the exact twin, and adds light where it is set.
+TEST(GpuVsCpuLocalLights, BeadedLocalLightTermAgrees) {
+  std::vector<rain::StreakInstance> streaks = mixedStreaks();
+  for (size_t i = 0; i < streaks.size(); i += 2) {
+    streaks[i].localR = 2.0f;
+    streaks[i].localG = 1.5f;
+    streaks[i].localB = 0.5f;
+    streaks[i].beadCycles = 3.7f;
+    streaks[i].beadPhase = 0.3f;
+  }
+  Image background = gradientBackground();
+  addDepthPlane(background);
+  for (RainBackend backend : {RainBackend::Egl, RainBackend::Cpu}) {
+    RainRenderer renderer(kWidth, kHeight, backend);
+    renderer.setStrokeAtlas(threeStrokeAtlas());
+    Image lit = background, exact = background, unlit = background;
+    renderer.render(lit, streaks, orderZeroShading());
+    renderRainCpu(exact, streaks, orderZeroShading(), threeStrokeAtlas());
+    renderer.render(unlit, mixedStreaks(), orderZeroShading());
+    const Comparison result = compare(lit, exact, streaks);
+    EXPECT_EQ(result.mismatches, 0) << "first mismatch at " << result.firstMismatch;
+    double litSum = 0, unlitSum = 0;
+    for (size_t p = 0; p < lit.pixelCount(); ++p) {
+      litSum += lit.plane("rain.R")[p];
+      unlitSum += unlit.plane("rain.R")[p];
+    }
+    EXPECT_GT(litSum, 1.2 * unlitSum);
+  }
+}
+
+TEST(LocalLightBead, PeriodAndRangeAndMean) {
+  // Period 1 in phase, 1 / cycles in v; between 1 - depth and 1 + depth; mean 1 + depth / 3.
+  EXPECT_NEAR(rain::localLightBead(2.0f, 0.1f, 0.3f), rain::localLightBead(2.0f, 0.1f, 0.8f), 1e-5);
+  EXPECT_NEAR(rain::localLightBead(1.0f, 0.0f, 0.5f), 1.0f + rain::kBeadDepth, 1e-6);
+  EXPECT_NEAR(rain::localLightBead(1.0f, 0.0f, 0.0f), 1.0f - rain::kBeadDepth, 1e-6);
+  double mean = 0;
+  for (int i = 0; i < 1000; ++i) mean += rain::localLightBead(1.0f, 0.0f, (i + 0.5f) / 1000) / 1000;
+  EXPECT_NEAR(mean, 1.0 + rain::kBeadDepth / 3.0, 1e-4);
+}
+
 }  // namespace
 }  // namespace pluvia::gpu

@@ -175,3 +175,10 @@ TEST(DropPhysics, DistributionsFiniteFromNoRainToFiveHundred) {
       }
   }
 }
+
+TEST(DropOscillation, GargNayarFrequency) {
+  // Rayleigh's mode (2, 0): a 1/60 s period at r0 = 1.6 mm (diameter 3.2 mm), f ~ r0^-3/2.
+  EXPECT_NEAR(rain::oscillationFrequencyHz(3.2), 60.0, 0.3);
+  EXPECT_NEAR(rain::oscillationFrequencyHz(0.8) / rain::oscillationFrequencyHz(3.2), 8.0, 1e-9);
+  EXPECT_EQ(rain::oscillationFrequencyHz(0.0), 0.0);
+}

@@ -1,0 +1,94 @@
+#include "stages/lights_settings.h"
+
+namespace pluvia {
+namespace {
+
+ParamSpec listOfLights() {
+  std::vector<ParamSpec> point{
+      enumParam("frame", "camera", {"camera", "world"},
+                "camera: position in the camera's space (+X right, +Y up, -Z ahead), moving with "
+                "it; world: in the world's (+Y up), the tracked camera's world when it is tracked"),
+      numberParam("x_m", 0.0, {-1e5, 1e5}, "m", "position x"),
+      numberParam("y_m", 2.0, {-1e5, 1e5}, "m", "position y"),
+      numberParam("z_m", -10.0, {-1e5, 1e5}, "m", "position z (negative ahead in camera space)"),
+      colorParam("color", nlohmann::json::array({1.0, 0.8, 0.55}), "linear", "colour of the light"),
+      numberParam("intensity", 100.0, {0.0, 1e9}, "radiance*m^2",
+                  "radiant intensity: a surface facing the light d metres away receives "
+                  "intensity * color / d^2 (100 lights a white wall 10 m away to 1.0)"),
+      numberParam("radius_m", 0.05, {1e-4, 10.0}, "m", "the bulb's radius"),
+  };
+  allowKeyframes(point, {"x_m", "y_m", "z_m", "intensity"});
+  std::vector<ParamSpec> spot = point;
+  spot.push_back(numberParam("dir_x", 0.0, {-1.0, 1.0}, "", "axis x (normalised)"));
+  spot.push_back(numberParam("dir_y", -1.0, {-1.0, 1.0}, "", "axis y (normalised)"));
+  spot.push_back(numberParam("dir_z", 0.0, {-1.0, 1.0}, "", "axis z (normalised)"));
+  spot.push_back(numberParam("half_angle_deg", 30.0, {0.01, 90.0}, "deg",
+                             "cone half-angle A of I(theta) = I0 ((1 - q)(cos theta - cos A) / "
+                             "(1 - cos A) + q) inside the cone (Huang et al.)"));
+  spot.push_back(numberParam("falloff_q", 0.0, {0.0, 1.0}, "", "q of I(theta): 1 is a hard cone"));
+  allowKeyframes(spot, {"x_m", "y_m", "z_m", "intensity", "half_angle_deg"});
+  return listParam("list", nlohmann::json::array(), {{"point", point}, {"spot", spot}},
+                   "local lights: point lights and spotlights");
+}
+
+double numberOr(const nlohmann::json& item, const char* key, double fallback) {
+  return item.contains(key) ? item.at(key).get<double>() : fallback;
+}
+
+Ramp rampOr(const nlohmann::json& item, const char* key, double fallback) {
+  return item.contains(key) ? Ramp::fromJson(item.at(key)) : Ramp(fallback);
+}
+
+}  // namespace
+
+SectionSpec lightsSection() {
+  SectionSpec s;
+  s.name = "lights";
+  s.help =
+      "Local lights at night: drops glint near them (the drop's transfer function, 1/d^2, the "
+      "spot's cone), and each light glows in the wet air and a spot shows its beam (single "
+      "scattering, Huang et al. 2006 after Sun et al. 2005), occluded by the scene's depth; the "
+      "extinction is the rain's plus the fog's.";
+  s.inputs = {"image", "depth"};
+  s.outputs = {"image"};
+  s.params = {
+      enabledParam(),
+      listOfLights(),
+      booleanParam("halos", true, "the glow around lights and the beams of spots"),
+      booleanParam("drops", true, "the drops lit by the lights"),
+      numberParam(
+          "halo_threshold", 1e-3, {0.0, 1e3}, "radiance",
+          "a light whose brightest halo pixel is below this is culled (counted in the log)"),
+  };
+  return s;
+}
+
+LightsSettings lightsSettings(const Preset& p) {
+  LightsSettings s;
+  s.enabled = p.boolean("lights.enabled");
+  for (const nlohmann::json& item : p.at("lights.list")) {
+    LightSpec light;
+    light.spot = item.at("type").get<std::string>() == "spot";
+    light.worldFrame = item.value("frame", std::string("camera")) == "world";
+    light.xMeters = rampOr(item, "x_m", 0.0);
+    light.yMeters = rampOr(item, "y_m", 2.0);
+    light.zMeters = rampOr(item, "z_m", -10.0);
+    if (item.contains("color"))
+      for (int c = 0; c < 3; ++c)
+        light.rgb[size_t(c)] = item.at("color").at(size_t(c)).get<double>();
+    light.intensity = rampOr(item, "intensity", 100.0);
+    light.radiusMeters = numberOr(item, "radius_m", 0.05);
+    light.direction = {numberOr(item, "dir_x", 0.0), numberOr(item, "dir_y", -1.0),
+                       numberOr(item, "dir_z", 0.0)};
+    light.halfAngleDeg = rampOr(item, "half_angle_deg", 30.0);
+    light.falloffQ = numberOr(item, "falloff_q", 0.0);
+    s.lights.push_back(light);
+  }
+  s.halos = p.boolean("lights.halos");
+  s.drops = p.boolean("lights.drops");
+  s.haloThresholdRadiance = p.number("lights.halo_threshold");
+  s.resolved = p.at("lights");
+  return s;
+}
+
+}  // namespace pluvia

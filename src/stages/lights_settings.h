@@ -1,0 +1,48 @@
+#pragma once
+// The preset's "lights" section: local lights of a night shot (street lamps, headlights, shop
+// signs) that light the drops and glow in the wet air. Its parameter table and settings, read
+// once from the preset.
+#include <array>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "preset/param_table.h"
+#include "preset/preset.h"
+#include "preset/ramp.h"
+
+namespace pluvia {
+
+SectionSpec lightsSection();
+
+// One light of lights.list. Positions and directions are in the camera's space (+X right, +Y
+// up, looking along -Z: geometry/camera.h) or in the world's (+Y up, metres; the tracked
+// camera's world when depth is COLMAP's), and then follow the camera.
+struct LightSpec {
+  bool spot = false;
+  bool worldFrame = false;
+  Ramp xMeters, yMeters, zMeters;
+  std::array<double, 3> rgb{1, 1, 1};
+  // Radiant intensity: irradiance intensity * rgb / d^2 at d metres, in the working space's
+  // linear units (a lamp of 100 lights a white wall 10 m away to 1.0).
+  Ramp intensity{100.0};
+  double radiusMeters = 0.05;
+  std::array<double, 3> direction{0, -1, 0};  // spot: its axis (normalised when used)
+  Ramp halfAngleDeg{30.0};                    // spot: A
+  double falloffQ = 0.0;                      // spot: q of I(theta)
+};
+
+struct LightsSettings {
+  bool enabled = true;
+  std::vector<LightSpec> lights;
+  bool halos = true;  // the glow and beams by single scattering
+  bool drops = true;  // the drops lit by the lights
+  // A light whose brightest halo pixel (unoccluded) is below this radiance is culled.
+  double haloThresholdRadiance = 1e-3;
+  nlohmann::json resolved;
+};
+
+LightsSettings lightsSettings(const Preset& preset);
+
+}  // namespace pluvia

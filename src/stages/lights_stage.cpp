@@ -1,0 +1,101 @@
+// Lights: a night shot's local lights glow in the wet air. Per frame the preset's lights are
+// placed in the camera's space (following the tracked camera when there is one), their halos
+// and beams added to the plate by single scattering (stages/local_lights.h) through the rain's
+// and the fog's extinction, occluded by the scene's depth, and handed on to the rain stage
+// (FrameContext::lights), which lights its drops with them.
+#include <fmt/format.h>
+
+#include "optics/single_scattering.h"
+#include "pipeline/camera_settings.h"
+#include "rain/drop_physics.h"
+#include "stages/fog_settings.h"
+#include "stages/lights_settings.h"
+#include "stages/local_lights.h"
+#include "stages/rain_settings.h"
+#include "stages/registry.h"
+#include "util/log.h"
+
+namespace pluvia {
+namespace {
+
+// The medium between the lights and the camera: the rain's extinction at the frame's rate plus
+// the fog's density, per metre.
+double extinctionPerMeter(const RainSettings& rain, const FogSettings& fog, double frame) {
+  double beta = 0.0;
+  if (rain.enabled) beta += rain::rainExtinctionPerMeter(rain.rateMmPerHour.valueAt(frame));
+  if (fog.enabled) beta += fog.densityPerMeter;
+  return beta;
+}
+
+class LightsStage : public Stage {
+ public:
+  LightsStage(LightsSettings lights, RainSettings rain, FogSettings fog, CameraSettings camera)
+      : lights_(std::move(lights)),
+        rain_(std::move(rain)),
+        fog_(std::move(fog)),
+        camera_(std::move(camera)) {}
+
+  void prepare(ClipContext& clip) override {
+    path_ = clip.trackedPath ? *clip.trackedPath : camera_.path(clip.camera);
+    if (lights_.halos) tables_ = std::make_unique<optics::ScatteringTables>();
+    log::info(fmt::format("lights: {} lights{}", lights_.lights.size(),
+                          clip.trackedPath ? ", following the tracked camera" : ""));
+  }
+
+  void process(ClipContext&, FrameContext& frame) override {
+    const double at = double(frame.frame);
+    const Camera camera = path_.cameraAt(at);
+    frame.lights = lightsAtFrame(lights_, camera, at);
+    frame.lightsExtinctionPerMeter = extinctionPerMeter(rain_, fog_, at);
+    if (!tables_) return;
+    const HaloResult halos =
+        addHalos(frame.image, camera, frame.lights, frame.lightsExtinctionPerMeter, *tables_,
+                 lights_.haloThresholdRadiance);
+    if (halos.culled != lastCulled_) {
+      log::info(fmt::format(
+          "lights: frame {}: {} of {} lights culled (halo below lights.halo_threshold = {:g} at "
+          "extinction {:.3g} /m)",
+          frame.frame, halos.culled, frame.lights.size(), lights_.haloThresholdRadiance,
+          frame.lightsExtinctionPerMeter));
+      lastCulled_ = halos.culled;
+    }
+  }
+
+ private:
+  LightsSettings lights_;
+  RainSettings rain_;
+  FogSettings fog_;
+  CameraSettings camera_;
+  CameraPath path_;
+  std::unique_ptr<optics::ScatteringTables> tables_;
+  int lastCulled_ = 0;
+};
+
+}  // namespace
+
+StageInfo lightsStageInfo() {
+  StageInfo info;
+  info.spec = lightsSection();
+  info.noOpReason = [](const Preset& p) -> std::string {
+    const LightsSettings lights = lightsSettings(p);
+    if (lights.lights.empty()) return "no lights (lights.list is empty): the light work is skipped";
+    if (!lights.halos && !lights.drops) return "lights.halos and lights.drops are both off";
+    return "";
+  };
+  info.note = [](const Preset& p) -> std::string {
+    const LightsSettings lights = lightsSettings(p);
+    int spots = 0;
+    for (const auto& l : lights.lights) spots += l.spot ? 1 : 0;
+    return fmt::format("{} point lights, {} spotlights; halos {}, drops {}",
+                       int(lights.lights.size()) - spots, spots, lights.halos ? "on" : "off",
+                       lights.drops ? "on" : "off");
+  };
+  info.reads = [](const Preset&) { return std::vector<std::string>{"image", "depth"}; };
+  info.create = [](const Preset& p) {
+    return std::make_unique<LightsStage>(lightsSettings(p), rainSettings(p), fogSettings(p),
+                                         cameraSettings(p));
+  };
+  return info;
+}
+
+}  // namespace pluvia

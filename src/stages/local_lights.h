@@ -1,0 +1,54 @@
+#pragma once
+// The local lights of one frame, for the lights stage (halos and beams) and the rain stage (lit
+// drops): the preset's lights placed in the frame's camera space, the glow they add to a frame
+// by single scattering (optics/single_scattering.h), and the radiance they give one drop
+// through its transfer function (optics/drop_transfer.h).
+#include <array>
+#include <vector>
+
+#include "geometry/camera.h"
+#include "image/image.h"
+#include "optics/drop_transfer.h"
+#include "optics/single_scattering.h"
+#include "pipeline/stage.h"
+#include "stages/lights_settings.h"
+
+namespace pluvia {
+
+// The lights of `settings` at `frame`, in the camera space of `camera` (world-frame lights
+// transformed, spot axes normalised). Throws pluvia::Error naming the light (lights.list[i])
+// when a spot's axis is zero.
+std::vector<FrameLight> lightsAtFrame(const LightsSettings& settings, const Camera& camera,
+                                      double frame);
+
+optics::LocalLight localLight(const FrameLight& light);
+
+struct HaloResult {
+  int culled = 0;        // lights whose brightest unoccluded halo sample is below the threshold
+  size_t pixelsLit = 0;  // pixel x light evaluations done (after the tile culling)
+};
+
+// Adds every light's in-scattered radiance to image.rgba and to the planes "lights.R".."B"
+// (made here, with "lights.A" left 0): per pixel, the ray through its centre up to the scene there
+// (the "depth" plane's z-depth; none or +inf: the sky, an infinite ray). Culling: each light is
+// first evaluated unoccluded (an upper bound) at the corners of 16 px tiles; tiles whose own and
+// neighbours' corners are all below `thresholdRadiance` are skipped, and a light with no such
+// sample above it is culled. A beam narrower than a tile that passes between all the corners of
+// three tiles in a row would be missed.
+HaloResult addHalos(Image& image, const Camera& camera, const std::vector<FrameLight>& lights,
+                    double betaPerMeter, const optics::ScatteringTables& tables,
+                    double thresholdRadiance);
+
+// The radiance the lights give a drop at `dropMeters` (camera space) seen along unit `view`
+// (camera -> drop): sum over lights of D(angle(view, drop -> light)) * I(theta) rgb / d^2 *
+// exp(-beta d), d the distance from the drop to the light, at least the bulb's radius.
+std::array<float, 3> dropLocalRadiance(const optics::TransferTable& transfer,
+                                       const std::vector<FrameLight>& lights, double betaPerMeter,
+                                       const std::array<double, 3>& dropMeters,
+                                       const std::array<double, 3>& view);
+
+// The spot's I(theta) / I0 at cos(theta) (1 for a point light): Huang et al.'s
+// (1 - q)(cos theta - cos A) / (1 - cos A) + q inside the cone, 0 outside.
+double spotFactor(const FrameLight& light, double cosTheta);
+
+}  // namespace pluvia
