@@ -18,6 +18,7 @@
 #include "io/sequence_pattern.h"
 #include "io/written_frame.h"
 #include "pipeline/cache.h"
+#include "pipeline/clip_analysis.h"
 #include "pipeline/frame_metadata.h"
 #include "pipeline/proxy_clip_reader.h"
 #include "util/fs.h"
@@ -156,19 +157,6 @@ void refuseOverwritingInput(const ClipInfo& clip, const std::string& output,
   }
 }
 
-// The folder of an output, and the start of every file name it writes ("o." for o.####.exr and
-// its AOVs o.rain.####.exr; "rain." for rain.mp4).
-std::filesystem::path outputFolder(const std::string& output) {
-  return std::filesystem::path(output).parent_path();
-}
-std::string outputNamePrefix(const std::string& output) {
-  if (auto pattern = SequencePattern::parse(output)) {
-    const size_t slash = pattern->prefix.rfind('/');
-    return slash == std::string::npos ? pattern->prefix : pattern->prefix.substr(slash + 1);
-  }
-  return std::filesystem::path(output).stem().string() + ".";
-}
-
 // One image file holds one frame: more frames into it would each overwrite the last.
 void refuseSingleFileForManyFrames(const std::string& output, const std::vector<int64_t>& frames) {
   if (frames.size() < 2 || SequencePattern::parse(output) || isMovieExtension(output)) return;
@@ -273,14 +261,24 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
   };
 }
 
-void RenderSession::prepareStages() {
+void RenderSession::prepareStages(bool analysisOnly) {
+  if (request_.requireCache && cache_)
+    requireCachedAnalysis(clipAnalysisEntries(plan_, preset_, clip(), stageInfos_, *cache_),
+                          request_.input, request_.cacheDir);
   for (const auto& info : stageInfos_) {
-    if (plan_.available(info.spec.name)) stages_.emplace_back(&info, info.create(preset_));
+    if (!plan_.available(info.spec.name)) continue;
+    // `pluvia prepare`: the stages whose cache entry is missing.
+    if (analysisOnly && !cacheEntryMissing(cache_ ? &*cache_ : nullptr, info, preset_, clip()))
+      continue;
+    stages_.emplace_back(&info, info.create(preset_));
   }
   for (auto& [info, stage] : stages_) {
     const std::string& name = info->spec.name;
     ScopedTimer timer(&times_, name + " (prepare)");
     try {
+      // Held while the stage computes its missing cache entry, so that it is computed once.
+      const auto entryLock =
+          lockMissingEntry(cache_ ? &*cache_ : nullptr, *info, preset_, clip());
       stage->prepare(context_);
     } catch (const Error& e) {
       if (!e.context().stage.empty()) throw;
@@ -353,9 +351,8 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset,
   std::vector<int64_t> frames = session.frames();
   refuseSingleFileForManyFrames(request.output, frames);
   // Held until the last frame is written, --skip-existing's checks included.
-  OutputLock lock(request.output);
-  if (int removed = fs::removeStaleTemporaries(outputFolder(request.output),
-                                               outputNamePrefix(request.output))) {
+  OutputLock lock(request.output, frames.front(), frames.back());
+  if (int removed = lock.removeStaleTemporaries()) {
     log::info(fmt::format("removed {} temporary files left by renders that were killed", removed));
   }
 

@@ -199,6 +199,8 @@ class EnvironmentStage : public Stage {
   }
 
   static std::string environmentCacheKey(const Preset& p, const ClipInfo& clip) {
+    // An HDR is read, not computed: nothing to cache (`--require-cache` must not ask for it).
+    if (p.string("lighting.source") == "hdr") return std::string();
     return Hasher()
         .add("lighting")
         .add(kStageVersion)
