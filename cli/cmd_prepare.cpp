@@ -9,6 +9,7 @@
 #include "stages/registry.h"
 #include "util/interrupt.h"
 #include "util/log.h"
+#include "util/timer.h"
 
 namespace pluvia::cli {
 
