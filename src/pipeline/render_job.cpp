@@ -277,8 +277,7 @@ void RenderSession::prepareStages(bool analysisOnly) {
     ScopedTimer timer(&times_, name + " (prepare)");
     try {
       // Held while the stage computes its missing cache entry, so that it is computed once.
-      const auto entryLock =
-          lockMissingEntry(cache_ ? &*cache_ : nullptr, *info, preset_, clip());
+      const auto entryLock = lockMissingEntry(cache_ ? &*cache_ : nullptr, *info, preset_, clip());
       stage->prepare(context_);
     } catch (const Error& e) {
       if (!e.context().stage.empty()) throw;

@@ -275,8 +275,8 @@ TEST(CliFrameSafety, ChunksOfOneOutputRenderTogetherAndAnOverlapIsRefused) {
   std::ofstream(dir / "o.0003.pluvia-tmp-999999-0.png") << "half a frame";
   std::ofstream(dir / "o.0001.pluvia-tmp-999999-1.png") << "half a frame";
 
-  auto overlap = runPluvia({"render", plate, "-p", "drizzle", "-o", (dir / "o.####.png").string(),
-                            "--frames", "2-3"});
+  auto overlap = runPluvia(
+      {"render", plate, "-p", "drizzle", "-o", (dir / "o.####.png").string(), "--frames", "2-3"});
   EXPECT_EQ(overlap.exitCode, 1) << overlap.output;
   EXPECT_NE(overlap.output.find("another render (pid and host: 4242 farm-node-7) is writing "
                                 "frames 3-4 of "),
@@ -284,8 +284,8 @@ TEST(CliFrameSafety, ChunksOfOneOutputRenderTogetherAndAnOverlapIsRefused) {
       << overlap.output;
   EXPECT_FALSE(stdfs::exists(dir / "o.0002.png"));
 
-  auto chunk = runPluvia({"render", plate, "-p", "drizzle", "-o", (dir / "o.####.png").string(),
-                          "--frames", "1-2"});
+  auto chunk = runPluvia(
+      {"render", plate, "-p", "drizzle", "-o", (dir / "o.####.png").string(), "--frames", "1-2"});
   EXPECT_EQ(chunk.exitCode, 0) << chunk.output;
   EXPECT_TRUE(decodes(dir / "o.0001.png"));
   EXPECT_TRUE(decodes(dir / "o.0002.png"));
