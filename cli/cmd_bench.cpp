@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <random>
 #include <sstream>
@@ -20,6 +21,9 @@
 #include "commands.h"
 #include "common.h"
 #include "gpu/rain_renderer.h"
+#include "image/color.h"
+#include "image/ops.h"
+#include "io/clip_reader.h"
 #include "lab/test_environment.h"
 #include "pipeline/render_job.h"
 #include "rain/stroke_library.h"
@@ -119,19 +123,7 @@ RenderTiming timeRenders(gpu::RainRenderer& renderer, const Image& background,
   return {median(wall), median(cpu)};
 }
 
-void runStrokeBench(const std::string& strokeList, const std::string& size, int frames,
-                    bool depthPlane) {
-  const std::vector<int> counts = parseCounts(strokeList);
-  int width = 0, height = 0;
-  parseSize(size, width, height);
-
-  gpu::RainRenderer renderer(width, height);
-  const rain::StrokeLibrary library = rain::loadStrokeLibrary(rain::builtinStrokeLibraryPath());
-  renderer.setStrokeAtlas(library.atlas);
-  const int strokeCount = static_cast<int>(library.atlas.rects.size());
-  rain::ShadingParams shading;  // pluvia's default: the map term alone, c = 0
-  shading.radianceMap = optics::builtinTestEnvironment(128);
-
+Image benchBackground(int width, int height, bool depthPlane) {
   Image background(width, height);
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
@@ -149,43 +141,141 @@ void runStrokeBench(const std::string& strokeList, const std::string& size, int 
       }
     }
   }
+  return background;
+}
+
+gpu::RainBackend parseBackend(const std::string& name) {
+  if (name == "egl") return gpu::RainBackend::Egl;
+  if (name == "cpu") return gpu::RainBackend::Cpu;
+  return gpu::RainBackend::Auto;
+}
+
+// Each backend asked for ("both": EGL, then the CPU rasteriser) times every count on both
+// populations in this one run; with two backends a last table gives the CPU's frames per second
+// over EGL's.
+void runStrokeBench(const std::string& strokeList, const std::string& size, int frames,
+                    bool depthPlane, const std::string& backends) {
+  const std::vector<int> counts = parseCounts(strokeList);
+  int width = 0, height = 0;
+  parseSize(size, width, height);
+  const rain::StrokeLibrary library = rain::loadStrokeLibrary(rain::builtinStrokeLibraryPath());
+  const int strokeCount = static_cast<int>(library.atlas.rects.size());
+  rain::ShadingParams shading;  // pluvia's default: the map term alone, c = 0
+  shading.radianceMap = lab::builtinTestEnvironment(128);
+  const Image background = benchBackground(width, height, depthPlane);
 
   std::cout << fmt::format("bench strokes: {}x{}, {} frames each (median, after 3 warm-up)\n",
                            width, height, frames);
-  std::cout << fmt::format("device: {}\n", renderer.deviceDescription());
   std::cout << fmt::format("atlas: {} strokes ({}x{}); radiance map {}x{}; scene depth: {}\n",
                            strokeCount, library.atlas.width, library.atlas.height,
                            shading.radianceMap.width, shading.radianceMap.height,
                            depthPlane ? "plane 3-50 m" : "none (far)");
   std::cout << "timing: RainRenderer::render end to end (streak upload, draw, read-back, planes)\n";
 
-  const RenderTiming overhead =
-      timeRenders(renderer, background, syntheticStreaks(1, width, height, strokeCount).streaks,
-                  shading, frames);
-  std::cout << fmt::format(
-      "fixed cost per frame (1 streak: uploads, read-back, planes): {:.2f} ms ({:.2f} ms CPU)\n",
-      overhead.wallMs, overhead.cpuMs);
-  for (bool simulated : {false, true}) {
-    std::cout << fmt::format("\n{:>9} {:>10} {:>9} {:>12} {:>9} {:>12}  {}\n", "strokes",
-                             "ms/frame", "fps", "Mpx covered", "Mpx/s", "CPU ms/frame",
-                             simulated ? "simulated rain" : "synthetic stress test");
-    std::string description;
-    for (int count : counts) {
-      const StreakPopulation population =
-          simulated ? simulatedStreaks(count, width, height, library.atlas)
-                    : syntheticStreaks(count, width, height, strokeCount);
-      description = population.description;
-      const RenderTiming t = timeRenders(renderer, background, population.streaks, shading, frames);
-      const double megapixels = population.pixelsCovered / 1e6;
-      std::cout << fmt::format("{:>9} {:>10.2f} {:>9.1f} {:>12.2f} {:>9.1f} {:>12.2f}\n",
-                               population.streaks.size(), t.wallMs, 1000.0 / t.wallMs, megapixels,
-                               megapixels / (t.wallMs / 1000.0), t.cpuMs);
-      std::cout.flush();
+  std::vector<StreakPopulation> populations[2];
+  for (int count : counts) {
+    populations[0].push_back(syntheticStreaks(count, width, height, strokeCount));
+    populations[1].push_back(simulatedStreaks(count, width, height, library.atlas));
+  }
+  const std::vector<std::string> names =
+      backends == "both" ? std::vector<std::string>{"egl", "cpu"} : std::vector{backends};
+  std::vector<std::vector<double>> fps(names.size());  // [backend][population * counts + i]
+  for (size_t b = 0; b < names.size(); ++b) {
+    gpu::RainRenderer renderer(width, height, parseBackend(names[b]));
+    renderer.setStrokeAtlas(library.atlas);
+    std::cout << fmt::format("\nbackend {}: {}\n", names[b], renderer.deviceDescription());
+    const RenderTiming overhead =
+        timeRenders(renderer, background, syntheticStreaks(1, width, height, strokeCount).streaks,
+                    shading, frames);
+    std::cout << fmt::format(
+        "fixed cost per frame (1 streak: uploads, read-back, planes): {:.2f} ms ({:.2f} ms CPU)\n",
+        overhead.wallMs, overhead.cpuMs);
+    for (int simulated = 0; simulated < 2; ++simulated) {
+      std::cout << fmt::format("{:>9} {:>10} {:>9} {:>12} {:>9} {:>12}  {}\n", "strokes",
+                               "ms/frame", "fps", "Mpx covered", "Mpx/s", "CPU ms/frame",
+                               simulated ? "simulated rain" : "synthetic stress test");
+      for (const StreakPopulation& population : populations[simulated]) {
+        const RenderTiming t =
+            timeRenders(renderer, background, population.streaks, shading, frames);
+        const double megapixels = population.pixelsCovered / 1e6;
+        fps[b].push_back(1000.0 / t.wallMs);
+        std::cout << fmt::format("{:>9} {:>10.2f} {:>9.1f} {:>12.2f} {:>9.1f} {:>12.2f}\n",
+                                 population.streaks.size(), t.wallMs, 1000.0 / t.wallMs, megapixels,
+                                 megapixels / (t.wallMs / 1000.0), t.cpuMs);
+        std::cout.flush();
+      }
+      std::cout << "  (" << populations[simulated].front().description << ")\n";
     }
-    std::cout << "  (" << description << ")\n";
+  }
+  if (names.size() == 2) {
+    std::cout << fmt::format("\n{:>9} {:>16} {:>16}  (frames/s, {} over {}, same run)\n", "strokes",
+                             "synthetic", "simulated", names[1], names[0]);
+    for (size_t i = 0; i < counts.size(); ++i) {
+      std::cout << fmt::format("{:>9} {:>16.2f} {:>16.2f}\n", counts[i], fps[1][i] / fps[0][i],
+                               fps[1][counts.size() + i] / fps[0][counts.size() + i]);
+    }
   }
   std::cout << "(CPU ms/frame: all threads of the process, llvmpipe's included; on a shared "
                "machine it varies less than the wall time)\n";
+}
+
+// The per-pixel passes of a render on one frame of `size`: colour in (sRGB to linear), darken,
+// blur, fog, colour out (linear to sRGB) with the `moderate` preset's settings, each timed
+// `frames` times (median wall and process CPU time, after one warm-up), and their sum.
+void runPassBench(const std::string& size, int frames) {
+  int width = 0, height = 0;
+  parseSize(size, width, height);
+  Image plate(width, height);
+  std::mt19937 random(3);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (size_t i = 0; i < plate.pixelCount(); ++i) {
+    for (int c = 0; c < 3; ++c) plate.rgba[i * 4 + c] = std::round(255.0f * unit(random)) / 255.0f;
+  }
+  std::vector<float>& depth = plate.plane("depth");
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      depth[static_cast<size_t>(y) * width + x] =
+          y < height / 3 ? INFINITY : 20.0f * static_cast<float>(height) / (3.0f * y - height + 3);
+    }
+  }
+  const ColorConverter toLinear("sRGB", "linear-rec709"), toSrgb("linear-rec709", "sRGB");
+  struct Pass {
+    const char* name;
+    std::function<void(Image&)> run;
+  };
+  const std::vector<Pass> passes = {
+      {"colour in", [&](Image& i) { toLinear.apply(i); }},
+      {"darken", [](Image& i) { ops::darken(i, 0.2f, 0.5f); }},
+      {"blur", [](Image& i) { ops::gaussianBlur(i, 0.4f); }},
+      {"fog",
+       [](Image& i) {
+         ops::fog(i, 0.0015f, {0.6f, 0.65f, 0.7f}, 2000.0f);
+       }},
+      {"colour out", [&](Image& i) { toSrgb.apply(i); }},
+  };
+  std::cout << fmt::format(
+      "bench passes: {}x{}, moderate's settings, {} runs each (median after 1 warm-up)\n", width,
+      height, frames);
+  std::cout << fmt::format("{:<12} {:>10} {:>12}\n", "pass", "ms/frame", "CPU ms/frame");
+  Image frame = plate;
+  double wallSum = 0.0, cpuSum = 0.0;
+  for (const Pass& pass : passes) {
+    std::vector<double> wall, cpu;
+    for (int i = 0; i <= frames; ++i) {
+      const Image before = frame;
+      const auto started = std::chrono::steady_clock::now();
+      const double cpuStarted = processCpuMs();
+      pass.run(frame);
+      if (i > 0) {
+        wall.push_back(1000.0 * secondsSince(started));
+        cpu.push_back(processCpuMs() - cpuStarted);
+      }
+      if (i < frames) frame = before;  // every run sees the same input
+    }
+    wallSum += median(wall), cpuSum += median(cpu);
+    std::cout << fmt::format("{:<12} {:>10.2f} {:>12.2f}\n", pass.name, median(wall), median(cpu));
+  }
+  std::cout << fmt::format("{:<12} {:>10.2f} {:>12.2f}\n", "all five", wallSum, cpuSum);
 }
 
 }  // namespace
@@ -197,9 +287,9 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     std::string input, preset = "moderate";
     std::vector<std::string> sets;
     int frames = 48;
-    std::string strokes, size = "720x480";
+    std::string strokes, size = "720x480", backend = "both";
     int64_t drops = 0;
-    bool depthPlane = false;
+    bool depthPlane = false, passes = false;
   };
   auto args = std::make_shared<Args>();
   cmd->add_option("INPUT", args->input, "clip to bench; default: the example scaled to 1080p");
@@ -215,6 +305,13 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
   cmd->add_option("--drops", args->drops,
                   "bench the drop simulation alone (CPU per frame), e.g. 100000")
       ->check(CLI::Range(int64_t(1), int64_t(10000000)));
+  cmd->add_option("--backend", args->backend,
+                  "with --strokes: the rain renderer to time: egl, cpu, auto (as a render "
+                  "chooses) or both (egl then cpu, and their ratio; the default)")
+      ->check(CLI::IsMember({"egl", "cpu", "auto", "both"}));
+  cmd->add_flag("--passes", args->passes,
+                "bench the per-pixel passes alone (colour in and out, darken, blur, fog) on one "
+                "frame of --size (default 1920x1080)");
   cmd->add_flag("--depth-plane", args->depthPlane,
                 "with --strokes: give the frame a scene depth plane (3-50 m)");
   cmd->callback([=, &invocation] {
@@ -222,9 +319,15 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
       runDropBench(args->drops, cmd->count("--frames") > 0 ? args->frames : 30);
       return;
     }
+    if (args->passes) {
+      runPassBench(cmd->count("--size") > 0 ? args->size : "1920x1080",
+                   cmd->count("--frames") > 0 ? args->frames : 20);
+      return;
+    }
     if (!args->strokes.empty()) {
       const bool framesGiven = cmd->count("--frames") > 0;
-      runStrokeBench(args->strokes, args->size, framesGiven ? args->frames : 30, args->depthPlane);
+      runStrokeBench(args->strokes, args->size, framesGiven ? args->frames : 30, args->depthPlane,
+                     args->backend);
       return;
     }
     stdfs::path folder = stdfs::temp_directory_path() / fmt::format("pluvia-bench-{}", ::getpid());
@@ -278,13 +381,54 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
       std::cout << fmt::format("{:<22} {:>10.2f} {:>10.1f}\n", stage, ms,
                                ms > 0 ? 1000.0 / ms : 0.0);
     }
+    // The encoder's own share: ffmpeg encoding pluvia's rained frames from the 16-bit RGB that
+    // pluvia's writer pipes it, with the same settings. Rain is fine, temporally incoherent
+    // detail: it costs libx264 more than the plate, and no renderer can beat this rate.
+    const stdfs::path raw = folder / "pluvia_render.rgb48";
+    auto decoded = runProcess({"ffmpeg", "-y", "-v", "error", "-i", request.output, "-f",
+                               "rawvideo", "-pix_fmt", "rgb48le", raw.string()});
+    if (decoded.exitCode != 0) throw Error("ffmpeg could not decode the render: " + decoded.output);
+    const ClipInfo rendered = openClip(request.output)->info();
+    started = std::chrono::steady_clock::now();
+    auto encoded = runProcess({"ffmpeg",
+                               "-y",
+                               "-v",
+                               "error",
+                               "-f",
+                               "rawvideo",
+                               "-pix_fmt",
+                               "rgb48le",
+                               "-s",
+                               fmt::format("{}x{}", rendered.width, rendered.height),
+                               "-r",
+                               fmt::format("{}", rendered.fps),
+                               "-i",
+                               raw.string(),
+                               "-c:v",
+                               "libx264",
+                               "-preset",
+                               "medium",
+                               "-crf",
+                               "16",
+                               "-pix_fmt",
+                               "yuv420p",
+                               (folder / "ffmpeg_encode_only.mp4").string()});
+    const double encodeSeconds = secondsSince(started);
+    if (encoded.exitCode != 0) throw Error("ffmpeg could not encode the render: " + encoded.output);
+
     const double pluviaFps = frames / pluviaSeconds;
     const double ffmpegFps = args->frames / ffmpegSeconds;
+    const double encodeFps = frames / encodeSeconds;
+    std::cout << "encoder settings: libx264 -preset medium -crf 16 -pix_fmt yuv420p\n";
     std::cout << fmt::format("pluvia end to end:      {:.2f} frames/s ({:.1f} s)\n", pluviaFps,
                              pluviaSeconds);
-    std::cout << fmt::format("ffmpeg decode+encode:   {:.2f} frames/s ({:.1f} s)\n", ffmpegFps,
-                             ffmpegSeconds);
+    std::cout << fmt::format("ffmpeg decode+encode:   {:.2f} frames/s ({:.1f} s; the plate)\n",
+                             ffmpegFps, ffmpegSeconds);
+    std::cout << fmt::format(
+        "ffmpeg encode only:     {:.2f} frames/s ({:.1f} s; pluvia's output, from rgb48le)\n",
+        encodeFps, encodeSeconds);
     std::cout << fmt::format("ratio pluvia / ffmpeg:  {:.3f}\n", pluviaFps / ffmpegFps);
+    std::cout << fmt::format("ratio pluvia / encode only: {:.3f}\n", pluviaFps / encodeFps);
     std::cout << "(stage times overlap: decode and encode run on their own threads)\n";
     stdfs::remove_all(folder);
   });

@@ -15,9 +15,10 @@
 #include "io/clip_reader.h"
 #include "io/image_file_writer.h"
 #include "io/sequence_pattern.h"
+#include "pipeline/camera_settings.h"
 #include "pluvia/version.h"
-#include "preset/camera_path_preset.h"
 #include "sfm/clip_tracking.h"
+#include "stages/depth_settings.h"
 #include "stages/depth_tracking.h"
 #include "util/error.h"
 #include "util/fs.h"
@@ -52,36 +53,39 @@ void writeColmapDepth(ClipReader& reader, const std::vector<int64_t>& frames,
                       const std::vector<std::string>& outputs, const Preset& preset,
                       const Metadata& metadata) {
   const ClipInfo& clip = reader.info();
-  ClipTrackingSettings settings = depthTrackingSettings(preset);
+  const DepthSettings depth = depthSettings(preset);
+  sfm::ClipTrackingSettings settings = depthTrackingSettings(depth, cameraSettings(preset));
   settings.workspace = std::filesystem::absolute(outputs.front()).parent_path() / "colmap";
-  const std::string model = preset.string("depth.colmap_model");
-  SfmReconstruction sfm;
+  const std::string& model = depth.colmapModel;
+  sfm::SfmReconstruction reconstruction;
   std::string log;
   if (model.empty()) {
-    ClipTracking tracking = trackClip(
+    sfm::ClipTracking tracking = sfm::trackClip(
         frames, [&reader](int64_t f) { return reader.read(f); }, settings);
-    sfm = std::move(tracking.sfm);
+    reconstruction = std::move(tracking.sfm);
     if (!tracking.run.logPath.empty()) log = " (COLMAP log: " + tracking.run.logPath.string() + ")";
   } else {
     // The whole clip's frames, so that --frames may select frames between registered ones.
-    sfm = trackingFromModel(model, clip.frames,
-                            clip.isMovie ? std::vector<std::string>{} : clip.files, settings.sfm);
+    reconstruction = sfm::trackingFromModel(
+        model, clip.frames, clip.isMovie ? std::vector<std::string>{} : clip.files, settings.sfm);
     log = " (depth.colmap_model: " + model + ")";
   }
-  if (!sfm.ok())
-    throw Error(fmt::format("{}{}; use --source layers for this clip", sfm.message, log),
+  if (!reconstruction.ok())
+    throw Error(fmt::format("{}{}; use --source layers for this clip", reconstruction.message, log),
                 {"depth", {}, clip.path});
   log::info(fmt::format("colmap: {} of {} frames registered, {:.2f} px mean reprojection error{}",
-                        sfm.registeredCount, sfm.frameCount, sfm.meanReprojectionErrorPx,
-                        sfm.message.empty() ? "" : "; " + sfm.message));
+                        reconstruction.registeredCount, reconstruction.frameCount,
+                        reconstruction.meanReprojectionErrorPx,
+                        reconstruction.message.empty() ? "" : "; " + reconstruction.message));
   for (size_t i = 0; i < frames.size(); ++i) {
-    const std::vector<float> depth = colmapFrameDepth(sfm, frames[i], reader.read(frames[i]),
-                                                      preset.string("depth.colmap_dense"));
-    writeImageFile(outputs[i], clip.width, clip.height, {{"Z", depth.data(), 1, true}}, metadata,
-                   frames[i]);
+    const std::vector<float> depthMeters =
+        sfm::colmapFrameDepth(reconstruction, frames[i], reader.read(frames[i]), depth.colmapDense);
+    writeImageFile(outputs[i], clip.width, clip.height, {{"Z", depthMeters.data(), 1, true}},
+                   metadata, frames[i]);
   }
   std::filesystem::create_directories(settings.workspace);
-  fs::writeTextFile(settings.workspace / "poses.json", posesJson(sfm, frames).dump(2) + "\n");
+  fs::writeTextFile(settings.workspace / "poses.json",
+                    sfm::posesJson(reconstruction, frames).dump(2) + "\n");
 }
 
 }  // namespace
@@ -118,11 +122,10 @@ void addDepthCommand(CLI::App& app, Invocation& invocation) {
     std::vector<std::string> inputs = clip.files;
     inputs.push_back(clip.path);
     refuseOverwritingInput(inputs, "-o", outputs);
-    const std::filesystem::path folder =
-        std::filesystem::absolute(outputs.front()).parent_path();
+    const std::filesystem::path folder = std::filesystem::absolute(outputs.front()).parent_path();
     if (!std::filesystem::is_directory(folder))
-      throw UsageError(fmt::format("-o {}: the folder {} does not exist", args->output,
-                                   folder.string()));
+      throw UsageError(
+          fmt::format("-o {}: the folder {} does not exist", args->output, folder.string()));
 
     const Metadata metadata{{"pluvia:version", kVersion},
                             {"pluvia:presetHash", preset.hash()},
@@ -134,11 +137,9 @@ void addDepthCommand(CLI::App& app, Invocation& invocation) {
     }
 
     // The camera the render builds (pipeline/render_job.cpp), moved along camera.path.
-    const Camera base =
-        Camera::fromFieldOfView(clip.width, clip.height, preset.number("camera.fov_deg"),
-                                preset.number("camera.tilt_deg"), preset.number("camera.height_m"));
-    const CameraPath path = cameraPathFromPreset(preset, base);
-    const nlohmann::json& layers = preset.at("depth.layers");
+    const CameraSettings camera = cameraSettings(preset);
+    const CameraPath path = camera.path(camera.base(clip.width, clip.height));
+    const nlohmann::json layers = depthSettings(preset).layers;
     const KeyedNumberAt rampAt = [](const nlohmann::json& v, double f) {
       return Ramp::fromJson(v).valueAt(f);
     };

@@ -17,6 +17,7 @@
 #include "io/clip_reader.h"
 #include "io/sequence_pattern.h"
 #include "pipeline/frame_metadata.h"
+#include "stages/registry.h"
 #include "util/error.h"
 #include "util/interrupt.h"
 #include "util/log.h"
@@ -195,7 +196,7 @@ void addAssembleCommand(CLI::App* farm) {
     const auto [first, last] = parseFrameRange(args->range);
     WriterOptions options;
     options.fps = args->fps;
-    options.metadata = frameMetadata(loadPreset(args->preset, args->sets));
+    options.metadata = frameMetadata(loadPreset(args->preset, args->sets), allStages());
     InterruptHandlers stopCleanly;
     const auto started = std::chrono::steady_clock::now();
     const int frames = farm::assembleMovie(args->frames, first, last, args->output, options);

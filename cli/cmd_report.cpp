@@ -41,7 +41,7 @@ void addReportDerain(CLI::App& report, Invocation& invocation) {
       "derain", "rain extraction: error vs time against synthetic truth, and on real footage");
   struct Args {
     std::string csv, plot, images, data;
-    derain::DerainReportSettings settings;
+    lab::DerainReportSettings settings;
   };
   auto args = std::make_shared<Args>();
   derain->add_option("--csv", args->csv, "also write the table as CSV");
@@ -55,14 +55,14 @@ void addReportDerain(CLI::App& report, Invocation& invocation) {
   derain->add_flag("--quick", args->settings.quick,
                    "one 320x240 case, short sweeps, no real footage (for tests)");
   derain->callback([=, &invocation] {
-    derain::DerainReportSettings settings = args->settings;
+    lab::DerainReportSettings settings = args->settings;
     settings.examplePlate = findBesideInstall("examples/street/street_plate.mp4");
     settings.sharedData = sharedDataFolder(args->data);
     settings.imagesDir = args->images;
-    const derain::DerainReport result = derain::runDerainReport(settings);
-    std::cout << derain::formatDerainReport(result);
-    if (!args->csv.empty()) derain::writeDerainReportCsv(result, args->csv);
-    if (!args->plot.empty()) derain::writeDerainReportPlot(result, args->plot);
+    const lab::DerainReport result = lab::runDerainReport(settings);
+    std::cout << lab::formatDerainReport(result);
+    if (!args->csv.empty()) lab::writeDerainReportCsv(result, args->csv);
+    if (!args->plot.empty()) lab::writeDerainReportPlot(result, args->plot);
     invocation.exitCode = 0;
   });
 }
@@ -72,7 +72,7 @@ void addReportEnvmap(CLI::App& report, Invocation& invocation) {
       "envmap", "environments stitched from a pan: SH and drop colour error vs frames and time");
   struct Args {
     std::string env, csv, plot, images, data;
-    envmap::EnvmapReportSettings settings;
+    lab::EnvmapReportSettings settings;
   };
   auto args = std::make_shared<Args>();
   envmap->add_option("--env", args->env,
@@ -90,16 +90,16 @@ void addReportEnvmap(CLI::App& report, Invocation& invocation) {
                    "the built-in environment, 640x360 frames, 3 and 12 frames, no photos (for "
                    "tests)");
   envmap->callback([=, &invocation] {
-    envmap::EnvmapReportSettings settings = args->settings;
+    lab::EnvmapReportSettings settings = args->settings;
     if (!args->env.empty() && !std::filesystem::is_regular_file(args->env))
       throw UsageError("--env: no such file: " + args->env);
     settings.environment = args->env;
     settings.sharedData = sharedDataFolder(args->data);
     settings.imagesDir = args->images;
-    const envmap::EnvmapReport result = envmap::runEnvmapReport(settings);
-    std::cout << envmap::formatEnvmapReport(result);
-    if (!args->csv.empty()) envmap::writeEnvmapReportCsv(result, args->csv);
-    if (!args->plot.empty()) envmap::writeEnvmapReportPlot(result, args->plot);
+    const lab::EnvmapReport result = lab::runEnvmapReport(settings);
+    std::cout << lab::formatEnvmapReport(result);
+    if (!args->csv.empty()) lab::writeEnvmapReportCsv(result, args->csv);
+    if (!args->plot.empty()) lab::writeEnvmapReportPlot(result, args->plot);
     invocation.exitCode = 0;
   });
 }
@@ -151,7 +151,7 @@ void addReportCommand(CLI::App& app, Invocation& invocation) {
       cmd->add_subcommand("optics", "drop shading: error against the ray-traced reference vs time");
   struct Args {
     std::string env, csv, plot;
-    optics::OpticsReportSettings settings;
+    lab::OpticsReportSettings settings;
   };
   auto args = std::make_shared<Args>();
   optics->add_option("--env", args->env,
@@ -171,13 +171,13 @@ void addReportCommand(CLI::App& app, Invocation& invocation) {
       ->check(CLI::Range(1, 8));
   optics->callback([=, &invocation] {
     const EquirectMap env =
-        args->env.empty() ? optics::builtinTestEnvironment() : optics::loadEnvironment(args->env);
-    const optics::OpticsReport report = optics::runOpticsReport(env, args->settings);
+        args->env.empty() ? lab::builtinTestEnvironment() : optics::loadEnvironment(args->env);
+    const lab::OpticsReport report = lab::runOpticsReport(env, args->settings);
     std::cout << "environment: " << (args->env.empty() ? "built-in test environment" : args->env)
               << "\n"
-              << optics::formatOpticsReport(report);
-    if (!args->csv.empty()) optics::writeOpticsReportCsv(report, args->csv);
-    if (!args->plot.empty()) optics::writeOpticsReportPlot(report, args->plot);
+              << lab::formatOpticsReport(report);
+    if (!args->csv.empty()) lab::writeOpticsReportCsv(report, args->csv);
+    if (!args->plot.empty()) lab::writeOpticsReportPlot(report, args->plot);
     invocation.exitCode = 0;
   });
   addReportDerain(*cmd, invocation);

@@ -3,12 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
-#include "util/fs.h"
-
 #include <fmt/format.h>
 
+#include "stages/blur_settings.h"
+#include "stages/lighting_settings.h"
 #include "stages/registry.h"
 #include "util/error.h"
+#include "util/fs.h"
 #include "util/log.h"
 
 namespace pluvia::cli {
@@ -55,9 +56,9 @@ Preset loadPresetForProxy(const std::string& nameOrPath, const std::vector<std::
     scaled.push_back(fmt::format("{}={:g}", key, proxyValue));
     log::info(fmt::format("proxy: {} {:g} -> {:g}", key, fullSizeValue, proxyValue));
   };
-  const double sigmaPx = fullSize.number("blur.sigma_px");
+  const double sigmaPx = blurSettings(fullSize).sigmaPx;
   setScaled("blur.sigma_px", sigmaPx, sigmaPx * scale);
-  const nlohmann::json& lights = fullSize.at("lighting.lights");
+  const nlohmann::json lights = lightingSettings(fullSize).lights;
   for (size_t i = 0; i < lights.size(); ++i) {
     if (lights[i].value("type", "") != "region") continue;
     auto setRegionField = [&](const char* field, double proxyMinimum) {

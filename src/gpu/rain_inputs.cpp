@@ -1,7 +1,9 @@
 #include "gpu/rain_inputs.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include <fmt/format.h>
 
@@ -144,6 +146,63 @@ void compositeRainLayer(const std::vector<float>& radianceLayer, float backgroun
     planes[3][i] = coverage;
   }
   frame.planes["matte"] = frame.planes["rain.A"];
+}
+
+namespace {
+
+// Whether every bit of the layer is zero over pixels [first, first + count) and, when c enters,
+// every background value there is finite: then compositing leaves rgba and the rain planes as
+// they are (rain = 0 + c * B * 0 = 0, composite = B).
+bool layerIsEmpty(const RainPlanes& planes, bool backgroundEnters, size_t first, size_t count) {
+  uint32_t bits = 0;
+  for (size_t i = first; i < first + count; ++i) {
+    bits |= std::bit_cast<uint32_t>(planes.a[i]) | std::bit_cast<uint32_t>(planes.r[i]) |
+            std::bit_cast<uint32_t>(planes.g[i]) | std::bit_cast<uint32_t>(planes.b[i]);
+  }
+  if (bits != 0) return false;
+  if (!backgroundEnters) return true;
+  bool finite = true;
+  for (size_t i = first * 4; i < (first + count) * 4; ++i) finite &= std::isfinite(planes.rgba[i]);
+  return finite;
+}
+
+}  // namespace
+
+void compositeRainPixels(float backgroundWeight, const RainPlanes& planes, size_t first,
+                         size_t count) {
+  const float c = backgroundWeight;
+  // Runs of pixels without rain (most of a frame) only get their matte.
+  constexpr size_t kRun = 16;
+  for (size_t start = first; start < first + count; start += kRun) {
+    const size_t end = std::min(start + kRun, first + count);
+    if (layerIsEmpty(planes, c != 0.0f, start, end - start)) {
+      std::fill(planes.matte + start, planes.matte + end, 0.0f);
+      continue;
+    }
+    for (size_t i = start; i < end; ++i) {
+      float* background = planes.rgba + i * 4;
+      const float coverage = planes.a[i];
+      float* rgb[3] = {planes.r + i, planes.g + i, planes.b + i};
+      for (int ch = 0; ch < 3; ++ch) {
+        // As compositeRainLayer: c = 0 adds nothing, not even 0 * an infinite background.
+        const float rain = c == 0.0f ? *rgb[ch] : *rgb[ch] + c * background[ch] * coverage;
+        *rgb[ch] = rain;
+        if (coverage != 0.0f || rain != 0.0f) {
+          background[ch] = rain + (1.0f - coverage) * background[ch];
+        }
+      }
+      planes.matte[i] = coverage;
+    }
+  }
+}
+
+RainPlanes rainPlanesOf(Image& frame) {
+  return {frame.rgba.data(),
+          frame.plane("rain.R").data(),
+          frame.plane("rain.G").data(),
+          frame.plane("rain.B").data(),
+          frame.plane("rain.A").data(),
+          frame.plane("matte").data()};
 }
 
 void clearRainLayer(Image& frame) {

@@ -34,6 +34,23 @@ void storeRainLayer(const std::vector<float>& rainRgba, Image& frame);
 void compositeRainLayer(const std::vector<float>& radianceLayer, float backgroundWeight,
                         Image& frame);
 
+// A frame's composite and rain planes, as pointers (planes created when absent).
+struct RainPlanes {
+  float* rgba;
+  float* r;
+  float* g;
+  float* b;
+  float* a;
+  float* matte;
+};
+RainPlanes rainPlanesOf(Image& frame);
+
+// The same as compositeRainLayer for pixels [first, first + count) of a layer already in the
+// planes "rain.R", "rain.G", "rain.B", "rain.A" (the CPU rasteriser draws there): adds
+// c * B * A to the rain planes, composites rgba and sets matte = A.
+void compositeRainPixels(float backgroundWeight, const RainPlanes& planes, size_t first,
+                         size_t count);
+
 // Sets the rain planes to zero: the result when no streak is drawn.
 void clearRainLayer(Image& frame);
 

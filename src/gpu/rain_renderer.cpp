@@ -4,19 +4,25 @@
 
 #include <malloc.h>
 
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
 #include <optional>
 
 #include <epoxy/gl.h>
 #include <fmt/format.h>
+#include <tbb/info.h>
 
 #include "gpu/egl_context.h"
 #include "gpu/frame_targets.h"
 #include "gpu/gl_check.h"
 #include "gpu/gpu_radiance_map.h"
 #include "gpu/gpu_stroke_atlas.h"
+#include "gpu/rain_error.h"
 #include "gpu/rain_inputs.h"
 #include "gpu/rain_program.h"
 #include "gpu/streak_batches.h"
+#include "gpu/streak_raster_cpu.h"
 #include "gpu/streak_stream.h"
 #include "util/error.h"
 #include "util/log.h"
@@ -42,9 +48,8 @@ struct GpuObjects {
   }
 };
 
-}  // namespace
-
-struct RainRenderer::Impl {
+// The EGL backend: one context and the GL objects of one frame size.
+struct EglBackend {
   // Declared first so it is destroyed last, after every GL object.
   HeadlessGlContext context;
   std::unique_ptr<GpuObjects> gpu = std::make_unique<GpuObjects>();
@@ -52,7 +57,7 @@ struct RainRenderer::Impl {
   std::vector<float> rainRgba;    // scratch for the read-back layer of the streaks' radiance
 
   // GL objects are deleted by their owners' destructors, which needs this context current.
-  ~Impl() {
+  ~EglBackend() {
     try {
       context.makeCurrent();
     } catch (const Error& error) {
@@ -62,6 +67,16 @@ struct RainRenderer::Impl {
       (void)gpu.release();
     }
   }
+
+  void render(Image& frame, const OrderedStreaks& ordered, const rain::ShadingParams& shading);
+};
+
+}  // namespace
+
+struct RainRenderer::Impl {
+  std::unique_ptr<EglBackend> egl;  // one of the two
+  std::unique_ptr<StreakRasterCpu> cpu;
+  std::string description;
 };
 
 namespace {
@@ -86,63 +101,135 @@ void keepFreedBlocksForTheNextFrame() {
 
 }  // namespace
 
-RainRenderer::RainRenderer(int width, int height) : impl_(std::make_unique<Impl>()) {
-  keepFreedBlocksForTheNextFrame();
-  impl_->gpu->ensureTargets(width, height);
+void EglBackend::render(Image& frame, const OrderedStreaks& ordered,
+                        const rain::ShadingParams& shading) {
+  context.makeCurrent();
+  gpu->ensureTargets(frame.width, frame.height);
+  // Without a depth plane every streak is in front (of kFarDepthMeters): the variant without
+  // the depth fetch gives the same result.
+  const bool hasDepth = frame.findPlane("depth") != nullptr;
+  if (hasDepth) comparableSceneDepth(frame, sceneDepth);
+  gpu->targets->begin(hasDepth ? &sceneDepth : nullptr);
+  gpu->streaks.upload(ordered.streaks);
+  if (!shading.radianceMap.empty()) gpu->radianceMap.update(shading.radianceMap);
+  gpu->program.use(shading, hasDepth, frame.width, frame.height, gpu->atlas.width(),
+                   gpu->atlas.height());
+  gpu->atlas.bind(kAtlasUnit, kStrokeRectBinding);
+  gpu->radianceMap.bind(kRadianceMapUnit);
+  if (hasDepth) gpu->targets->bindSceneDepth(kSceneDepthUnit);
+  gpu->streaks.bind(kStreakBinding);
+  for (const StreakBatch& batch : ordered.batches) {
+    const bool lines =
+        batch.lineWidthPx > 0.0f && batch.lineWidthPx <= gpu->streaks.maxLineWidthPx();
+    gpu->program.setLines(lines);
+    if (lines) {
+      gpu->streaks.drawLines(batch.first, batch.count, batch.lineWidthPx);
+    } else {
+      gpu->streaks.drawTriangles(batch.first, batch.count);
+    }
+  }
+
+  // The GPU drew alpha * C over transparent black; B and c enter on the CPU (rain_inputs.h).
+  rainRgba.resize(frame.pixelCount() * 4);
+  gpu->targets->readRainLayer(rainRgba.data());
+  compositeRainLayer(rainRgba, shading.backgroundWeight, frame);
+}
+
+RainBackend rainBackendFromEnvironment() {
+  const char* value = std::getenv("PLUVIA_RAIN_BACKEND");
+  if (!value) return RainBackend::Auto;
+  std::string name(value);
+  std::transform(name.begin(), name.end(), name.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (name.empty() || name == "auto") return RainBackend::Auto;
+  if (name == "egl") return RainBackend::Egl;
+  if (name == "cpu") return RainBackend::Cpu;
+  throw Error(fmt::format("PLUVIA_RAIN_BACKEND is '{}': use auto, egl or cpu", value), {"rain"});
+}
+
+bool isSoftwareGlRenderer(const std::string& rendererDescription) {
+  std::string lower(rendererDescription);
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  for (const char* software : {"llvmpipe", "softpipe", "swrast", "swiftshader"}) {
+    if (lower.find(software) != std::string::npos) return true;
+  }
+  return false;
+}
+
+RainRenderer::RainRenderer(int width, int height, RainBackend backend)
+    : impl_(std::make_unique<Impl>()) {
+  if (width <= 0 || height <= 0) {
+    throwRainError(fmt::format("cannot render rain into {}x{} pixels", width, height));
+  }
+  const bool fromEnvironment = backend == RainBackend::Auto;
+  if (fromEnvironment) backend = rainBackendFromEnvironment();
+  std::string why = fromEnvironment && backend != RainBackend::Auto ? "PLUVIA_RAIN_BACKEND" : "";
+  if (backend != RainBackend::Cpu) {
+    try {
+      impl_->egl = std::make_unique<EglBackend>();
+      impl_->description = impl_->egl->context.deviceDescription();
+    } catch (const Error& error) {
+      if (backend == RainBackend::Egl) throw;
+      why = fmt::format("EGL has no device: {}", error.what());
+    }
+    if (backend == RainBackend::Auto && impl_->egl && isSoftwareGlRenderer(impl_->description)) {
+      why = fmt::format(
+          "the EGL device is a software one: {}; PLUVIA_RAIN_BACKEND=egl draws with "
+          "it",
+          impl_->description);
+      impl_->egl.reset();
+    }
+  }
+  if (impl_->egl) {
+    keepFreedBlocksForTheNextFrame();
+    impl_->egl->gpu->ensureTargets(width, height);
+    log::debug("rain renderer: EGL, " + impl_->description);
+    return;
+  }
+  keepFreedBlocksForTheNextFrame();  // the rain planes of a frame are megabytes too
+  impl_->cpu = std::make_unique<StreakRasterCpu>();
+  impl_->description =
+      fmt::format("CPU streak rasteriser, {} threads{}", tbb::info::default_concurrency(),
+                  why.empty() ? "" : " (" + why + ")");
+  log::info("rain renderer: " + impl_->description);
 }
 
 RainRenderer::~RainRenderer() = default;
 
 void RainRenderer::setStrokeAtlas(const rain::StrokeAtlas& atlas) {
-  impl_->context.makeCurrent();
-  impl_->gpu->atlas.upload(atlas);
+  if (impl_->cpu) {
+    impl_->cpu->setStrokeAtlas(atlas);
+    return;
+  }
+  impl_->egl->context.makeCurrent();
+  impl_->egl->gpu->atlas.upload(atlas);
 }
 
 void RainRenderer::render(Image& frame, const std::vector<rain::StreakInstance>& streaks,
                           const rain::ShadingParams& shading) {
   validateFrame(frame);
   validateShading(shading);
-  GpuObjects& gpu = *impl_->gpu;
-  validateStreaks(streaks, gpu.atlas.strokeCount());
+  validateStreaks(streaks,
+                  impl_->cpu ? impl_->cpu->strokeCount() : impl_->egl->gpu->atlas.strokeCount());
   const OrderedStreaks ordered = orderForDrawing(streaks);
   if (ordered.streaks.empty()) {
     clearRainLayer(frame);
     return;
   }
-  impl_->context.makeCurrent();
-  gpu.ensureTargets(frame.width, frame.height);
-  // Without a depth plane every streak is in front (of kFarDepthMeters): the variant without
-  // the depth fetch gives the same result.
-  const bool hasDepth = frame.findPlane("depth") != nullptr;
-  if (hasDepth) comparableSceneDepth(frame, impl_->sceneDepth);
-  gpu.targets->begin(hasDepth ? &impl_->sceneDepth : nullptr);
-  gpu.streaks.upload(ordered.streaks);
-  if (!shading.radianceMap.empty()) gpu.radianceMap.update(shading.radianceMap);
-  gpu.program.use(shading, hasDepth, frame.width, frame.height, gpu.atlas.width(),
-                  gpu.atlas.height());
-  gpu.atlas.bind(kAtlasUnit, kStrokeRectBinding);
-  gpu.radianceMap.bind(kRadianceMapUnit);
-  if (hasDepth) gpu.targets->bindSceneDepth(kSceneDepthUnit);
-  gpu.streaks.bind(kStreakBinding);
-  for (const StreakBatch& batch : ordered.batches) {
-    const bool lines =
-        batch.lineWidthPx > 0.0f && batch.lineWidthPx <= gpu.streaks.maxLineWidthPx();
-    gpu.program.setLines(lines);
-    if (lines) {
-      gpu.streaks.drawLines(batch.first, batch.count, batch.lineWidthPx);
-    } else {
-      gpu.streaks.drawTriangles(batch.first, batch.count);
-    }
+  if (impl_->cpu) {
+    impl_->cpu->render(frame, ordered.streaks, shading);
+  } else {
+    impl_->egl->render(frame, ordered, shading);
   }
-
-  // The GPU drew alpha * C over transparent black; B and c enter on the CPU (rain_inputs.h).
-  impl_->rainRgba.resize(frame.pixelCount() * 4);
-  gpu.targets->readRainLayer(impl_->rainRgba.data());
-  compositeRainLayer(impl_->rainRgba, shading.backgroundWeight, frame);
 }
 
 std::string RainRenderer::deviceDescription() const {
-  return impl_->context.deviceDescription();
+  return impl_->description;
+}
+
+RainBackend RainRenderer::backend() const {
+  return impl_->cpu ? RainBackend::Cpu : RainBackend::Egl;
 }
 
 }  // namespace pluvia::gpu

@@ -27,11 +27,27 @@
 
 namespace pluvia::gpu {
 
+// Who draws the streaks. Egl: the GL pipeline above, on whatever device EGL finds (a GPU, or
+// Mesa's llvmpipe). Cpu: StreakRasterCpu (streak_raster_cpu.h), a rasteriser made for streaks,
+// the same pictures within the tolerance tests/gpu/test_streak_raster_cpu.cpp states, several
+// times faster than llvmpipe. Auto: the environment variable PLUVIA_RAIN_BACKEND (auto, egl or
+// cpu) when set, else EGL on a hardware device and the CPU rasteriser when the device is a
+// software one (llvmpipe, softpipe, swrast, SwiftShader) or when EGL has no device at all.
+enum class RainBackend { Auto, Egl, Cpu };
+
+// The choice PLUVIA_RAIN_BACKEND asks for (Auto when unset or "auto"); throws pluvia::Error
+// naming the variable and its value when it is anything else.
+RainBackend rainBackendFromEnvironment();
+
+// True for GL renderer strings of software rasterisers ("llvmpipe (LLVM 15.0.6, 256 bits)").
+bool isSoftwareGlRenderer(const std::string& rendererDescription);
+
 class RainRenderer {
  public:
-  // Creates the headless EGL context and the render targets. Throws pluvia::Error with the EGL
-  // error when no context can be made.
-  RainRenderer(int width, int height);
+  // Chooses the backend (see RainBackend; the choice is logged) and makes its resources: for
+  // EGL the headless context and the render targets. Throws pluvia::Error with the EGL error
+  // when an EGL renderer is asked for and no context can be made.
+  RainRenderer(int width, int height, RainBackend backend = RainBackend::Auto);
   ~RainRenderer();
   RainRenderer(const RainRenderer&) = delete;
   RainRenderer& operator=(const RainRenderer&) = delete;
@@ -46,8 +62,11 @@ class RainRenderer {
   void render(Image& frame, const std::vector<rain::StreakInstance>& streaks,
               const rain::ShadingParams& shading);
 
-  // "llvmpipe (LLVM 15.0.6, 256 bits)", "NVIDIA H100 ..."
+  // "llvmpipe (LLVM 15.0.6, 256 bits), OpenGL 4.5 ...", "NVIDIA H100 ...", or "CPU streak
+  // rasteriser (2 threads; ...)".
   std::string deviceDescription() const;
+  // The backend chosen: Egl or Cpu, never Auto.
+  RainBackend backend() const;
 
  private:
   struct Impl;

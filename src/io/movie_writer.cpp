@@ -9,6 +9,7 @@
 #include <optional>
 
 #include <fmt/format.h>
+#include <opencv2/core/utility.hpp>
 
 #include "util/error.h"
 #include "util/fs.h"
@@ -142,19 +143,23 @@ class MovieWriter final : public ClipWriter {
   // To rgb48le (on a little-endian host), clamped and rounded. libx264 cannot encode 4:2:0 at
   // odd sizes, so odd frames get their last column/row repeated to reach an even size (rather
   // than ffmpeg's pad filter: black there would bleed into the edge through the shared chroma).
+  // Rows in parallel (OpenCV's TBB backend): a 1080p frame is 6 million values.
   void pack(const Image& image) {
     packed_.resize(static_cast<size_t>(encodedWidth_) * encodedHeight_ * 3);
-    uint16_t* dst = packed_.data();
-    for (int y = 0; y < encodedHeight_; ++y) {
-      const float* row = image.pixel(0, std::min(y, height_ - 1));
-      for (int x = 0; x < encodedWidth_; ++x) {
-        const float* src = row + std::min(x, width_ - 1) * 4;
-        for (int c = 0; c < 3; ++c) {
-          const float clamped = src[c] > 0.0f ? (src[c] < 1.0f ? src[c] : 1.0f) : 0.0f;  // NaN -> 0
-          *dst++ = static_cast<uint16_t>(clamped * 65535.0f + 0.5f);
+    cv::parallel_for_(cv::Range(0, encodedHeight_), [&](const cv::Range& rows) {
+      for (int y = rows.start; y < rows.end; ++y) {
+        const float* row = image.pixel(0, std::min(y, height_ - 1));
+        uint16_t* dst = packed_.data() + static_cast<size_t>(y) * encodedWidth_ * 3;
+        for (int x = 0; x < encodedWidth_; ++x) {
+          const float* src = row + std::min(x, width_ - 1) * 4;
+          for (int c = 0; c < 3; ++c) {
+            const float clamped =
+                src[c] > 0.0f ? (src[c] < 1.0f ? src[c] : 1.0f) : 0.0f;  // NaN -> 0
+            *dst++ = static_cast<uint16_t>(clamped * 65535.0f + 0.5f);
+          }
         }
       }
-    }
+    });
   }
 
   void removeTemporaries() {

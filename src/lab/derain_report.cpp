@@ -24,7 +24,9 @@
 #include "util/log.h"
 #include "util/timer.h"
 
-namespace pluvia::derain {
+namespace pluvia::lab {
+
+using namespace pluvia::derain;  // what this file measures
 namespace {
 
 namespace fs = std::filesystem;
@@ -519,4 +521,4 @@ void writeDerainReportCsv(const DerainReport& report, const std::string& path) {
   if (!file) throw Error("failed while writing the report", {"report", {}, path});
 }
 
-}  // namespace pluvia::derain
+}  // namespace pluvia::lab

@@ -26,7 +26,7 @@
 
 #include "derain/derain_solver.h"
 
-namespace pluvia::derain {
+namespace pluvia::lab {
 
 struct DerainReportSettings {
   std::string examplePlate;  // the backgrounds' first: a frame of the repo's example plate
@@ -35,7 +35,7 @@ struct DerainReportSettings {
   bool quick = false;        // one case at 320x240, short sweeps, no real footage (for tests)
   int frames = 20;           // per synthetic case (and real-footage window)
   uint64_t seed = 1;
-  DerainSettings solver;  // the "solver" rows' settings
+  derain::DerainSettings solver;  // the "solver" rows' settings
 };
 
 struct DerainReportRow {
@@ -63,8 +63,8 @@ struct DerainRealFootage {
   int reference = 0;  // index in the window of the frame everything is registered onto
   double maxShiftPx = 0.0;
   double registrationSeconds = 0.0;
-  double medianAngleDeg = 0.0;  // estimateRainAngle of the median baseline's implied mattes
-  DerainResult result;          // the solve (its images on the reference frame's grid)
+  double medianAngleDeg = 0.0;  // derain::estimateRainAngle of the median baseline's implied mattes
+  derain::DerainResult result;  // the solve (its images on the reference frame's grid)
   double solveSeconds = 0.0;
   double meanAlpha = 0.0;
 };
@@ -90,4 +90,4 @@ void writeDerainReportCsv(const DerainReport& report, const std::string& path);
 // the median baseline as markers.
 void writeDerainReportPlot(const DerainReport& report, const std::string& path);
 
-}  // namespace pluvia::derain
+}  // namespace pluvia::lab

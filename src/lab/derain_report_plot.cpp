@@ -13,7 +13,9 @@
 #include "lab/log_grid.h"
 #include "util/error.h"
 
-namespace pluvia::derain {
+namespace pluvia::lab {
+
+using namespace pluvia::derain;  // what this file measures
 namespace {
 
 constexpr int kWidth = 1400, kHeight = 900;
@@ -155,4 +157,4 @@ void writeDerainReportPlot(const DerainReport& report, const std::string& path) 
     throw Error("cannot write the plot (is it a .png path?)", {"report", {}, path});
 }
 
-}  // namespace pluvia::derain
+}  // namespace pluvia::lab

@@ -31,7 +31,9 @@
 #include "util/log.h"
 #include "util/timer.h"
 
-namespace pluvia::envmap {
+namespace pluvia::lab {
+
+using namespace pluvia::envmap;  // what this file measures
 namespace {
 
 namespace fs = std::filesystem;
@@ -166,7 +168,7 @@ bool covers(const cv::Mat& coverage, const Direction& d) {
 // Up to `count` view directions inside the coverage, evenly spread (a Fibonacci set thinned).
 std::vector<Direction> coveredDirections(const cv::Mat& coverage, int count) {
   std::vector<Direction> inside;
-  for (const Direction& d : optics::fibonacciDirections(count * 40)) {
+  for (const Direction& d : fibonacciDirections(count * 40)) {
     if (covers(coverage, d)) inside.push_back(d);
   }
   if (int(inside.size()) <= count) return inside;
@@ -560,7 +562,7 @@ EnvmapReport runEnvmapReport(const EnvmapReportSettings& in) {
   if (files.empty()) {
     EnvmapEnvironment info;
     info.name = "builtin", info.path = "built-in test environment";
-    runEnvironment(optics::builtinTestEnvironment(), info, settings, report);
+    runEnvironment(builtinTestEnvironment(), info, settings, report);
   }
   for (const fs::path& file : files) {
     EnvmapEnvironment info;
@@ -795,4 +797,4 @@ void writeEnvmapReportPlot(const EnvmapReport& report, const std::string& path) 
     throw Error("cannot write the plot (is it a .png path?)", {"report", {}, path});
 }
 
-}  // namespace pluvia::envmap
+}  // namespace pluvia::lab

@@ -31,7 +31,7 @@
 #include <string>
 #include <vector>
 
-namespace pluvia::envmap {
+namespace pluvia::lab {
 
 struct EnvmapReportSettings {
   std::string environment;  // one HDR; empty: every .exr/.hdr in sharedData/hdr, else built-in
@@ -113,4 +113,4 @@ void writeEnvmapReportCsv(const EnvmapReport& report, const std::string& path);
 // per environment through its frame counts, the "+ sun" rows as markers.
 void writeEnvmapReportPlot(const EnvmapReport& report, const std::string& path);
 
-}  // namespace pluvia::envmap
+}  // namespace pluvia::lab

@@ -6,7 +6,7 @@
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
-namespace pluvia {
+namespace pluvia::lab {
 namespace {
 
 struct Tick {
@@ -51,4 +51,4 @@ void drawLogGridY(cv::Mat& canvas, const cv::Rect& plot, double log10Lo, double 
   }
 }
 
-}  // namespace pluvia
+}  // namespace pluvia::lab

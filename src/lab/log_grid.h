@@ -6,7 +6,7 @@
 
 #include <opencv2/core.hpp>
 
-namespace pluvia {
+namespace pluvia::lab {
 
 // Vertical lines across `plot` at the values whose log10 lies in [log10Lo, log10Hi]; `pixelX`
 // maps a value to its column. Labels ("{:g}") go under the plot.
@@ -19,4 +19,4 @@ void drawLogGridY(cv::Mat& canvas, const cv::Rect& plot, double log10Lo, double 
                   const std::function<int(double)>& pixelY,
                   const std::function<std::string(double)>& label, int labelX);
 
-}  // namespace pluvia
+}  // namespace pluvia::lab

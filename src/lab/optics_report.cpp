@@ -15,7 +15,9 @@
 #include "optics/paper_transfer_table.h"
 #include "util/error.h"
 
-namespace pluvia::optics {
+namespace pluvia::lab {
+
+using namespace pluvia::optics;  // what this file measures
 namespace {
 
 using Rgb = std::array<double, 3>;
@@ -241,4 +243,4 @@ void writeOpticsReportCsv(const OpticsReport& report, const std::string& path) {
   if (!file) throw Error("failed while writing the report", {"report", {}, path});
 }
 
-}  // namespace pluvia::optics
+}  // namespace pluvia::lab

@@ -13,7 +13,7 @@
 
 #include "image/equirect.h"
 
-namespace pluvia::optics {
+namespace pluvia::lab {
 
 struct OpticsReportSettings {
   int directions = 256;
@@ -52,4 +52,4 @@ void writeOpticsReportPlot(const OpticsReport& report, const std::string& path);
 // The unit directions of a Fibonacci sphere: evenly spread, deterministic.
 std::vector<std::array<double, 3>> fibonacciDirections(int count);
 
-}  // namespace pluvia::optics
+}  // namespace pluvia::lab

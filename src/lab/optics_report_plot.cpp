@@ -11,7 +11,7 @@
 #include "lab/optics_report.h"
 #include "util/error.h"
 
-namespace pluvia::optics {
+namespace pluvia::lab {
 namespace {
 
 constexpr int kWidth = 1400, kHeight = 900;
@@ -111,4 +111,4 @@ void writeOpticsReportPlot(const OpticsReport& report, const std::string& path) 
     throw Error("cannot write the plot (is it a .png path?)", {"report", {}, path});
 }
 
-}  // namespace pluvia::optics
+}  // namespace pluvia::lab

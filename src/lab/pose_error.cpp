@@ -9,7 +9,7 @@
 
 #include "util/error.h"
 
-namespace pluvia {
+namespace pluvia::lab {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -143,4 +143,4 @@ DepthErrors compareDepth(const std::vector<float>& truth, const std::vector<floa
   return accumulator.result();
 }
 
-}  // namespace pluvia
+}  // namespace pluvia::lab

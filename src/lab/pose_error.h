@@ -21,7 +21,7 @@
 
 #include "geometry/camera.h"
 
-namespace pluvia {
+namespace pluvia::lab {
 
 struct PoseAlignment {
   // truthWorld = rotation * estimateWorld + translationMeters
@@ -88,4 +88,4 @@ class DepthErrorAccumulator {
 DepthErrors compareDepth(const std::vector<float>& truth, const std::vector<float>& estimate,
                          const std::vector<uint8_t>* include = nullptr);
 
-}  // namespace pluvia
+}  // namespace pluvia::lab

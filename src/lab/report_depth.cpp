@@ -30,6 +30,8 @@
 #include "util/timer.h"
 
 namespace pluvia::lab {
+
+using namespace pluvia::sfm;  // what this file measures
 namespace {
 
 namespace fs = std::filesystem;
@@ -60,7 +62,7 @@ float srgbEncode(float linear) {
 
 CameraPath truthPath(int width, int height, int clipFrames) {
   std::vector<std::pair<double, CameraPose>> keys;
-  for (const gpu::SyntheticPathKey& key : gpu::defaultSyntheticPath(clipFrames)) {
+  for (const lab::SyntheticPathKey& key : lab::defaultSyntheticPath(clipFrames)) {
     CameraPose pose;
     pose.positionMeters =
         Eigen::Vector3d(key.positionMeters[0], key.positionMeters[1], key.positionMeters[2]);
@@ -69,7 +71,7 @@ CameraPath truthPath(int width, int height, int clipFrames) {
     pose.rollDeg = key.rollDeg;
     keys.push_back({key.frame, pose});
   }
-  return CameraPath::fromKeys(gpu::defaultSyntheticIntrinsics(width, height).toCamera<Camera>(),
+  return CameraPath::fromKeys(lab::defaultSyntheticIntrinsics(width, height).toCamera<Camera>(),
                               keys);
 }
 
@@ -77,7 +79,7 @@ CameraPath truthPath(int width, int height, int clipFrames) {
 enum Region : uint8_t { kSky = 0, kGround = 1, kWalls = 2, kBoxes = 3 };
 
 std::vector<uint8_t> regionsOf(const Camera& camera, const std::vector<float>& depth,
-                               const gpu::SyntheticScene& scene) {
+                               const lab::SyntheticScene& scene) {
   std::vector<uint8_t> regions(depth.size(), kSky);
   for (int y = 0; y < camera.height; ++y) {
     for (int x = 0; x < camera.width; ++x) {
@@ -170,7 +172,7 @@ void writeDepthPreview(const Image& frame, const std::vector<float>& truth,
   if (!cv::imwrite(path.string(), all)) throw Error("cannot write a preview", {"report", {}, path});
 }
 
-DepthReportRow runSyntheticRow(gpu::SyntheticSceneRenderer& renderer, const RowSpec& spec,
+DepthReportRow runSyntheticRow(lab::SyntheticSceneRenderer& renderer, const RowSpec& spec,
                                const fs::path& workspace, const DepthReportSettings& settings,
                                DepthReport& report) {
   DepthReportRow row;
@@ -185,10 +187,10 @@ DepthReportRow runSyntheticRow(gpu::SyntheticSceneRenderer& renderer, const RowS
   ClipTrackingSettings tracking;
   tracking.workspace = workspace;
   tracking.frameStep = spec.frameStep;
-  tracking.horizontalFovDeg = gpu::kSyntheticHfovDeg;
+  tracking.horizontalFovDeg = lab::kSyntheticHfovDeg;
   tracking.maxImageSizePx = std::max(1600, std::max(spec.width, spec.height));
   tracking.colmapBinary = settings.colmapBinary;
-  tracking.sfm.scale.cameraHeightMeters = gpu::kSyntheticCameraHeightMeters;
+  tracking.sfm.scale.cameraHeightMeters = lab::kSyntheticCameraHeightMeters;
   double renderSeconds = 0.0;
   auto readFrame = [&](int64_t frame) {
     const auto start = Clock::now();
@@ -353,7 +355,7 @@ void runRealPhotos(const DepthReportSettings& settings, const fs::path& workspac
   tracking.horizontalFovDeg = kLundHfovDeg;
   tracking.maxImageSizePx = kLundSizePx;
   tracking.colmapBinary = settings.colmapBinary;
-  tracking.sfm.scale.cameraHeightMeters = gpu::kSyntheticCameraHeightMeters;
+  tracking.sfm.scale.cameraHeightMeters = lab::kSyntheticCameraHeightMeters;
   auto readFrame = [&](int64_t frame) {
     Image image = readPhoto(photos[static_cast<size_t>(frame)]);
     real.width = image.width;
@@ -407,13 +409,13 @@ DepthReport runDepthReport(const DepthReportSettings& settings) {
           : fs::absolute(settings.workspace);
   if (settings.workspace.empty()) fs::remove_all(workspace);
   bool keepWorkspace = !settings.workspace.empty();
-  std::unique_ptr<gpu::SyntheticSceneRenderer> renderer;
+  std::unique_ptr<lab::SyntheticSceneRenderer> renderer;
   for (size_t i = 0; i < specs.size(); ++i) {
     const RowSpec& spec = specs[i];
     if (!renderer || i == 0 || specs[i - 1].width != spec.width ||
         specs[i - 1].height != spec.height) {
       renderer.reset();
-      renderer = std::make_unique<gpu::SyntheticSceneRenderer>(spec.width, spec.height);
+      renderer = std::make_unique<lab::SyntheticSceneRenderer>(spec.width, spec.height);
       if (report.device.empty()) report.device = renderer->deviceDescription();
     }
     DepthReportRow row =
@@ -441,7 +443,7 @@ std::string formatDepthReport(const DepthReport& report) {
       "Synthetic street (lab/synthetic_scene.h) along defaultSyntheticPath: a {:.2f} m walk at "
       "{:g} m, 4° of yaw, {:g}° hfov; frames to COLMAP as 8-bit sRGB PNG, the poses of the others "
       "interpolated; metric scale from the camera height. Depth compared on every {}th frame.\n",
-      0.05 * 47, gpu::kSyntheticCameraHeightMeters, gpu::kSyntheticHfovDeg, 48 / kEvaluationFrames);
+      0.05 * 47, lab::kSyntheticCameraHeightMeters, lab::kSyntheticHfovDeg, 48 / kEvaluationFrames);
   out += fmt::format(
       "\n{:<26} {:<16} {:>7} {:>6} {:>8} {:>8} {:>8} {:>8} {:>6} {:>7} {:>8} "
       "{:>7} {:>7}\n",

@@ -4,7 +4,7 @@
 
 #include <fmt/format.h>
 
-namespace pluvia {
+namespace pluvia::lab {
 
 std::string fixedOrDash(double value, int decimals) {
   return std::isfinite(value) ? fmt::format("{:.{}f}", value, decimals) : "-";
@@ -18,4 +18,4 @@ std::string csvNumber(double value) {
   return std::isfinite(value) ? fmt::format("{:.6g}", value) : "";
 }
 
-}  // namespace pluvia
+}  // namespace pluvia::lab

@@ -11,7 +11,9 @@
 #include "util/error.h"
 #include "util/hash.h"
 
-namespace pluvia::derain {
+namespace pluvia::lab {
+
+using namespace pluvia::derain;  // what this file measures
 namespace {
 
 // Random streams: one per frame, split by purpose so that changing e.g. the noise level leaves
@@ -159,4 +161,4 @@ SyntheticRain makeSyntheticRain(const cv::Mat& background, const SyntheticRainSe
   return out;
 }
 
-}  // namespace pluvia::derain
+}  // namespace pluvia::lab

@@ -10,7 +10,7 @@
 
 #include "derain/frame_stack.h"
 
-namespace pluvia::derain {
+namespace pluvia::lab {
 
 struct SyntheticRainSettings {
   int frames = 20;
@@ -26,7 +26,7 @@ struct SyntheticRainSettings {
 
 struct SyntheticRain {
   cv::Mat background;                // S, CV_32FC3 (the input image)
-  FrameStack stack;                  // the rained, noisy frames
+  derain::FrameStack stack;          // the rained, noisy frames
   std::vector<cv::Mat> alpha;        // true alpha per frame, CV_32FC1
   std::vector<cv::Vec3f> rainColor;  // true C per frame
   double angleDeg = 0.0;
@@ -41,4 +41,4 @@ struct SyntheticRain {
 // inconsistent settings.
 SyntheticRain makeSyntheticRain(const cv::Mat& background, const SyntheticRainSettings& settings);
 
-}  // namespace pluvia::derain
+}  // namespace pluvia::lab

@@ -19,7 +19,9 @@
 #include "util/error.h"
 #include "util/log.h"
 
-namespace pluvia::gpu {
+namespace pluvia::lab {
+
+using namespace pluvia::gpu;  // what this file measures
 
 namespace {
 
@@ -383,4 +385,4 @@ std::string SyntheticSceneRenderer::deviceDescription() const {
   return impl_->context.deviceDescription();
 }
 
-}  // namespace pluvia::gpu
+}  // namespace pluvia::lab

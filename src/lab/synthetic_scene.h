@@ -19,7 +19,7 @@
 
 #include "image/image.h"
 
-namespace pluvia::gpu {
+namespace pluvia::lab {
 
 // A box standing on the ground (y from 0 to heightMeters), axis-aligned.
 struct SyntheticBox {
@@ -142,4 +142,4 @@ class SyntheticSceneRenderer {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace pluvia::gpu
+}  // namespace pluvia::lab

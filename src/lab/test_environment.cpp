@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-namespace pluvia::optics {
+namespace pluvia::lab {
 
 EquirectMap builtinTestEnvironment(int width) {
   const int height = width / 2;
@@ -34,4 +34,4 @@ EquirectMap builtinTestEnvironment(int width) {
   return map;
 }
 
-}  // namespace pluvia::optics
+}  // namespace pluvia::lab

@@ -5,8 +5,8 @@
 // and two coloured walls so the channels differ. Procedural, so it ships with the code.
 #include "image/equirect.h"
 
-namespace pluvia::optics {
+namespace pluvia::lab {
 
 EquirectMap builtinTestEnvironment(int width = 512);
 
-}  // namespace pluvia::optics
+}  // namespace pluvia::lab

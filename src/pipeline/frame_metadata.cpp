@@ -6,7 +6,8 @@
 
 namespace pluvia {
 
-std::map<std::string, std::string> frameMetadata(const Preset& preset) {
+std::map<std::string, std::string> frameMetadata(const Preset& preset,
+                                                 const std::vector<StageInfo>& stages) {
   std::string presetJson = preset.json().dump();
   if (presetJson.size() > kMaxPresetMetadataBytes) {
     presetJson = fmt::format(
@@ -14,10 +15,12 @@ std::map<std::string, std::string> frameMetadata(const Preset& preset) {
         "pluvia:presetHash identifies it)",
         presetJson.size(), kMaxPresetMetadataBytes);
   }
-  return {{"pluvia:version", kVersion},
-          {"pluvia:presetHash", preset.hash()},
-          {"pluvia:seed", std::to_string(int64_t(preset.number("rain.seed")))},
-          {"pluvia:preset", presetJson}};
+  std::map<std::string, std::string> metadata{{"pluvia:version", kVersion},
+                                              {"pluvia:presetHash", preset.hash()},
+                                              {"pluvia:preset", presetJson}};
+  for (const StageInfo& stage : stages)
+    if (stage.frameMetadata) metadata.merge(stage.frameMetadata(preset));
+  return metadata;
 }
 
 }  // namespace pluvia

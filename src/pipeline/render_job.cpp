@@ -1,13 +1,8 @@
 #include "pipeline/render_job.h"
 
-#include <condition_variable>
-#include <deque>
-#include <exception>
 #include <filesystem>
 #include <limits>
-#include <mutex>
 #include <set>
-#include <thread>
 
 #include <fmt/format.h>
 
@@ -16,86 +11,26 @@
 #include "io/clip_writer.h"
 #include "io/output_lock.h"
 #include "io/sequence_pattern.h"
-#include "io/written_frame.h"
 #include "pipeline/cache.h"
 #include "pipeline/clip_analysis.h"
 #include "pipeline/frame_metadata.h"
+#include "pipeline/frame_threads.h"
 #include "pipeline/proxy_clip_reader.h"
+#include "pipeline/skip_existing.h"
 #include "util/fs.h"
-#include "util/interrupt.h"
 #include "util/log.h"
-#include "util/progress.h"
 
 namespace pluvia {
 namespace {
 
-// A small blocking queue with a capacity, so the reader stays at most a few frames ahead.
-template <typename T>
-class BoundedQueue {
- public:
-  explicit BoundedQueue(size_t capacity) : capacity_(capacity) {}
-  void push(T item) {
-    std::unique_lock lock(mutex_);
-    notFull_.wait(lock, [&] { return items_.size() < capacity_ || closed_; });
-    if (closed_) return;
-    items_.push_back(std::move(item));
-    notEmpty_.notify_one();
-  }
-  std::optional<T> pop() {
-    std::unique_lock lock(mutex_);
-    notEmpty_.wait(lock, [&] { return !items_.empty() || closed_; });
-    if (items_.empty()) return std::nullopt;
-    T item = std::move(items_.front());
-    items_.pop_front();
-    notFull_.notify_one();
-    return item;
-  }
-  void close() {
-    std::lock_guard lock(mutex_);
-    closed_ = true;
-    notEmpty_.notify_all();
-    notFull_.notify_all();
-  }
-
- private:
-  size_t capacity_;
-  std::deque<T> items_;
-  bool closed_ = false;
-  std::mutex mutex_;
-  std::condition_variable notEmpty_, notFull_;
-};
-
-// The first error from any thread wins; the others stop when they see it.
-class ErrorSlot {
- public:
-  void set(std::exception_ptr e) {
-    std::lock_guard lock(mutex_);
-    if (!error_) error_ = e;
-  }
-  bool isSet() {
-    std::lock_guard lock(mutex_);
-    return error_ != nullptr;
-  }
-  void rethrow() {
-    std::lock_guard lock(mutex_);
-    if (error_) std::rethrow_exception(error_);
-  }
-
- private:
-  std::mutex mutex_;
-  std::exception_ptr error_;
-};
-
-std::string resolveInputSpace(const Preset& p, const ClipInfo& clip) {
-  std::string space = p.string("color.input");
-  if (space == "auto") return clip.isFloat ? "linear-rec709" : "sRGB";
-  return space;
+std::string resolveInputSpace(const ColorSettings& color, const ClipInfo& clip) {
+  if (color.inputSpace == "auto") return clip.isFloat ? "linear-rec709" : "sRGB";
+  return color.inputSpace;
 }
 
-std::string resolveOutputSpace(const Preset& p, const std::string& output) {
-  std::string space = p.string("color.output");
-  if (space == "auto") return outputIsLinear(output) ? "linear-rec709" : "sRGB";
-  return space;
+std::string resolveOutputSpace(const ColorSettings& color, const std::string& output) {
+  if (color.outputSpace == "auto") return outputIsLinear(output) ? "linear-rec709" : "sRGB";
+  return color.outputSpace;
 }
 
 std::vector<int64_t> selectFrames(const RenderRequest& request, const ClipInfo& clip) {
@@ -205,11 +140,12 @@ std::optional<ArtifactCache> openCache(const RenderRequest& request, const ClipI
 }
 
 WriterOptions writerOptionsFor(const RenderRequest& request, const Preset& preset,
+                               const std::vector<StageInfo>& stages, const CameraSettings& camera,
                                const ClipInfo& clip) {
   WriterOptions options;
-  options.fps = preset.number("camera.fps") > 0 ? preset.number("camera.fps") : clip.fps;
+  options.fps = camera.framesPerSecond > 0 ? camera.framesPerSecond : clip.fps;
   options.aovs = request.aovs;
-  options.metadata = frameMetadata(preset);
+  options.metadata = frameMetadata(preset, stages);
   // A proxy frame must never pass for a final one: it says so in its header.
   if (request.proxyScale != 1.0)
     options.metadata["pluvia:proxy"] =
@@ -229,11 +165,11 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
       frames_(framesToRender(request, clip())),
       cache_(openCache(request, clip())),
       plan_(makePlan(preset, clip(), cache_ ? &*cache_ : nullptr, stages)),
-      toWorking_(resolveInputSpace(preset, clip()), preset.string("color.working"),
-                 preset.string("color.config")),
-      toOutput_(preset.string("color.working"), resolveOutputSpace(preset, request.output),
-                preset.string("color.config")),
-      writerOptions_(writerOptionsFor(request, preset, clip())) {
+      color_(colorSettings(preset)),
+      camera_(cameraSettings(preset)),
+      toWorking_(resolveInputSpace(color_, clip()), color_.workingSpace, color_.configPath),
+      toOutput_(color_.workingSpace, resolveOutputSpace(color_, request.output), color_.configPath),
+      writerOptions_(writerOptionsFor(request, preset, stages, camera_, clip())) {
   log::info("command: " + request.commandLine);
   // The bounded copy the frames record: a preset with a 50 MB description stays out of the log.
   log::info("preset (resolved): " + writerOptions_.metadata.at("pluvia:preset"));
@@ -242,7 +178,6 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
     log::info(fmt::format("proxy render (not a final): {}x{}, {:g} of the plate's size",
                           clip().width, clip().height, request.proxyScale));
 
-  context_.preset = &preset;
   context_.clip = &clip();
   context_.reader = reader_.get();
   context_.cache = cache_ ? &*cache_ : nullptr;
@@ -250,9 +185,7 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
   context_.fps = writerOptions_.fps;
   // From the clip's size as read: a proxy's smaller frames get a proportionally shorter focal
   // length in pixels, so the rain and the depth land where they would on the full frame.
-  context_.camera =
-      Camera::fromFieldOfView(clip().width, clip().height, preset.number("camera.fov_deg"),
-                              preset.number("camera.tilt_deg"), preset.number("camera.height_m"));
+  context_.camera = camera_.base(clip().width, clip().height);
   context_.readWorking = [this](int64_t frame) {
     Image image = reader_->read(frame);
     ops::replaceNonFinite(image);
@@ -347,120 +280,23 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset,
   RenderSession session(request, preset, stageInfos, times);
   RenderSummary summary;
   summary.plan = session.plan();
-  std::vector<int64_t> frames = session.frames();
-  refuseSingleFileForManyFrames(request.output, frames);
+  refuseSingleFileForManyFrames(request.output, session.frames());
   // Held until the last frame is written, --skip-existing's checks included.
-  OutputLock lock(request.output, frames.front(), frames.back());
+  OutputLock lock(request.output, session.frames().front(), session.frames().back());
   if (int removed = lock.removeStaleTemporaries()) {
     log::info(fmt::format("removed {} temporary files left by renders that were killed", removed));
   }
-
   // Frames already on disk are skipped before any decoding.
-  const bool movieOutput = isMovieExtension(request.output);
+  std::vector<int64_t> frames = session.frames();
   if (request.skipExisting) {
-    if (movieOutput && std::filesystem::exists(request.output)) {
-      const std::string reason = reasonToRenderMovieAgain(request.output, frames.size());
-      if (reason.empty()) {
-        log::info("--skip-existing: " + request.output + " exists, nothing to do");
-        summary.framesSkipped = int(frames.size());
-        return summary;
-      }
-      log::warning(fmt::format("--skip-existing: rendering {} again: {}", request.output, reason));
-      summary.framesRedone = int(frames.size());
-    }
-    if (auto pattern = SequencePattern::parse(request.output)) {
-      std::vector<int64_t> todo;
-      for (int64_t f : frames) {
-        const std::string path = pattern->pathFor(f);
-        if (!std::filesystem::exists(path)) {
-          todo.push_back(f);
-          continue;
-        }
-        const std::string reason = reasonToRenderAgain(path, preset.hash());
-        if (reason.empty()) {
-          ++summary.framesSkipped;
-        } else {
-          log::warning(fmt::format("--skip-existing: rendering {} again: {}", path, reason));
-          ++summary.framesRedone;
-          todo.push_back(f);
-        }
-      }
-      frames = todo;
-      if (frames.empty()) {
-        log::info("--skip-existing: every frame exists, nothing to do");
-        return summary;
-      }
-    }
+    FramesToRender todo = framesStillToRender(request.output, frames, preset.hash());
+    summary.framesSkipped = todo.kept;
+    summary.framesRedone = todo.redone;
+    if (todo.frames.empty()) return summary;
+    frames = std::move(todo.frames);
   }
-
   session.prepareStages();
-  auto writer = openClipWriter(request.output, session.clip().width, session.clip().height,
-                               session.writerOptions());
-  ErrorSlot error;
-  BoundedQueue<FrameContext> decoded(3);
-  BoundedQueue<FrameContext> finished(std::max(2, 2 * request.threads));
-  Progress progress(int(frames.size()), request.progress);
-
-  std::thread readerThread([&] {
-    try {
-      for (int64_t f : frames) {
-        if (error.isSet()) break;
-        throwIfInterrupted();
-        decoded.push(session.readFrame(f));
-      }
-    } catch (...) {
-      error.set(std::current_exception());
-    }
-    decoded.close();
-  });
-
-  const int writerCount = writer->isMovie() ? 1 : std::max(1, request.threads);
-  std::vector<std::thread> writerThreads;
-  std::mutex countMutex;
-  for (int w = 0; w < writerCount; ++w) {
-    writerThreads.emplace_back([&] {
-      while (auto frame = finished.pop()) {
-        if (error.isSet()) continue;  // drain
-        try {
-          ScopedTimer timer(&times, "encode");
-          writer->write(frame->frame, frame->image);
-          std::lock_guard lock(countMutex);
-          ++summary.framesWritten;
-        } catch (const Error& e) {
-          error.set(
-              std::make_exception_ptr(Error(e.what(), {"write", frame->frame, e.context().file})));
-        } catch (...) {
-          error.set(std::current_exception());
-        }
-        progress.step();
-      }
-    });
-  }
-
-  try {
-    while (auto frame = decoded.pop()) {
-      if (error.isSet()) break;
-      throwIfInterrupted();
-      session.processFrame(*frame);
-      {
-        ScopedTimer timer(&times, "colour out");
-        session.toOutput(frame->image);
-      }
-      finished.push(std::move(*frame));
-    }
-  } catch (...) {
-    error.set(std::current_exception());
-  }
-  decoded.close();
-  finished.close();
-  readerThread.join();
-  for (auto& t : writerThreads) t.join();
-  progress.finish();
-  error.rethrow();
-  {
-    ScopedTimer timer(&times, "encode");
-    writer->close();
-  }
+  summary.framesWritten = renderFrames(session, request, frames, times);
   return summary;
 }
 

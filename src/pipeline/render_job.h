@@ -14,6 +14,8 @@
 #include "image/color.h"
 #include "io/clip_writer.h"
 #include "pipeline/cache.h"
+#include "pipeline/camera_settings.h"
+#include "pipeline/color_settings.h"
 #include "pipeline/planner.h"
 #include "util/timer.h"
 
@@ -89,6 +91,8 @@ class RenderSession {
   std::vector<int64_t> frames_;
   std::optional<ArtifactCache> cache_;
   Plan plan_;
+  ColorSettings color_;
+  CameraSettings camera_;
   ColorConverter toWorking_;
   ColorConverter toOutput_;
   WriterOptions writerOptions_;
@@ -101,9 +105,11 @@ class RenderSession {
 Plan planJob(const std::string& input, const Preset& preset, const std::string& cacheDir,
              const std::vector<StageInfo>& stages, ClipInfo* clipOut = nullptr);
 
-// Renders. Throws pluvia::Error (naming stage, frame and file) on any failure; frames already
-// written stay valid, no partial frame is left behind, and no input file is ever written.
-// `stages` lists every stage in pipeline order (stages/registry.h: allStages()).
+// Renders: refuses one image file for many frames, locks the output, keeps the frames
+// --skip-existing finds done (pipeline/skip_existing.h), prepares the stages and runs the frame
+// loop (pipeline/frame_threads.h). Throws pluvia::Error (naming stage, frame and file) on any
+// failure; frames already written stay valid, no partial frame is left behind, and no input file is
+// ever written. `stages` lists every stage in pipeline order (stages/registry.h: allStages()).
 RenderSummary renderJob(const RenderRequest& request, const Preset& preset,
                         const std::vector<StageInfo>& stages, StageTimes& times);
 

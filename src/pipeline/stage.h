@@ -10,6 +10,7 @@
 //   "footage_strokes" per-clip stroke library cut from rain footage
 #include <array>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -43,7 +44,6 @@ struct Environment {
 
 // Per-clip state, filled by per-clip stages in prepare() and read by per-frame stages.
 struct ClipContext {
-  const Preset* preset = nullptr;
   const ClipInfo* clip = nullptr;
   ClipReader* reader = nullptr;               // frames in the file's encoding
   std::function<Image(int64_t)> readWorking;  // a frame converted to the working space
@@ -89,6 +89,10 @@ struct StageInfo {
   // The cache key of the stage's per-clip result for this preset and clip ("" when these
   // parameters cache nothing). A per-frame stage may have one for its per-clip analysis.
   std::function<std::string(const Preset&, const ClipInfo&)> cacheKey;
+  // What every written frame records of these parameters ({"pluvia:seed", "1"}), or none.
+  std::function<std::map<std::string, std::string>(const Preset&)> frameMetadata;
+  // The stage, holding its section's settings (and those of the sections it reads), read from
+  // the preset here, once.
   std::function<std::unique_ptr<Stage>(const Preset&)> create;
 };
 

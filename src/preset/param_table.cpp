@@ -139,6 +139,93 @@ std::string describeSection(const SectionSpec& section) {
   return text;
 }
 
+namespace {
+
+// The fields every row has; the builders below set the rest.
+ParamSpec row(std::string key, ParamType type, nlohmann::json defaultValue, std::string help) {
+  ParamSpec p;
+  p.key = std::move(key);
+  p.type = type;
+  p.defaultValue = std::move(defaultValue);
+  p.help = std::move(help);
+  return p;
+}
+
+ParamSpec rangedRow(std::string key, ParamType type, nlohmann::json defaultValue, NumberRange range,
+                    std::string units, std::string help) {
+  ParamSpec p = row(std::move(key), type, std::move(defaultValue), std::move(help));
+  p.minValue = range.min;
+  p.maxValue = range.max;
+  p.units = std::move(units);
+  return p;
+}
+
+}  // namespace
+
+ParamSpec numberParam(std::string key, double defaultValue, NumberRange range, std::string units,
+                      std::string help) {
+  return rangedRow(std::move(key), ParamType::Number, defaultValue, range, std::move(units),
+                   std::move(help));
+}
+
+ParamSpec integerParam(std::string key, int64_t defaultValue, NumberRange range, std::string units,
+                       std::string help) {
+  return rangedRow(std::move(key), ParamType::Integer, defaultValue, range, std::move(units),
+                   std::move(help));
+}
+
+ParamSpec booleanParam(std::string key, bool defaultValue, std::string help) {
+  return row(std::move(key), ParamType::Boolean, defaultValue, std::move(help));
+}
+
+ParamSpec enabledParam(std::string help) {
+  return booleanParam("enabled", true, std::move(help));
+}
+
+ParamSpec stringParam(std::string key, std::string defaultValue, std::string help) {
+  return row(std::move(key), ParamType::String, std::move(defaultValue), std::move(help));
+}
+
+ParamSpec enumParam(std::string key, std::string defaultValue, std::vector<std::string> choices,
+                    std::string help) {
+  ParamSpec p = row(std::move(key), ParamType::Enum, std::move(defaultValue), std::move(help));
+  p.choices = std::move(choices);
+  return p;
+}
+
+ParamSpec colorParam(std::string key, nlohmann::json defaultValue, std::string units,
+                     std::string help) {
+  ParamSpec p = row(std::move(key), ParamType::Color3, std::move(defaultValue), std::move(help));
+  p.units = std::move(units);
+  return p;
+}
+
+ParamSpec vectorParam(std::string key, NumberRange range, std::string units, std::string help) {
+  return rangedRow(std::move(key), ParamType::Vector3, nullptr, range, std::move(units),
+                   std::move(help));
+}
+
+ParamSpec pointsParam(std::string key, NumberRange range, std::string help) {
+  return rangedRow(std::move(key), ParamType::Points2, nullptr, range, "", std::move(help));
+}
+
+ParamSpec listParam(std::string key, nlohmann::json defaultValue,
+                    std::map<std::string, std::vector<ParamSpec>> itemTypes, std::string help) {
+  ParamSpec p = row(std::move(key), ParamType::List, std::move(defaultValue), std::move(help));
+  p.itemTypes = std::move(itemTypes);
+  return p;
+}
+
+ParamSpec required(ParamSpec field) {
+  field.required = true;
+  return withoutDefault(std::move(field));
+}
+
+ParamSpec withoutDefault(ParamSpec field) {
+  field.defaultValue = nullptr;
+  return field;
+}
+
 void allowKeyframes(std::vector<ParamSpec>& params, const std::vector<std::string>& keys) {
   for (const auto& key : keys) {
     auto it = std::find_if(params.begin(), params.end(),

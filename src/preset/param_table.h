@@ -3,6 +3,7 @@
 // `pluvia describe` and the docs. A section is one top-level key of the preset ("rain", "fog").
 // Number and Integer parameters of a section marked `keyframes` (the ones a stage reads frame by
 // frame) also accept keyframes (see preset/ramp.h); every other value is fixed over the shot.
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <string>
@@ -40,6 +41,38 @@ struct ParamSpec {
   // a field of a list item (depth layers' distance_m); other item fields take plain numbers.
   bool keyframes = false;
 };
+
+// Builders for a table's rows, so that a table reads as named fields:
+//   numberParam("rate_mm_h", 15.0, {0, 500}, "mm/h", "rain rate")
+// A Number's default is stored as a JSON float and an Integer's as a JSON integer: the resolved
+// preset (and so its hash and `pluvia describe`) writes them as given here.
+struct NumberRange {
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
+};
+ParamSpec numberParam(std::string key, double defaultValue, NumberRange range, std::string units,
+                      std::string help);
+ParamSpec integerParam(std::string key, int64_t defaultValue, NumberRange range, std::string units,
+                       std::string help);
+ParamSpec booleanParam(std::string key, bool defaultValue, std::string help);
+// Every stage section's first row: "enabled", default true.
+ParamSpec enabledParam(std::string help = "run this stage");
+ParamSpec stringParam(std::string key, std::string defaultValue, std::string help);
+ParamSpec enumParam(std::string key, std::string defaultValue, std::vector<std::string> choices,
+                    std::string help);
+// `defaultValue`: [r, g, b].
+ParamSpec colorParam(std::string key, nlohmann::json defaultValue, std::string units,
+                     std::string help);
+// Vector3 and Points2 (see above), without a default.
+ParamSpec vectorParam(std::string key, NumberRange range, std::string units, std::string help);
+ParamSpec pointsParam(std::string key, NumberRange range, std::string help);
+// A list whose items take the fields of their "type" (see ParamSpec::itemTypes).
+ParamSpec listParam(std::string key, nlohmann::json defaultValue,
+                    std::map<std::string, std::vector<ParamSpec>> itemTypes, std::string help);
+// The same row for a field a list item must give: required, without a default.
+ParamSpec required(ParamSpec field);
+// The same row without a default (an optional field whose absence means something).
+ParamSpec withoutDefault(ParamSpec field);
 
 // Marks the named Number/Integer parameters as keyframable; throws std::logic_error for a key
 // that is not one of them (a programming error in a stage's table).

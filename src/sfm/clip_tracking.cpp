@@ -19,7 +19,7 @@
 #include "util/log.h"
 #include "util/timer.h"
 
-namespace pluvia {
+namespace pluvia::sfm {
 namespace {
 
 // The registered frame nearest to `frame`: its sparse points are the ones a frame between
@@ -49,6 +49,12 @@ nlohmann::json cameraJson(const Camera& camera) {
           {"world_from_camera_wxyz", {q.w(), q.x(), q.y(), q.z()}}};
 }
 
+// nlohmann writes NaN as null; it reads back as NaN.
+double number(const nlohmann::json& json, const char* key) {
+  const auto& value = json.at(key);
+  return value.is_null() ? NAN : value.get<double>();
+}
+
 Camera cameraFromJson(const nlohmann::json& json) {
   Camera camera;
   camera.width = json.at("width").get<int>();
@@ -64,6 +70,39 @@ Camera cameraFromJson(const nlohmann::json& json) {
                                .normalized()
                                .toRotationMatrix();
   return camera;
+}
+
+// `camera` in a frame whose y = 0 is the fitted ground (a sloping street's, not the level world's):
+// what densifySparseDepth's ground bound expects.
+Camera cameraOverGround(const SfmReconstruction& sfm, const Camera& camera) {
+  const Eigen::Matrix3d level =
+      Eigen::Quaterniond::FromTwoVectors(sfm.groundNormal, Eigen::Vector3d::UnitY())
+          .toRotationMatrix();
+  Camera over = camera;
+  over.worldFromCamera = level * camera.worldFromCamera;
+  over.positionMeters =
+      level * camera.positionMeters + Eigen::Vector3d(0.0, sfm.groundOffsetMeters, 0.0);
+  return over;
+}
+
+// Where +Y came from and what the scale cues said; each disagreeing cue is a warning.
+void logGravityAndScale(const SfmReconstruction& sfm) {
+  if (!sfm.groundAtYZero) return;
+  std::string cues = fmt::format("structures up to {:.1f} m", sfm.structureHeightMeters);
+  if (std::isfinite(sfm.medianCameraSpeedMetersPerSecond))
+    cues += fmt::format(", camera speed {:.1f} m/s", sfm.medianCameraSpeedMetersPerSecond);
+  double lo = INFINITY, hi = -INFINITY;
+  for (const SfmKeyframe& key : sfm.keyframes) {
+    lo = std::min(lo, key.heightAboveGroundMeters);
+    hi = std::max(hi, key.heightAboveGroundMeters);
+  }
+  log::info(fmt::format(
+      "depth: up from the {}{}; camera heights {:.2f} to {:.2f} m above the ground, which tilts "
+      "{:.1f} deg from +Y; {}",
+      sfm.gravitySource,
+      sfm.verticalLineCount > 0 ? fmt::format(" ({} lines)", sfm.verticalLineCount) : "", lo, hi,
+      std::acos(std::clamp(sfm.groundNormal.y(), -1.0, 1.0)) * 180.0 / M_PI, cues));
+  for (const std::string& warning : sfm.warnings) log::warning("depth: " + warning);
 }
 
 }  // namespace
@@ -177,8 +216,9 @@ ClipTracking trackClip(const std::vector<int64_t>& frames,
   // the true focal length).
   auto map = [&] {
     tracking.run = runColmapSparse(request);
-    tracking.sfm = reconstructionFromColmap(readColmapTextModel(tracking.run.modelFolder),
-                                            frameOfImage, settings.sfm);
+    tracking.sfm =
+        reconstructionFromColmap(readColmapTextModel(tracking.run.modelFolder), frameOfImage,
+                                 settings.sfm, settings.workspace / "frames");
     const double ratio = tracking.sfm.intrinsics.focalPx / *request.initialFocalPx;
     if (tracking.sfm.status == SfmStatus::Ok && !tracking.sfm.keyframes.empty() &&
         (ratio > settings.maxFocalRatio || ratio < 1.0 / settings.maxFocalRatio)) {
@@ -215,6 +255,7 @@ ClipTracking trackClip(const std::vector<int64_t>& frames,
     }
   }
   tracking.seconds = secondsSince(started);
+  logGravityAndScale(tracking.sfm);
   return tracking;
 }
 
@@ -238,7 +279,20 @@ SfmReconstruction trackingFromModel(const std::filesystem::path& textModelFolder
     const auto& names = own ? ownNames : fileNames;
     if (auto it = names.find(image.name); it != names.end()) inModel.insert(*it);
   }
-  return reconstructionFromColmap(model, inModel, options);
+  // The façade lines need the images by the model's names: the sequence's own files, else the
+  // frames a kept pluvia workspace holds beside its model (<workspace>/frames, <workspace>/model).
+  std::filesystem::path imageFolder;
+  for (const std::filesystem::path& folder :
+       {files.empty() ? std::filesystem::path() : std::filesystem::path(files[0]).parent_path(),
+        textModelFolder.parent_path() / "frames"})
+    if (!inModel.empty() && !folder.empty() &&
+        std::filesystem::exists(folder / inModel.begin()->first)) {
+      imageFolder = folder;
+      break;
+    }
+  SfmReconstruction sfm = reconstructionFromColmap(model, inModel, options, imageFolder);
+  logGravityAndScale(sfm);
+  return sfm;
 }
 
 std::optional<std::vector<float>> denseFrameDepth(const SfmReconstruction& sfm,
@@ -270,7 +324,8 @@ std::vector<float> trackedFrameDepth(const SfmReconstruction& sfm, int64_t frame
   // Where the world stands on the fitted ground, the ground bounds the depth from behind and fills
   // the bottom of the frame where blur left no points.
   DensifyOptions withGround = options;
-  if (sfm.groundAtYZero && !withGround.groundCamera) withGround.groundCamera = camera;
+  if (sfm.groundAtYZero && !withGround.groundCamera)
+    withGround.groundCamera = cameraOverGround(sfm, camera);
   return densifySparseDepth(samples, image, withGround);
 }
 
@@ -294,6 +349,7 @@ nlohmann::json reconstructionToJson(const SfmReconstruction& sfm) {
     keys.push_back({{"frame", key.frame},
                     {"image", key.imageName},
                     {"camera", cameraJson(key.camera)},
+                    {"height_above_ground_m", key.heightAboveGroundMeters},
                     {"visible_points", key.visiblePoints}});
   std::vector<double> points;
   points.reserve(sfm.pointsMeters.size() * 3);
@@ -311,7 +367,15 @@ nlohmann::json reconstructionToJson(const SfmReconstruction& sfm) {
           {"baseline_over_depth", sfm.baselineOverDepth},
           {"median_depth_m", sfm.medianDepthMeters},
           {"meters_per_model_unit", sfm.modelToWorld.scale},
-          {"ground_at_y_zero", sfm.groundAtYZero}};
+          {"ground_at_y_zero", sfm.groundAtYZero},
+          {"ground_normal", {sfm.groundNormal.x(), sfm.groundNormal.y(), sfm.groundNormal.z()}},
+          {"ground_offset_m", sfm.groundOffsetMeters},
+          {"gravity_source", sfm.gravitySource},
+          {"vertical_line_count", sfm.verticalLineCount},
+          {"ground_tilt_from_vertical_deg", sfm.groundTiltFromVerticalDeg},
+          {"structure_height_m", sfm.structureHeightMeters},
+          {"median_camera_speed_m_s", sfm.medianCameraSpeedMetersPerSecond},
+          {"warnings", sfm.warnings}};
 }
 
 SfmReconstruction reconstructionFromJson(const nlohmann::json& json) {
@@ -325,6 +389,7 @@ SfmReconstruction reconstructionFromJson(const nlohmann::json& json) {
     key.frame = k.at("frame").get<int64_t>();
     key.imageName = k.at("image").get<std::string>();
     key.camera = cameraFromJson(k.at("camera"));
+    key.heightAboveGroundMeters = number(k, "height_above_ground_m");
     key.visiblePoints = k.at("visible_points").get<std::vector<int>>();
     keys.push_back({static_cast<double>(key.frame), key.camera.positionMeters,
                     Eigen::Quaterniond(key.camera.worldFromCamera)});
@@ -346,6 +411,16 @@ SfmReconstruction reconstructionFromJson(const nlohmann::json& json) {
   sfm.medianDepthMeters = json.at("median_depth_m").get<double>();
   sfm.modelToWorld.scale = json.at("meters_per_model_unit").get<double>();
   sfm.groundAtYZero = json.at("ground_at_y_zero").get<bool>();
+  const auto& normal = json.at("ground_normal");
+  sfm.groundNormal = {normal.at(0).get<double>(), normal.at(1).get<double>(),
+                      normal.at(2).get<double>()};
+  sfm.groundOffsetMeters = json.at("ground_offset_m").get<double>();
+  sfm.gravitySource = json.at("gravity_source").get<std::string>();
+  sfm.verticalLineCount = json.at("vertical_line_count").get<int>();
+  sfm.groundTiltFromVerticalDeg = number(json, "ground_tilt_from_vertical_deg");
+  sfm.structureHeightMeters = number(json, "structure_height_m");
+  sfm.medianCameraSpeedMetersPerSecond = number(json, "median_camera_speed_m_s");
+  sfm.warnings = json.at("warnings").get<std::vector<std::string>>();
   sfm.path = keys.empty() ? CameraPath::fixed(sfm.intrinsics)
                           : CameraPath::fromRotations(sfm.intrinsics, std::move(keys));
   return sfm;
@@ -376,4 +451,4 @@ nlohmann::json posesJson(const SfmReconstruction& sfm, const std::vector<int64_t
           {"frames", poses}};
 }
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

@@ -23,7 +23,7 @@
 #include "sfm/sfm_poses.h"
 #include "sfm/sparse_densify.h"
 
-namespace pluvia {
+namespace pluvia::sfm {
 
 struct ClipTrackingSettings {
   std::filesystem::path workspace;  // COLMAP's folder (frames/, images/, database, log)
@@ -90,4 +90,4 @@ SfmReconstruction reconstructionFromJson(const nlohmann::json& json);
 // The poses of `frames` for users (`pluvia depth` writes it as poses.json).
 nlohmann::json posesJson(const SfmReconstruction& sfm, const std::vector<int64_t>& frames);
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

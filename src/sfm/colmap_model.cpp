@@ -5,7 +5,7 @@
 #include "util/error.h"
 #include "util/fs.h"
 
-namespace pluvia {
+namespace pluvia::sfm {
 namespace {
 
 const char* kStage = "sfm";
@@ -211,4 +211,4 @@ ColmapModel readColmapTextModel(const std::filesystem::path& folder) {
   return model;
 }
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

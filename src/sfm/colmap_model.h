@@ -14,7 +14,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-namespace pluvia {
+namespace pluvia::sfm {
 
 struct ColmapCamera {
   int id = 0;
@@ -80,4 +80,4 @@ void parseColmapPoints3D(const std::string& text, const std::string& fileName, C
 // Reads cameras.txt, images.txt and points3D.txt from `folder` (model_converter's TXT output).
 ColmapModel readColmapTextModel(const std::filesystem::path& folder);
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

@@ -12,7 +12,7 @@
 #include "util/error.h"
 #include "util/subprocess.h"
 
-namespace pluvia {
+namespace pluvia::sfm {
 namespace {
 
 const char* kStage = "sfm";
@@ -255,4 +255,4 @@ ColmapRun runColmapSparse(const ColmapRequest& request) {
   return run;
 }
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

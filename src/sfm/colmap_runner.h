@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace pluvia {
+namespace pluvia::sfm {
 
 struct ColmapRequest {
   // The frames, already written. File names (not folders) must be unique: COLMAP identifies
@@ -78,4 +78,4 @@ bool colmapAvailable(const std::string& requested = "");
 // model (typically too little parallax or texture).
 ColmapRun runColmapSparse(const ColmapRequest& request);
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

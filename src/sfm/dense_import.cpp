@@ -8,7 +8,7 @@
 
 #include "util/error.h"
 
-namespace pluvia {
+namespace pluvia::sfm {
 namespace {
 
 const char* kStage = "sfm";
@@ -93,4 +93,4 @@ std::vector<float> importColmapDepthMeters(const std::filesystem::path& path, do
   return depth;
 }
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-namespace pluvia {
+namespace pluvia::sfm {
 
 struct ColmapArray {
   int width = 0;
@@ -36,4 +36,4 @@ std::filesystem::path colmapDepthMapPath(const std::filesystem::path& workspace,
 std::vector<float> importColmapDepthMeters(const std::filesystem::path& path, double metersPerUnit,
                                            int* width = nullptr, int* height = nullptr);
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

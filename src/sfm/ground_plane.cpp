@@ -1,11 +1,12 @@
 #include "sfm/ground_plane.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
 #include <Eigen/Eigenvalues>
 
-namespace pluvia {
+namespace pluvia::sfm {
 namespace {
 
 // Least-squares plane through points: the normal is the covariance's smallest eigenvector.
@@ -23,10 +24,28 @@ void refit(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& i
   fit.offset = -n.dot(mean);
 }
 
-}  // namespace
+Eigen::Matrix3d covariance(const std::vector<Eigen::Vector3d>& points, const std::vector<int>& use,
+                           Eigen::Vector3d& mean) {
+  mean = Eigen::Vector3d::Zero();
+  for (int i : use) mean += points[i];
+  mean /= static_cast<double>(use.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (int i : use) cov += (points[i] - mean) * (points[i] - mean).transpose();
+  return cov / static_cast<double>(use.size());
+}
 
-PlaneFit fitGroundPlane(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& up,
-                        const PlaneFitOptions& options) {
+std::vector<int> within(const std::vector<Eigen::Vector3d>& points, const PlaneFit& plane,
+                        double band) {
+  std::vector<int> inside;
+  for (int i = 0; i < static_cast<int>(points.size()); ++i)
+    if (std::abs(plane.normal.dot(points[i]) + plane.offset) < band) inside.push_back(i);
+  return inside;
+}
+
+// fitGroundPlane, with candidate planes also passing `accept`.
+template <typename Accept>
+PlaneFit fitPlane(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& up,
+                  const PlaneFitOptions& options, Accept accept) {
   PlaneFit best;
   const int n = static_cast<int>(points.size());
   if (n < 3 || up.norm() < 1e-12) return best;
@@ -44,6 +63,7 @@ PlaneFit fitGroundPlane(const std::vector<Eigen::Vector3d>& points, const Eigen:
     if (normal.dot(upUnit) < 0) normal = -normal;
     if (normal.dot(upUnit) < minCos) continue;
     double offset = -normal.dot(points[a]);
+    if (!accept(normal, offset)) continue;
     std::vector<int> inliers;
     for (int i = 0; i < n; ++i)
       if (std::abs(normal.dot(points[i]) + offset) < options.inlierDistance) inliers.push_back(i);
@@ -76,4 +96,49 @@ PlaneFit fitGroundPlane(const std::vector<Eigen::Vector3d>& points, const Eigen:
   return best;
 }
 
-}  // namespace pluvia
+}  // namespace
+
+PlaneFit fitGroundPlane(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& up,
+                        const PlaneFitOptions& options) {
+  return fitPlane(points, up, options, [](const Eigen::Vector3d&, double) { return true; });
+}
+
+GroundBelowCameras fitGroundBelowCameras(const std::vector<Eigen::Vector3d>& points,
+                                         const std::vector<Eigen::Vector3d>& cameras,
+                                         const Eigen::Vector3d& up, const PlaneFitOptions& options,
+                                         double maxCameraTiltDeg) {
+  auto belowAll = [&](const Eigen::Vector3d& normal, double offset) {
+    for (const Eigen::Vector3d& c : cameras)
+      if (normal.dot(c) + offset <= options.inlierDistance) return false;
+    return true;
+  };
+  GroundBelowCameras result;
+  result.plane = fitPlane(points, up, options, belowAll);
+  if (!result.plane.found || cameras.size() < 2) return result;
+  std::vector<int> allCameras(cameras.size());
+  for (size_t i = 0; i < cameras.size(); ++i) allCameras[i] = static_cast<int>(i);
+  Eigen::Vector3d cameraMean;
+  const Eigen::Matrix3d cameraCov = covariance(cameras, allCameras, cameraMean);
+  PlaneFit joint = result.plane;
+  for (int pass = 0; pass < 3; ++pass) {
+    const std::vector<int> inliers = within(points, joint, 0.25 * options.inlierDistance);
+    if (inliers.size() < 3) return result;
+    Eigen::Vector3d pointMean;
+    const Eigen::Matrix3d pointCov = covariance(points, inliers, pointMean);
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(pointCov + cameraCov);
+    Eigen::Vector3d n = solver.eigenvectors().col(0).normalized();
+    if (n.dot(up) < 0) n = -n;
+    joint.normal = n;
+    joint.offset = -n.dot(pointMean);
+  }
+  result.pointsOnlyTiltDeg =
+      std::acos(std::clamp(joint.normal.dot(result.plane.normal), -1.0, 1.0)) * 180.0 / M_PI;
+  if (result.pointsOnlyTiltDeg > maxCameraTiltDeg || !belowAll(joint.normal, joint.offset))
+    return result;
+  joint.inliers = static_cast<int>(within(points, joint, options.inlierDistance).size());
+  result.plane = joint;
+  result.camerasUsed = true;
+  return result;
+}
+
+}  // namespace pluvia::sfm

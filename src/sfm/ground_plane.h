@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-namespace pluvia {
+namespace pluvia::sfm {
 
 struct PlaneFit {
   bool found = false;
@@ -31,4 +31,23 @@ struct PlaneFitOptions {
 PlaneFit fitGroundPlane(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& up,
                         const PlaneFitOptions& options = {});
 
-}  // namespace pluvia
+// The ground under a walking or driving camera: as fitGroundPlane, but only planes below every
+// camera are candidates, and the normal is refitted to the ground inliers and the camera centres
+// together (the smallest eigenvector of the sum of their covariances, each over its own count):
+// the plane along which the ground is flat and the cameras ride at one height. A street's points
+// constrain the tilt across the path well and the tilt along it poorly (its far end is a few
+// noisy points); the cameras constrain exactly that. When the joint normal is further than
+// maxCameraTiltDeg from the ground points' own (a crane shot, a drone climbing), the points'
+// plane is kept and `camerasUsed` is false.
+struct GroundBelowCameras {
+  PlaneFit plane;
+  bool camerasUsed = false;
+  double pointsOnlyTiltDeg = 0.0;  // the joint normal's angle from the points' own
+};
+GroundBelowCameras fitGroundBelowCameras(const std::vector<Eigen::Vector3d>& points,
+                                         const std::vector<Eigen::Vector3d>& cameras,
+                                         const Eigen::Vector3d& up,
+                                         const PlaneFitOptions& options = {},
+                                         double maxCameraTiltDeg = 5.0);
+
+}  // namespace pluvia::sfm

@@ -8,7 +8,7 @@
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
-namespace pluvia {
+namespace pluvia::sfm {
 namespace {
 
 cv::Mat grey8(const cv::Mat& frame, int maxSizePx) {
@@ -140,4 +140,4 @@ std::vector<size_t> selectKeyframes(const ParallaxProbe& probe,
   return keys;
 }
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

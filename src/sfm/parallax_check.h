@@ -14,7 +14,7 @@
 
 #include <opencv2/core.hpp>
 
-namespace pluvia {
+namespace pluvia::sfm {
 
 struct ParallaxCheckSettings {
   int maxImageSizePx = 640;           // frames are matched at this longest side
@@ -70,4 +70,4 @@ ParallaxCheck checkParallax(const std::vector<cv::Mat>& frames,
 std::vector<size_t> selectKeyframes(const ParallaxProbe& probe,
                                     const ParallaxCheckSettings& settings = {});
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

@@ -8,8 +8,9 @@
 #include <Eigen/Geometry>
 
 #include "sfm/ground_plane.h"
+#include "sfm/scale_cues.h"
 
-namespace pluvia {
+namespace pluvia::sfm {
 namespace {
 
 // COLMAP camera axes (x right, y down, z forward) <-> pluvia camera axes (x right, y up, z back).
@@ -94,7 +95,8 @@ const char* sfmStatusName(SfmStatus status) {
 
 SfmReconstruction reconstructionFromColmap(const ColmapModel& model,
                                            const std::map<std::string, int64_t>& frameOfImage,
-                                           const SfmOptions& options) {
+                                           const SfmOptions& options,
+                                           const std::filesystem::path& imageFolder) {
   SfmReconstruction result;
   result.frameCount = static_cast<int>(frameOfImage.size());
   result.meanReprojectionErrorPx = model.meanReprojectionErrorPx();
@@ -156,17 +158,21 @@ SfmReconstruction reconstructionFromColmap(const ColmapModel& model,
                      " of the median scene depth (below " + fixed(options.minBaselineOverDepth, 4) +
                      "): a pan without travel gives no depth";
   } else if (options.scale.cameraHeightMeters) {
-    std::vector<Eigen::Vector3d> below;
+    // The vertical: the façades' lines where the images show enough of them.
+    VerticalLineGravity lines;
+    if (!imageFolder.empty()) lines = verticalFromLines(model, imageFolder, options.verticalLines);
+    const Eigen::Vector3d vertical = lines.found ? lines.upModel : up;
+    std::vector<Eigen::Vector3d> below, centres;
+    for (const auto& [frame, image] : registered) centres.push_back(image->centre());
     for (const auto& [id, point] : model.points)
-      if (up.dot(point.xyz - meanCentre) < 0) below.push_back(point.xyz);
+      if (vertical.dot(point.xyz - meanCentre) < 0) below.push_back(point.xyz);
     PlaneFitOptions planeOptions;
     planeOptions.inlierDistance = options.groundInlierFractionOfDepth * medianDepthModel;
     planeOptions.maxTiltDeg = options.groundMaxTiltDeg;
-    PlaneFit plane = fitGroundPlane(below, up, planeOptions);
+    const PlaneFit plane = fitGroundBelowCameras(below, centres, vertical, planeOptions).plane;
     double meanHeight = 0.0;
-    for (const auto& [frame, image] : registered)
-      meanHeight += plane.normal.dot(image->centre()) + plane.offset;
-    meanHeight /= static_cast<double>(registered.size());
+    for (const Eigen::Vector3d& c : centres) meanHeight += plane.normal.dot(c) + plane.offset;
+    meanHeight /= static_cast<double>(centres.size());
     if (!plane.found || meanHeight <= 0.0) {
       result.status = SfmStatus::NoGroundPlane;
       result.message = "no ground plane found below the cameras among " +
@@ -174,10 +180,24 @@ SfmReconstruction reconstructionFromColmap(const ColmapModel& model,
                        " sparse points; cannot scale by camera height";
     } else {
       toWorld.scale = *options.scale.cameraHeightMeters / meanHeight;
-      toWorld.rotation = levelRotation(plane.normal, firstForward, firstRight);
-      // y_world = s * (n . x + offset): the plane is y = 0; the first camera is above x = z = 0.
-      Eigen::Vector3d c0 = toWorld.scale * (toWorld.rotation * first.centre());
-      toWorld.translationMeters = {-c0.x(), toWorld.scale * plane.offset, -c0.z()};
+      const Eigen::Vector3d worldUp = lines.found ? lines.upModel : plane.normal;
+      toWorld.rotation = levelRotation(worldUp, firstForward, firstRight);
+      // The origin is the ground below the first camera along +Y, the first camera above it.
+      const double firstHeight = plane.normal.dot(first.centre()) + plane.offset;
+      const Eigen::Vector3d foot =
+          first.centre() - firstHeight / plane.normal.dot(worldUp) * worldUp;
+      toWorld.translationMeters = -toWorld.scale * (toWorld.rotation * foot);
+      // n . x + d = 0 in the model is n_w . y - n_w . T + s d = 0 in the world (y = s Q x + T).
+      result.groundNormal = toWorld.rotation * plane.normal;
+      result.groundOffsetMeters =
+          toWorld.scale * plane.offset - result.groundNormal.dot(toWorld.translationMeters);
+      result.gravitySource = lines.found ? "facade lines" : "ground plane";
+      result.verticalLineCount = lines.inliers;
+      if (lines.found)
+        result.groundTiltFromVerticalDeg =
+            std::acos(std::clamp(plane.normal.dot(lines.upModel), -1.0, 1.0)) * 180.0 / M_PI;
+      else if (!imageFolder.empty())
+        result.message = "gravity from the ground plane: " + lines.message;
       scaled = true;
       groundPlaced = true;
     }
@@ -215,6 +235,9 @@ SfmReconstruction reconstructionFromColmap(const ColmapModel& model,
     key.frame = frame;
     key.imageName = image->name;
     key.camera = pluviaCameraFromColmap(model.cameras.at(image->cameraId), *image, toWorld);
+    if (groundPlaced)
+      key.heightAboveGroundMeters =
+          result.groundNormal.dot(key.camera.positionMeters) + result.groundOffsetMeters;
     for (const auto& obs : image->observations) {
       auto it = pointIndex.find(obs.point3DId);
       if (obs.point3DId >= 0 && it != pointIndex.end()) key.visiblePoints.push_back(it->second);
@@ -225,7 +248,8 @@ SfmReconstruction reconstructionFromColmap(const ColmapModel& model,
   }
   result.intrinsics = pluviaCameraFromColmap(colmapCamera, first, toWorld);
   result.path = CameraPath::fromRotations(result.intrinsics, std::move(keys));
+  if (scaled) checkScaleCues(result, options);
   return result;
 }
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

@@ -11,7 +11,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/ximgproc/edge_filter.hpp>
 
-namespace pluvia {
+namespace pluvia::sfm {
 namespace {
 
 // 8-bit grey levels for the smoother and the sky test. Float input is taken as linear light and
@@ -597,4 +597,4 @@ cv::Mat estimateSkyMask(const cv::Mat& guide, const DensifyOptions& options) {
   return skyMask(guide, noSamples, farFromSamples, sinElevation, options);
 }
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

@@ -48,7 +48,7 @@
 #include "geometry/camera.h"
 #include "image/image.h"
 
-namespace pluvia {
+namespace pluvia::sfm {
 
 struct SparseDepthSample {
   double xPx = 0.0;  // pixel position, pixel centres at +0.5
@@ -122,4 +122,4 @@ std::vector<float> densifySparseDepth(const std::vector<SparseDepthSample>& samp
 // test uses options.groundCamera when it is set.
 cv::Mat estimateSkyMask(const cv::Mat& guide, const DensifyOptions& options = {});
 
-}  // namespace pluvia
+}  // namespace pluvia::sfm

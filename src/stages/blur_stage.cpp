@@ -1,6 +1,7 @@
 // Blur: the scene seen through rain is softened by refraction in the drops (Wang et al.
 // section 5, "Scene Blur"): a Gaussian of sigma pixels.
 #include "image/ops.h"
+#include "stages/blur_settings.h"
 #include "stages/registry.h"
 
 namespace pluvia {
@@ -8,27 +9,24 @@ namespace {
 
 class BlurStage : public Stage {
  public:
-  explicit BlurStage(const Preset& p) : sigmaPx_(float(p.number("blur.sigma_px"))) {}
-  void process(ClipContext&, FrameContext& frame) override { ops::gaussianBlur(frame.image, sigmaPx_); }
+  explicit BlurStage(BlurSettings blur) : blur_(blur) {}
+  void process(ClipContext&, FrameContext& frame) override {
+    ops::gaussianBlur(frame.image, float(blur_.sigmaPx));
+  }
 
  private:
-  float sigmaPx_;
+  BlurSettings blur_;
 };
 
 }  // namespace
 
 StageInfo blurStageInfo() {
   StageInfo info;
-  info.spec.name = "blur";
-  info.spec.help = "Gaussian blur of the plate (refraction through rain).";
-  info.spec.inputs = {"image"};
-  info.spec.outputs = {"image"};
-  info.spec.params = {
-      {"enabled", ParamType::Boolean, true, {}, {}, {}, "", "run this stage"},
-      {"sigma_px", ParamType::Number, 0.0, 0.0, 100.0, {}, "px", "standard deviation; 0 leaves the plate sharp"},
+  info.spec = blurSection();
+  info.noOpReason = [](const Preset& p) {
+    return blurSettings(p).sigmaPx == 0.0 ? std::string("sigma_px is 0") : "";
   };
-  info.noOpReason = [](const Preset& p) { return p.number("blur.sigma_px") == 0.0 ? std::string("sigma_px is 0") : ""; };
-  info.create = [](const Preset& p) { return std::make_unique<BlurStage>(p); };
+  info.create = [](const Preset& p) { return std::make_unique<BlurStage>(blurSettings(p)); };
   return info;
 }
 

@@ -46,9 +46,9 @@ const std::vector<uint8_t>& clipSky(ClipContext& clip, const Camera& camera) {
   cv::resize(rgbMat(still), small, cv::Size(), scale, scale,
              scale < 1.0 ? cv::INTER_AREA : cv::INTER_LINEAR);
   cv::cvtColor(small, bgr, cv::COLOR_RGB2BGR);
-  DensifyOptions options;
+  sfm::DensifyOptions options;
   options.groundCamera = camera;
-  cv::Mat skySmall = estimateSkyMask(bgr, options), sky;
+  cv::Mat skySmall = sfm::estimateSkyMask(bgr, options), sky;
   cv::resize(skySmall, sky, cv::Size(still.width, still.height), 0, 0, cv::INTER_NEAREST);
   std::vector<uint8_t> mask(size_t(still.width) * still.height);
   for (int y = 0; y < still.height; ++y)

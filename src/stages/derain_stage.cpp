@@ -13,6 +13,7 @@
 #include "pipeline/cache.h"
 #include "pluvia/version.h"
 #include "rain/stroke_library.h"
+#include "stages/derain_settings.h"
 #include "stages/registry.h"
 #include "util/error.h"
 #include "util/hash.h"
@@ -23,28 +24,27 @@ namespace {
 
 constexpr const char* kStageVersion = "2";
 
-std::string derainInput(const Preset& p, const ClipInfo& clip) {
-  return p.string("derain.input").empty() ? clip.path : p.string("derain.input");
+std::string derainInput(const DerainSettings& derain, const ClipInfo& clip) {
+  return derain.input.empty() ? clip.path : derain.input;
 }
 
-std::string derainCacheKey(const Preset& p, const ClipInfo& clip) {
+std::string derainCacheKey(const DerainSettings& derain, const ClipInfo& clip) {
   return Hasher()
       .add("derain")
       .add(kStageVersion)
       .add(kVersion)
-      .add(p.at("derain").dump())
-      .add(derainInput(p, clip))
+      .add(derain.resolved.dump())
+      .add(derainInput(derain, clip))
       .hex();
 }
 
 class DerainStage : public Stage {
  public:
-  explicit DerainStage(const Preset& p)
-      : frames_(int(p.number("derain.frames"))), count_(int(p.number("derain.count"))) {}
+  explicit DerainStage(DerainSettings derain) : derain_(std::move(derain)) {}
 
   void prepare(ClipContext& clip) override {
-    const std::string input = derainInput(*clip.preset, *clip.clip);
-    const std::string key = derainCacheKey(*clip.preset, *clip.clip);
+    const std::string input = derainInput(derain_, *clip.clip);
+    const std::string key = derainCacheKey(derain_, *clip.clip);
     if (clip.cache) {
       if (auto cached = clip.cache->load("derain", key)) {
         clip.footageStrokes =
@@ -59,12 +59,12 @@ class DerainStage : public Stage {
                   {"derain", {}, input});
     }
     derain::ClipDerainSettings settings;
-    settings.window = int(std::min<size_t>(frames.size(), size_t(frames_)));
+    settings.window = int(std::min<size_t>(frames.size(), size_t(derain_.frames)));
     settings.firstFrame = frames.front();
     settings.lastFrame = frames[size_t(settings.window) - 1];
 
     derain::StrokeExtractionSettings extraction;
-    extraction.count = count_;
+    extraction.count = derain_.strokeCount;
     derain::ClipStrokes cut = derain::cutStrokesFromClip(input, settings, extraction);
     if (cut.library.strokes.empty()) {
       throw Error(fmt::format("no rain strokes found in {} (frames {}-{}, rain angle {:.1f} deg); "
@@ -82,49 +82,19 @@ class DerainStage : public Stage {
   }
 
  private:
-  int frames_;
-  int count_;
+  DerainSettings derain_;
 };
 
 }  // namespace
 
 StageInfo derainStageInfo() {
   StageInfo info;
-  info.spec.name = "derain";
-  info.spec.help =
-      "Cuts rain strokes out of real rain footage with Wang et al.'s Eq. (1) (used when "
-      "rain.strokes is \"derain\").";
-  info.spec.outputs = {"footage_strokes"};
-  info.spec.params = {
-      {"enabled",
-       ParamType::Boolean,
-       true,
-       {},
-       {},
-       {},
-       "",
-       "run this stage when its strokes are read"},
-      {"input",
-       ParamType::String,
-       "",
-       {},
-       {},
-       {},
-       "",
-       "rain footage to cut strokes from; empty: the render input"},
-      {"frames",
-       ParamType::Integer,
-       20,
-       3,
-       1000,
-       {},
-       "frames",
-       "frames solved together (one derain window, from the footage's first frame)"},
-      {"count", ParamType::Integer, 64, 1, 4096, {}, "strokes", "strokes kept, best first"},
-  };
+  info.spec = derainSection();
   info.perClip = true;
-  info.cacheKey = derainCacheKey;
-  info.create = [](const Preset& p) { return std::make_unique<DerainStage>(p); };
+  info.cacheKey = [](const Preset& p, const ClipInfo& clip) {
+    return derainCacheKey(derainSettings(p), clip);
+  };
+  info.create = [](const Preset& p) { return std::make_unique<DerainStage>(derainSettings(p)); };
   return info;
 }
 

@@ -11,9 +11,11 @@
 #include "envmap/frame_environment.h"
 #include "optics/environment_file.h"
 #include "pipeline/cache.h"
+#include "pipeline/camera_settings.h"
+#include "pipeline/color_settings.h"
 #include "pluvia/version.h"
-#include "preset/camera_path_preset.h"
 #include "stages/clip_still.h"
+#include "stages/lighting_settings.h"
 #include "stages/registry.h"
 #include "util/error.h"
 #include "util/hash.h"
@@ -111,34 +113,46 @@ Environment hdrEnvironment(const std::string& path, double intensity) {
   return mapEnvironment(std::move(map));
 }
 
+// What the environment depends on: the lighting, the colour spaces, the camera and the clip.
+std::string environmentCacheKey(const LightingSettings& lighting, const ColorSettings& color,
+                                const CameraSettings& camera, const ClipInfo& clip) {
+  return Hasher()
+      .add("lighting")
+      .add(kStageVersion)
+      .add(kVersion)
+      .add(lighting.resolved.dump())
+      .add(color.resolved.dump())
+      .add(camera.resolved.dump())
+      .add(clipIdentity(clip))
+      .hex();
+}
+
 class EnvironmentStage : public Stage {
  public:
-  explicit EnvironmentStage(const Preset& p)
-      : source_(p.string("lighting.source")),
-        color_(p.color("lighting.color")),
-        hdr_(p.string("lighting.hdr")),
-        intensity_(p.number("lighting.intensity")),
-        sampleFrames_(int(p.number("lighting.sample_frames"))) {
-    stitch_.horizontalFovDeg = p.number("camera.fov_deg");
-    stitch_.motion = p.string("lighting.motion");
-    stitch_.every = int(p.number("lighting.every"));
-    stitch_.maxPanFrames = int(p.number("lighting.pan_frames"));
-    stitch_.inputSpace = p.string("color.input");
-    stitch_.lights = envmap::parseLights(p.at("lighting.lights"), "lighting.lights");
+  EnvironmentStage(LightingSettings lighting, ColorSettings color, CameraSettings camera)
+      : lighting_(std::move(lighting)), color_(std::move(color)), camera_(std::move(camera)) {
+    stitch_.horizontalFovDeg = camera_.fovDeg;
+    stitch_.motion = lighting_.motion;
+    stitch_.every = lighting_.everyFrames;
+    stitch_.maxPanFrames = lighting_.panFrames;
+    stitch_.inputSpace = color_.inputSpace;
+    stitch_.lights = envmap::parseLights(lighting_.lights, "lighting.lights");
   }
 
   void prepare(ClipContext& clip) override {
-    if (source_ == "hdr") {
-      if (hdr_.empty())
+    const std::string& source = lighting_.source;
+    if (source == "hdr") {
+      const std::string& hdr = lighting_.hdrPath;
+      if (hdr.empty())
         throw Error("lighting.source is \"hdr\" but lighting.hdr names no file", {"lighting"});
-      clip.environment = hdrEnvironment(hdr_, intensity_);
+      clip.environment = hdrEnvironment(hdr, lighting_.intensity);
       const auto& mean = clip.environment->averageRgb;
-      log::info(fmt::format("lighting: {} ({} x {}), mean radiance {:.4f} {:.4f} {:.4f}", hdr_,
+      log::info(fmt::format("lighting: {} ({} x {}), mean radiance {:.4f} {:.4f} {:.4f}", hdr,
                             clip.environment->radiance.width, clip.environment->radiance.height,
                             mean[0], mean[1], mean[2]));
       return;
     }
-    const std::string key = environmentCacheKey(*clip.preset, *clip.clip);
+    const std::string key = environmentCacheKey(lighting_, color_, camera_, *clip.clip);
     if (clip.cache) {
       if (auto cached = clip.cache->load("lighting", key)) {
         if (cached->contains("stitched")) {
@@ -158,7 +172,7 @@ class EnvironmentStage : public Stage {
         return;
       }
     }
-    if (source_ == "stitch") {
+    if (source == "stitch") {
       nlohmann::json keys = nlohmann::json::array();
       const envmap::ClipEnvironment built =
           envmap::buildClipEnvironment(*clip.reader, clip.clip->frames, stitch_);
@@ -175,9 +189,9 @@ class EnvironmentStage : public Stage {
       if (clip.cache) clip.cache->store("lighting", key, {{"stitched", keys}});
       return;
     }
-    if (source_ == "frame") {
+    if (source == "frame") {
       // The camera of the first frame, as the depth stage's guess sees the sky.
-      const Camera camera = cameraPathFromPreset(*clip.preset, clip.camera).cameraAt(0.0);
+      const Camera camera = camera_.path(clip.camera).cameraAt(0.0);
       envmap::FrameEnvironment plate =
           envmap::frameEnvironment(clipStill(clip), camera, clipSky(clip, camera));
       if (clip.cache) clip.cache->store("lighting", key, {{"frame", plateJson(plate)}});
@@ -190,32 +204,18 @@ class EnvironmentStage : public Stage {
                       up[0], up[1], up[2], down[0], down[1], down[2]));
       return;
     }
-    std::array<float, 3> radiance = color_;
-    if (source_ == "frame_average") radiance = averageOfFrames(clip);
+    std::array<float, 3> radiance = lighting_.constantRgb;
+    if (source == "frame_average") radiance = averageOfFrames(clip);
     clip.environment = uniformEnvironment(radiance);
     log::info(fmt::format("lighting: average radiance {:.4f} {:.4f} {:.4f}", radiance[0],
                           radiance[1], radiance[2]));
     if (clip.cache) clip.cache->store("lighting", key, {{"average_rgb", radiance}});
   }
 
-  static std::string environmentCacheKey(const Preset& p, const ClipInfo& clip) {
-    // An HDR is read, not computed: nothing to cache (`--require-cache` must not ask for it).
-    if (p.string("lighting.source") == "hdr") return std::string();
-    return Hasher()
-        .add("lighting")
-        .add(kStageVersion)
-        .add(kVersion)
-        .add(p.at("lighting").dump())
-        .add(p.at("color").dump())
-        .add(p.at("camera").dump())
-        .add(clipIdentity(clip))
-        .hex();
-  }
-
  private:
   std::array<float, 3> averageOfFrames(ClipContext& clip) const {
     const auto& frames = clip.clip->frames;
-    const int samples = std::max(1, std::min<int>(sampleFrames_, int(frames.size())));
+    const int samples = std::max(1, std::min<int>(lighting_.sampleFrames, int(frames.size())));
     std::array<double, 3> sum{0, 0, 0};
     for (int s = 0; s < samples; ++s) {
       // Evenly spread over the clip, the first frame included.
@@ -227,130 +227,28 @@ class EnvironmentStage : public Stage {
     return {float(sum[0] / samples), float(sum[1] / samples), float(sum[2] / samples)};
   }
 
-  std::string source_;
-  std::array<float, 3> color_;
-  std::string hdr_;
-  double intensity_;
-  int sampleFrames_;
+  LightingSettings lighting_;
+  ColorSettings color_;
+  CameraSettings camera_;
   envmap::ClipEnvironmentSettings stitch_;
 };
 
 }  // namespace
 
-ParamSpec lightsSpec() {
-  auto field = [](const char* key, ParamType type, nlohmann::json value, const char* units,
-                  const char* help) {
-    return ParamSpec{key, type, std::move(value), -1e9, 1e9, {}, units, help};
-  };
-  ParamSpec lights{"lights",
-                   ParamType::List,
-                   nlohmann::json::array(),
-                   {},
-                   {},
-                   {},
-                   "",
-                   "stitch: light sources the footage saturated, given their measured radiance"};
-  const ParamSpec radiance = field("radiance", ParamType::Color3, nlohmann::json::array({1, 1, 1}),
-                                   "linear", "measured radiance");
-  lights.itemTypes = {
-      {"direction",
-       {field("yaw_deg", ParamType::Number, 0.0, "deg", "to the right of the first frame's view"),
-        field("pitch_deg", ParamType::Number, 45.0, "deg", "above the horizon"),
-        field("radius_deg", ParamType::Number, 0.5, "deg", "angular radius"), radiance}},
-      {"region",
-       {field("frame", ParamType::Integer, 0, "", "index of the frame among those stitched"),
-        field("x", ParamType::Integer, 0, "px", "left edge in that frame"),
-        field("y", ParamType::Integer, 0, "px", "top edge in that frame"),
-        field("width", ParamType::Integer, 1, "px", "width"),
-        field("height", ParamType::Integer, 1, "px", "height"), radiance}}};
-  return lights;
-}
-
 StageInfo environmentStageInfo() {
   StageInfo info;
-  info.spec.name = "lighting";
-  info.spec.help =
-      "Environment lighting for the drops (per clip): an equirect HDR, a constant, or the clip's "
-      "average.";
-  info.spec.outputs = {"environment"};
-  info.spec.params = {
-      {"enabled", ParamType::Boolean, true, {}, {}, {}, "", "run this stage"},
-      {"source",
-       ParamType::Enum,
-       "frame",
-       {},
-       {},
-       {"frame", "frame_average", "constant", "hdr", "stitch"},
-       "",
-       "frame: the plate itself within the camera's view, its mean by elevation elsewhere (the "
-       "sky above lights the drops); stitch: the shot's frames stitched into a panorama (Wang et "
-       "al. 4.1); frame_average: mean radiance of sampled frames in every direction; constant: "
-       "lighting.color; hdr: lighting.hdr"},
-      {"motion",
-       ParamType::Enum,
-       "auto",
-       {},
-       {},
-       {"auto", "pan", "loom", "static"},
-       "",
-       "stitch: the camera's motion (auto: rotation found by the features makes a pan, a changing "
-       "view a loom)"},
-      {"every",
-       ParamType::Integer,
-       5,
-       1,
-       10000,
-       {},
-       "frames",
-       "stitch, loom: a panorama every N frames"},
-      {"pan_frames",
-       ParamType::Integer,
-       24,
-       1,
-       500,
-       {},
-       "frames",
-       "stitch, pan: frames stitched, evenly over the clip"},
-      lightsSpec(),
-      {"hdr",
-       ParamType::String,
-       "",
-       {},
-       {},
-       {},
-       "",
-       "equirect HDR (.exr, .hdr; linear Rec.709; +Y up, image centre looking along -Z) for source "
-       "hdr"},
-      {"intensity",
-       ParamType::Number,
-       1.0,
-       0.0,
-       1e6,
-       {},
-       "",
-       "scale on the HDR's radiance, to match the plate"},
-      {"color",
-       ParamType::Color3,
-       nlohmann::json::array({0.5, 0.5, 0.5}),
-       {},
-       {},
-       {},
-       "linear",
-       "radiance when source is constant"},
-      {"sample_frames",
-       ParamType::Integer,
-       8,
-       1,
-       1000,
-       {},
-       "frames",
-       "frames averaged for frame_average (frame takes the median of 5 over the clip)"},
-  };
+  info.spec = lightingSection();
   info.perClip = true;
   info.cacheKey = [](const Preset& p, const ClipInfo& clip) {
-    return EnvironmentStage::environmentCacheKey(p, clip);
+    LightingSettings lighting = lightingSettings(p);
+    // An HDR is read, not computed: nothing to cache (`--require-cache` must not ask for it).
+    if (lighting.source == "hdr") return std::string();
+    return environmentCacheKey(lighting, colorSettings(p), cameraSettings(p), clip);
   };
-  info.create = [](const Preset& p) { return std::make_unique<EnvironmentStage>(p); };
+  info.create = [](const Preset& p) {
+    return std::make_unique<EnvironmentStage>(lightingSettings(p), colorSettings(p),
+                                              cameraSettings(p));
+  };
   return info;
 }
 

@@ -7,6 +7,8 @@
 
 #include "image/ops.h"
 #include "rain/drop_physics.h"
+#include "stages/fog_settings.h"
+#include "stages/rain_settings.h"
 #include "stages/registry.h"
 #include "util/error.h"
 #include "util/log.h"
@@ -16,36 +18,30 @@ namespace {
 
 class FogStage : public Stage {
  public:
-  explicit FogStage(const Preset& p)
-      : preset_(p),
-        densityPerMeter_(float(p.number("fog.density"))),
-        colorSource_(p.string("fog.color_source")),
-        constantRgb_(p.color("fog.color")) {}
+  FogStage(FogSettings fog, RainSettings rain) : fog_(std::move(fog)), rain_(std::move(rain)) {}
 
   void prepare(ClipContext& clip) override {
-    rgb_ = constantRgb_;
-    if (colorSource_ == "constant") return;
+    rgb_ = fog_.constantRgb;
+    if (fog_.colorSource == "constant") return;
     if (!clip.environment)
       throw Error("fog takes its colour from the environment, which was not computed", {"fog"});
-    rgb_ = colorSource_ == "average" ? clip.environment->averageRgb : clip.environment->horizonRgb;
+    rgb_ =
+        fog_.colorSource == "average" ? clip.environment->averageRgb : clip.environment->horizonRgb;
     log::info(fmt::format("fog: airlight {:.4f} {:.4f} {:.4f} ({})", rgb_[0], rgb_[1], rgb_[2],
-                          colorSource_));
+                          fog_.colorSource));
   }
 
   void process(ClipContext&, FrameContext& frame) override {
     // The rain of this frame bounds the path: its visibility (about 2 km at 15 mm/h).
-    const bool raining = preset_.boolean("rain.enabled");
     const double visibility =
-        raining ? rain::rainVisibilityMeters(preset_.number("rain.rate_mm_h", double(frame.frame)))
-                : std::numeric_limits<double>::infinity();
-    ops::fog(frame.image, densityPerMeter_, rgb_, float(visibility));
+        rain_.enabled ? rain::rainVisibilityMeters(rain_.rateMmPerHour.valueAt(double(frame.frame)))
+                      : std::numeric_limits<double>::infinity();
+    ops::fog(frame.image, float(fog_.densityPerMeter), rgb_, float(visibility));
   }
 
  private:
-  const Preset& preset_;
-  float densityPerMeter_;
-  std::string colorSource_;
-  std::array<float, 3> constantRgb_;
+  FogSettings fog_;
+  RainSettings rain_;
   std::array<float, 3> rgb_{0, 0, 0};
 };
 
@@ -53,50 +49,18 @@ class FogStage : public Stage {
 
 StageInfo fogStageInfo() {
   StageInfo info;
-  info.spec.name = "fog";
-  info.spec.help =
-      "Homogeneous fog over the plate by depth: alpha = 1 - exp(-density * depth), toward the "
-      "horizon's airlight; the sky keeps its own detail; no path longer than the rain's "
-      "visibility.";
-  info.spec.inputs = {"image", "depth", "environment"};
-  info.spec.outputs = {"image"};
-  info.spec.params = {
-      {"enabled", ParamType::Boolean, true, {}, {}, {}, "", "run this stage"},
-      {"density",
-       ParamType::Number,
-       0.0,
-       0.0,
-       10.0,
-       {},
-       "1/m",
-       "extinction per metre; 0 means no fog"},
-      {"color_source",
-       ParamType::Enum,
-       "horizon",
-       {},
-       {},
-       {"horizon", "average", "constant"},
-       "",
-       "fog colour (airlight): the environment's sky at the horizon, its average over the "
-       "sphere, or fog.color"},
-      {"color",
-       ParamType::Color3,
-       nlohmann::json::array({0.5, 0.5, 0.5}),
-       {},
-       {},
-       {},
-       "linear",
-       "fog colour when color_source is constant"},
-  };
+  info.spec = fogSection();
   info.noOpReason = [](const Preset& p) {
-    return p.number("fog.density") == 0.0 ? std::string("density is 0") : "";
+    return fogSettings(p).densityPerMeter == 0.0 ? std::string("density is 0") : "";
   };
   info.reads = [](const Preset& p) {
     std::vector<std::string> reads{"image", "depth"};
-    if (p.string("fog.color_source") != "constant") reads.push_back("environment");
+    if (fogSettings(p).colorSource != "constant") reads.push_back("environment");
     return reads;
   };
-  info.create = [](const Preset& p) { return std::make_unique<FogStage>(p); };
+  info.create = [](const Preset& p) {
+    return std::make_unique<FogStage>(fogSettings(p), rainSettings(p));
+  };
   return info;
 }
 

@@ -7,10 +7,12 @@
 
 #include "gpu/rain_renderer.h"
 #include "optics/drop_shading.h"
-#include "preset/camera_path_preset.h"
+#include "pipeline/camera_settings.h"
 #include "rain/drop_simulation.h"
 #include "rain/stroke_library.h"
 #include "rain/thin_lens.h"
+#include "stages/fog_settings.h"
+#include "stages/rain_settings.h"
 #include "stages/registry.h"
 #include "util/error.h"
 #include "util/log.h"
@@ -20,84 +22,76 @@ namespace pluvia {
 namespace {
 
 // The camera's lens (rain/thin_lens.h).
-rain::ThinLens lensOf(const Preset& p, const Camera& camera) {
-  return rain::ThinLens::of(camera.focalPx, camera.width, p.number("camera.sensor_width_mm"),
-                            p.number("camera.focus_m"), p.number("camera.f_number"));
+rain::ThinLens lensOf(const CameraSettings& settings, const Camera& camera) {
+  return rain::ThinLens::of(camera.focalPx, camera.width, settings.sensorWidthMm,
+                            settings.focusMeters, settings.fNumber);
 }
 
 // rain.near_m, or with 0 the lens's: nearer drops are blurred over more than kNearBlurFraction
 // of the frame's width, so faint that they are fog, not streaks (never nearer than
 // kNearestMeters; a pinhole keeps the old 0.5 m).
-double nearMeters(const Preset& p, const ClipContext& clip) {
+double nearMeters(const RainSettings& rain, const CameraSettings& camera, const ClipContext& clip) {
   constexpr double kNearBlurFraction = 0.05, kNearestMeters = 0.3, kPinholeNearMeters = 0.5;
-  const double given = p.number("rain.near_m");
-  if (given > 0.0) return given;
-  const rain::ThinLens lens = lensOf(p, clip.camera);
+  if (rain.nearMeters > 0.0) return rain.nearMeters;
+  const rain::ThinLens lens = lensOf(camera, clip.camera);
   if (!lens.defocuses()) return kPinholeNearMeters;
   return std::max(kNearestMeters,
                   lens.nearestWithBlurMeters(kNearBlurFraction * clip.camera.width));
 }
 
-rain::DropSimulationSettings simulationSettings(const Preset& p, const ClipContext& clip) {
+rain::DropSimulationSettings simulationSettings(const RainSettings& rain,
+                                                const CameraSettings& camera,
+                                                const ClipContext& clip) {
   rain::DropSimulationSettings s;
-  s.distribution = p.string("rain.distribution") == "gamma"
-                       ? rain::SizeDistribution::Gamma
-                       : rain::SizeDistribution::MarshallPalmer;
-  s.velocityModel = p.string("rain.velocity") == "gunn_kinzer" ? rain::VelocityModel::GunnKinzer
-                                                               : rain::VelocityModel::Atlas;
-  s.minDiameterMm = p.number("rain.min_diameter_mm");
-  s.nearMeters = nearMeters(p, clip);
-  s.farMeters = p.number("rain.far_m");
-  s.maxDrops = int64_t(p.number("rain.max_drops"));
-  s.seed = uint64_t(p.number("rain.seed"));
-  s.spreadMetersPerSecond = p.number("rain.spread_m_s");
-  s.eddyIntensity = p.number("rain.wind.eddies");
+  s.distribution = rain.distribution;
+  s.velocityModel = rain.velocity;
+  s.minDiameterMm = rain.minDiameterMm;
+  s.nearMeters = nearMeters(rain, camera, clip);
+  s.farMeters = rain.farMeters;
+  s.maxDrops = rain.maxDrops;
+  s.seed = rain.seed;
+  s.spreadMetersPerSecond = rain.spreadMetersPerSecond;
+  s.eddyIntensity = rain.wind.eddies;
   s.stepSeconds = 1.0 / clip.fps;
   // The simulation starts at rain.start_frame, whatever frame the plate starts at, so a plate
   // delivered with other handles gets the same rain on the same frame numbers.
   const int64_t clipFirst = clip.clip && !clip.clip->frames.empty() ? clip.clip->frames.front() : 0;
-  s.firstFrame = std::min<int64_t>(int64_t(p.number("rain.start_frame")), clipFirst);
+  s.firstFrame = std::min<int64_t>(rain.startFrame, clipFirst);
   s.lastFrame = clip.clip && !clip.clip->frames.empty() ? clip.clip->frames.back() : 0;
-  s.wind.gustiness = p.number("rain.wind.gustiness");
-  s.wind.turbulence = p.number("rain.wind.turbulence");
+  s.wind.gustiness = rain.wind.gustiness;
+  s.wind.turbulence = rain.wind.turbulence;
   s.wind.seed = s.seed;
-  s.cells.count = int(p.number("rain.cells.count"));
-  s.cells.radiusMeters = p.number("rain.cells.radius_m");
-  s.cells.peakDensity = p.number("rain.cells.peak_density");
-  s.cells.sizeScale = p.number("rain.cells.size_scale");
+  s.cells.count = rain.cells.count;
+  s.cells.radiusMeters = rain.cells.radiusMeters;
+  s.cells.peakDensity = rain.cells.peakDensity;
+  s.cells.sizeScale = rain.cells.sizeScale;
   s.cells.seed = s.seed;
   return s;
 }
 
 // Wind direction: degrees counter-clockwise from world +X seen from above (0 the camera's right
 // for the default camera, 90 away from it), as in WindSettings.
-rain::RainAtFrame rainAt(const Preset& p, double frame) {
+rain::RainAtFrame rainAt(const RainSettings& rain, double frame) {
   rain::RainAtFrame r;
-  r.rateMmPerHour = p.number("rain.rate_mm_h", frame);
-  r.densityScale = p.number("rain.density_scale", frame);
-  r.sizeScale = p.number("rain.size_scale", frame);
-  r.windSpeedMetersPerSecond = p.number("rain.wind.speed_m_s", frame);
-  r.windDirectionDeg = p.number("rain.wind.dir_deg", frame);
+  r.rateMmPerHour = rain.rateMmPerHour.valueAt(frame);
+  r.densityScale = rain.densityScale.valueAt(frame);
+  r.sizeScale = rain.sizeScale.valueAt(frame);
+  r.windSpeedMetersPerSecond = rain.wind.speedMetersPerSecond.valueAt(frame);
+  r.windDirectionDeg = rain.wind.directionDeg.valueAt(frame);
   return r;
-}
-
-// Shutter: the angle when given (angle / 360 / fps), else the exposure time.
-double exposureSeconds(const Preset& p, double fps, double frame) {
-  const double angle = p.number("camera.shutter_angle_deg");
-  return angle > 0.0 ? angle / 360.0 / fps : p.number("camera.exposure_s", frame);
 }
 
 // How the drops are shaded (src/optics/drop_shading.h): "default" looks the drop's radiance up
 // in the environment convolved with the drop's transfer function; "paper" is Wang et al.'s 16
 // SH coefficients plus c * B.
-rain::ShadingParams dropShading(const Preset& p, const EquirectMap& environment) {
+rain::ShadingParams dropShading(const RainSettings& rain, const EquirectMap& environment) {
   const std::array<double, 3> eta =
-      p.boolean("rain.dispersion")
+      rain.dispersion
           ? optics::kWaterEtaDispersion
           : std::array<double, 3>{optics::kWaterEta, optics::kWaterEta, optics::kWaterEta};
   rain::ShadingParams shading;
   const auto started = std::chrono::steady_clock::now();
-  if (p.string("rain.shading") == "default") {
+  if (rain.shading == "default") {
     shading.radianceMap = optics::buildDropRadianceMap(
         environment, optics::channelOptics(eta, optics::kDefaultTerms));
     shading.backgroundWeight = 0.0f;
@@ -111,28 +105,28 @@ rain::ShadingParams dropShading(const Preset& p, const EquirectMap& environment)
       shading.transferZonal.push_back(
           float(optics::zonalRotationFactor(l) * paper.zonal[1][size_t(l)]));
     }
-    shading.backgroundWeight = float(p.number("rain.background_weight"));
+    shading.backgroundWeight = float(rain.backgroundWeight);
   }
-  log::info(fmt::format("rain: {} drop shading prepared in {:.0f} ms", p.string("rain.shading"),
+  log::info(fmt::format("rain: {} drop shading prepared in {:.0f} ms", rain.shading,
                         secondsSince(started) * 1000.0));
   return shading;
 }
 
 class RainStage : public Stage {
  public:
-  explicit RainStage(const Preset& p) : preset_(p) {}
+  RainStage(RainSettings rain, CameraSettings camera, FogSettings fog)
+      : rain_(std::move(rain)), camera_(std::move(camera)), fog_(std::move(fog)) {}
 
   void prepare(ClipContext& clip) override {
-    const Preset& p = preset_;
     fps_ = clip.fps;
-    const CameraPath path =
-        clip.trackedPath ? *clip.trackedPath : cameraPathFromPreset(p, clip.camera);
+    const CameraPath path = clip.trackedPath ? *clip.trackedPath : camera_.path(clip.camera);
     if (clip.trackedPath)
       log::info(fmt::format("rain: camera tracked by COLMAP ({} keys, focal length {:.1f} px)",
                             path.keys().size(), path.cameraAt(0.0).focalPx));
     simulation_ = std::make_unique<rain::DropSimulation>(
-        simulationSettings(p, clip), [path](double frame) { return path.cameraAt(frame); },
-        [&p](double frame) { return rainAt(p, frame); });
+        simulationSettings(rain_, camera_, clip),
+        [path](double frame) { return path.cameraAt(frame); },
+        [this](double frame) { return rainAt(rain_, frame); });
     // Capped by rain.max_drops: the densest frame (rain cells included) draws fewer drops than
     // the physics asks for, thinned evenly.
     const double wanted = simulation_->wantedPoolSize();
@@ -145,20 +139,20 @@ class RainStage : public Stage {
           100.0 * double(simulation_->poolSize()) / wanted));
     }
     log::info(fmt::format("rain: drops from {:.2f} to {:g} m, simulated from frame {}",
-                          simulation_->settings().nearMeters, p.number("rain.far_m"),
+                          simulation_->settings().nearMeters, rain_.farMeters,
                           simulation_->settings().firstFrame));
     atlas_ = loadAtlas(clip);
-    streakParams_.focusMeters = p.number("camera.focus_m");
-    streakParams_.fNumber = p.number("camera.f_number");
-    streakParams_.sensorWidthMm = p.number("camera.sensor_width_mm");
-    streakParams_.fogDensityPerMeter = p.boolean("fog.enabled") ? p.number("fog.density") : 0.0;
+    streakParams_.focusMeters = camera_.focusMeters;
+    streakParams_.fNumber = camera_.fNumber;
+    streakParams_.sensorWidthMm = camera_.sensorWidthMm;
+    streakParams_.fogDensityPerMeter = fog_.enabled ? fog_.densityPerMeter : 0.0;
     streakParams_.strokeCount = int(atlas_.rects.size());
     streakParams_.meanMatte = rain::meanMatte(atlas_);
     if (!clip.environment) throw Error("rain needs the lighting stage's environment", {"rain"});
     // One shading for the clip, or one per key environment of a looming camera.
-    if (clip.environment->keys.empty()) shading_ = dropShading(p, clip.environment->radiance);
+    if (clip.environment->keys.empty()) shading_ = dropShading(rain_, clip.environment->radiance);
     for (const auto& [keyFrame, radiance] : clip.environment->keys)
-      keyShading_.emplace_back(keyFrame, dropShading(p, radiance));
+      keyShading_.emplace_back(keyFrame, dropShading(rain_, radiance));
     renderer_ = std::make_unique<gpu::RainRenderer>(clip.camera.width, clip.camera.height);
     renderer_->setStrokeAtlas(atlas_);
     log::info(fmt::format("rain: {} drops in a {:.0f} m^3 box, {} strokes, GPU: {}",
@@ -168,8 +162,8 @@ class RainStage : public Stage {
 
   void process(ClipContext& clip, FrameContext& frame) override {
     simulation_->advanceTo(frame.frame);
-    streakParams_.exposureSeconds = exposureSeconds(preset_, fps_, double(frame.frame));
-    streakParams_.opacity = preset_.number("rain.opacity", double(frame.frame));
+    streakParams_.exposureSeconds = camera_.exposureSecondsAt(fps_, double(frame.frame));
+    streakParams_.opacity = rain_.opacity.valueAt(double(frame.frame));
     const auto streaks = simulation_->buildStreaks(streakParams_);
     if (keyShading_.empty()) {
       renderer_->render(frame.image, streaks, shading_);
@@ -180,7 +174,7 @@ class RainStage : public Stage {
 
  private:
   rain::StrokeAtlas loadAtlas(ClipContext& clip) const {
-    const std::string strokes = preset_.string("rain.strokes");
+    const std::string& strokes = rain_.strokes;
     if (strokes == "derain") {
       if (!clip.footageStrokes)
         throw Error("rain.strokes is \"derain\" but no strokes were extracted", {"rain"});
@@ -215,7 +209,9 @@ class RainStage : public Stage {
     return mixed;
   }
 
-  const Preset& preset_;
+  RainSettings rain_;
+  CameraSettings camera_;
+  FogSettings fog_;
   std::unique_ptr<rain::DropSimulation> simulation_;
   double fps_ = 24.0;
   rain::StrokeAtlas atlas_;
@@ -230,227 +226,28 @@ class RainStage : public Stage {
 
 StageInfo rainStageInfo() {
   StageInfo info;
-  info.spec.name = "rain";
-  info.spec.help =
-      "Rain streaks on the GPU (headless EGL): drops by rate, stroke mattes, PRT shading, "
-      "composite.";
-  info.spec.inputs = {"image", "depth", "environment", "footage_strokes"};
-  info.spec.outputs = {"image"};
-  info.spec.params = {
-      {"enabled", ParamType::Boolean, true, {}, {}, {}, "", "run this stage"},
-      {"rate_mm_h",
-       ParamType::Number,
-       15.0,
-       0.0,
-       500.0,
-       {},
-       "mm/h",
-       "rain rate; sets drop count and sizes (Marshall-Palmer)"},
-      {"seed", ParamType::Integer, 1, 0, 4294967295.0, {}, "", "random seed; same seed, same rain"},
-      {"strokes",
-       ParamType::String,
-       "builtin",
-       {},
-       {},
-       {},
-       "",
-       "stroke library: builtin (cut from real rain, shipped), derain (cut from derain.input), or "
-       "a LIBRARY.json written by `pluvia strokes`"},
-      {"min_diameter_mm",
-       ParamType::Number,
-       0.8,
-       0.05,
-       5.99,  // the drop size distributions stop at 6 mm
-       {},
-       "mm",
-       "smaller drops are left to the fog"},
-      {"density_scale",
-       ParamType::Number,
-       1.0,
-       0.0,
-       100.0,
-       {},
-       "",
-       "artist scale on the physical drop count"},
-      {"size_scale",
-       ParamType::Number,
-       1.0,
-       0.05,
-       20.0,
-       {},
-       "",
-       "artist scale on the drawn drop diameter"},
-      {"opacity",
-       ParamType::Number,
-       1.0,
-       0.0,
-       100.0,
-       {},
-       "",
-       "artist scale on the physical streak alpha"},
-      {"near_m",
-       ParamType::Number,
-       0.0,
-       0.0,
-       100.0,
-       {},
-       "m",
-       "nearest drops drawn; 0: from the lens (where the defocus blur reaches 5 % of the frame "
-       "width, at least 0.3 m; 0.5 m for a pinhole)"},
-      {"start_frame",
-       ParamType::Integer,
-       0,
-       -1e9,
-       1e9,
-       {},
-       "frame",
-       "frame the simulation starts from (a pre-roll up to the plate's first frame), so plates "
-       "with other handles get the same rain on the same frame numbers"},
-      {"far_m", ParamType::Number, 15.0, 0.1, 1000.0, {}, "m", "farthest drops drawn"},
-      {"max_drops",
-       ParamType::Integer,
-       100000,
-       0,
-       10000000,
-       {},
-       "drops",
-       "cap on the simulated drops"},
-      {"shading",
-       ParamType::Enum,
-       "default",
-       {},
-       {},
-       {"default", "paper"},
-       "",
-       "default: environment convolved with the drop's transfer function (about 1 % from a "
-       "ray-traced drop); "
-       "paper: Wang et al.'s 16 SH coefficients + c B (about 50 %)"},
-      {"dispersion",
-       ParamType::Boolean,
-       false,
-       {},
-       {},
-       {},
-       "",
-       "per-channel refractive index 1.331 / 1.333 / 1.338"},
-      {"background_weight",
-       ParamType::Number,
-       0.7,
-       0.0,
-       1.0,
-       {},
-       "",
-       "c in C' = C + c B (Wang et al. Eq. 2); used by shading paper only"},
-      {"distribution",
-       ParamType::Enum,
-       "marshall_palmer",
-       {},
-       {},
-       {"marshall_palmer", "gamma"},
-       "",
-       "drop size distribution for the rate: Marshall-Palmer (1948) or a Gamma (Ulbrich)"},
-      {"velocity",
-       ParamType::Enum,
-       "atlas",
-       {},
-       {},
-       {"atlas", "gunn_kinzer"},
-       "",
-       "terminal velocity by diameter: Atlas et al. (1973) fit or Gunn-Kinzer (1949) table"},
-      {"spread_m_s",
-       ParamType::Number,
-       0.0,
-       0.0,
-       20.0,
-       {},
-       "m/s",
-       "artist spread: each drop's own random horizontal speed (std dev) on the wind"},
-      {"wind.speed_m_s", ParamType::Number, 0.0, 0.0, 60.0, {}, "m/s", "horizontal wind speed"},
-      {"wind.eddies",
-       ParamType::Number,
-       0.2,
-       0.0,
-       1.0,
-       {},
-       "",
-       "small eddies: each drop's own horizontal speed, std dev as a fraction of the wind speed "
-       "(turbulence intensity), so driven rain is not a parallel hatch"},
-      {"wind.gustiness",
-       ParamType::Number,
-       0.0,
-       0.0,
-       1.0,
-       {},
-       "",
-       "relative amplitude of gusts (a few seconds long) on the wind speed"},
-      {"wind.turbulence",
-       ParamType::Number,
-       0.0,
-       0.0,
-       1.0,
-       {},
-       "",
-       "unsteady 2-D wind field (stable fluids) over the ground: RMS over the wind speed"},
-      {"cells.count",
-       ParamType::Integer,
-       0,
-       0,
-       64,
-       {},
-       "",
-       "local high-density rain cells carried by the wind (Mizukami)"},
-      {"cells.radius_m",
-       ParamType::Number,
-       10.0,
-       0.1,
-       1000.0,
-       {},
-       "m",
-       "Gaussian radius of a cell"},
-      {"cells.peak_density",
-       ParamType::Number,
-       4.0,
-       1.0,
-       100.0,
-       {},
-       "",
-       "drop density at a cell's centre over the rate's"},
-      {"cells.size_scale",
-       ParamType::Number,
-       1.3,
-       1.0,
-       3.0,
-       {},
-       "",
-       "drop diameter at a cell's centre over the rate's (heavier drops)"},
-      {"wind.dir_deg",
-       ParamType::Number,
-       0.0,
-       -360.0,
-       360.0,
-       {},
-       "deg",
-       "direction the wind blows toward: 0 camera right, 90 away from the camera"},
-  };
-  // What the simulation reads frame by frame (drop_simulation.h's RainAtFrame, and the streaks'
-  // opacity); the rest sizes the box, the pool and the random streams once for the shot.
-  allowKeyframes(info.spec.params, {"rate_mm_h", "density_scale", "size_scale", "opacity",
-                                    "wind.speed_m_s", "wind.dir_deg"});
-  info.spec.increasing = {{"near_m", "far_m"}};
+  info.spec = rainSection();
   info.noOpReason = [](const Preset& p) -> std::string {
+    const RainSettings rain = rainSettings(p);
     // A ramp is 0 throughout only when every key is (interpolation stays between keys).
-    if (p.ramp("rain.rate_mm_h").maxValue() == 0.0) return "rate_mm_h is 0";
-    if (p.ramp("rain.density_scale").maxValue() == 0.0) return "density_scale is 0";
-    if (p.ramp("rain.opacity").maxValue() == 0.0) return "opacity is 0";
-    if (p.number("rain.max_drops") == 0.0) return "max_drops is 0";
+    if (rain.rateMmPerHour.maxValue() == 0.0) return "rate_mm_h is 0";
+    if (rain.densityScale.maxValue() == 0.0) return "density_scale is 0";
+    if (rain.opacity.maxValue() == 0.0) return "opacity is 0";
+    if (rain.maxDrops == 0) return "max_drops is 0";
     return "";
   };
   info.reads = [](const Preset& p) {
     std::vector<std::string> reads{"image", "depth", "environment"};
-    if (p.string("rain.strokes") == "derain") reads.push_back("footage_strokes");
+    if (rainSettings(p).strokes == "derain") reads.push_back("footage_strokes");
     return reads;
   };
-  info.create = [](const Preset& p) { return std::make_unique<RainStage>(p); };
+  // Every frame names the seed of its rain.
+  info.frameMetadata = [](const Preset& p) -> std::map<std::string, std::string> {
+    return {{"pluvia:seed", std::to_string(int64_t(rainSettings(p).seed))}};
+  };
+  info.create = [](const Preset& p) {
+    return std::make_unique<RainStage>(rainSettings(p), cameraSettings(p), fogSettings(p));
+  };
   return info;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
-// Every stage in pipeline order, and the full preset schema (stage sections plus the global
-// "camera" and "color" sections). One table drives validation, planning and `pluvia describe`.
+// Every stage in pipeline order, and the full preset schema (stage sections plus the shared
+// "camera" and "color" sections, pipeline/camera_settings.h and pipeline/color_settings.h). One
+// table per section drives validation, planning and `pluvia describe`.
 #include <vector>
 
 #include "pipeline/stage.h"
@@ -13,11 +14,10 @@ namespace pluvia {
 const std::vector<StageInfo>& allStages();
 const StageInfo* findStage(const std::string& name);
 
-SectionSpec cameraSection();
-SectionSpec colorSection();
 Schema presetSchema();
 
-// Declarations of each stage's table (one file pair per stage).
+// Each stage's StageInfo (stages/<name>_stage.cpp); its section's table and settings are in
+// stages/<section>_settings.h.
 StageInfo derainStageInfo();
 StageInfo environmentStageInfo();
 StageInfo depthStageInfo();

@@ -21,6 +21,8 @@
 #include "test_support.h"
 #include "util/fs.h"
 
+using namespace pluvia::sfm;
+
 namespace pluvia {
 namespace {
 
@@ -41,12 +43,12 @@ size_t countFiles(const stdfs::path& dir, const std::string& extension) {
 
 // Writes frames 1..kFrames of `keys` as dir/street.####.png; returns the sequence pattern. The
 // true z-depth of frame N is appended to `trueDepth` (index N - 1) when given.
-std::string writeClip(const stdfs::path& dir, const std::vector<gpu::SyntheticPathKey>& keys,
+std::string writeClip(const stdfs::path& dir, const std::vector<lab::SyntheticPathKey>& keys,
                       std::vector<std::vector<float>>* trueDepth = nullptr) {
-  gpu::SyntheticSceneRenderer renderer(kWidth, kHeight);
-  const gpu::SyntheticView intrinsics = gpu::defaultSyntheticIntrinsics(kWidth, kHeight);
+  lab::SyntheticSceneRenderer renderer(kWidth, kHeight);
+  const lab::SyntheticView intrinsics = lab::defaultSyntheticIntrinsics(kWidth, kHeight);
   for (int i = 0; i < kFrames; ++i) {
-    Image frame = renderer.render(gpu::syntheticViewAt(intrinsics, keys[size_t(i)]));
+    Image frame = renderer.render(lab::syntheticViewAt(intrinsics, keys[size_t(i)]));
     test::writeImageFile(dir / fmt::format("street.{:04d}.png", i + 1), frame);
     if (trueDepth) trueDepth->push_back(*frame.findPlane("depth"));
   }
@@ -54,16 +56,16 @@ std::string writeClip(const stdfs::path& dir, const std::vector<gpu::SyntheticPa
 }
 
 // A walk: every 4th key of the default 48-frame path (0.2 m a frame down the street).
-std::vector<gpu::SyntheticPathKey> walk() {
-  const auto path = gpu::defaultSyntheticPath(48);
-  std::vector<gpu::SyntheticPathKey> keys;
+std::vector<lab::SyntheticPathKey> walk() {
+  const auto path = lab::defaultSyntheticPath(48);
+  std::vector<lab::SyntheticPathKey> keys;
   for (int i = 0; i < kFrames; ++i) keys.push_back(path[size_t(4 * i)]);
   return keys;
 }
 
 // A tripod pan: the first key's position, yaw from -6 to +5 degrees.
-std::vector<gpu::SyntheticPathKey> pan() {
-  std::vector<gpu::SyntheticPathKey> keys(kFrames, gpu::defaultSyntheticPath(1)[0]);
+std::vector<lab::SyntheticPathKey> pan() {
+  std::vector<lab::SyntheticPathKey> keys(kFrames, lab::defaultSyntheticPath(1)[0]);
   for (int i = 0; i < kFrames; ++i) keys[size_t(i)].yawDeg = -6.0 + i;
   return keys;
 }

@@ -18,6 +18,7 @@
 #include "util/subprocess.h"
 
 using namespace pluvia;
+using namespace pluvia::sfm;
 using namespace pluvia::test;
 namespace stdfs = std::filesystem;
 

@@ -38,18 +38,18 @@ cv::Mat smoothBackground() {
   return rgb;
 }
 
-SyntheticRain rainOver(const cv::Mat& background) {
-  SyntheticRainSettings rain;
+lab::SyntheticRain rainOver(const cv::Mat& background) {
+  lab::SyntheticRainSettings rain;
   rain.frames = 20;
   rain.angleDeg = 8.0;
   rain.seed = 3;
-  return makeSyntheticRain(background, rain);
+  return lab::makeSyntheticRain(background, rain);
 }
 
 TEST(DerainRegistration, LockedOffClipIsFoundAndNotResampled) {
   const cv::Mat background = realBackground(320);
   if (background.empty()) GTEST_SKIP() << "../shared/data absent";
-  const SyntheticRain truth = rainOver(background);
+  const lab::SyntheticRain truth = rainOver(background);
   const Registration registration = registerFrames(truth.stack.frames, 10);
   EXPECT_TRUE(registration.lockedOff);
   EXPECT_FALSE(registration.moving());
@@ -65,7 +65,7 @@ TEST(DerainRegistration, LockedOffClipIsFoundAndNotResampled) {
 }
 
 TEST(DerainRegistration, FeaturelessStillClipNeverFails) {
-  const SyntheticRain truth = rainOver(smoothBackground());
+  const lab::SyntheticRain truth = rainOver(smoothBackground());
   Registration registration;
   ASSERT_NO_THROW(registration = registerFrames(truth.stack.frames, 10));
   EXPECT_TRUE(registration.lockedOff);
@@ -116,10 +116,10 @@ double meanAbs(const cv::Mat& a, const cv::Mat& b) {
 TEST(DerainClip, WindowsOverlapAndCrossFadeSoTheCleanPlateHasNoStep) {
   const cv::Mat background = realBackground(240);
   if (background.empty()) GTEST_SKIP() << "../shared/data absent";
-  SyntheticRainSettings rain;
+  lab::SyntheticRainSettings rain;
   rain.frames = 20;
   rain.seed = 9;
-  const SyntheticRain truth = makeSyntheticRain(background, rain);
+  const lab::SyntheticRain truth = lab::makeSyntheticRain(background, rain);
   const auto dir = test::freshTempDir("derain_overlap");
   const std::string pattern = test::writePlateSequence(
       dir, 0, 19, background.cols, background.rows,

@@ -35,11 +35,11 @@ TEST(DerainSolver, BeatsTheMedianByOneDecibelAndFindsTheDirection) {
   const cv::Mat background = realBackground(320);
   if (background.empty()) GTEST_SKIP() << "../shared/data absent";
   for (double angle : {0.0, 12.0, -25.0}) {
-    SyntheticRainSettings rain;
+    lab::SyntheticRainSettings rain;
     rain.frames = 20;
     rain.angleDeg = angle;
     rain.seed = 5;
-    const SyntheticRain truth = makeSyntheticRain(background, rain);
+    const lab::SyntheticRain truth = lab::makeSyntheticRain(background, rain);
     const double medianPsnr = cv::PSNR(temporalMedian(truth.stack), truth.background, 1.0);
     const DerainResult result = solveDerain(truth.stack);
     const double solverPsnr = cv::PSNR(result.background, truth.background, 1.0);
@@ -57,9 +57,9 @@ TEST(DerainSolver, BeatsTheMedianByOneDecibelAndFindsTheDirection) {
 TEST(DerainSolver, ZeroIterationsIsTheMedianInitialisation) {
   cv::Mat background(24, 32, CV_32FC3, cv::Scalar(0.2, 0.4, 0.6));
   cv::randu(background, 0.1, 0.6);
-  SyntheticRainSettings rain;
+  lab::SyntheticRainSettings rain;
   rain.frames = 5;
-  const SyntheticRain truth = makeSyntheticRain(background, rain);
+  const lab::SyntheticRain truth = lab::makeSyntheticRain(background, rain);
   DerainSettings settings;
   settings.maxIterations = 0;
   const DerainResult result = solveDerain(truth.stack, settings);

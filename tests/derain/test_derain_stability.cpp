@@ -49,11 +49,11 @@ TEST(DerainStability, ConstantBlackAndWhiteFramesGiveNoRain) {
 }
 
 TEST(DerainStability, NoRainAtAllLeavesAlphaNearZero) {
-  SyntheticRainSettings noRain;
+  lab::SyntheticRainSettings noRain;
   noRain.frames = 10;
   noRain.streaksPerMegapixel = 0;
   noRain.noiseSigma = 0.02;
-  const SyntheticRain truth = makeSyntheticRain(texturedBackground(), noRain);
+  const lab::SyntheticRain truth = lab::makeSyntheticRain(texturedBackground(), noRain);
   const DerainResult r = solveDerain(truth.stack);
   expectSane(r, "no rain");
   double meanAlpha = 0.0;
@@ -63,9 +63,9 @@ TEST(DerainStability, NoRainAtAllLeavesAlphaNearZero) {
 }
 
 TEST(DerainStability, LambdaAndMuFromOneMillionthToOneMillion) {
-  SyntheticRainSettings rain;
+  lab::SyntheticRainSettings rain;
   rain.frames = 4;
-  const SyntheticRain truth = makeSyntheticRain(texturedBackground(), rain);
+  const lab::SyntheticRain truth = lab::makeSyntheticRain(texturedBackground(), rain);
   for (double lambda : {1e-6, 1.0, 1e6})
     for (double mu : {1e-6, 1.0, 1e6}) {
       DerainSettings settings;
@@ -78,23 +78,23 @@ TEST(DerainStability, LambdaAndMuFromOneMillionthToOneMillion) {
 }
 
 TEST(DerainStability, SaturatedRainHeavyNoiseAndExactlyThreeFrames) {
-  SyntheticRainSettings saturated;
+  lab::SyntheticRainSettings saturated;
   saturated.frames = 3;
   saturated.minAlpha = 0.9;
   saturated.maxAlpha = 1.0;
   saturated.rainColor = {1.5f, 1.5f, 1.5f};  // clipped at 1 in the frames
-  expectSane(solveDerain(makeSyntheticRain(texturedBackground(), saturated).stack),
+  expectSane(solveDerain(lab::makeSyntheticRain(texturedBackground(), saturated).stack),
              "saturated, 3 frames");
-  SyntheticRainSettings noisy;
+  lab::SyntheticRainSettings noisy;
   noisy.frames = 5;
   noisy.noiseSigma = 0.2;
-  expectSane(solveDerain(makeSyntheticRain(texturedBackground(), noisy).stack), "heavy noise");
+  expectSane(solveDerain(lab::makeSyntheticRain(texturedBackground(), noisy).stack), "heavy noise");
 }
 
 TEST(DerainStability, NonFinitePixelsAreIgnored) {
-  SyntheticRainSettings rain;
+  lab::SyntheticRainSettings rain;
   rain.frames = 5;
-  SyntheticRain truth = makeSyntheticRain(texturedBackground(), rain);
+  lab::SyntheticRain truth = lab::makeSyntheticRain(texturedBackground(), rain);
   truth.stack.frames[1].at<cv::Vec3f>(10, 10) = {NAN, 0.5f, INFINITY};
   truth.stack.frames[2].at<cv::Vec3f>(10, 10) = {-INFINITY, NAN, NAN};
   expectSane(solveDerain(truth.stack), "non-finite pixels");

@@ -307,7 +307,7 @@ TEST(Panorama, BlankFramesFallBackWithANote) {
 }
 
 TEST(Panorama, SingleFrameLooksAlongMinusZAndCoversItsFrustum) {
-  const EquirectMap env = optics::builtinTestEnvironment(1024);
+  const EquirectMap env = lab::builtinTestEnvironment(1024);
   const int w = 640, h = 360;
   const auto frames = cutFrames(env, {0.0}, 0.0, 60.0, w, h, {0.5});
   PlacementSettings settings;
@@ -394,7 +394,7 @@ TEST(Panorama, ExposureGainsRecoverTheRatio) {
 }
 
 TEST(Panorama, BrightSunClipsAndTakesTheLightsRadiance) {
-  EquirectMap env = optics::builtinTestEnvironment(1024);
+  EquirectMap env = lab::builtinTestEnvironment(1024);
   const double el = 30.0 * kDeg, az = 0.6;
   const std::array<double, 3> sun = {std::cos(el) * std::sin(az), std::sin(el),
                                      -std::cos(el) * std::cos(az)};

@@ -1,5 +1,6 @@
-// RainRenderer (GPU) against renderRainCpu (its CPU twin) on tiny targets: every pixel of the
-// composite and of the rain planes must agree to 1e-3 relative (1e-5 absolute near zero).
+// RainRenderer against renderRainCpu (its exact CPU twin) on tiny targets, for both backends (the
+// EGL pipeline and the CPU streak rasteriser): every pixel of the composite and of the rain
+// planes must agree to 1e-3 relative (1e-5 absolute near zero).
 //
 // Edge rule: a pixel is left out of the comparison when its centre lies within 1e-3 px of an
 // edge of some streak's quad. There the inside test (u, v in [0, 1]) can flip on one
@@ -294,16 +295,22 @@ Comparison compare(const Image& gpu, const Image& cpu,
   return result;
 }
 
-class GpuVsCpu : public ::testing::Test {
+class GpuVsCpu : public ::testing::TestWithParam<RainBackend> {
  protected:
   static void SetUpTestSuite() {
-    renderer_ = new RainRenderer(kWidth, kHeight);
-    renderer_->setStrokeAtlas(threeStrokeAtlas());
+    for (int b = 0; b < 2; ++b) {
+      renderers_[b] =
+          new RainRenderer(kWidth, kHeight, b == 0 ? RainBackend::Egl : RainBackend::Cpu);
+      renderers_[b]->setStrokeAtlas(threeStrokeAtlas());
+    }
   }
   static void TearDownTestSuite() {
-    delete renderer_;
-    renderer_ = nullptr;
+    for (RainRenderer*& renderer : renderers_) {
+      delete renderer;
+      renderer = nullptr;
+    }
   }
+  static RainRenderer& renderer() { return *renderers_[GetParam() == RainBackend::Egl ? 0 : 1]; }
 
   // Renders `background` both ways and checks they agree; returns the comparison.
   static Comparison renderBoth(const Image& background,
@@ -311,7 +318,7 @@ class GpuVsCpu : public ::testing::Test {
                                const rain::ShadingParams& shading,
                                int maxSkippedNearEdges = kWidth * kHeight / 100) {
     Image gpu = background, cpu = background;
-    renderer_->render(gpu, streaks, shading);
+    renderer().render(gpu, streaks, shading);
     renderRainCpu(cpu, streaks, shading, threeStrokeAtlas());
     const Comparison result = compare(gpu, cpu, streaks);
     EXPECT_EQ(result.mismatches, 0) << "first mismatch at " << result.firstMismatch;
@@ -319,37 +326,37 @@ class GpuVsCpu : public ::testing::Test {
     return result;
   }
 
-  static RainRenderer* renderer_;
+  static RainRenderer* renderers_[2];
 };
-RainRenderer* GpuVsCpu::renderer_ = nullptr;
+RainRenderer* GpuVsCpu::renderers_[2] = {nullptr, nullptr};
 
-TEST_F(GpuVsCpu, OrderZeroWithDepthPlane) {
+TEST_P(GpuVsCpu, OrderZeroWithDepthPlane) {
   Image background = gradientBackground();
   addDepthPlane(background);
   const Comparison result = renderBoth(background, mixedStreaks(), orderZeroShading());
   EXPECT_GT(result.rainPixels, 200) << "the scene must put rain on many pixels";
 }
 
-TEST_F(GpuVsCpu, OrderThreeWithDepthPlane) {
+TEST_P(GpuVsCpu, OrderThreeWithDepthPlane) {
   Image background = gradientBackground();
   addDepthPlane(background);
   const Comparison result = renderBoth(background, mixedStreaks(), orderThreeShading());
   EXPECT_GT(result.rainPixels, 200);
 }
 
-TEST_F(GpuVsCpu, OrderThreeWithoutDepthPlane) {
+TEST_P(GpuVsCpu, OrderThreeWithoutDepthPlane) {
   renderBoth(gradientBackground(), mixedStreaks(), orderThreeShading());
 }
 
-TEST_F(GpuVsCpu, VeryBrightBackground) {
+TEST_P(GpuVsCpu, VeryBrightBackground) {
   renderBoth(uniformBackground(1.0e4f), mixedStreaks(), orderThreeShading());
 }
 
-TEST_F(GpuVsCpu, BlackBackground) {
+TEST_P(GpuVsCpu, BlackBackground) {
   renderBoth(uniformBackground(0.0f), mixedStreaks(), orderZeroShading());
 }
 
-TEST_F(GpuVsCpu, ManyThinStreaksAtSubPixelOffsets) {
+TEST_P(GpuVsCpu, ManyThinStreaksAtSubPixelOffsets) {
   // Width 1 streaks at fractional positions: the pixel-centre coverage test at its finest.
   std::vector<rain::StreakInstance> streaks;
   for (int i = 0; i < 60; ++i) {
@@ -360,7 +367,7 @@ TEST_F(GpuVsCpu, ManyThinStreaksAtSubPixelOffsets) {
   renderBoth(gradientBackground(), streaks, orderThreeShading());
 }
 
-TEST_F(GpuVsCpu, EveryLineWidthClassTrianglesAndTheFrameEdges) {
+TEST_P(GpuVsCpu, EveryLineWidthClassTrianglesAndTheFrameEdges) {
   // Widths from sub-pixel to wider than the widest line (drawn as triangles), at angles on
   // both sides of 45 degrees (where GL switches the line's major axis), with heads on and
   // beyond all four edges of the frame: a wide line whose centre leaves the viewport must
@@ -387,7 +394,7 @@ TEST_F(GpuVsCpu, EveryLineWidthClassTrianglesAndTheFrameEdges) {
   EXPECT_GT(result.rainPixels, kWidth * kHeight / 2);
 }
 
-TEST_F(GpuVsCpu, SceneDepthHidesTheFarStreaksOnTheLeft) {
+TEST_P(GpuVsCpu, SceneDepthHidesTheFarStreaksOnTheLeft) {
   // The comparison above could pass with a depth test that both sides get wrong: check the
   // intended outcome directly. A 12 m streak on the left (depth 6 m) is hidden, on the right
   // (far) it shows.
@@ -397,7 +404,7 @@ TEST_F(GpuVsCpu, SceneDepthHidesTheFarStreaksOnTheLeft) {
       {10.0f, 4.0f, 10.0f, 28.0f, 4.0f, 1.0f, 12.0f, 1.0f, 0, 0, 1, 0},
       {36.0f, 4.0f, 36.0f, 28.0f, 4.0f, 1.0f, 12.0f, 1.0f, 0, 0, 1, 0}};
   Image cpu = frame;
-  renderer_->render(frame, streaks, orderZeroShading());
+  renderer().render(frame, streaks, orderZeroShading());
   renderRainCpu(cpu, streaks, orderZeroShading(), threeStrokeAtlas());
   const auto& matte = frame.plane("matte");
   float left = 0, right = 0;
@@ -410,7 +417,7 @@ TEST_F(GpuVsCpu, SceneDepthHidesTheFarStreaksOnTheLeft) {
   EXPECT_EQ(compare(frame, cpu, streaks).mismatches, 0);
 }
 
-TEST_F(GpuVsCpu, RadianceMapAloneAtDelicateViews) {
+TEST_P(GpuVsCpu, RadianceMapAloneAtDelicateViews) {
   for (auto [width, height] : {std::pair{16, 8}, {128, 64}}) {
     SCOPED_TRACE(std::to_string(width) + "x" + std::to_string(height) + " map");
     const EquirectMap map = testRadianceMap(width, height);
@@ -420,7 +427,7 @@ TEST_F(GpuVsCpu, RadianceMapAloneAtDelicateViews) {
   }
 }
 
-TEST_F(GpuVsCpu, RadianceMapAloneOnOverlappingStreaks) {
+TEST_P(GpuVsCpu, RadianceMapAloneOnOverlappingStreaks) {
   Image background = gradientBackground();
   addDepthPlane(background);
   const Comparison result =
@@ -428,7 +435,7 @@ TEST_F(GpuVsCpu, RadianceMapAloneOnOverlappingStreaks) {
   EXPECT_GT(result.rainPixels, 200);
 }
 
-TEST_F(GpuVsCpu, RadianceMapWithShAndBackground) {
+TEST_P(GpuVsCpu, RadianceMapWithShAndBackground) {
   for (auto [width, height] : {std::pair{16, 8}, {128, 64}}) {
     SCOPED_TRACE(std::to_string(width) + "x" + std::to_string(height) + " map");
     rain::ShadingParams shading = orderThreeShading();  // c = 0.55
@@ -439,6 +446,11 @@ TEST_F(GpuVsCpu, RadianceMapWithShAndBackground) {
     renderBoth(gradientBackground(), probeDrops(shading.radianceMap), shading);
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(Backends, GpuVsCpu, ::testing::Values(RainBackend::Egl, RainBackend::Cpu),
+                         [](const auto& info) {
+                           return std::string(info.param == RainBackend::Egl ? "Egl" : "Cpu");
+                         });
 
 }  // namespace
 }  // namespace pluvia::gpu

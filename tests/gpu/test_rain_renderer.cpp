@@ -17,19 +17,25 @@
 namespace pluvia::gpu {
 namespace {
 
-// One context for the whole suite: creating one costs more than all the renders here.
-class RainRendererTest : public ::testing::Test {
+// Every test runs on both backends (EGL and the CPU streak rasteriser), one renderer each for
+// the whole suite: creating an EGL context costs more than all the renders here.
+class RainRendererTest : public ::testing::TestWithParam<RainBackend> {
  protected:
-  static void SetUpTestSuite() { renderer_ = new RainRenderer(32, 24); }
-  static void TearDownTestSuite() {
-    delete renderer_;
-    renderer_ = nullptr;
+  static void SetUpTestSuite() {
+    renderers_[0] = new RainRenderer(32, 24, RainBackend::Egl);
+    renderers_[1] = new RainRenderer(32, 24, RainBackend::Cpu);
   }
-  RainRenderer& renderer() { return *renderer_; }
+  static void TearDownTestSuite() {
+    for (RainRenderer*& renderer : renderers_) {
+      delete renderer;
+      renderer = nullptr;
+    }
+  }
+  RainRenderer& renderer() { return *renderers_[GetParam() == RainBackend::Egl ? 0 : 1]; }
 
-  static RainRenderer* renderer_;
+  static RainRenderer* renderers_[2];
 };
-RainRenderer* RainRendererTest::renderer_ = nullptr;
+RainRenderer* RainRendererTest::renderers_[2] = {nullptr, nullptr};
 
 // A 2x2 atlas of ones: bilinear sampling anywhere gives exactly 1.
 rain::StrokeAtlas solidAtlas() {
@@ -58,7 +64,7 @@ rain::StreakInstance verticalStreak(float x, float headY, float tailY, float wid
   return {x, headY, x, tailY, width, alpha, depth, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
 }
 
-TEST_F(RainRendererTest, SingleStreakFollowsTheCompositingEquation) {
+TEST_P(RainRendererTest, SingleStreakFollowsTheCompositingEquation) {
   renderer().setStrokeAtlas(solidAtlas());
   const std::array<float, 4> b{0.2f, 0.4f, 0.8f, 0.75f};
   const std::array<float, 3> l0{1.0f, 2.0f, 3.0f};
@@ -88,7 +94,7 @@ TEST_F(RainRendererTest, SingleStreakFollowsTheCompositingEquation) {
   EXPECT_GT(frame.plane("rain.A")[18 * 32 + 17], 0.0f);
 }
 
-TEST_F(RainRendererTest, StreakBehindTheSceneLeavesTheFrameUnchanged) {
+TEST_P(RainRendererTest, StreakBehindTheSceneLeavesTheFrameUnchanged) {
   renderer().setStrokeAtlas(solidAtlas());
   Image frame = uniformFrame(32, 24, {0.3f, 0.3f, 0.3f, 1.0f});
   frame.plane("depth").assign(frame.pixelCount(), 5.0f);
@@ -108,7 +114,7 @@ TEST_F(RainRendererTest, StreakBehindTheSceneLeavesTheFrameUnchanged) {
   EXPECT_EQ(frame.plane("rain.A")[11 * 32 + 16], 1.0f);
 }
 
-TEST_F(RainRendererTest, ConstantEnvironmentIsAWhiteFurnace) {
+TEST_P(RainRendererTest, ConstantEnvironmentIsAWhiteFurnace) {
   // envSh = 2 sqrt(pi) E in L0 only: C = Y00 * 2 sqrt(pi) * E = E for every view, whatever
   // the higher-order transfer.
   const std::array<float, 3> e{0.25f, 1.5f, 4.0f};
@@ -152,7 +158,7 @@ EquirectMap smoothRadianceMap(int width, int height) {
   return map;
 }
 
-TEST_F(RainRendererTest, OpaqueStreakShowsTheRadianceMap) {
+TEST_P(RainRendererTest, OpaqueStreakShowsTheRadianceMap) {
   // The map term alone, alpha 1 over black: C' = C = the map's value for the view. c must
   // default to 0, the physically based choice.
   EXPECT_EQ(rain::ShadingParams{}.backgroundWeight, 0.0f);
@@ -181,7 +187,7 @@ TEST_F(RainRendererTest, OpaqueStreakShowsTheRadianceMap) {
   }
 }
 
-TEST_F(RainRendererTest, ShAndMapTermsAdd) {
+TEST_P(RainRendererTest, ShAndMapTermsAdd) {
   // C = max(SH term, 0) + map: the negative green SH term is clamped before the map adds in.
   renderer().setStrokeAtlas(solidAtlas());
   const std::array<float, 4> b{0.2f, 0.4f, 0.8f, 1.0f};
@@ -198,7 +204,7 @@ TEST_F(RainRendererTest, ShAndMapTermsAdd) {
   }
 }
 
-TEST_F(RainRendererTest, FollowsAChangeOfRadianceMap) {
+TEST_P(RainRendererTest, FollowsAChangeOfRadianceMap) {
   // Uploads happen only when the map differs from the resident one; a map edited in place
   // or resized must still show.
   renderer().setStrokeAtlas(solidAtlas());
@@ -236,7 +242,7 @@ void expectShadingError(RainRenderer& renderer, const rain::ShadingParams& shadi
   }
 }
 
-TEST_F(RainRendererTest, RejectsBadRadianceMaps) {
+TEST_P(RainRendererTest, RejectsBadRadianceMaps) {
   renderer().setStrokeAtlas(solidAtlas());
   expectShadingError(renderer(), rain::ShadingParams{},
                      "neither SH environment coefficients nor a radiance map");
@@ -264,7 +270,7 @@ TEST_F(RainRendererTest, RejectsBadRadianceMaps) {
   EXPECT_THROW(renderRainCpu(frame, {}, nan, solidAtlas()), Error);
 }
 
-TEST_F(RainRendererTest, ReadBackPutsTheTopOfThePictureInRowZero) {
+TEST_P(RainRendererTest, ReadBackPutsTheTopOfThePictureInRowZero) {
   renderer().setStrokeAtlas(solidAtlas());
   Image frame = uniformFrame(32, 24, {0, 0, 0, 1});
   // A horizontal streak across rows 1..2 and a still drop near the bottom-left corner.
@@ -282,7 +288,7 @@ TEST_F(RainRendererTest, ReadBackPutsTheTopOfThePictureInRowZero) {
   }
 }
 
-TEST_F(RainRendererTest, MatteCoordinatesRunAcrossLeftToRightAndAlongHeadToTail) {
+TEST_P(RainRendererTest, MatteCoordinatesRunAcrossLeftToRightAndAlongHeadToTail) {
   // Atlas 2 x 4: the left column is 0.25, the right 1; rows grow downward by +0 .. (uniform in
   // the right column). Sampled through a wide streak falling down the screen (head at the
   // bottom, tail above), u runs left to right on screen and v from the head (bottom) up.
@@ -316,7 +322,7 @@ std::vector<rain::StreakInstance> crossingStreaks() {
   return streaks;
 }
 
-TEST_F(RainRendererTest, RenderingTwiceIsByteIdentical) {
+TEST_P(RainRendererTest, RenderingTwiceIsByteIdentical) {
   renderer().setStrokeAtlas(
       {3, 3, {0.1f, 0.5f, 0.1f, 0.4f, 1.0f, 0.4f, 0.1f, 0.5f, 0.1f}, {{0, 0, 3, 3}}});
   rain::ShadingParams shading = constantShading({0.9f, 1.1f, 1.3f}, 0.7f);
@@ -333,7 +339,7 @@ TEST_F(RainRendererTest, RenderingTwiceIsByteIdentical) {
   }
 }
 
-TEST_F(RainRendererTest, NoStreaksGivesZeroPlanesAndLeavesTheFrame) {
+TEST_P(RainRendererTest, NoStreaksGivesZeroPlanesAndLeavesTheFrame) {
   Image frame = uniformFrame(32, 24, {0.3f, 0.2f, 0.1f, 0.5f});
   const std::vector<float> before = frame.rgba;
   frame.plane("rain.A").assign(frame.pixelCount(), 7.0f);  // stale values must go
@@ -344,7 +350,7 @@ TEST_F(RainRendererTest, NoStreaksGivesZeroPlanesAndLeavesTheFrame) {
   }
 }
 
-TEST_F(RainRendererTest, FollowsAChangeOfFrameSize) {
+TEST_P(RainRendererTest, FollowsAChangeOfFrameSize) {
   renderer().setStrokeAtlas(solidAtlas());
   for (auto [w, h] : {std::pair{48, 20}, {32, 24}, {7, 5}}) {
     Image frame = uniformFrame(w, h, {0, 0, 0, 1});
@@ -355,7 +361,7 @@ TEST_F(RainRendererTest, FollowsAChangeOfFrameSize) {
   }
 }
 
-TEST_F(RainRendererTest, RejectsInconsistentInputs) {
+TEST_P(RainRendererTest, RejectsInconsistentInputs) {
   renderer().setStrokeAtlas(solidAtlas());
   Image frame(32, 24);
   const std::vector<rain::StreakInstance> one{verticalStreak(8, 2, 9, 2, 1, 1)};
@@ -378,18 +384,23 @@ TEST_F(RainRendererTest, RejectsInconsistentInputs) {
   EXPECT_THROW(renderer().setStrokeAtlas({4, 4, {1, 1}, {{0, 0, 4, 4}}}), Error);
 }
 
-TEST_F(RainRendererTest, DescribesItsDevice) {
+TEST_P(RainRendererTest, DescribesItsDevice) {
   const std::string description = renderer().deviceDescription();
-  EXPECT_NE(description.find("OpenGL 4."), std::string::npos) << description;
+  EXPECT_EQ(renderer().backend(), GetParam());
+  if (GetParam() == RainBackend::Egl) {
+    EXPECT_NE(description.find("OpenGL 4."), std::string::npos) << description;
+  } else {
+    EXPECT_NE(description.find("CPU streak rasteriser"), std::string::npos) << description;
+  }
 }
 
-TEST_F(RainRendererTest, SeveralRenderersShareTheDisplay) {
+TEST_P(RainRendererTest, SeveralRenderersShareTheDisplay) {
   // Renderers on one thread switch contexts as they go, and destroying one must not
   // terminate the EGL display under the others.
   const rain::ShadingParams shading = constantShading({1, 1, 1}, 0.0f);
   const std::vector<rain::StreakInstance> streak{
       verticalStreak(4.0f, 1.0f, 6.0f, 2.0f, 1.0f, 1.0f)};
-  auto second = std::make_unique<RainRenderer>(8, 8);
+  auto second = std::make_unique<RainRenderer>(8, 8, GetParam());
   second->setStrokeAtlas(solidAtlas());
   renderer().setStrokeAtlas(solidAtlas());
   for (int round = 0; round < 2; ++round) {
@@ -405,7 +416,7 @@ TEST_F(RainRendererTest, SeveralRenderersShareTheDisplay) {
   EXPECT_EQ(frame.plane("matte")[3 * 32 + 4], 1.0f);
 }
 
-TEST_F(RainRendererTest, MemoryStaysFlatOverAThousandFrames) {
+TEST_P(RainRendererTest, MemoryStaysFlatOverAThousandFrames) {
 #if defined(__SANITIZE_ADDRESS__)
   GTEST_SKIP() << "AddressSanitizer's quarantine grows resident memory by design";
 #endif
@@ -422,6 +433,12 @@ TEST_F(RainRendererTest, MemoryStaysFlatOverAThousandFrames) {
   }
   EXPECT_LT(test::residentBytes(), warm + 2 * 1024 * 1024);
 }
+
+INSTANTIATE_TEST_SUITE_P(Backends, RainRendererTest,
+                         ::testing::Values(RainBackend::Egl, RainBackend::Cpu),
+                         [](const auto& info) {
+                           return std::string(info.param == RainBackend::Egl ? "Egl" : "Cpu");
+                         });
 
 }  // namespace
 }  // namespace pluvia::gpu

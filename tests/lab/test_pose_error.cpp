@@ -16,6 +16,7 @@
 #include "util/error.h"
 
 using namespace pluvia;
+using namespace pluvia::lab;
 
 namespace {
 

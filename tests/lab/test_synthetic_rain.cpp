@@ -10,6 +10,7 @@
 #include "lab/synthetic_rain.h"
 
 using namespace pluvia;
+using namespace pluvia::lab;
 using namespace pluvia::derain;
 
 namespace {

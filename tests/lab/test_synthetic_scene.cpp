@@ -24,7 +24,7 @@
 #include "test_support.h"
 #include "util/error.h"
 
-namespace pluvia::gpu {
+namespace pluvia::lab {
 namespace {
 
 constexpr int kWidth = 320;
@@ -399,9 +399,9 @@ TEST_F(SyntheticSceneTest, RejectsAViewOfAnotherSize) {
 }
 
 }  // namespace
-}  // namespace pluvia::gpu
+}  // namespace pluvia::lab
 
-namespace pluvia::gpu {
+namespace pluvia::lab {
 TEST(SyntheticView, CameraRoundTripKeepsIntrinsicsAndPose) {
   Camera camera = Camera::fromFieldOfView(320, 180, 50.0, 7.0, 1.6);
   camera.positionMeters = Eigen::Vector3d(0.5, 1.6, -3.0);
@@ -414,4 +414,4 @@ TEST(SyntheticView, CameraRoundTripKeepsIntrinsicsAndPose) {
   EXPECT_TRUE(back.worldFromCamera.isApprox(camera.worldFromCamera, 0.0));
   EXPECT_TRUE(back.positionMeters.isApprox(camera.positionMeters, 0.0));
 }
-}  // namespace pluvia::gpu
+}  // namespace pluvia::lab

@@ -68,7 +68,7 @@ Errors errorsAgainstReference(const EquirectMap& environment, int directions, in
   TraceSettings trace;
   trace.samples = samples;
   Errors errors;
-  for (const Vec& d : fibonacciDirections(directions)) {
+  for (const Vec& d : lab::fibonacciDirections(directions)) {
     const Rgb reference = traceDropRadiance(environment, d, kPlainWater, trace);
     errors.defaultMethod += relativeError(lookUp(map, d), reference) / directions;
     errors.paper += relativeError(shadePaper(paper, environment, d), reference) / directions;
@@ -143,7 +143,7 @@ TEST(DropRadianceMap, BeatsThePaperAgainstTheReferenceInTheBuiltInEnvironment) {
   // The reference at 65536 rays has ~0.5-1 % noise with the sun in view (drop_trace.h); the
   // default map is expected within 3 % on average, and the paper's 16 SH coefficients, 9 terms
   // and 0.7 B correction at least 5 times worse.
-  const Errors errors = errorsAgainstReference(builtinTestEnvironment(), 24, 65536);
+  const Errors errors = errorsAgainstReference(lab::builtinTestEnvironment(), 24, 65536);
   std::cout << "built-in environment, 24 directions: mean relative error default "
             << 100.0 * errors.defaultMethod << " %, paper " << 100.0 * errors.paper << " %\n";
   EXPECT_LT(errors.defaultMethod, 0.03);
@@ -179,7 +179,7 @@ TEST(DropRadianceMap, DispersionSplitsTheRainbowAndLeavesGreenAlone) {
   // eta 1.331 (R) and 1.338 (B) move that caustic by -0.3 and +0.7 degrees (Descartes), and the
   // sun's image in it is sharp, so the map changes there by far more than float rounding. G
   // keeps eta 1.333 and the same terms, so it must come out the same (1e-6 relative).
-  const EquirectMap environment = builtinTestEnvironment();
+  const EquirectMap environment = lab::builtinTestEnvironment();
   const EquirectMap plain =
       buildDropRadianceMap(environment, channelOptics(kPlainWater, kDefaultTerms));
   const EquirectMap dispersed =
@@ -214,7 +214,7 @@ TEST(DropRadianceMap, DispersionSplitsTheRainbowAndLeavesGreenAlone) {
 TEST(DropRadianceMap, StiffOpticsGiveFiniteNonNegativeMaps) {
   // eta near 1 (a nearly invisible drop: all power straight through), eta 2.5 (strong internal
   // reflection, many caustics), one term and 50 terms.
-  const EquirectMap environment = builtinTestEnvironment();
+  const EquirectMap environment = lab::builtinTestEnvironment();
   for (double eta : {1.0001, 2.5}) {
     for (int terms : {1, 50}) {
       const EquirectMap map =

@@ -258,7 +258,7 @@ TEST(ShProjection, PaperTransferTableAgreesWithTheClosedFormRotation) {
 double minimumReconstruction(const ShCoefficients& coefficients, int order) {
   double lowest = 1e300;
   std::vector<double> basis;
-  for (const Vec& d : fibonacciDirections(20000)) {
+  for (const Vec& d : lab::fibonacciDirections(20000)) {
     shBasis(order, d, basis);
     for (size_t c = 0; c < 3; ++c) {
       double sum = 0.0;
@@ -274,7 +274,7 @@ TEST(ShProjection, HannWindowTamesTheRingingAroundASun) {
   // at order 8 its SH reconstruction rings negative far from it. Windowing trades sharpness for
   // a smaller negative lobe.
   constexpr int kOrder = 8;
-  const EquirectMap environment = builtinTestEnvironment();
+  const EquirectMap environment = lab::builtinTestEnvironment();
   const double plain =
       minimumReconstruction(projectEnvironment(environment, kOrder, ShWindow::None), kOrder);
   const double hann =

@@ -4,7 +4,7 @@
 #include <iostream>
 
 #include "geometry/camera.h"
-#include "preset/camera_path_preset.h"
+#include "pipeline/camera_settings.h"
 #include "preset/preset.h"
 #include "preset/ramp.h"
 #include "rain/rain_types.h"
@@ -294,14 +294,14 @@ TEST(Preset, CameraPathAndLensKeys) {
   EXPECT_DOUBLE_EQ(plain.number("camera.f_number"), 11.0);
   EXPECT_DOUBLE_EQ(plain.number("camera.sensor_width_mm"), 36.0);
   Camera base = Camera::fromFieldOfView(640, 360, 40, 0, 1.6);
-  EXPECT_FALSE(cameraPathFromPreset(plain, base).moving());
+  EXPECT_FALSE(cameraSettings(plain).path(base).moving());
 
   Preset moving = Preset::resolve(
       "moderate",
       {R"(camera.path=[{"frame": 0, "position_m": [0, 1.6, 0]}, {"frame": 10, "position_m": [2, 1.6, 0], "yaw_deg": 20}])"},
       presetSchema());
   EXPECT_DOUBLE_EQ(moving.number("camera.path.1.pitch_deg"), 0.0);  // defaults filled
-  CameraPath path = cameraPathFromPreset(moving, base);
+  CameraPath path = cameraSettings(moving).path(base);
   EXPECT_TRUE(path.moving());
   EXPECT_NEAR(path.cameraAt(5).positionMeters.x(), 1.0, 1e-12);
   EXPECT_DOUBLE_EQ(path.cameraAt(5).focalPx, base.focalPx);

@@ -11,6 +11,7 @@
 #include "util/error.h"
 
 using namespace pluvia;
+using namespace pluvia::sfm;
 
 namespace {
 

@@ -9,22 +9,22 @@
 #include "lab/synthetic_scene.h"
 #include "sfm/parallax_check.h"
 
-namespace pluvia {
+namespace pluvia::sfm {
 namespace {
 
 constexpr int kWidth = 480, kHeight = 270;
 
-std::vector<cv::Mat> renderFrames(const std::vector<gpu::SyntheticPathKey>& keys) {
-  gpu::SyntheticSceneRenderer renderer(kWidth, kHeight);
-  const gpu::SyntheticView intrinsics = gpu::defaultSyntheticIntrinsics(kWidth, kHeight);
+std::vector<cv::Mat> renderFrames(const std::vector<lab::SyntheticPathKey>& keys) {
+  lab::SyntheticSceneRenderer renderer(kWidth, kHeight);
+  const lab::SyntheticView intrinsics = lab::defaultSyntheticIntrinsics(kWidth, kHeight);
   std::vector<cv::Mat> frames;
   for (const auto& key : keys)
-    frames.push_back(rgbMat(renderer.render(gpu::syntheticViewAt(intrinsics, key))));
+    frames.push_back(rgbMat(renderer.render(lab::syntheticViewAt(intrinsics, key))));
   return frames;
 }
 
 TEST(ParallaxCheck, WalkHasParallaxAndKeyframesAreSpacedByIt) {
-  const std::vector<cv::Mat> frames = renderFrames(gpu::defaultSyntheticPath(48));
+  const std::vector<cv::Mat> frames = renderFrames(lab::defaultSyntheticPath(48));
   const ParallaxProbe probe(frames);
   const ParallaxCheckSettings settings;
   const ParallaxCheck check = checkParallax(probe);
@@ -49,7 +49,7 @@ TEST(ParallaxCheck, WalkHasParallaxAndKeyframesAreSpacedByIt) {
 }
 
 TEST(ParallaxCheck, TripodPanHasNone) {
-  std::vector<gpu::SyntheticPathKey> keys(24, gpu::defaultSyntheticPath(1)[0]);
+  std::vector<lab::SyntheticPathKey> keys(24, lab::defaultSyntheticPath(1)[0]);
   for (size_t i = 0; i < keys.size(); ++i) keys[i].yawDeg = -12.0 + double(i);
   const ParallaxCheck check = checkParallax(renderFrames(keys));
   EXPECT_EQ(check.verdict, ParallaxVerdict::NoParallax) << check.parallaxFraction;
@@ -58,4 +58,4 @@ TEST(ParallaxCheck, TripodPanHasNone) {
 }
 
 }  // namespace
-}  // namespace pluvia
+}  // namespace pluvia::sfm

@@ -10,6 +10,7 @@
 #include "sfm/sparse_densify.h"
 
 using namespace pluvia;
+using namespace pluvia::sfm;
 
 namespace {
 

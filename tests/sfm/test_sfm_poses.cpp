@@ -9,6 +9,7 @@
 #include "sfm/sfm_poses.h"
 
 using namespace pluvia;
+using namespace pluvia::sfm;
 
 namespace {
 

@@ -8,6 +8,7 @@
 #include "util/subprocess.h"
 
 using namespace pluvia;
+using namespace pluvia::sfm;
 namespace stdfs = std::filesystem;
 
 TEST(ProgramLookup, FindsProgramsOnPathAndByPath) {

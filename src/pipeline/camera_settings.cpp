@@ -1,0 +1,98 @@
+#include "pipeline/camera_settings.h"
+
+#include <limits>
+
+namespace pluvia {
+
+SectionSpec cameraSection() {
+  SectionSpec s;
+  s.name = "camera";
+  s.help = "The virtual camera that films the rain; match it to the plate's camera.";
+  // camera.path: poses over clip frames (geometry/camera_path.h has the angle conventions).
+  ParamSpec path = listParam(
+      "path", nlohmann::json::array(),
+      {{"",
+        {required(numberParam("frame", 0.0, {}, "", "clip frame number of this key")),
+         required(vectorParam("position_m", {}, "m", "camera position, +Y up")),
+         numberParam("yaw_deg", 0.0, {}, "deg", "positive turns right, from -Z toward +X"),
+         numberParam("pitch_deg", 0.0, {-90.0, 90.0}, "deg", "positive looks up (= -tilt_deg)"),
+         numberParam("roll_deg", 0.0, {-180.0, 180.0}, "deg",
+                     "positive: the view's right side goes down")}}},
+      "poses over clip frames, interpolated between keys, held outside them; empty: a static "
+      "camera from tilt_deg and height_m");
+  path.orderedBy = "frame";
+  s.params = {
+      numberParam("fov_deg", 36.0, {1.0, 170.0}, "deg", "horizontal field of view"),
+      numberParam("exposure_s", 0.02, {1.0 / 8000.0, 1.0}, "s",
+                  "shutter time; sets the streak length"),
+      numberParam(
+          "shutter_angle_deg", 0.0, {0.0, 360.0}, "deg",
+          "when > 0: exposure = shutter_angle / 360 / fps, overriding exposure_s; 0: unused"),
+      numberParam("fps", 0.0, {0.0, 240.0}, "1/s",
+                  "frame rate; 0 takes the clip's (24 for sequences)"),
+      numberParam("tilt_deg", 0.0, {-89.0, 89.0}, "deg",
+                  "pitch of the camera, positive looking down"),
+      numberParam("height_m", 1.6, {0.0, 1000.0}, "m", "camera height above the ground plane"),
+      numberParam("focus_m", 20.0, {0.0, 1e6}, "m",
+                  "focus distance (the default depth's backdrop); 0: no defocus"),
+      numberParam("f_number", 11.0, {0.0, 128.0}, "", "aperture f-number; 0: pinhole, no defocus"),
+      numberParam("sensor_width_mm", 36.0, {1.0, 100.0}, "mm",
+                  "sensor width; with fov_deg gives the focal length (defocus)"),
+      path,
+  };
+  // The exposure may ramp (the rain stage reads it per frame); the rest is fixed for the shot.
+  allowKeyframes(s.params, {"exposure_s"});
+  return s;
+}
+
+namespace {
+
+// camera.path items {"frame": F, "position_m": [x, y, z], "yaw_deg": .., "pitch_deg": ..,
+// "roll_deg": ..}.
+std::vector<std::pair<double, CameraPose>> pathKeys(const nlohmann::json& items) {
+  std::vector<std::pair<double, CameraPose>> keys;
+  if (!items.is_array()) return keys;
+  for (const auto& item : items) {
+    CameraPose pose;
+    const nlohmann::json& p = item.at("position_m");
+    pose.positionMeters = {p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>()};
+    pose.yawDeg = item.value("yaw_deg", 0.0);
+    pose.pitchDeg = item.value("pitch_deg", 0.0);
+    pose.rollDeg = item.value("roll_deg", 0.0);
+    keys.emplace_back(item.at("frame").get<double>(), pose);
+  }
+  return keys;
+}
+
+}  // namespace
+
+CameraSettings cameraSettings(const Preset& p) {
+  CameraSettings s;
+  s.fovDeg = p.number("camera.fov_deg");
+  s.exposureSeconds = p.ramp("camera.exposure_s");
+  s.shutterAngleDeg = p.number("camera.shutter_angle_deg");
+  s.framesPerSecond = p.number("camera.fps");
+  s.tiltDeg = p.number("camera.tilt_deg");
+  s.heightMeters = p.number("camera.height_m");
+  s.focusMeters = p.number("camera.focus_m");
+  s.fNumber = p.number("camera.f_number");
+  s.sensorWidthMm = p.number("camera.sensor_width_mm");
+  if (p.has("camera.path")) s.pathKeys = pathKeys(p.at("camera.path"));
+  s.resolved = p.at("camera");
+  return s;
+}
+
+Camera CameraSettings::base(int width, int height) const {
+  return Camera::fromFieldOfView(width, height, fovDeg, tiltDeg, heightMeters);
+}
+
+CameraPath CameraSettings::path(const Camera& base) const {
+  if (pathKeys.empty()) return CameraPath::fixed(base);
+  return CameraPath::fromKeys(base, pathKeys);
+}
+
+double CameraSettings::exposureSecondsAt(double fps, double frame) const {
+  return shutterAngleDeg > 0.0 ? shutterAngleDeg / 360.0 / fps : exposureSeconds.valueAt(frame);
+}
+
+}  // namespace pluvia

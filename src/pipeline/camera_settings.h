@@ -1,0 +1,48 @@
+#pragma once
+// The preset's "camera" section: the virtual camera that films the rain. A shared section: the
+// render session builds the clip's camera from it, and the stages that need the camera (depth,
+// lighting, rain) take a CameraSettings, never the preset's camera keys.
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "geometry/camera.h"
+#include "geometry/camera_path.h"
+#include "preset/param_table.h"
+#include "preset/preset.h"
+#include "preset/ramp.h"
+
+namespace pluvia {
+
+// The section's parameter table (part of presetSchema(), stages/registry.h).
+SectionSpec cameraSection();
+
+struct CameraSettings {
+  double fovDeg = 36.0;  // horizontal field of view
+  Ramp exposureSeconds{0.02};
+  double shutterAngleDeg = 0.0;  // > 0: overrides exposureSeconds (angle / 360 / fps)
+  double framesPerSecond = 0.0;  // 0: the clip's
+  double tiltDeg = 0.0;          // positive looking down
+  double heightMeters = 1.6;
+  double focusMeters = 20.0;  // 0: no defocus
+  double fNumber = 11.0;      // 0: pinhole
+  double sensorWidthMm = 36.0;
+  // camera.path: poses over clip frames; empty: a static camera from tiltDeg and heightMeters.
+  std::vector<std::pair<double, CameraPose>> pathKeys;
+  // The section as the preset resolved it: per-clip analyses that depend on the camera hash it
+  // into their cache keys (the JSON text, so a key stays the same however a number was written).
+  nlohmann::json resolved;
+
+  // The camera of a frame `width` x `height` px: fovDeg, tiltDeg and heightMeters.
+  Camera base(int width, int height) const;
+  // The path over `base`'s intrinsics: the keys, or CameraPath::fixed(base) without keys.
+  CameraPath path(const Camera& base) const;
+  // The shutter time at clip frame `frame` of a clip at `fps`: the angle when given, else the
+  // exposure.
+  double exposureSecondsAt(double fps, double frame) const;
+};
+
+CameraSettings cameraSettings(const Preset& preset);
+
+}  // namespace pluvia

@@ -1,0 +1,83 @@
+#include "sfm/scale_cues.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <fmt/format.h>
+
+namespace pluvia::sfm {
+namespace {
+
+double percentile(std::vector<double> values, double fraction) {
+  if (values.empty()) return NAN;
+  auto at = values.begin() + static_cast<long>(fraction * (values.size() - 1));
+  std::nth_element(values.begin(), at, values.end());
+  return *at;
+}
+
+void checkHeights(SfmReconstruction& sfm, const SfmOptions& options) {
+  std::vector<double> heights;
+  for (const SfmKeyframe& key : sfm.keyframes)
+    if (std::isfinite(key.heightAboveGroundMeters)) heights.push_back(key.heightAboveGroundMeters);
+  if (heights.size() < 2) return;
+  const auto [lo, hi] = std::minmax_element(heights.begin(), heights.end());
+  double mean = 0.0;
+  for (double h : heights) mean += h;
+  mean /= static_cast<double>(heights.size());
+  const double spread = (*hi - *lo) / mean;
+  if (spread > options.maxCameraHeightSpread)
+    sfm.warnings.push_back(fmt::format(
+        "camera heights above the fitted ground range from {:.2f} to {:.2f} m ({:.0f} % of their "
+        "mean; at most {:.0f} % expected of a hand-held or vehicle camera): the ground or the "
+        "scale is doubtful",
+        *lo, *hi, 100.0 * spread, 100.0 * options.maxCameraHeightSpread));
+
+  std::vector<double> pointHeights;
+  for (const Eigen::Vector3d& p : sfm.pointsMeters)
+    pointHeights.push_back(sfm.groundNormal.dot(p) + sfm.groundOffsetMeters);
+  sfm.structureHeightMeters = percentile(pointHeights, 0.95);
+  if (sfm.verticalLineCount > 0 &&
+      sfm.structureHeightMeters < options.minStructureOverCameraHeight * mean)
+    sfm.warnings.push_back(fmt::format(
+        "{} façade lines show buildings, but the points' 95th-percentile height above the ground "
+        "is {:.2f} m, {:.1f} camera heights (at least {:.1f} expected): the camera height "
+        "({:.2f} m) or the ground is doubtful",
+        sfm.verticalLineCount, sfm.structureHeightMeters, sfm.structureHeightMeters / mean,
+        options.minStructureOverCameraHeight, mean));
+}
+
+void checkSpeed(SfmReconstruction& sfm, const SfmOptions& options) {
+  if (options.framesPerSecond <= 0.0 || sfm.keyframes.size() < 2) return;
+  std::vector<double> speeds;
+  for (size_t k = 1; k < sfm.keyframes.size(); ++k) {
+    const SfmKeyframe& a = sfm.keyframes[k - 1];
+    const SfmKeyframe& b = sfm.keyframes[k];
+    const double seconds = static_cast<double>(b.frame - a.frame) / options.framesPerSecond;
+    if (seconds > 0.0)
+      speeds.push_back((b.camera.positionMeters - a.camera.positionMeters).norm() / seconds);
+  }
+  sfm.medianCameraSpeedMetersPerSecond = percentile(speeds, 0.5);
+  if (sfm.medianCameraSpeedMetersPerSecond > options.maxCameraSpeedMetersPerSecond)
+    sfm.warnings.push_back(fmt::format(
+        "the camera moves {:.1f} m/s between registered frames at {:.3g} fps (at most {:.0f} m/s "
+        "expected): the scale is doubtful",
+        sfm.medianCameraSpeedMetersPerSecond, options.framesPerSecond,
+        options.maxCameraSpeedMetersPerSecond));
+}
+
+}  // namespace
+
+void checkScaleCues(SfmReconstruction& sfm, const SfmOptions& options) {
+  if (sfm.groundTiltFromVerticalDeg > options.maxGroundTiltFromVerticalDeg)
+    sfm.warnings.push_back(fmt::format(
+        "the ground fitted below the cameras tilts {:.1f} deg from the vertical of {} façade lines "
+        "(at most {:.0f} expected of a street): a steep slope, or a bent reconstruction; rain "
+        "falls along the lines' vertical",
+        sfm.groundTiltFromVerticalDeg, sfm.verticalLineCount,
+        options.maxGroundTiltFromVerticalDeg));
+  if (sfm.groundAtYZero) checkHeights(sfm, options);
+  checkSpeed(sfm, options);
+}
+
+}  // namespace pluvia::sfm

@@ -1,0 +1,40 @@
+#pragma once
+// The preset's "depth" section: its parameter table and its settings, read once from the preset.
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "preset/param_table.h"
+#include "preset/preset.h"
+
+namespace pluvia {
+
+SectionSpec depthSection();
+
+struct DepthSettings {
+  bool enabled = true;
+  std::string source = "auto";  // auto | layers | colmap | file | none
+  // The manual layers as given (geometry/depth_layers.h rasterises them; numbers may be keys).
+  nlohmann::json layers;
+  double backdropMeters = 20.0;         // auto: what is neither sky nor ground
+  std::string fallback = "error";       // colmap failed: "error" | "layers"
+  int frameStep = 0;                    // colmap: every Nth frame tracked; 0: by parallax
+  int maxFrames = 200;                  // colmap
+  int colmapImagePx = 1600;             // colmap: longest side of the frames features are found on
+  std::string colmapModel;              // colmap: a text model to read instead of running COLMAP
+  std::string colmapDense;              // colmap: a dense workspace whose depth maps are used
+  std::string scale = "camera_height";  // colmap: "camera_height" | "first_frame_depth"
+  double firstFrameDepthMeters = 10.0;  // colmap, scale first_frame_depth
+  std::string file;                     // file: the depth sequence
+  std::string fileEncoding = "z_m";     // file: z_m | inverse | normalized
+  double fileScale = 1.0;
+  double fileNearMeters = 1.0;
+  double fileFarMeters = 100.0;
+  // The section as the preset resolved it: the COLMAP tracking's cache key hashes the values it
+  // depends on from it (see CameraSettings::resolved).
+  nlohmann::json resolved;
+};
+
+DepthSettings depthSettings(const Preset& preset);
+
+}  // namespace pluvia

@@ -1,0 +1,36 @@
+#pragma once
+// The preset's "lighting" section (the environment stage's): its parameter table and its
+// settings, read once from the preset.
+#include <array>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "preset/param_table.h"
+#include "preset/preset.h"
+
+namespace pluvia {
+
+SectionSpec lightingSection();
+
+struct LightingSettings {
+  bool enabled = true;
+  std::string source = "frame";  // frame | frame_average | constant | hdr | stitch
+  std::string motion = "auto";   // stitch: auto | pan | loom | static
+  int everyFrames = 5;           // stitch, loom: a panorama every N frames
+  int panFrames = 24;            // stitch, pan: frames stitched
+  // Light sources the footage saturated, as given: items of type "direction" or "region"
+  // (envmap::parseLights reads them; region fields are in frame pixels).
+  nlohmann::json lights = nlohmann::json::array();
+  std::string hdrPath;                                 // source hdr
+  double intensity = 1.0;                              // scale on the HDR's radiance
+  std::array<float, 3> constantRgb{0.5f, 0.5f, 0.5f};  // source constant, linear
+  int sampleFrames = 8;                                // source frame_average
+  // The section as the preset resolved it: the environment's cache key hashes it (see
+  // CameraSettings::resolved).
+  nlohmann::json resolved;
+};
+
+LightingSettings lightingSettings(const Preset& preset);
+
+}  // namespace pluvia

@@ -1,0 +1,52 @@
+#pragma once
+// The preset's "rain" section: its parameter table and its settings, read once from the preset.
+// Keyframable values are Ramps (preset/ramp.h), read at each frame.
+#include <cstdint>
+#include <string>
+
+#include "preset/param_table.h"
+#include "preset/preset.h"
+#include "preset/ramp.h"
+#include "rain/drop_physics.h"
+
+namespace pluvia {
+
+SectionSpec rainSection();
+
+struct RainSettings {
+  bool enabled = true;
+  Ramp rateMmPerHour{15.0};
+  uint64_t seed = 1;
+  std::string strokes = "builtin";  // "builtin", "derain" or a LIBRARY.json path
+  double minDiameterMm = 0.8;
+  Ramp densityScale{1.0};  // artist scales on the physical drop count, diameter and alpha
+  Ramp sizeScale{1.0};
+  Ramp opacity{1.0};
+  double nearMeters = 0.0;  // 0: from the lens
+  int64_t startFrame = 0;
+  double farMeters = 15.0;
+  int64_t maxDrops = 100000;
+  std::string shading = "default";  // "default" | "paper"
+  bool dispersion = false;
+  double backgroundWeight = 0.7;  // shading "paper" only
+  rain::SizeDistribution distribution = rain::SizeDistribution::MarshallPalmer;
+  rain::VelocityModel velocity = rain::VelocityModel::Atlas;
+  double spreadMetersPerSecond = 0.0;
+  struct Wind {
+    Ramp speedMetersPerSecond{0.0};
+    Ramp directionDeg{0.0};  // toward: 0 camera right, 90 away from the camera
+    double eddies = 0.2;     // fractions of the wind speed
+    double gustiness = 0.0;
+    double turbulence = 0.0;
+  } wind;
+  struct Cells {
+    int count = 0;
+    double radiusMeters = 10.0;
+    double peakDensity = 4.0;
+    double sizeScale = 1.3;
+  } cells;
+};
+
+RainSettings rainSettings(const Preset& preset);
+
+}  // namespace pluvia
