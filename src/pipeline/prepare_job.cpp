@@ -17,7 +17,6 @@ PrepareSummary prepareJob(const RenderRequest& request, const Preset& preset,
   RenderSession session(wholeClip, preset, stages, times);
   const ArtifactCache& cache = *session.cache();
   PrepareSummary summary;
-  summary.plan = session.plan();
   summary.entries = clipAnalysisEntries(session.plan(), preset, session.clip(), stages, cache);
   session.prepareStages(/*analysisOnly=*/true);
   for (const AnalysisEntry& entry : summary.entries) {

@@ -12,7 +12,6 @@ namespace pluvia {
 struct PrepareSummary {
   // Every entry the render needs, in pipeline order; `cached`: it was there before this run.
   std::vector<AnalysisEntry> entries;
-  Plan plan;
 };
 
 // Fills request.cacheDir (required; request.output is unused and may be empty; the frame range
