@@ -77,7 +77,6 @@ class ThrowAwayCluster {
                     "--pid-file=" + (dir_ / "munged.pid").string(),
                     "--seed-file=" + (dir_ / "munge" / "munged.seed").string()});
     if (munged.exitCode != 0) return "munged did not start: " + munged.output;
-    mungeSocket_ = socket;
 
     char host[256] = {};
     gethostname(host, sizeof host - 1);
@@ -156,7 +155,6 @@ class ThrowAwayCluster {
   }
 
   stdfs::path dir_;
-  std::string mungeSocket_;
   bool started_ = false;
 };
 
