@@ -21,7 +21,7 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
     std::vector<std::string> sets;
     int threads = 2;
     double proxy = 1.0;
-    bool skipExisting = false, stats = false;
+    bool skipExisting = false, stats = false, requireCache = false;
   };
   auto args = std::make_shared<Args>();
   addClipPresetOptions(cmd, args->input, args->preset, args->sets);
@@ -43,6 +43,9 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
                   "EXR compression: piz (default), zip, zips, dwaa, dwab, b44, b44a, pxr24, rle, "
                   "none");
   cmd->add_option("--cache", args->cache, "cache folder for per-clip analysis");
+  cmd->add_flag("--require-cache", args->requireCache,
+                "fail when per-clip analysis is missing from --cache instead of computing it "
+                "(render chunks after pluvia prepare)");
   cmd->add_flag("--skip-existing", args->skipExisting,
                 "leave frames that already exist (resume a job)");
   cmd->add_flag("--stats", args->stats, "print a per-stage timing summary");
@@ -62,6 +65,9 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
     request.format.exrSampleType = args->exrType;
     request.format.exrCompression = args->exrCompression;
     request.cacheDir = args->cache;
+    if (args->requireCache && args->cache.empty())
+      throw UsageError("--require-cache needs --cache DIR");
+    request.requireCache = args->requireCache;
     request.skipExisting = args->skipExisting;
     request.commandLine = invocation.commandLine;
     request.proxyScale = args->proxy;

@@ -21,6 +21,8 @@ struct Invocation {
 };
 
 void addRenderCommand(CLI::App& app, Invocation& invocation);
+void addPrepareCommand(CLI::App& app, Invocation& invocation);
+void addFarmCommand(CLI::App& app, Invocation& invocation);
 void addPreviewCommand(CLI::App& app, Invocation& invocation);
 void addPlanCommand(CLI::App& app, Invocation& invocation);
 void addValidateCommand(CLI::App& app, Invocation& invocation);

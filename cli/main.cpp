@@ -41,6 +41,8 @@ int main(int argc, char** argv) {
   cli::Invocation invocation;
   invocation.commandLine = cli::joinCommandLine(argc, argv);
   cli::addRenderCommand(app, invocation);
+  cli::addPrepareCommand(app, invocation);
+  cli::addFarmCommand(app, invocation);
   cli::addPreviewCommand(app, invocation);
   cli::addPlanCommand(app, invocation);
   cli::addValidateCommand(app, invocation);

@@ -5,7 +5,7 @@
 # The ctest test `layers` (cmake/check_layers.cmake) checks every source against this; the build
 # itself fails on an include of a library that is not linked (include roots, top CMakeLists.txt).
 set(PLUVIA_LAYERS util image io geometry preset sfm optics envmap rain gpu derain pipeline stages
-                  lab cli)
+                  lab farm cli)
 set(PLUVIA_LAYER_util "")
 set(PLUVIA_LAYER_image util)
 set(PLUVIA_LAYER_io image util)
@@ -22,7 +22,9 @@ set(PLUVIA_LAYER_stages pipeline gpu derain rain envmap optics sfm preset geomet
 # The measurement harness: reports, synthetic inputs, error metrics. Only cli's report and bench
 # commands and the tests use it; nothing on the render path does.
 set(PLUVIA_LAYER_lab gpu derain rain envmap optics sfm geometry io image util)
-set(PLUVIA_LAYER_cli lab stages pipeline gpu derain rain envmap optics sfm preset geometry io
+# Farm jobs: the scripts a scheduler runs (Slurm), their submission and state, a movie's assembly.
+set(PLUVIA_LAYER_farm io image util)
+set(PLUVIA_LAYER_cli farm lab stages pipeline gpu derain rain envmap optics sfm preset geometry io
                      image util)
 # Headers of gpu/ (the renderer and its GL helpers) are for these files and folders only.
 set(PLUVIA_GPU_USERS src/gpu/ src/lab/ src/stages/rain_stage.cpp cli/cmd_bench.cpp)

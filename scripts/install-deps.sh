@@ -13,6 +13,10 @@ packages=(
   libgtest-dev libgmock-dev
   ffmpeg
   colmap
+  # For `pluvia farm slurm`'s test, which starts its own throw-away cluster (and skips where it
+  # cannot, with its own munged and socket). Slurm's own services stay idle: Debian ships no
+  # /etc/slurm/slurm.conf.
+  slurm-wlm munge
 )
 
 missing=()

@@ -1,37 +1,77 @@
 #include "io/output_lock.h"
 
-#include <fcntl.h>
-#include <sys/file.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
+#include <chrono>
 #include <cstring>
+#include <filesystem>
+#include <thread>
 
 #include <fmt/format.h>
 
 #include "io/sequence_pattern.h"
 #include "util/error.h"
 #include "util/fs.h"
-#include "util/log.h"
 
 namespace pluvia {
 namespace {
 
-std::string thisHost() {
-  char name[256] = {};
-  if (gethostname(name, sizeof name - 1) != 0) return "unknown-host";
-  return name;
+// Each frame's bytes in the lock file: a frame range locks [first, last + 1) x this, and its
+// holder writes "pid host" in its first frame's bytes.
+constexpr off_t kBytesPerFrame = 64;
+// A render that finishes holds the whole file for the moment it takes to remove it: a render
+// that meets that lock tries again for this long before it is refused.
+constexpr auto kRetryFor = std::chrono::milliseconds(500);
+constexpr auto kRetryStep = std::chrono::milliseconds(20);
+
+bool locksWholeOutput(const std::string& output, int64_t firstFrame) {
+  return !SequencePattern::parse(output) || firstFrame < 0;
 }
 
-// What the holder wrote ("pid host"), or a note when the file cannot be read.
-std::string holderOf(int fd) {
-  char text[512] = {};
-  const ssize_t n = pread(fd, text, sizeof text - 1, 0);
-  std::string holder = n > 0 ? std::string(text, static_cast<size_t>(n)) : "";
-  while (!holder.empty() && (holder.back() == '\n' || holder.back() == ' ')) holder.pop_back();
-  return holder.empty() ? "unknown" : holder;
+FileRangeLock lockFrames(const std::string& output, int64_t firstFrame, int64_t lastFrame) {
+  const std::string path = outputLockPath(output);
+  const bool whole = locksWholeOutput(output, firstFrame);
+  const off_t start = whole ? 0 : static_cast<off_t>(firstFrame) * kBytesPerFrame;
+  const off_t length = whole ? 0 : static_cast<off_t>(lastFrame - firstFrame + 1) * kBytesPerFrame;
+  const auto giveUp = std::chrono::steady_clock::now() + kRetryFor;
+  LockConflict conflict;
+  try {
+    while (true) {
+      if (auto lock = FileRangeLock::tryLock(path, start, length, &conflict))
+        return std::move(*lock);
+      if (std::chrono::steady_clock::now() > giveUp) break;
+      std::this_thread::sleep_for(kRetryStep);
+    }
+  } catch (const Error& e) {
+    throw Error(e.what(), {"write", {}, output});
+  }
+  std::string what = output;
+  if (conflict.length > 0 && !whole) {
+    const int64_t first = conflict.start / kBytesPerFrame;
+    const int64_t last = (conflict.start + conflict.length) / kBytesPerFrame - 1;
+    what = first == last ? fmt::format("frame {} of {}", first, output)
+                         : fmt::format("frames {}-{} of {}", first, last, output);
+  }
+  throw Error(fmt::format("another render (pid and host: {}) is writing {}; wait for it or write "
+                          "elsewhere (lock file {})",
+                          conflict.holder, what, path),
+              {"write", {}, output});
+}
+
+// The frame number in a temporary's name ("o.0012.pluvia-tmp-7-0.exr" or, for an AOV written
+// beside the beauty, "o.rain.0012.pluvia-tmp-7-0.png", with the prefix "o."), or -1.
+int64_t frameOfTemporary(const std::string& name, const std::string& prefix) {
+  const size_t marker = name.find(".pluvia-tmp-");
+  if (marker == std::string::npos || marker <= prefix.size() || name.rfind(prefix, 0) != 0)
+    return -1;
+  std::string middle = name.substr(prefix.size(), marker - prefix.size());
+  for (const char* aov : {"rain.", "matte.", "depth."})
+    if (middle.rfind(aov, 0) == 0) middle = middle.substr(std::strlen(aov));
+  if (middle.empty() || middle.size() > 12 ||
+      middle.find_first_not_of("0123456789") != std::string::npos)
+    return -1;
+  return std::stoll(middle);
 }
 
 }  // namespace
@@ -44,50 +84,31 @@ std::string outputLockPath(const std::string& output) {
   return output + ".pluvia-lock";
 }
 
-OutputLock::OutputLock(const std::string& output) : path_(outputLockPath(output)) {
-  const ErrorContext context{"write", {}, output};
-  fs::ensureParentFolder(path_);
-  while (true) {
-    fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (fd_ < 0) {
-      throw Error(fmt::format("cannot create the lock file {}: {}", path_, std::strerror(errno)),
-                  context);
-    }
-    if (flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-      const int failure = errno;
-      const std::string holder = holderOf(fd_);
-      ::close(fd_);
-      fd_ = -1;
-      if (failure == EWOULDBLOCK) {
-        throw Error(fmt::format("another render (pid and host: {}) is writing {}; wait for it "
-                                "or write elsewhere (lock file {})",
-                                holder, output, path_),
-                    context);
-      }
-      throw Error(fmt::format("cannot lock {}: {}", path_, std::strerror(failure)), context);
-    }
-    // The holder we waited on may have removed the file between our open and our lock: the lock
-    // counts only on the file that is at the path now.
-    struct stat locked {
-    }, current{};
-    if (fstat(fd_, &locked) == 0 && stat(path_.c_str(), &current) == 0 &&
-        locked.st_ino == current.st_ino && locked.st_dev == current.st_dev) {
-      break;
-    }
-    ::close(fd_);
-    fd_ = -1;
-  }
-  const std::string holder = fmt::format("{} {}\n", getpid(), thisHost());
-  const bool described = ftruncate(fd_, 0) == 0 && pwrite(fd_, holder.data(), holder.size(), 0) ==
-                                                       static_cast<ssize_t>(holder.size());
-  // The lock holds without its text; only a refused render's message is the poorer.
-  if (!described) log::warning("cannot write the pid and host into the lock file " + path_);
-}
+OutputLock::OutputLock(const std::string& output, int64_t firstFrame, int64_t lastFrame)
+    : output_(output),
+      firstFrame_(firstFrame),
+      lastFrame_(lastFrame),
+      wholeOutput_(locksWholeOutput(output, firstFrame)),
+      lock_(lockFrames(output, firstFrame, lastFrame)) {}
 
-OutputLock::~OutputLock() {
-  // Removed while still locked, so no other render can hold a lock on the removed file.
-  ::unlink(path_.c_str());
-  ::close(fd_);
+int OutputLock::removeStaleTemporaries() const {
+  const std::filesystem::path folder = std::filesystem::path(output_).parent_path();
+  if (wholeOutput_) {
+    return fs::removeStaleTemporaries(folder, std::filesystem::path(output_).stem().string() + ".");
+  }
+  const SequencePattern pattern = *SequencePattern::parse(output_);
+  const std::string prefix = std::filesystem::path(pattern.prefix + "0").filename().string();
+  const std::string namePrefix = prefix.substr(0, prefix.size() - 1);
+  int removed = 0;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(folder.empty() ? "." : folder, ec)) {
+    const std::string name = entry.path().filename().string();
+    const int64_t frame = frameOfTemporary(name, namePrefix);
+    if (frame < firstFrame_ || frame > lastFrame_ || !fs::isTemporaryOfDeadProcess(name)) continue;
+    std::error_code removeError;
+    removed += std::filesystem::remove(entry.path(), removeError) ? 1 : 0;
+  }
+  return removed;
 }
 
 }  // namespace pluvia

@@ -1,7 +1,11 @@
 #pragma once
-// One render at a time into an output. Two renders with different seeds into one folder used to
-// interleave their frames; now the second is refused.
+// One render at a time into each frame of an output. Two renders with different seeds into one
+// folder used to interleave their frames; now the second is refused. Farm chunks render
+// disjoint frame ranges of one output at the same time: each locks only its frames.
+#include <cstdint>
 #include <string>
+
+#include "util/file_lock.h"
 
 namespace pluvia {
 
@@ -10,21 +14,29 @@ namespace pluvia {
 // or one image: "rain.mp4" -> "rain.mp4.pluvia-lock").
 std::string outputLockPath(const std::string& output);
 
-// Holds the output's lock file for its lifetime with flock(), writing "pid host" into it. The
-// kernel drops an flock when its process dies, so a killed render's lock file holds nothing and
-// the next render takes it over. Removed by the destructor.
+// Holds frames firstFrame..lastFrame of a sequence output (a movie or one image: all of it) for
+// its lifetime, as a byte range of the output's lock file (util/file_lock.h: the kernel drops it
+// when the render dies, so a killed render's lock holds nothing). The last holder removes the
+// lock file.
 class OutputLock {
  public:
-  // Creates the output folder when needed. Throws pluvia::Error naming the other render's pid
-  // and host when it holds the lock.
-  explicit OutputLock(const std::string& output);
-  ~OutputLock();
+  // Creates the output folder when needed. Throws pluvia::Error naming the other render's pid,
+  // host and frames when it holds any of these frames.
+  OutputLock(const std::string& output, int64_t firstFrame, int64_t lastFrame);
   OutputLock(const OutputLock&) = delete;
   OutputLock& operator=(const OutputLock&) = delete;
 
+  // Removes the temporaries that renders killed by SIGKILL or a crash left (their pid runs no
+  // process here): for a sequence, only those of the frames this lock holds, since a chunk on
+  // another host, whose pid means nothing here, may be writing other frames of the output.
+  // Returns the count.
+  int removeStaleTemporaries() const;
+
  private:
-  std::string path_;
-  int fd_ = -1;
+  std::string output_;
+  int64_t firstFrame_, lastFrame_;
+  bool wholeOutput_;
+  FileRangeLock lock_;
 };
 
 }  // namespace pluvia

@@ -14,6 +14,7 @@
 #include "io/sequence_pattern.h"
 #include "io/timecode.h"
 #include "pipeline/cache.h"
+#include "pipeline/clip_analysis.h"
 #include "pipeline/frame_metadata.h"
 #include "pipeline/frame_threads.h"
 #include "pipeline/proxy_clip_reader.h"
@@ -106,19 +107,6 @@ void refuseOverwritingInput(const ClipInfo& clip, const std::string& output,
   }
 }
 
-// The folder of an output, and the start of every file name it writes ("o." for o.####.exr and
-// its AOVs o.rain.####.exr; "rain." for rain.mp4).
-std::filesystem::path outputFolder(const std::string& output) {
-  return std::filesystem::path(output).parent_path();
-}
-std::string outputNamePrefix(const std::string& output) {
-  if (auto pattern = SequencePattern::parse(output)) {
-    const size_t slash = pattern->prefix.rfind('/');
-    return slash == std::string::npos ? pattern->prefix : pattern->prefix.substr(slash + 1);
-  }
-  return std::filesystem::path(output).stem().string() + ".";
-}
-
 // One image file holds one frame: more frames into it would each overwrite the last.
 void refuseSingleFileForManyFrames(const std::string& output, const std::vector<int64_t>& frames) {
   if (frames.size() < 2 || SequencePattern::parse(output) || isMovieExtension(output)) return;
@@ -206,12 +194,6 @@ WriterOptions writerOptionsFor(const RenderRequest& request, const Preset& prese
   return options;
 }
 
-// The temporaries of renders into this output that were killed (their process is gone).
-void removeTemporariesOfKilledRenders(const std::string& output) {
-  if (int removed = fs::removeStaleTemporaries(outputFolder(output), outputNamePrefix(output)))
-    log::info(fmt::format("removed {} temporary files left by renders that were killed", removed));
-}
-
 }  // namespace
 
 RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
@@ -262,14 +244,23 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
   };
 }
 
-void RenderSession::prepareStages() {
+void RenderSession::prepareStages(bool analysisOnly) {
+  if (request_.requireCache && cache_)
+    requireCachedAnalysis(clipAnalysisEntries(plan_, preset_, clip(), stageInfos_, *cache_),
+                          request_.input, request_.cacheDir);
   for (const auto& info : stageInfos_) {
-    if (plan_.available(info.spec.name)) stages_.emplace_back(&info, info.create(preset_));
+    if (!plan_.available(info.spec.name)) continue;
+    // `pluvia prepare`: the stages whose cache entry is missing.
+    if (analysisOnly && !cacheEntryMissing(cache_ ? &*cache_ : nullptr, info, preset_, clip()))
+      continue;
+    stages_.emplace_back(&info, info.create(preset_));
   }
   for (auto& [info, stage] : stages_) {
     const std::string& name = info->spec.name;
     ScopedTimer timer(&times_, name + " (prepare)");
     try {
+      // Held while the stage computes its missing cache entry, so that it is computed once.
+      const auto entryLock = lockMissingEntry(cache_ ? &*cache_ : nullptr, *info, preset_, clip());
       stage->prepare(context_);
     } catch (const Error& e) {
       if (!e.context().stage.empty()) throw;
@@ -341,8 +332,10 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset,
   summary.plan = session.plan();
   refuseSingleFileForManyFrames(request.output, session.frames());
   // Held until the last frame is written, --skip-existing's checks included.
-  OutputLock lock(request.output);
-  removeTemporariesOfKilledRenders(request.output);
+  OutputLock lock(request.output, session.frames().front(), session.frames().back());
+  if (int removed = lock.removeStaleTemporaries()) {
+    log::info(fmt::format("removed {} temporary files left by renders that were killed", removed));
+  }
   // Frames already on disk are skipped before any decoding.
   std::vector<int64_t> frames = session.frames();
   if (request.skipExisting) {

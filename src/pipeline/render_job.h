@@ -31,6 +31,9 @@ struct RenderRequest {
   std::vector<int64_t> frameList;
   int threads = 2;       // writer threads for sequences
   std::string cacheDir;  // per-clip analysis cache; empty: none
+  // Fail before any work when per-clip analysis is missing from cacheDir, instead of computing
+  // it: farm chunks, after `pluvia prepare` filled the cache.
+  bool requireCache = false;
   bool skipExisting = false;
   std::vector<std::string> aovs;  // "rain", "matte", "depth"
   std::string commandLine;        // recorded in the log
@@ -67,12 +70,16 @@ class RenderSession {
   const ClipInfo& clip() const { return reader_->info(); }        // at the proxy size
   const std::vector<int64_t>& frames() const { return frames_; }  // request's range, in order
   const Plan& plan() const { return plan_; }
+  // The per-clip analysis cache (a proxy's own folder under --cache), or null without --cache.
+  const ArtifactCache* cache() const { return cache_ ? &*cache_ : nullptr; }
   // What the output files record: fps, AOVs and metadata (`pluvia:proxy` on a proxy render).
   const WriterOptions& writerOptions() const { return writerOptions_; }
 
   // Builds the stages the plan keeps and prepares them (per-clip analysis, GPU set-up). Once,
-  // before processFrame().
-  void prepareStages();
+  // before processFrame(). A per-clip cache entry missing from the cache is computed by one
+  // process, the others waiting for it (pipeline/clip_analysis.h). `analysisOnly` (`pluvia
+  // prepare`): only the stages whose analysis goes into the cache, and no frame after.
+  void prepareStages(bool analysisOnly = false);
   // The frame decoded, its NaN/Inf replaced (with a warning) and converted to the working space.
   FrameContext readFrame(int64_t frame);
   // Runs the per-frame stages (frames in increasing order); a frame no stage gave depth gets

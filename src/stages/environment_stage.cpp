@@ -240,7 +240,10 @@ StageInfo environmentStageInfo() {
   info.spec = lightingSection();
   info.perClip = true;
   info.cacheKey = [](const Preset& p, const ClipInfo& clip) {
-    return environmentCacheKey(lightingSettings(p), colorSettings(p), cameraSettings(p), clip);
+    LightingSettings lighting = lightingSettings(p);
+    // An HDR is read, not computed: nothing to cache (`--require-cache` must not ask for it).
+    if (lighting.source == "hdr") return std::string();
+    return environmentCacheKey(lighting, colorSettings(p), cameraSettings(p), clip);
   };
   info.create = [](const Preset& p) {
     return std::make_unique<EnvironmentStage>(lightingSettings(p), colorSettings(p),

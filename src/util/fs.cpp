@@ -75,21 +75,25 @@ void writeFileAtomically(const stdfs::path& target, const void* bytes, size_t si
   commitTemporary(tmp, target);
 }
 
-int removeStaleTemporaries(const stdfs::path& folder, const std::string& namePrefix) {
+bool isTemporaryOfDeadProcess(const std::string& name) {
   const std::string marker = ".pluvia-tmp-";
+  const size_t at = name.find(marker);
+  if (at == std::string::npos) return false;
+  const size_t digits = at + marker.size();
+  const size_t end = name.find('-', digits);
+  const std::string pid = name.substr(digits, end == std::string::npos ? end : end - digits);
+  if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos)
+    return false;
+  // ESRCH: no such process. EPERM means it runs (as another user): keep its files.
+  return ::kill(static_cast<pid_t>(std::stol(pid)), 0) != 0 && errno == ESRCH;
+}
+
+int removeStaleTemporaries(const stdfs::path& folder, const std::string& namePrefix) {
   int removed = 0;
   std::error_code ec;
   for (const auto& entry : stdfs::directory_iterator(folder.empty() ? "." : folder, ec)) {
     const std::string name = entry.path().filename().string();
-    const size_t at = name.find(marker);
-    if (at == std::string::npos || name.rfind(namePrefix, 0) != 0) continue;
-    const size_t digits = at + marker.size();
-    const size_t end = name.find('-', digits);
-    const std::string pid = name.substr(digits, end == std::string::npos ? end : end - digits);
-    if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos)
-      continue;
-    // ESRCH: no such process. EPERM means it runs (as another user): keep its files.
-    if (::kill(static_cast<pid_t>(std::stol(pid)), 0) == 0 || errno != ESRCH) continue;
+    if (name.rfind(namePrefix, 0) != 0 || !isTemporaryOfDeadProcess(name)) continue;
     std::error_code removeError;
     removed += stdfs::remove(entry.path(), removeError) ? 1 : 0;
   }

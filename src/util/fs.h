@@ -19,6 +19,10 @@ void commitTemporary(const std::filesystem::path& tmp, const std::filesystem::pa
 // under the target's name is always whole.
 void writeFileAtomically(const std::filesystem::path& target, const void* bytes, size_t size);
 
+// True when `name` is a temporary (see temporaryPathFor) whose process, by the pid in its name,
+// runs no process here (crashed, killed by SIGKILL; or it ran on another host).
+bool isTemporaryOfDeadProcess(const std::string& name);
+
 // Removes the temporaries in `folder` whose names start with `namePrefix` (one output's files:
 // "o." for o.####.exr) and whose process is gone (the pid in their name, see temporaryPathFor,
 // runs no process here: a render killed by SIGKILL or a crash), with a movie temporary's ffmpeg

@@ -5,7 +5,6 @@
 
 #include <fcntl.h>
 #include <signal.h>
-#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -74,40 +73,6 @@ int countTemporaries(const stdfs::path& dir) {
   for (const auto& e : stdfs::directory_iterator(dir))
     count += e.path().filename().string().find("pluvia-tmp") != std::string::npos;
   return count;
-}
-
-// Starts pluvia in the background, its output going to `log`; returns its pid.
-pid_t startPluvia(const std::vector<std::string>& args, const stdfs::path& log) {
-  std::vector<std::string> argv{pluviaBinary().string()};
-  argv.insert(argv.end(), args.begin(), args.end());
-  std::vector<char*> pointers;
-  for (std::string& a : argv) pointers.push_back(a.data());
-  pointers.push_back(nullptr);
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    dup2(fd, 1);
-    dup2(fd, 2);
-    execv(pointers[0], pointers.data());
-    _exit(127);
-  }
-  return pid;
-}
-
-// The exit code, or 1000 + the signal that killed it.
-int waitForExit(pid_t pid) {
-  int status = 0;
-  waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 1000 + WTERMSIG(status);
-}
-
-// Waits up to 60 s for `ready` to hold.
-bool waitUntil(const std::function<bool()>& ready) {
-  for (int i = 0; i < 600; ++i) {
-    if (ready()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  return false;
 }
 
 // A 64x48 movie of `frames` frames, made by ffmpeg.
@@ -269,23 +234,67 @@ TEST(CliFrameSafety, ASecondRenderIntoTheSameFramesIsRefusedNamingTheFirst) {
   auto dir = freshTempDir("output_lock");
   auto plate = writePlate(dir, 1, 2);
   const std::string lockPath = (dir / "o.####.png.pluvia-lock").string();
-  // A render in progress: its lock file, held.
+  // A render in progress: its lock file, held whole (as a movie's render holds it).
   std::ofstream(lockPath) << "4242 farm-node-7\n";
-  const int fd = ::open(lockPath.c_str(), O_RDWR);
+  const int fd = ::open(lockPath.c_str(), O_RDWR | O_CLOEXEC);
   ASSERT_GE(fd, 0);
-  ASSERT_EQ(flock(fd, LOCK_EX | LOCK_NB), 0);
+  struct flock whole {};
+  whole.l_type = F_WRLCK;
+  whole.l_whence = SEEK_SET;
+  ASSERT_EQ(fcntl(fd, F_OFD_SETLK, &whole), 0);
   auto r = runPluvia({"render", plate, "-p", "drizzle", "-o", (dir / "o.%04d.png").string()});
   EXPECT_EQ(r.exitCode, 1) << r.output;
   EXPECT_NE(r.output.find("another render (pid and host: 4242 farm-node-7)"), std::string::npos)
       << r.output;
   EXPECT_FALSE(stdfs::exists(dir / "o.0001.png"));
-  // Once that render is gone (its process dead: the kernel drops the flock), the file left
+  // Once that render is gone (its process dead: the kernel drops the lock), the file left
   // behind holds nothing: the next render takes it and removes it when done.
   ::close(fd);
   r = runPluvia({"render", plate, "-p", "drizzle", "-o", (dir / "o.####.png").string()});
   EXPECT_EQ(r.exitCode, 0) << r.output;
   EXPECT_TRUE(decodes(dir / "o.0002.png"));
   EXPECT_FALSE(stdfs::exists(lockPath));
+}
+
+TEST(CliFrameSafety, ChunksOfOneOutputRenderTogetherAndAnOverlapIsRefused) {
+  auto dir = freshTempDir("output_lock_chunks");
+  auto plate = writePlate(dir, 1, 4);
+  const std::string lockPath = (dir / "o.####.png.pluvia-lock").string();
+  // A farm chunk rendering frames 3-4 (on another host, say): its bytes of the lock file
+  // (64 per frame), with its pid and host at their start, and a temporary of its frame 3.
+  const int fd = ::open(lockPath.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(pwrite(fd, "4242 farm-node-7\n", 17, 3 * 64), 17);
+  struct flock frames3to4 {};
+  frames3to4.l_type = F_WRLCK;
+  frames3to4.l_whence = SEEK_SET;
+  frames3to4.l_start = 3 * 64;
+  frames3to4.l_len = 2 * 64;
+  ASSERT_EQ(fcntl(fd, F_OFD_SETLK, &frames3to4), 0);
+  // Pid 999999 runs no process here; one temporary is the other chunk's, one a killed render's.
+  std::ofstream(dir / "o.0003.pluvia-tmp-999999-0.png") << "half a frame";
+  std::ofstream(dir / "o.0001.pluvia-tmp-999999-1.png") << "half a frame";
+
+  auto overlap = runPluvia(
+      {"render", plate, "-p", "drizzle", "-o", (dir / "o.####.png").string(), "--frames", "2-3"});
+  EXPECT_EQ(overlap.exitCode, 1) << overlap.output;
+  EXPECT_NE(overlap.output.find("another render (pid and host: 4242 farm-node-7) is writing "
+                                "frames 3-4 of "),
+            std::string::npos)
+      << overlap.output;
+  EXPECT_FALSE(stdfs::exists(dir / "o.0002.png"));
+
+  auto chunk = runPluvia(
+      {"render", plate, "-p", "drizzle", "-o", (dir / "o.####.png").string(), "--frames", "1-2"});
+  EXPECT_EQ(chunk.exitCode, 0) << chunk.output;
+  EXPECT_TRUE(decodes(dir / "o.0001.png"));
+  EXPECT_TRUE(decodes(dir / "o.0002.png"));
+  // Its own frames' temporary is removed; the other chunk's is not, though its pid runs nothing
+  // here; and the lock file stays for the other chunk.
+  EXPECT_FALSE(stdfs::exists(dir / "o.0001.pluvia-tmp-999999-1.png"));
+  EXPECT_TRUE(stdfs::exists(dir / "o.0003.pluvia-tmp-999999-0.png"));
+  EXPECT_TRUE(stdfs::exists(lockPath));
+  ::close(fd);
 }
 
 TEST(CliFrameSafety, SigtermStopsAMovieRenderAndRemovesItsPartialFile) {

@@ -1,12 +1,16 @@
 #include "test_support.h"
 
+#include <fcntl.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
+#include <chrono>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include <gtest/gtest.h>
 #include "util/subprocess.h"
@@ -46,6 +50,37 @@ CommandResult runPluvia(const std::vector<std::string>& args) {
   argv.insert(argv.end(), args.begin(), args.end());
   ProcessResult r = runProcess(argv);
   return {r.exitCode, r.output};
+}
+
+int startPluvia(const std::vector<std::string>& args, const stdfs::path& log) {
+  std::vector<std::string> argv{pluviaBinary().string()};
+  argv.insert(argv.end(), args.begin(), args.end());
+  std::vector<char*> pointers;
+  for (std::string& a : argv) pointers.push_back(a.data());
+  pointers.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(fd, 1);
+    dup2(fd, 2);
+    execv(pointers[0], pointers.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+int waitForExit(int pid) {
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 1000 + WTERMSIG(status);
+}
+
+bool waitUntil(const std::function<bool()>& ready, double seconds) {
+  for (int i = 0; i < static_cast<int>(seconds * 10); ++i) {
+    if (ready()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return ready();
 }
 
 Image readImageFile(const stdfs::path& path) {

@@ -28,6 +28,14 @@ struct CommandResult {
 // Runs build/pluvia with the arguments (no shell).
 CommandResult runPluvia(const std::vector<std::string>& args);
 
+// Starts build/pluvia with the arguments in the background, its stdout and stderr going to
+// `log`; returns its pid.
+int startPluvia(const std::vector<std::string>& args, const std::filesystem::path& log);
+// Waits for a child; its exit code, or 1000 + the signal that killed it.
+int waitForExit(int pid);
+// Polls `ready` every 100 ms for up to `seconds`; whether it came to hold.
+bool waitUntil(const std::function<bool()>& ready, double seconds = 60);
+
 // A CSV line's fields (no quoting: the reports write none).
 std::vector<std::string> splitCsv(const std::string& line);
 // A CSV field as a number; a field that is not wholly a number fails the test, naming `line`.

@@ -1,0 +1,218 @@
+// pluvia farm: a render split into chunks on a Slurm cluster (farm slurm), its state (farm
+// status), and a movie output's last step (farm assemble). The work is in src/farm.
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "commands.h"
+#include "common.h"
+#include "farm/assemble.h"
+#include "farm/farm_job.h"
+#include "farm/slurm.h"
+#include "io/clip_reader.h"
+#include "io/sequence_pattern.h"
+#include "pipeline/frame_metadata.h"
+#include "stages/registry.h"
+#include "util/error.h"
+#include "util/interrupt.h"
+#include "util/log.h"
+#include "util/timer.h"
+
+namespace pluvia::cli {
+namespace stdfs = std::filesystem;
+
+namespace {
+
+// Beside the output, named after it: out/rain.####.exr and out/rain.mp4 -> out/rain.farm.
+std::string defaultFarmDir(const std::string& output) {
+  std::string name = stdfs::path(output).filename().string();
+  if (auto pattern = SequencePattern::parse(name))
+    name = pattern->prefix;
+  else
+    name = stdfs::path(name).stem().string();
+  while (!name.empty() && (name.back() == '.' || name.back() == '_')) name.pop_back();
+  return (stdfs::path(output).parent_path() / ((name.empty() ? "pluvia" : name) + ".farm"))
+      .string();
+}
+
+void addSlurmCommand(CLI::App* farm) {
+  auto* cmd = farm->add_subcommand(
+      "slurm",
+      "write (and with --submit submit) a Slurm job: prepare, render chunks as a job array after "
+      "it, and for a movie an assembly job after them");
+  struct Args {
+    std::string input, preset, output, frames, cache, farmDir, partition;
+    std::vector<std::string> sets, sbatchArgs;
+    int chunk = 0, threads = 2, cpus = 0;
+    bool submit = false, dryRun = false;
+  };
+  auto args = std::make_shared<Args>();
+  addClipPresetOptions(cmd, args->input, args->preset, args->sets);
+  cmd->add_option("-o,--output", args->output,
+                  "sequence pattern (out.####.exr) or movie (out.mp4), on a disk every node sees")
+      ->required();
+  cmd->add_option("--chunk", args->chunk, "frames per render task")
+      ->required()
+      ->check(CLI::Range(1, 1000000));
+  cmd->add_option("--frames", args->frames, "FIRST-LAST, in the clip's frame numbers (all)");
+  cmd->add_option("--cache", args->cache,
+                  "per-clip analysis cache every node sees (default: FARM_DIR/cache)");
+  cmd->add_option("--farm-dir", args->farmDir,
+                  "scripts, logs and task records (default: beside the output, NAME.farm)");
+  cmd->add_option("--partition", args->partition, "Slurm partition");
+  cmd->add_option("--cpus-per-task", args->cpus, "CPUs per job (default: the cluster's)");
+  cmd->add_option("--sbatch-arg", args->sbatchArgs,
+                  "another #SBATCH line for every job, e.g. --sbatch-arg=--time=2:00:00");
+  cmd->add_option("--threads", args->threads, "writer threads per chunk")->check(CLI::Range(1, 64));
+  auto* submit = cmd->add_flag("--submit", args->submit, "submit the jobs through sbatch");
+  cmd->add_flag("--dry-run", args->dryRun, "print the scripts, write and submit nothing")
+      ->excludes(submit);
+  cmd->callback([=] {
+    const Preset preset = loadPreset(args->preset, args->sets);  // refused here, not on the farm
+    const std::unique_ptr<ClipReader> reader = openClip(args->input);
+    const ClipInfo& clip = reader->info();
+    farm::FarmJob job;
+    job.pluvia = stdfs::read_symlink("/proc/self/exe").string();
+    job.input = stdfs::absolute(args->input).string();
+    job.preset =
+        stdfs::exists(args->preset) ? stdfs::absolute(args->preset).string() : args->preset;
+    job.sets = args->sets;
+    job.output = stdfs::absolute(args->output).string();
+    job.farmDir =
+        stdfs::absolute(args->farmDir.empty() ? defaultFarmDir(args->output) : args->farmDir)
+            .string();
+    job.workingDir = stdfs::current_path().string();
+    job.cacheDir =
+        stdfs::absolute(args->cache.empty() ? (stdfs::path(job.farmDir) / "cache").string()
+                                            : args->cache)
+            .string();
+    job.firstFrame = clip.frames.front();
+    job.lastFrame = clip.frames.back();
+    if (!args->frames.empty()) {
+      std::tie(job.firstFrame, job.lastFrame) = parseFrameRange(args->frames);
+      if (job.firstFrame < clip.frames.front() || job.lastFrame > clip.frames.back())
+        throw UsageError(fmt::format("--frames {}: {} has frames {}-{}", args->frames, clip.path,
+                                     clip.frames.front(), clip.frames.back()));
+    }
+    if (job.firstFrame < 0)
+      throw UsageError(
+          fmt::format("--frames {}: a farm job renders frames 0 and up", args->frames));
+    job.chunkFrames = args->chunk;
+    job.fps = preset.number("camera.fps") > 0 ? preset.number("camera.fps") : clip.fps;
+    job.threads = args->threads;
+    // The chunks' outputs must not be the plate's files (the render refuses it too, but only on
+    // the farm, after the prepare job).
+    std::vector<std::string> outputs{job.output};
+    if (auto pattern = SequencePattern::parse(job.output))
+      for (int64_t f = job.firstFrame; f <= job.lastFrame; ++f)
+        outputs.push_back(pattern->pathFor(f));
+    refuseOverwritingInput(clip.files, "-o", outputs);
+
+    farm::SlurmOptions options;
+    options.partition = args->partition;
+    options.cpusPerTask = args->cpus;
+    options.sbatchArgs = args->sbatchArgs;
+    const auto scripts = farm::slurmScripts(job, options);
+    const std::string summary =
+        fmt::format("{} frames {}-{} in {} chunks of {} -> {}", job.input, job.firstFrame,
+                    job.lastFrame, farm::chunkCount(job), job.chunkFrames, job.output);
+    if (args->dryRun) {
+      for (const auto& script : scripts)
+        std::cout << fmt::format("==> {}/{} <==\n{}\n", job.farmDir, script.name, script.text);
+      log::info("dry run, nothing written: " + summary);
+      return;
+    }
+    farm::writeSlurmFarmFolder(job, scripts);
+    if (!args->submit) {
+      log::info(fmt::format("wrote the Slurm job to {} ({}); submit it with {}/submit.sh",
+                            job.farmDir, summary, job.farmDir));
+      return;
+    }
+    const farm::SlurmJobIds ids = farm::submitSlurm(job);
+    std::cout << fmt::format("prepare job {}\nrender job array {} ({} tasks, after {})\n",
+                             ids.prepare, ids.render, farm::chunkCount(job), ids.prepare);
+    if (!ids.assemble.empty())
+      std::cout << fmt::format("assemble job {} (after {})\n", ids.assemble, ids.render);
+    log::info(fmt::format("submitted {}; see `pluvia farm status {}`", summary, job.farmDir));
+  });
+}
+
+void addStatusCommand(CLI::App* farm, Invocation& invocation) {
+  auto* cmd = farm->add_subcommand(
+      "status",
+      "the state of a farm job's jobs and tasks (squeue, sacct, task records); exit 1 "
+      "when a task failed");
+  struct Args {
+    std::string farmDir;
+    bool wait = false;
+    double timeout = 0;
+  };
+  auto args = std::make_shared<Args>();
+  cmd->add_option("FARM_DIR", args->farmDir, "the farm job's folder")->required();
+  cmd->add_flag("--wait", args->wait, "wait until every job has ended");
+  cmd->add_option("--timeout", args->timeout, "with --wait: give up after this many seconds");
+  cmd->callback([=, &invocation] {
+    InterruptHandlers stopCleanly;
+    const auto started = std::chrono::steady_clock::now();
+    farm::FarmStatus status = farm::slurmStatus(args->farmDir);
+    while (args->wait && !status.finished) {
+      if (args->timeout > 0 && secondsSince(started) > args->timeout) {
+        std::cout << status.text;
+        throw Error(fmt::format("the farm job in {} has not ended after {:g} s", args->farmDir,
+                                args->timeout),
+                    {"farm", {}, args->farmDir});
+      }
+      throwIfInterrupted();
+      std::this_thread::sleep_for(std::chrono::seconds(1));
+      status = farm::slurmStatus(args->farmDir);
+    }
+    std::cout << status.text;
+    if (status.failed) invocation.exitCode = 1;
+  });
+}
+
+void addAssembleCommand(CLI::App* farm) {
+  auto* cmd = farm->add_subcommand(
+      "assemble", "encode a farm job's rendered frames into its movie (the assembly job)");
+  struct Args {
+    std::string frames, output, preset, range;
+    std::vector<std::string> sets;
+    double fps = 24;
+  };
+  auto args = std::make_shared<Args>();
+  cmd->add_option("FRAMES", args->frames, "the chunks' frames (frames.####.tif)")->required();
+  cmd->add_option("-o,--output", args->output, "the movie (out.mp4)")->required();
+  cmd->add_option("--fps", args->fps, "frames per second")->required()->check(CLI::PositiveNumber);
+  cmd->add_option("--frames", args->range, "FIRST-LAST")->required();
+  cmd->add_option("-p,--preset", args->preset, "the render's preset, recorded in the movie")
+      ->required();
+  cmd->add_option("--set", args->sets, "the render's overrides");
+  cmd->callback([=] {
+    const auto [first, last] = parseFrameRange(args->range);
+    WriterOptions options;
+    options.fps = args->fps;
+    options.metadata = frameMetadata(loadPreset(args->preset, args->sets), allStages());
+    InterruptHandlers stopCleanly;
+    const auto started = std::chrono::steady_clock::now();
+    const int frames = farm::assembleMovie(args->frames, first, last, args->output, options);
+    log::info(fmt::format("encoded {} frames into {} in {:.1f} s", frames, args->output,
+                          secondsSince(started)));
+  });
+}
+
+}  // namespace
+
+void addFarmCommand(CLI::App& app, Invocation& invocation) {
+  auto* farm = app.add_subcommand("farm", "render on a farm: Slurm jobs, their state, assembly");
+  farm->require_subcommand(1);
+  addSlurmCommand(farm);
+  addStatusCommand(farm, invocation);
+  addAssembleCommand(farm);
+}
+
+}  // namespace pluvia::cli

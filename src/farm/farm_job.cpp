@@ -1,0 +1,114 @@
+#include "farm/farm_job.h"
+
+#include <algorithm>
+#include <filesystem>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "io/sequence_pattern.h"
+#include "util/error.h"
+
+namespace pluvia::farm {
+
+int chunkCount(const FarmJob& job) {
+  const int64_t frames = job.lastFrame - job.firstFrame + 1;
+  return static_cast<int>((frames + job.chunkFrames - 1) / job.chunkFrames);
+}
+
+std::pair<int64_t, int64_t> chunkFrames(const FarmJob& job, int index) {
+  const int64_t first = job.firstFrame + int64_t(index) * job.chunkFrames;
+  return {first, std::min(first + job.chunkFrames - 1, job.lastFrame)};
+}
+
+bool isMovieJob(const FarmJob& job) {
+  return isMovieExtension(job.output);
+}
+
+std::string chunkOutput(const FarmJob& job) {
+  if (!isMovieJob(job)) return job.output;
+  const std::string name = std::filesystem::path(job.output).stem().string();
+  return (std::filesystem::path(job.farmDir) / "frames" / (name + ".####.tif")).string();
+}
+
+std::string shellQuote(const std::string& word) {
+  if (!word.empty() && word.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                              "0123456789_-.,/:=+@%") == std::string::npos)
+    return word;
+  std::string quoted = "'";
+  for (char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+namespace {
+
+std::string presetArguments(const FarmJob& job) {
+  std::string args = "-p " + shellQuote(job.preset);
+  for (const std::string& set : job.sets) args += " --set " + shellQuote(set);
+  return args;
+}
+
+}  // namespace
+
+std::string prepareCommand(const FarmJob& job) {
+  return fmt::format("{} prepare {} {} --cache {}", shellQuote(job.pluvia), shellQuote(job.input),
+                     presetArguments(job), shellQuote(job.cacheDir));
+}
+
+std::string renderCommand(const FarmJob& job, const std::string& frames) {
+  // The frame range stays open to the shell (it may be "$FIRST-$LAST"): double quotes.
+  return fmt::format(
+      "{} render {} {} -o {} --frames \"{}\" --cache {} --require-cache --skip-existing "
+      "--threads {}",
+      shellQuote(job.pluvia), shellQuote(job.input), presetArguments(job),
+      shellQuote(chunkOutput(job)), frames, shellQuote(job.cacheDir), job.threads);
+}
+
+std::string assembleCommand(const FarmJob& job) {
+  return fmt::format("{} farm assemble {} -o {} --fps {} --frames {}-{} {}", shellQuote(job.pluvia),
+                     shellQuote(chunkOutput(job)), shellQuote(job.output), job.fps, job.firstFrame,
+                     job.lastFrame, presetArguments(job));
+}
+
+std::string farmJobJson(const FarmJob& job) {
+  nlohmann::json json{{"pluvia", job.pluvia},
+                      {"input", job.input},
+                      {"preset", job.preset},
+                      {"sets", job.sets},
+                      {"output", job.output},
+                      {"cache", job.cacheDir},
+                      {"farm_dir", job.farmDir},
+                      {"working_dir", job.workingDir},
+                      {"first_frame", job.firstFrame},
+                      {"last_frame", job.lastFrame},
+                      {"chunk_frames", job.chunkFrames},
+                      {"fps", job.fps},
+                      {"threads", job.threads}};
+  return json.dump(2) + "\n";
+}
+
+FarmJob farmJobFromJson(const std::string& text, const std::string& path) {
+  try {
+    const nlohmann::json json = nlohmann::json::parse(text);
+    FarmJob job;
+    job.pluvia = json.at("pluvia");
+    job.input = json.at("input");
+    job.preset = json.at("preset");
+    job.sets = json.at("sets").get<std::vector<std::string>>();
+    job.output = json.at("output");
+    job.cacheDir = json.at("cache");
+    job.farmDir = json.at("farm_dir");
+    job.workingDir = json.at("working_dir");
+    job.firstFrame = json.at("first_frame");
+    job.lastFrame = json.at("last_frame");
+    job.chunkFrames = json.at("chunk_frames");
+    job.fps = json.at("fps");
+    job.threads = json.at("threads");
+    return job;
+  } catch (const std::exception& e) {
+    throw Error(fmt::format("{} is not a pluvia farm job description: {}", path, e.what()),
+                {"farm", {}, path});
+  }
+}
+
+}  // namespace pluvia::farm

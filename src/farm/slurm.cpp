@@ -1,0 +1,315 @@
+#include "farm/slurm.h"
+
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "util/error.h"
+#include "util/fs.h"
+#include "util/subprocess.h"
+
+namespace pluvia::farm {
+namespace stdfs = std::filesystem;
+
+namespace {
+
+std::string header(const FarmJob& job, const SlurmOptions& options, const std::string& jobName,
+                   const std::string& logName) {
+  std::string text = "#!/bin/bash\n";
+  text += fmt::format("#SBATCH --job-name={}\n", jobName);
+  text +=
+      fmt::format("#SBATCH --output={}\n", (stdfs::path(job.farmDir) / "logs" / logName).string());
+  text += fmt::format("#SBATCH --chdir={}\n", job.workingDir);
+  if (!options.partition.empty())
+    text += fmt::format("#SBATCH --partition={}\n", options.partition);
+  if (options.cpusPerTask > 0)
+    text += fmt::format("#SBATCH --cpus-per-task={}\n", options.cpusPerTask);
+  for (const std::string& arg : options.sbatchArgs) text += fmt::format("#SBATCH {}\n", arg);
+  return text;
+}
+
+// Runs `command`, then records its exit code, the host and the log in tasks/RECORD.status, for
+// `pluvia farm status` to list failed tasks where Slurm keeps no accounting.
+std::string recordedRun(const FarmJob& job, const std::string& command, const std::string& record,
+                        const std::string& log) {
+  return fmt::format(
+      "{}\n"
+      "code=$?\n"
+      "printf '%s %s %s\\n' \"$code\" \"$(hostname)\" \"{}\" > {}/\"{}.status\"\n"
+      "exit $code\n",
+      command, log, shellQuote((stdfs::path(job.farmDir) / "tasks").string()), record);
+}
+
+std::string jobLabel(const FarmJob& job) {
+  return stdfs::path(job.output).stem().stem().string();
+}
+
+}  // namespace
+
+std::vector<SlurmScript> slurmScripts(const FarmJob& job, const SlurmOptions& options) {
+  const std::string label = jobLabel(job);
+  const std::string logs = (stdfs::path(job.farmDir) / "logs").string();
+  std::vector<SlurmScript> scripts;
+  const std::string intro = fmt::format("# pluvia farm job: {} -> {}, frames {}-{}\n", job.input,
+                                        job.output, job.firstFrame, job.lastFrame);
+
+  scripts.push_back(
+      {"prepare.sbatch", header(job, options, "pluvia-prepare-" + label, "prepare-%j.log") + intro +
+                             "# The per-clip analysis, once, into the shared cache.\n" +
+                             recordedRun(job, prepareCommand(job), "prepare",
+                                         logs + "/prepare-${SLURM_JOB_ID}.log")});
+
+  const int chunks = chunkCount(job);
+  std::string render = header(job, options, "pluvia-render-" + label, "render-%A_%a.log");
+  render += fmt::format("#SBATCH --array=0-{}\n#SBATCH --requeue\n", chunks - 1);
+  render += intro;
+  render += fmt::format(
+      "# Task i renders frames {} + i x {} on, {} at most; --skip-existing keeps the frames a\n"
+      "# requeued task already wrote.\n"
+      "FIRST=$(( {} + SLURM_ARRAY_TASK_ID * {} ))\n"
+      "LAST=$(( FIRST + {} ))\n"
+      "if [ \"$LAST\" -gt {} ]; then LAST={}; fi\n",
+      job.firstFrame, job.chunkFrames, job.chunkFrames, job.firstFrame, job.chunkFrames,
+      job.chunkFrames - 1, job.lastFrame, job.lastFrame);
+  render += recordedRun(job, renderCommand(job, "$FIRST-$LAST"), "render-${SLURM_ARRAY_TASK_ID}",
+                        logs + "/render-${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}.log");
+  scripts.push_back({"render.sbatch", render});
+
+  if (isMovieJob(job)) {
+    scripts.push_back(
+        {"assemble.sbatch", header(job, options, "pluvia-assemble-" + label, "assemble-%j.log") +
+                                intro + "# The chunks' frames encoded into the movie.\n" +
+                                recordedRun(job, assembleCommand(job), "assemble",
+                                            logs + "/assemble-${SLURM_JOB_ID}.log")});
+  }
+
+  std::string submit =
+      "#!/bin/bash\n" + intro +
+      "# Submits the jobs, each after the success of the one before (what `pluvia farm slurm\n"
+      "# --submit` does).\nset -euo pipefail\ncd " +
+      shellQuote(job.farmDir) +
+      "\nprepare=$(sbatch --parsable prepare.sbatch | cut -d';' -f1)\n"
+      "render=$(sbatch --parsable --dependency=afterok:$prepare render.sbatch | cut -d';' -f1)\n";
+  if (isMovieJob(job))
+    submit +=
+        "assemble=$(sbatch --parsable --dependency=afterok:$render assemble.sbatch | cut -d';' "
+        "-f1)\necho \"prepare $prepare render $render assemble $assemble\"\n";
+  else
+    submit += "echo \"prepare $prepare render $render\"\n";
+  scripts.push_back({"submit.sh", submit});
+  return scripts;
+}
+
+void writeSlurmFarmFolder(const FarmJob& job, const std::vector<SlurmScript>& scripts) {
+  const stdfs::path dir = job.farmDir;
+  for (const char* sub : {"logs", "tasks"}) {
+    std::error_code ec;
+    stdfs::create_directories(dir / sub, ec);
+    if (ec)
+      throw Error(
+          fmt::format("cannot create the farm folder {}: {}", (dir / sub).string(), ec.message()),
+          {"farm", {}, dir.string()});
+  }
+  // A farm folder is for one job: the task records of an earlier one would be read as this one's.
+  for (const auto& entry : stdfs::directory_iterator(dir / "tasks")) stdfs::remove(entry.path());
+  std::error_code ignored;
+  stdfs::remove(dir / "jobs.json", ignored);
+  for (const SlurmScript& script : scripts) {
+    fs::writeTextFile(dir / script.name, script.text);
+    stdfs::permissions(dir / script.name, stdfs::perms::owner_exec | stdfs::perms::group_exec,
+                       stdfs::perm_options::add);
+  }
+  fs::writeTextFile(dir / "farm.json", farmJobJson(job));
+}
+
+namespace {
+
+std::string submitOne(const FarmJob& job, const std::string& script, const std::string& after) {
+  std::vector<std::string> argv{"sbatch", "--parsable"};
+  if (!after.empty()) argv.push_back("--dependency=afterok:" + after);
+  argv.push_back((stdfs::path(job.farmDir) / script).string());
+  const ProcessResult result = runProcess(argv);
+  std::string id = result.output.substr(0, result.output.find_first_of(";\n"));
+  if (result.exitCode != 0 || id.empty() || id.find_first_not_of("0123456789") != std::string::npos)
+    throw Error(
+        fmt::format("sbatch {} failed (exit {}): {}", script, result.exitCode, result.output),
+        {"farm", {}, (stdfs::path(job.farmDir) / script).string()});
+  return id;
+}
+
+}  // namespace
+
+SlurmJobIds submitSlurm(const FarmJob& job) {
+  if (!programAvailable("sbatch"))
+    throw Error("sbatch is not on PATH: submit from a Slurm login node, or run " +
+                    (stdfs::path(job.farmDir) / "submit.sh").string() + " on one",
+                {"farm", {}, job.farmDir});
+  SlurmJobIds ids;
+  nlohmann::json record;
+  const auto save = [&] {
+    record = {{"scheduler", "slurm"},
+              {"prepare", ids.prepare},
+              {"render", ids.render},
+              {"assemble", ids.assemble}};
+    fs::writeTextFile(stdfs::path(job.farmDir) / "jobs.json", record.dump(2) + "\n");
+  };
+  // Each id is recorded as soon as it is known, so a failed later submission leaves the earlier
+  // jobs findable (by `pluvia farm status`, and to scancel).
+  ids.prepare = submitOne(job, "prepare.sbatch", "");
+  save();
+  ids.render = submitOne(job, "render.sbatch", ids.prepare);
+  save();
+  if (isMovieJob(job)) {
+    ids.assemble = submitOne(job, "assemble.sbatch", ids.render);
+    save();
+  }
+  return ids;
+}
+
+namespace {
+
+struct UnitState {
+  std::string state;   // "COMPLETED", "FAILED (exit 1)", "PENDING (Dependency)" ...
+  std::string detail;  // host and log
+  bool failed = false;
+  bool done = false;
+};
+
+// squeue's view of a job (and its array's tasks, expanded): id -> "STATE (reason)". Empty when
+// the job has left the queue.
+std::map<std::string, std::string> queued(const std::string& jobId) {
+  std::map<std::string, std::string> states;
+  if (jobId.empty()) return states;
+  const ProcessResult r = runProcess({"squeue", "-h", "-r", "-j", jobId, "-o", "%i|%T|%r"});
+  if (r.exitCode != 0) return states;  // "Invalid job id": purged from the queue
+  std::istringstream lines(r.output);
+  for (std::string line; std::getline(lines, line);) {
+    const size_t a = line.find('|'), b = line.rfind('|');
+    if (a == std::string::npos || a == b) continue;
+    const std::string reason = line.substr(b + 1);
+    states[line.substr(0, a)] = line.substr(a + 1, b - a - 1) +
+                                (reason.empty() || reason == "None" ? "" : " (" + reason + ")");
+  }
+  return states;
+}
+
+// sacct's view (id -> "STATE exit CODE") where accounting is on; empty where it is off.
+std::map<std::string, std::string> accounted(const std::vector<std::string>& jobIds) {
+  std::map<std::string, std::string> states;
+  std::string ids;
+  for (const auto& id : jobIds)
+    if (!id.empty()) ids += (ids.empty() ? "" : ",") + id;
+  if (ids.empty() || !programAvailable("sacct")) return states;
+  const ProcessResult r =
+      runProcess({"sacct", "-n", "-P", "-X", "-j", ids, "-o", "JobID,State,ExitCode"});
+  if (r.exitCode != 0) return states;
+  std::istringstream lines(r.output);
+  for (std::string line; std::getline(lines, line);) {
+    const size_t a = line.find('|'), b = line.rfind('|');
+    if (a == std::string::npos || a == b) continue;
+    states[line.substr(0, a)] = line.substr(a + 1, b - a - 1) + " exit " + line.substr(b + 1);
+  }
+  return states;
+}
+
+UnitState unitState(const std::string& id, const std::map<std::string, std::string>& queue,
+                    const std::map<std::string, std::string>& accounting,
+                    const stdfs::path& record) {
+  UnitState unit;
+  if (id.empty()) {
+    unit.state = "not submitted";
+    unit.done = true;
+    return unit;
+  }
+  if (auto q = queue.find(id); q != queue.end()) {
+    unit.state = q->second;
+    return unit;
+  }
+  if (stdfs::exists(record)) {
+    std::istringstream fields(fs::readTextFile(record));
+    int code = -1;
+    std::string host, log;
+    fields >> code >> host >> log;
+    unit.done = true;
+    unit.failed = code != 0;
+    unit.state = code == 0 ? "COMPLETED" : fmt::format("FAILED (exit {})", code);
+    unit.detail = fmt::format("on {}, log {}", host, log);
+    return unit;
+  }
+  unit.done = true;
+  if (auto a = accounting.find(id); a != accounting.end()) {
+    unit.state = a->second;
+    unit.failed = a->second.rfind("COMPLETED", 0) != 0;
+    return unit;
+  }
+  // Left the queue without running its script to the end: cancelled, killed, or its node lost.
+  unit.state = "GONE (not in squeue, no task record: cancelled or killed?)";
+  unit.failed = true;
+  return unit;
+}
+
+}  // namespace
+
+FarmStatus slurmStatus(const std::string& farmDir) {
+  const stdfs::path dir = farmDir;
+  const stdfs::path jobsPath = dir / "jobs.json";
+  if (!stdfs::exists(dir / "farm.json"))
+    throw Error(fmt::format("{} holds no pluvia farm job (no farm.json)", farmDir),
+                {"farm", {}, farmDir});
+  const FarmJob job =
+      farmJobFromJson(fs::readTextFile(dir / "farm.json"), (dir / "farm.json").string());
+  if (!stdfs::exists(jobsPath))
+    throw Error(fmt::format("the farm job in {} was not submitted (no jobs.json): run {} or "
+                            "`pluvia farm slurm ... --submit`",
+                            farmDir, (dir / "submit.sh").string()),
+                {"farm", {}, farmDir});
+  SlurmJobIds ids;
+  try {
+    const nlohmann::json json = nlohmann::json::parse(fs::readTextFile(jobsPath));
+    ids = {json.at("prepare"), json.at("render"), json.at("assemble")};
+  } catch (const std::exception& e) {
+    throw Error(fmt::format("{} is unreadable: {}", jobsPath.string(), e.what()),
+                {"farm", {}, jobsPath.string()});
+  }
+
+  std::map<std::string, std::string> queue;
+  for (const std::string& id : {ids.prepare, ids.render, ids.assemble})
+    for (auto& [k, v] : queued(id)) queue[k] = v;
+  const auto accounting = accounted({ids.prepare, ids.render, ids.assemble});
+
+  FarmStatus status;
+  status.finished = true;
+  std::string failedList;
+  const auto row = [&](const std::string& what, bool named, const std::string& id,
+                       const std::string& frames, const std::string& record) {
+    UnitState unit = unitState(id, queue, accounting, dir / "tasks" / (record + ".status"));
+    status.text +=
+        fmt::format("  {:<9} {:<10} {:<12} {}{}\n", named ? what : "", id.empty() ? "-" : id,
+                    frames, unit.state, unit.detail.empty() ? "" : ", " + unit.detail);
+    status.finished = status.finished && unit.done;
+    if (unit.failed) {
+      ++status.failed;
+      failedList += fmt::format("  {} {} {}: {}{}\n", what, id, frames, unit.state,
+                                unit.detail.empty() ? "" : ", " + unit.detail);
+    }
+  };
+  status.text =
+      fmt::format("farm job {}: {} -> {}, frames {}-{} in {} chunks of {}\n", farmDir, job.input,
+                  job.output, job.firstFrame, job.lastFrame, chunkCount(job), job.chunkFrames);
+  row("prepare", true, ids.prepare, "", "prepare");
+  for (int i = 0; i < chunkCount(job); ++i) {
+    const auto [first, last] = chunkFrames(job, i);
+    const std::string taskId = ids.render.empty() ? "" : fmt::format("{}_{}", ids.render, i);
+    row("render", i == 0, taskId, fmt::format("frames {}-{}", first, last),
+        fmt::format("render-{}", i));
+  }
+  if (isMovieJob(job)) row("assemble", true, ids.assemble, "", "assemble");
+  status.text += status.failed ? fmt::format("failed ({}):\n{}", status.failed, failedList)
+                               : std::string(status.finished ? "all done\n" : "");
+  return status;
+}
+
+}  // namespace pluvia::farm
