@@ -7,8 +7,8 @@ namespace pluvia {
 
 const std::vector<StageInfo>& allStages() {
   static const std::vector<StageInfo> stages{
-      derainStageInfo(), environmentStageInfo(), depthStageInfo(), darkenStageInfo(),
-      blurStageInfo(),   fogStageInfo(),         rainStageInfo()};
+      derainStageInfo(), environmentStageInfo(), depthStageInfo(),   darkenStageInfo(),
+      blurStageInfo(),   fogStageInfo(),         rainbowStageInfo(), rainStageInfo()};
   return stages;
 }
 
