@@ -36,22 +36,23 @@ double impactsPerSquareMeterSecond(SizeDistribution distribution, VelocityModel 
                                 10.3 * (std::exp(-l2 * a) - std::exp(-l2 * b)) / l2);
   }
   const double h = (maxMm - minMm) / kSimpsonIntervals;
-  double sum = flux(distribution, velocity, rate, minMm) + flux(distribution, velocity, rate, maxMm);
+  double sum =
+      flux(distribution, velocity, rate, minMm) + flux(distribution, velocity, rate, maxMm);
   for (int i = 1; i < kSimpsonIntervals; ++i)
     sum += (i % 2 ? 4.0 : 2.0) * flux(distribution, velocity, rate, minMm + i * h);
   return sum * h / 3.0;
 }
 
-ImpactDiameters::ImpactDiameters(SizeDistribution distribution, VelocityModel velocity,
-                                 double rate, double minMm, double maxMm)
+ImpactDiameters::ImpactDiameters(SizeDistribution distribution, VelocityModel velocity, double rate,
+                                 double minMm, double maxMm)
     : minMm_(minMm), stepMm_((maxMm - minMm) / kCdfSteps), cdf_(kCdfSteps + 1, 0.0) {
   if (!(maxMm > minMm) || rate <= 0.0)
     throw std::invalid_argument("ImpactDiameters: rate > 0 and max > min diameter");
   for (int k = 1; k <= kCdfSteps; ++k) {
     const double a = minMm + (k - 1) * stepMm_, b = a + stepMm_;
     cdf_[size_t(k)] = cdf_[size_t(k) - 1] + 0.5 * stepMm_ *
-                                                 (flux(distribution, velocity, rate, a) +
-                                                  flux(distribution, velocity, rate, b));
+                                                (flux(distribution, velocity, rate, a) +
+                                                 flux(distribution, velocity, rate, b));
   }
   const double total = cdf_.back();
   if (!(total > 0.0)) throw std::invalid_argument("ImpactDiameters: no drop lands");

@@ -7,8 +7,9 @@ namespace pluvia {
 
 const std::vector<StageInfo>& allStages() {
   static const std::vector<StageInfo> stages{
-      derainStageInfo(), environmentStageInfo(), depthStageInfo(),   darkenStageInfo(),
-      blurStageInfo(),   fogStageInfo(),         rainbowStageInfo(), rainStageInfo()};
+      derainStageInfo(),  environmentStageInfo(), depthStageInfo(),
+      darkenStageInfo(),  blurStageInfo(),        fogStageInfo(),
+      rainbowStageInfo(), rainStageInfo(),        splashStageInfo()};
   return stages;
 }
 

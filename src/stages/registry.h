@@ -8,10 +8,11 @@
 
 namespace pluvia {
 
-// derain, lighting, depth, darken, blur, fog, rainbow, rain. Darken, blur and fog act on the plate
-// before the rain is composited: rain falls in front of the scene, so the scene's fog must not
-// cover the drops (fog reaches the drops per drop instead, through their own depth). The rainbow is
-// light scattered by the whole rain volume along each ray, added to the plate like the fog.
+// derain, lighting, depth, darken, blur, fog, rainbow, rain, splash. Darken, blur and fog act on
+// the plate before the rain is composited: rain falls in front of the scene, so the scene's fog
+// must not cover the drops (fog reaches the drops per drop instead, through their own depth). The
+// rainbow is light scattered by the whole rain volume along each ray, added to the plate like the
+// fog.
 const std::vector<StageInfo>& allStages();
 const StageInfo* findStage(const std::string& name);
 
@@ -27,5 +28,6 @@ StageInfo blurStageInfo();
 StageInfo fogStageInfo();
 StageInfo rainbowStageInfo();
 StageInfo rainStageInfo();
+StageInfo splashStageInfo();
 
 }  // namespace pluvia
