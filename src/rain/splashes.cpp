@@ -9,7 +9,9 @@
 namespace pluvia::rain {
 namespace {
 
-constexpr double kDiscontinuity = 0.05;
+// Neighbours further apart than this (relative) are different surfaces; ground seen at a
+// grazing angle changes faster than 5 % per pixel in a small frame, hence the margin.
+constexpr double kDiscontinuity = 0.25;
 // Constants of the splash's look (splashes.h).
 constexpr double kCrownRadiusPerDiameter = 2.0, kCrownLifePerDropTime = 20.0;
 constexpr double kDropletDiameterFraction = 0.15, kDropletSpeedFraction = 0.2;
@@ -51,9 +53,11 @@ double crownLifeSeconds(const Impact& impact) {
 // interpolated bilinearly between the four nearest pixel centres; the nearest pixel's depth where
 // one of them is missing or across a discontinuity.
 double surfaceDepth(const std::vector<float>& depth, int w, int h, double px, double py) {
-  const int x0 = std::clamp(int(std::floor(px - 0.5)), 0, w - 1), x1 = std::min(x0 + 1, w - 1);
-  const int y0 = std::clamp(int(std::floor(py - 0.5)), 0, h - 1), y1 = std::min(y0 + 1, h - 1);
-  const double fx = std::clamp(px - 0.5 - x0, 0.0, 1.0), fy = std::clamp(py - 0.5 - y0, 0.0, 1.0);
+  // Beyond the outer pixel centres (the frame's border half pixels) 1 / z is extrapolated.
+  const int x0 = std::clamp(int(std::floor(px - 0.5)), 0, std::max(w - 2, 0));
+  const int y0 = std::clamp(int(std::floor(py - 0.5)), 0, std::max(h - 2, 0));
+  const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
+  const double fx = px - 0.5 - x0, fy = py - 0.5 - y0;
   auto at = [&](int x, int y) { return double(depth[size_t(y) * size_t(w) + size_t(x)]); };
   const double z00 = at(x0, y0), z10 = at(x1, y0), z01 = at(x0, y1), z11 = at(x1, y1);
   const double nearest = at(std::clamp(int(px), 0, w - 1), std::clamp(int(py), 0, h - 1));
@@ -61,7 +65,7 @@ double surfaceDepth(const std::vector<float>& depth, int w, int h, double px, do
   if (!std::isfinite(hi) || !(lo > 0.0) || hi - lo > kDiscontinuity * lo) return nearest;
   const double inverse =
       (1.0 - fy) * ((1.0 - fx) / z00 + fx / z10) + fy * ((1.0 - fx) / z01 + fx / z11);
-  return 1.0 / inverse;
+  return inverse > 0.0 ? 1.0 / inverse : nearest;
 }
 
 int dropletCount(const Impact& impact) {

@@ -29,7 +29,7 @@ inline constexpr double kGravity = 9.81;  // m/s^2
 inline constexpr int kCrownPoints = 12;
 
 // Horizontal area (m^2) of each pixel's surface where it faces up (normal within maxTiltDeg of
-// +Y), else 0; 0 too at depth discontinuities (more than 5 % between neighbours) and sky.
+// +Y), else 0; 0 too at depth discontinuities (more than 25 % between neighbours) and sky.
 std::vector<float> upFacingAreaPerPixel(const Camera& camera, const std::vector<float>& depth,
                                         double maxTiltDeg);
 
