@@ -7,8 +7,9 @@ namespace pluvia {
 
 const std::vector<StageInfo>& allStages() {
   static const std::vector<StageInfo> stages{
-      derainStageInfo(), environmentStageInfo(), depthStageInfo(),  darkenStageInfo(),
-      blurStageInfo(),   fogStageInfo(),         lightsStageInfo(), rainStageInfo()};
+      derainStageInfo(), environmentStageInfo(), depthStageInfo(),   darkenStageInfo(),
+      blurStageInfo(),   fogStageInfo(),         rainbowStageInfo(), lightsStageInfo(),
+      rainStageInfo(),   splashStageInfo()};
   return stages;
 }
 

@@ -1,0 +1,30 @@
+#pragma once
+// Splash particles drawn on the CPU: each particle's motion over the shutter as a capsule
+// (a segment with round ends) of the particle's projected radius, at least half a pixel, with
+// the opacity of motion blur: a particle of projected diameter d_px swept over L_px covers a
+// pixel on its path for d / (L + d) of the shutter, and one smaller than a pixel covers
+// (d_px)^2 of it. Depth-tested against the frame's depth plane (a particle behind the surface
+// at its pixel is hidden; one on the surface is kept within kSurfaceToleranceMeters or 1 %),
+// composited over the image with the given radiance, and its coverage accumulated in `alpha`.
+#include <array>
+#include <vector>
+
+#include "geometry/camera.h"
+#include "image/image.h"
+#include "rain/splashes.h"
+
+namespace pluvia::rain {
+
+inline constexpr double kSurfaceToleranceMeters = 0.05;
+
+struct ShadedParticle {
+  SplashParticle particle;
+  std::array<float, 3> radiance{0, 0, 0};
+};
+
+// `depth`: width * height z-depths; `alpha`: width * height, the splash AOV (over-composited).
+void drawSplashParticles(Image& image, std::vector<float>& alpha, const std::vector<float>& depth,
+                         const Camera& camera, const std::vector<ShadedParticle>& particles,
+                         float opacity);
+
+}  // namespace pluvia::rain

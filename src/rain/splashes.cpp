@@ -1,0 +1,189 @@
+#include "rain/splashes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Geometry>
+
+namespace pluvia::rain {
+namespace {
+
+// Neighbours further apart than this (relative) are different surfaces; ground seen at a
+// grazing angle changes faster than 5 % per pixel in a small frame, hence the margin.
+constexpr double kDiscontinuity = 0.25;
+// Constants of the splash's look (splashes.h).
+constexpr double kCrownRadiusPerDiameter = 2.0, kCrownLifePerDropTime = 20.0;
+constexpr double kDropletDiameterFraction = 0.15, kDropletSpeedFraction = 0.2;
+
+uint64_t mix(uint64_t x) {  // splitmix64's finaliser
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+// A counter-based stream: the same key always gives the same numbers.
+struct Stream {
+  uint64_t state;
+  double uniform() { return double(mix(state++) >> 11) * 0x1.0p-53; }
+  int poisson(double mean) {
+    if (mean > 500.0)  // normal approximation, where Knuth's product would underflow
+      return std::max(0, int(std::lround(mean + std::sqrt(mean) * normal())));
+    const double limit = std::exp(-mean);
+    int k = 0;
+    for (double p = uniform(); p > limit; p *= uniform()) ++k;
+    return k;
+  }
+  double normal() {
+    const double u1 = std::max(uniform(), 1e-300), u2 = uniform();
+    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
+  }
+};
+
+Eigen::Vector3d worldPoint(const Camera& camera, double px, double py, double depth) {
+  return camera.positionMeters + camera.worldFromCamera * (camera.rayCamera(px, py) * depth);
+}
+
+double crownLifeSeconds(const Impact& impact) {
+  return kCrownLifePerDropTime * impact.diameterMm * 1e-3 / impact.speedMetersPerSecond;
+}
+
+// z-depth at (px, py) on the surface: for a plane 1 / z is affine in the image, so 1 / z is
+// interpolated bilinearly between the four nearest pixel centres; the nearest pixel's depth where
+// one of them is missing or across a discontinuity.
+double surfaceDepth(const std::vector<float>& depth, int w, int h, double px, double py) {
+  // Beyond the outer pixel centres (the frame's border half pixels) 1 / z is extrapolated.
+  const int x0 = std::clamp(int(std::floor(px - 0.5)), 0, std::max(w - 2, 0));
+  const int y0 = std::clamp(int(std::floor(py - 0.5)), 0, std::max(h - 2, 0));
+  const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
+  const double fx = px - 0.5 - x0, fy = py - 0.5 - y0;
+  auto at = [&](int x, int y) { return double(depth[size_t(y) * size_t(w) + size_t(x)]); };
+  const double z00 = at(x0, y0), z10 = at(x1, y0), z01 = at(x0, y1), z11 = at(x1, y1);
+  const double nearest = at(std::clamp(int(px), 0, w - 1), std::clamp(int(py), 0, h - 1));
+  const double lo = std::min({z00, z10, z01, z11}), hi = std::max({z00, z10, z01, z11});
+  if (!std::isfinite(hi) || !(lo > 0.0) || hi - lo > kDiscontinuity * lo) return nearest;
+  const double inverse =
+      (1.0 - fy) * ((1.0 - fx) / z00 + fx / z10) + fy * ((1.0 - fx) / z01 + fx / z11);
+  return inverse > 0.0 ? 1.0 / inverse : nearest;
+}
+
+int dropletCount(const Impact& impact) {
+  return 2 + int(std::lround(2.0 * impact.diameterMm));
+}
+
+}  // namespace
+
+std::vector<float> upFacingAreaPerPixel(const Camera& camera, const std::vector<float>& depth,
+                                        double maxTiltDeg) {
+  const int w = camera.width, h = camera.height;
+  std::vector<float> area(depth.size(), 0.0f);
+  const double minUp = std::cos(maxTiltDeg * M_PI / 180.0);
+  auto continuous = [](double a, double b) {
+    return std::isfinite(a) && std::isfinite(b) && a > 0.0 && b > 0.0 &&
+           std::abs(a - b) <= kDiscontinuity * std::min(a, b);
+  };
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * size_t(w) + size_t(x);
+      // Forward differences, backward at the last column and row.
+      const int dx = x + 1 < w ? 1 : -1, dy = y + 1 < h ? 1 : -1;
+      const double z = depth[i], zx = depth[i + size_t(dx)], zy = depth[i + size_t(dy) * size_t(w)];
+      if (!continuous(z, zx) || !continuous(z, zy)) continue;
+      const Eigen::Vector3d p = worldPoint(camera, x + 0.5, y + 0.5, z);
+      const Eigen::Vector3d ex = (worldPoint(camera, x + 0.5 + dx, y + 0.5, zx) - p) * dx;
+      const Eigen::Vector3d ey = (worldPoint(camera, x + 0.5, y + 0.5 + dy, zy) - p) * dy;
+      const Eigen::Vector3d n = ex.cross(ey);  // |n| = the footprint's area
+      const double a = n.norm();
+      if (a > 0.0 && std::abs(n.y()) >= minUp * a) area[i] = float(std::abs(n.y()));
+    }
+  return area;
+}
+
+std::vector<Impact> impactsBorn(const SplashField& field, const Camera& camera, int64_t birthFrame,
+                                double fps, uint64_t seed, const ImpactDiameters& diameters,
+                                VelocityModel velocity) {
+  std::vector<Impact> impacts;
+  const int w = camera.width, h = camera.height, t = field.tilePx;
+  const int tilesX = (w + t - 1) / t, tilesY = (h + t - 1) / t;
+  std::vector<double> cumulative;
+  for (int ty = 0; ty < tilesY; ++ty)
+    for (int tx = 0; tx < tilesX; ++tx) {
+      const int x0 = tx * t, y0 = ty * t, x1 = std::min(w, x0 + t), y1 = std::min(h, y0 + t);
+      cumulative.clear();
+      double total = 0.0;
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x)
+          cumulative.push_back(total += field.areaPerPixel[size_t(y) * size_t(w) + size_t(x)]);
+      if (total <= 0.0) continue;
+      const uint64_t tile = uint64_t(ty) * uint64_t(tilesX) + uint64_t(tx);
+      Stream rng{mix(seed ^ mix(uint64_t(birthFrame) * 0x100000001b3ULL ^ mix(tile)))};
+      const int n = rng.poisson(total * field.impactsPerSquareMeterSecond / fps);
+      for (int k = 0; k < n; ++k) {
+        const double pick = rng.uniform() * total;
+        const size_t j = size_t(std::lower_bound(cumulative.begin(), cumulative.end(), pick) -
+                                cumulative.begin());
+        const int x = x0 + int(std::min(j, cumulative.size() - 1)) % (x1 - x0);
+        const int y = y0 + int(std::min(j, cumulative.size() - 1)) / (x1 - x0);
+        const double px = x + rng.uniform(), py = y + rng.uniform();
+        Impact impact;
+        impact.point = worldPoint(camera, px, py, surfaceDepth(field.depth, w, h, px, py));
+        impact.timeSeconds = (double(birthFrame) + rng.uniform()) / fps;
+        impact.diameterMm = diameters.sampleMm(rng.uniform());
+        impact.speedMetersPerSecond = terminalVelocity(velocity, impact.diameterMm);
+        impact.key = mix(rng.state);
+        impacts.push_back(impact);
+      }
+    }
+  return impacts;
+}
+
+double splashLifeSeconds(const Impact& impact) {
+  // The steepest droplet (75 deg) flies longest.
+  const double up =
+      kDropletSpeedFraction * impact.speedMetersPerSecond * std::sin(75.0 * M_PI / 180.0);
+  return std::max(crownLifeSeconds(impact), 2.0 * up / kGravity);
+}
+
+std::vector<SplashParticle> splashParticles(const Impact& impact, double open, double close) {
+  std::vector<SplashParticle> particles;
+  const double d = impact.diameterMm * 1e-3;
+  // Crown: a rim growing as sqrt(age), standing D tall.
+  const double crownLife = crownLifeSeconds(impact);
+  const double a0 = std::max(open - impact.timeSeconds, 0.0);
+  const double a1 = std::min(close - impact.timeSeconds, crownLife);
+  if (a1 > a0) {
+    const double rMax = kCrownRadiusPerDiameter * d;
+    for (int k = 0; k < kCrownPoints; ++k) {
+      const double phi = 2.0 * M_PI * (k + 0.5) / kCrownPoints;
+      const Eigen::Vector3d dir(std::cos(phi), 0.0, std::sin(phi));
+      auto at = [&](double age) -> Eigen::Vector3d {
+        return impact.point + dir * rMax * std::sqrt(age / crownLife) +
+               Eigen::Vector3d(0, 0.5 * d, 0);
+      };
+      particles.push_back({at(a0), at(a1), d / 3.0});
+    }
+  }
+  // Droplets: ballistic until they are back at the surface.
+  Stream rng{impact.key};
+  const int n = dropletCount(impact);
+  for (int k = 0; k < n; ++k) {
+    const double phi = 2.0 * M_PI * rng.uniform();
+    const double elevation = (45.0 + 30.0 * rng.uniform()) * M_PI / 180.0;
+    const double speed = kDropletSpeedFraction * impact.speedMetersPerSecond;
+    const Eigen::Vector3d v0(speed * std::cos(elevation) * std::cos(phi),
+                             speed * std::sin(elevation),
+                             speed * std::cos(elevation) * std::sin(phi));
+    const double flight = 2.0 * v0.y() / kGravity;
+    const double b0 = std::max(open - impact.timeSeconds, 0.0);
+    const double b1 = std::min(close - impact.timeSeconds, flight);
+    if (!(b1 > b0)) continue;
+    auto at = [&](double age) -> Eigen::Vector3d {
+      return impact.point + v0 * age + Eigen::Vector3d(0, -0.5 * kGravity * age * age, 0);
+    };
+    particles.push_back({at(b0), at(b1), kDropletDiameterFraction * d});
+  }
+  return particles;
+}
+
+}  // namespace pluvia::rain

@@ -1,0 +1,70 @@
+#pragma once
+// Splashes where drops strike surfaces that face up. The surfaces come from the frame's depth
+// plane: each pixel's footprint (its world point and those of its right and lower neighbours)
+// gives its normal and the area it covers projected on the horizontal, so a pixel receives
+// F * area impacts per second (F from splash_rate.h). Pixels are grouped in tiles; the impacts
+// of each birth frame and tile are drawn from a Poisson law with a generator seeded by (seed,
+// frame, tile) alone, so a frame's splashes never depend on the frames rendered before it
+// (chunks render identical frames). A splash lives longer than a frame: frame f draws the
+// impacts born in the frames before it that are still alive, placed on f's depth (exact for a
+// locked-off camera; a moving camera's older splashes ride with the picture).
+//
+// Each impact of a drop of diameter D at speed U makes (scalings after Yarin 2006, crown
+// splashes on wet surfaces; the constants are a look, not a fit):
+//  - a crown: a thin rim rising around the impact point, radius 2 D sqrt(t / tau) to 2 D,
+//    height D, over tau = 20 D / U, drawn as kCrownPoints blobs of diameter D / 3;
+//  - 2 + 2 D[mm] secondary droplets of diameter 0.15 D, thrown at 0.2 U, 45..75 deg above the
+//    surface in random azimuths, falling back under gravity until they reach the surface.
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "geometry/camera.h"
+#include "rain/splash_rate.h"
+
+namespace pluvia::rain {
+
+inline constexpr double kGravity = 9.81;  // m/s^2
+inline constexpr int kCrownPoints = 12;
+
+// Horizontal area (m^2) of each pixel's surface where it faces up (normal within maxTiltDeg of
+// +Y), else 0; 0 too at depth discontinuities (more than 25 % between neighbours) and sky.
+std::vector<float> upFacingAreaPerPixel(const Camera& camera, const std::vector<float>& depth,
+                                        double maxTiltDeg);
+
+struct Impact {
+  Eigen::Vector3d point;  // world, on the surface
+  double timeSeconds = 0.0;
+  double diameterMm = 0.0;
+  double speedMetersPerSecond = 0.0;
+  uint64_t key = 0;  // seeds the splash's own random choices
+};
+
+struct SplashField {
+  std::vector<float> depth;         // the frame's z-depth, metres
+  std::vector<float> areaPerPixel;  // upFacingAreaPerPixel of that depth
+  double impactsPerSquareMeterSecond = 0.0;
+  int tilePx = 32;
+};
+
+// The impacts born during frame `birthFrame` ([birthFrame, birthFrame + 1) / fps), placed on
+// `camera`'s view of the field.
+std::vector<Impact> impactsBorn(const SplashField& field, const Camera& camera, int64_t birthFrame,
+                                double fps, uint64_t seed, const ImpactDiameters& diameters,
+                                VelocityModel velocity);
+
+// Lifetime of an impact's splash: until its last droplet lands.
+double splashLifeSeconds(const Impact& impact);
+
+// A particle's motion over the shutter: world positions at its start and end, and diameter.
+struct SplashParticle {
+  Eigen::Vector3d from, to;
+  double diameterMeters = 0.0;
+};
+// The crown's and droplets' motion during [openSeconds, closeSeconds] (clipped to their lives);
+// none when the splash is not alive then.
+std::vector<SplashParticle> splashParticles(const Impact& impact, double openSeconds,
+                                            double closeSeconds);
+
+}  // namespace pluvia::rain

@@ -1,0 +1,26 @@
+#pragma once
+// The preset's "rainbow" section: the primary and secondary bows of a sun behind the camera,
+// seen in the rain (optics/rainbow.h).
+#include <array>
+#include <string>
+
+#include "preset/param_table.h"
+#include "preset/preset.h"
+
+namespace pluvia {
+
+SectionSpec rainbowSection();
+
+struct RainbowSettings {
+  bool enabled = true;
+  std::string sunSource = "environment";  // "environment" (its brightest spot) | "direction"
+  double sunElevationDeg = 30.0;          // sunSource "direction"
+  double sunAzimuthDeg = 180.0;           // from world -Z toward +X; 180: behind the camera
+  std::array<float, 3> sunIrradianceRgb{3.0f, 3.0f, 3.0f};  // sunSource "direction", linear
+  double showerExtentMeters = 2000.0;  // far edge of the rain shower along a ray to the sky
+  double strength = 1.0;               // artist scale on the physical radiance
+};
+
+RainbowSettings rainbowSettings(const Preset& preset);
+
+}  // namespace pluvia

@@ -1,0 +1,104 @@
+// Splashes: where the rain's drops strike surfaces facing up, a crown and a few droplets
+// (rain/splashes.h), drawn on the CPU over the plate after the rain (rain/splash_draw.h),
+// shaded like the drops (the environment convolved with the drop's transfer function, looked up
+// along each particle's view direction), their coverage in the "splash" plane.
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "image/equirect.h"
+#include "optics/drop_radiance_map.h"
+#include "optics/drop_shading.h"
+#include "pipeline/camera_settings.h"
+#include "rain/splash_draw.h"
+#include "rain/splash_rate.h"
+#include "rain/splashes.h"
+#include "stages/rain_settings.h"
+#include "stages/registry.h"
+#include "stages/splash_settings.h"
+#include "util/error.h"
+
+namespace pluvia {
+namespace {
+
+constexpr double kMaxDiameterMm = 6.0;  // drops break up above (rain/drop_simulation.h)
+
+class SplashStage : public Stage {
+ public:
+  SplashStage(SplashSettings splash, RainSettings rain, CameraSettings camera)
+      : splash_(splash), rain_(std::move(rain)), camera_(std::move(camera)) {}
+
+  void prepare(ClipContext& clip) override {
+    if (!clip.environment) throw Error("splash needs the lighting stage's environment", {"splash"});
+    path_ = clip.trackedPath ? *clip.trackedPath : camera_.path(clip.camera);
+    fps_ = clip.fps;
+    // A small map is enough: splashes are a few pixels across.
+    optics::RadianceMapSettings map;
+    map.outputWidth = 64;
+    map.inputWidth = 128;
+    radiance_ = optics::buildDropRadianceMap(
+        clip.environment->radiance,
+        optics::channelOptics(optics::kWaterEtaDispersion, optics::kDefaultTerms), map);
+  }
+
+  void process(ClipContext&, FrameContext& frame) override {
+    std::vector<float>& alpha = frame.image.plane("splash");
+    const std::vector<float>* depth = frame.image.findPlane("depth");
+    const double f = double(frame.frame);
+    const double rate = rain_.rateMmPerHour.valueAt(f);
+    if (!depth || rate <= 0.0) return;
+    const Camera camera = path_.cameraAt(f);
+    rain::SplashField field{
+        *depth, rain::upFacingAreaPerPixel(camera, *depth, splash_.maxTiltDeg),
+        rain::impactsPerSquareMeterSecond(rain_.distribution, rain_.velocity, rate,
+                                          splash_.minDiameterMm, kMaxDiameterMm)};
+    const rain::ImpactDiameters diameters(rain_.distribution, rain_.velocity, rate,
+                                          splash_.minDiameterMm, kMaxDiameterMm);
+    const double open = f / fps_, close = open + camera_.exposureSecondsAt(fps_, f);
+    // Splashes born up to the longest life before the shutter opens are still alive.
+    const double longest = rain::splashLifeSeconds(
+        {{}, 0.0, kMaxDiameterMm, rain::terminalVelocity(rain_.velocity, kMaxDiameterMm), 0});
+    const int64_t firstBirth = frame.frame - int64_t(std::ceil(longest * fps_));
+    std::vector<rain::ShadedParticle> particles;
+    for (int64_t b = firstBirth; b <= frame.frame; ++b)
+      for (const rain::Impact& impact :
+           rain::impactsBorn(field, camera, b, fps_, rain_.seed, diameters, rain_.velocity))
+        for (const rain::SplashParticle& p : rain::splashParticles(impact, open, close)) {
+          const Eigen::Vector3d view = (p.from - camera.positionMeters).normalized();
+          particles.push_back(
+              {p, sampleEquirect(radiance_, float(view.x()), float(view.y()), float(view.z()))});
+        }
+    rain::drawSplashParticles(frame.image, alpha, *depth, camera, particles,
+                              float(splash_.opacity));
+  }
+
+ private:
+  SplashSettings splash_;
+  RainSettings rain_;
+  CameraSettings camera_;
+  CameraPath path_;
+  double fps_ = 24.0;
+  EquirectMap radiance_;
+};
+
+}  // namespace
+
+StageInfo splashStageInfo() {
+  StageInfo info;
+  info.spec = splashSection();
+  info.noOpReason = [](const Preset& p) -> std::string {
+    const RainSettings rain = rainSettings(p);
+    if (!rain.enabled || rain.rateMmPerHour.maxValue() == 0.0) return "no rain falls";
+    if (splashSettings(p).opacity == 0.0) return "opacity is 0";
+    return "";
+  };
+  info.reads = [](const Preset&) {
+    return std::vector<std::string>{"image", "depth", "environment"};
+  };
+  info.create = [](const Preset& p) {
+    return std::make_unique<SplashStage>(splashSettings(p), rainSettings(p), cameraSettings(p));
+  };
+  return info;
+}
+
+}  // namespace pluvia
