@@ -22,6 +22,8 @@ namespace pluvia {
 namespace {
 
 constexpr double kMaxDiameterMm = 6.0;  // drops break up above (rain/drop_simulation.h)
+// A 3 mm drop's crown (rain/splashes.h: radius 2 D): what splash.min_size_px measures.
+constexpr double kCrownAcrossMeters = 0.012;
 
 class SplashStage : public Stage {
  public:
@@ -48,8 +50,15 @@ class SplashStage : public Stage {
     const double rate = rain_.rateMmPerHour.valueAt(f);
     if (!depth || rate <= 0.0) return;
     const Camera camera = path_.cameraAt(f);
+    std::vector<float> area = rain::upFacingAreaPerPixel(camera, *depth, splash_.maxTiltDeg);
+    // Level of detail: beyond this depth a crown is under splash.min_size_px: no splashes there.
+    if (splash_.minSizePx > 0.0) {
+      const double farthest = camera.focalPx * kCrownAcrossMeters / splash_.minSizePx;
+      for (size_t i = 0; i < area.size(); ++i)
+        if (!((*depth)[i] <= farthest)) area[i] = 0.0f;
+    }
     rain::SplashField field{
-        *depth, rain::upFacingAreaPerPixel(camera, *depth, splash_.maxTiltDeg),
+        *depth, std::move(area),
         rain::impactsPerSquareMeterSecond(rain_.distribution, rain_.velocity, rate,
                                           splash_.minDiameterMm, kMaxDiameterMm)};
     const rain::ImpactDiameters diameters(rain_.distribution, rain_.velocity, rate,
