@@ -10,7 +10,7 @@
 #include "image/equirect.h"
 #include "optics/environment_file.h"
 #include "optics/skylight_scattering.h"
-#include "support/test_support.h"
+#include "test_support.h"
 
 namespace pluvia::optics {
 namespace {
@@ -117,8 +117,9 @@ TEST(SkylightScattering, VeniceSunsetWithinTolerance) {
   const Errors e = errorsAgainstReference(environment, heavyRainLightFog(), 64, 24);
   std::cout << "venice sunset, table 64: mean " << 100 * e.mean << " %, max " << 100 * e.max
             << " %\n";
-  EXPECT_LT(e.mean, 0.02);
-  EXPECT_LT(e.max, 0.08);
+  // Measured 0.14 % mean, 0.32 % max: a sun in view still stays within 1 %.
+  EXPECT_LT(e.mean, 0.01);
+  EXPECT_LT(e.max, 0.01);
 }
 
 }  // namespace
