@@ -12,11 +12,13 @@
 #include "common.h"
 #include "lab/derain_report.h"
 #include "lab/envmap_report.h"
+#include "lab/fog_report.h"
 #include "lab/lights_report.h"
 #include "lab/optics_report.h"
 #include "lab/report_depth.h"
 #include "lab/test_environment.h"
 #include "optics/environment_file.h"
+#include "optics/skylight_scattering.h"
 #include "util/error.h"
 #include "util/log.h"
 
@@ -168,6 +170,44 @@ void addReportLights(CLI::App& report, Invocation& invocation) {
   });
 }
 
+// `pluvia report fog`: the skylight fog model per table size and the exponential model against
+// the ray-marched reference, on the CIE overcast sky and on --env (default: the shared data's
+// Venice sunset HDR when present).
+void addReportFog(CLI::App& report, Invocation& invocation) {
+  auto* fog = report.add_subcommand(
+      "fog", "skylight fog: error against the ray-marched reference vs table size and time");
+  struct Args {
+    std::string env, data;
+    lab::FogReportSettings settings;
+  };
+  auto args = std::make_shared<Args>();
+  fog->add_option("--env", args->env, "equirect HDR (default: ../shared/data's Venice sunset)");
+  fog->add_option("--data", args->data, "shared data folder");
+  fog->add_option("--directions", args->settings.directions, "random view directions")
+      ->check(CLI::Range(1, 100000));
+  fog->add_option("--rain-extinction", args->settings.rainExtinctionPerMeter, "1/m")
+      ->check(CLI::Range(0.0, 10.0));
+  fog->add_option("--fog-density", args->settings.fogPerMeter, "1/m")->check(CLI::Range(0.0, 10.0));
+  fog->callback([=, &invocation] {
+    std::vector<std::pair<std::string, EquirectMap>> environments;
+    environments.emplace_back("CIE overcast (256x128)",
+                              optics::cieOvercastSky(256, {1.0f, 1.0f, 1.0f}));
+    std::string env = args->env;
+    if (env.empty()) {
+      const std::string data = sharedDataFolder(args->data);
+      const std::string venice = data + "/hdr/polyhaven_venice_sunset_1k.hdr";
+      if (!data.empty() && std::filesystem::exists(venice)) env = venice;
+    }
+    if (!env.empty())
+      environments.emplace_back(std::filesystem::path(env).filename().string(),
+                                optics::loadEnvironment(env));
+    std::cout << fmt::format("medium: rain extinction {} /m (scattering half of it), fog {} /m\n",
+                             args->settings.rainExtinctionPerMeter, args->settings.fogPerMeter)
+              << lab::formatFogReport(lab::runFogReport(environments, args->settings));
+    invocation.exitCode = 0;
+  });
+}
+
 }  // namespace
 
 void addReportCommand(CLI::App& app, Invocation& invocation) {
@@ -210,6 +250,7 @@ void addReportCommand(CLI::App& app, Invocation& invocation) {
   addReportEnvmap(*cmd, invocation);
   addReportDepth(*cmd, invocation);
   addReportLights(*cmd, invocation);
+  addReportFog(*cmd, invocation);
 }
 
 }  // namespace pluvia::cli

@@ -12,9 +12,13 @@ SectionSpec fogSection();
 
 struct FogSettings {
   bool enabled = true;
+  // "exponential": alpha = 1 - exp(-density * depth) toward one airlight colour; "skylight": the
+  // environment scattered by rain and fog per view direction (optics/skylight_scattering.h).
+  std::string model = "exponential";
   double densityPerMeter = 0.0;                        // extinction; 0: no fog
   std::string colorSource = "horizon";                 // "horizon" | "average" | "constant"
   std::array<float, 3> constantRgb{0.5f, 0.5f, 0.5f};  // linear, for colorSource "constant"
+  int skylightTableWidth = 64;  // the skylight model's table of in-scattering per direction
 };
 
 FogSettings fogSettings(const Preset& preset);

@@ -3,13 +3,19 @@
 // (where a long path through the rain looks, Environment::horizonRgb), or a constant. The sky keeps
 // its own colour and detail (it is already the airlight at infinity, image/ops.h), and no path
 // through the fog is longer than the visibility through the rain (rain/drop_physics.h).
+// fog.model = skylight instead scatters the environment itself (or a CIE overcast sky without
+// one) into each view ray through the rain and the fog (stages/skylight_fog.h): a table of
+// in-scattered radiance per direction, built once per clip.
 #include <fmt/format.h>
 
 #include "image/ops.h"
+#include "optics/skylight_scattering.h"
+#include "pipeline/camera_settings.h"
 #include "rain/drop_physics.h"
 #include "stages/fog_settings.h"
 #include "stages/rain_settings.h"
 #include "stages/registry.h"
+#include "stages/skylight_fog.h"
 #include "util/error.h"
 #include "util/log.h"
 
@@ -18,10 +24,15 @@ namespace {
 
 class FogStage : public Stage {
  public:
-  FogStage(FogSettings fog, RainSettings rain) : fog_(std::move(fog)), rain_(std::move(rain)) {}
+  FogStage(FogSettings fog, RainSettings rain, CameraSettings camera)
+      : fog_(std::move(fog)), rain_(std::move(rain)), camera_(std::move(camera)) {}
 
   void prepare(ClipContext& clip) override {
     rgb_ = fog_.constantRgb;
+    if (fog_.model == "skylight") {
+      prepareSkylight(clip);  // fog.color: the CIE sky's zenith without an environment
+      return;
+    }
     if (fog_.colorSource == "constant") return;
     if (!clip.environment)
       throw Error("fog takes its colour from the environment, which was not computed", {"fog"});
@@ -33,15 +44,39 @@ class FogStage : public Stage {
 
   void process(ClipContext&, FrameContext& frame) override {
     // The rain of this frame bounds the path: its visibility (about 2 km at 15 mm/h).
+    const double rate = rain_.enabled ? rain_.rateMmPerHour.valueAt(double(frame.frame)) : 0.0;
     const double visibility =
-        rain_.enabled ? rain::rainVisibilityMeters(rain_.rateMmPerHour.valueAt(double(frame.frame)))
-                      : std::numeric_limits<double>::infinity();
+        rain_.enabled ? rain::rainVisibilityMeters(rate) : std::numeric_limits<double>::infinity();
+    if (skylight_) {
+      optics::SkylightMedium medium;
+      medium.rainExtinctionPerMeter = rain::rainExtinctionPerMeter(rate);
+      medium.fogPerMeter = fog_.densityPerMeter;
+      applySkylightFog(frame.image, path_.cameraAt(double(frame.frame)), *skylight_, medium,
+                       visibility);
+      return;
+    }
     ops::fog(frame.image, float(fog_.densityPerMeter), rgb_, float(visibility));
   }
 
  private:
+  void prepareSkylight(ClipContext& clip) {
+    path_ = clip.trackedPath ? *clip.trackedPath : camera_.path(clip.camera);
+    const EquirectMap sky = clip.environment
+                                ? clip.environment->radiance
+                                : optics::cieOvercastSky(4 * fog_.skylightTableWidth, rgb_);
+    skylight_ = optics::buildSkylightTable(sky, fog_.skylightTableWidth);
+    const std::array<float, 3>& mean = skylight_->meanRadiance;
+    log::info(fmt::format("fog: skylight from {}, table {}x{}, mean radiance {:.4f} {:.4f} {:.4f}",
+                          clip.environment ? "the environment" : "a CIE overcast sky",
+                          fog_.skylightTableWidth, fog_.skylightTableWidth / 2, mean[0], mean[1],
+                          mean[2]));
+  }
+
   FogSettings fog_;
   RainSettings rain_;
+  CameraSettings camera_;
+  CameraPath path_;
+  std::optional<optics::SkylightTable> skylight_;
   std::array<float, 3> rgb_{0, 0, 0};
 };
 
@@ -51,15 +86,23 @@ StageInfo fogStageInfo() {
   StageInfo info;
   info.spec = fogSection();
   info.noOpReason = [](const Preset& p) {
-    return fogSettings(p).densityPerMeter == 0.0 ? std::string("density is 0") : "";
+    const FogSettings fog = fogSettings(p);
+    // Skylight fog scatters through the rain as well: no-op only without fog and rain.
+    if (fog.model == "skylight") {
+      const RainSettings rain = rainSettings(p);
+      const bool raining = rain.enabled && rain.rateMmPerHour.valueAt(0.0) > 0.0;
+      return fog.densityPerMeter == 0.0 && !raining ? std::string("density is 0 and no rain") : "";
+    }
+    return fog.densityPerMeter == 0.0 ? std::string("density is 0") : "";
   };
   info.reads = [](const Preset& p) {
     std::vector<std::string> reads{"image", "depth"};
-    if (fogSettings(p).colorSource != "constant") reads.push_back("environment");
+    const FogSettings fog = fogSettings(p);
+    if (fog.model == "skylight" || fog.colorSource != "constant") reads.push_back("environment");
     return reads;
   };
   info.create = [](const Preset& p) {
-    return std::make_unique<FogStage>(fogSettings(p), rainSettings(p));
+    return std::make_unique<FogStage>(fogSettings(p), rainSettings(p), cameraSettings(p));
   };
   return info;
 }
