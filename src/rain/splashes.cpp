@@ -1,9 +1,12 @@
 #include "rain/splashes.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include <tbb/parallel_for.h>
 #include <Eigen/Geometry>
 
 namespace pluvia::rain {
@@ -83,7 +86,7 @@ std::vector<float> upFacingAreaPerPixel(const Camera& camera, const std::vector<
     return std::isfinite(a) && std::isfinite(b) && a > 0.0 && b > 0.0 &&
            std::abs(a - b) <= kDiscontinuity * std::min(a, b);
   };
-  for (int y = 0; y < h; ++y)
+  tbb::parallel_for(0, h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * size_t(w) + size_t(x);
       // Forward differences, backward at the last column and row.
@@ -97,26 +100,45 @@ std::vector<float> upFacingAreaPerPixel(const Camera& camera, const std::vector<
       const double a = n.norm();
       if (a > 0.0 && std::abs(n.y()) >= minUp * a) area[i] = float(std::abs(n.y()));
     }
+  });
   return area;
 }
 
-std::vector<Impact> impactsBorn(const SplashField& field, const Camera& camera, int64_t birthFrame,
-                                double fps, uint64_t seed, const ImpactDiameters& diameters,
-                                VelocityModel velocity) {
-  std::vector<Impact> impacts;
-  const int w = camera.width, h = camera.height, t = field.tilePx;
-  const int tilesX = (w + t - 1) / t, tilesY = (h + t - 1) / t;
-  std::vector<double> cumulative;
-  for (int ty = 0; ty < tilesY; ++ty)
-    for (int tx = 0; tx < tilesX; ++tx) {
-      const int x0 = tx * t, y0 = ty * t, x1 = std::min(w, x0 + t), y1 = std::min(h, y0 + t);
-      cumulative.clear();
+SplashTiles splashTiles(const SplashField& field, int width, int height) {
+  SplashTiles tiles;
+  const int t = field.tilePx;
+  tiles.tilesX = (width + t - 1) / t;
+  tiles.tilesY = (height + t - 1) / t;
+  tiles.cumulativeArea.resize(static_cast<size_t>(tiles.tilesX) * tiles.tilesY);
+  tbb::parallel_for(0, tiles.tilesY, [&](int ty) {
+    for (int tx = 0; tx < tiles.tilesX; ++tx) {
+      const int x0 = tx * t, y0 = ty * t, x1 = std::min(width, x0 + t),
+                y1 = std::min(height, y0 + t);
+      std::vector<double> cumulative;
       double total = 0.0;
       for (int y = y0; y < y1; ++y)
         for (int x = x0; x < x1; ++x)
-          cumulative.push_back(total += field.areaPerPixel[size_t(y) * size_t(w) + size_t(x)]);
-      if (total <= 0.0) continue;
-      const uint64_t tile = uint64_t(ty) * uint64_t(tilesX) + uint64_t(tx);
+          cumulative.push_back(total += field.areaPerPixel[size_t(y) * size_t(width) + size_t(x)]);
+      if (total > 0.0)
+        tiles.cumulativeArea[size_t(ty) * size_t(tiles.tilesX) + size_t(tx)] =
+            std::move(cumulative);
+    }
+  });
+  return tiles;
+}
+
+std::vector<Impact> impactsBorn(const SplashField& field, const SplashTiles& tiles,
+                                const Camera& camera, int64_t birthFrame, double fps, uint64_t seed,
+                                const ImpactDiameters& diameters, VelocityModel velocity) {
+  std::vector<Impact> impacts;
+  const int w = camera.width, h = camera.height, t = field.tilePx;
+  for (int ty = 0; ty < tiles.tilesY; ++ty)
+    for (int tx = 0; tx < tiles.tilesX; ++tx) {
+      const uint64_t tile = uint64_t(ty) * uint64_t(tiles.tilesX) + uint64_t(tx);
+      const std::vector<double>& cumulative = tiles.cumulativeArea[tile];
+      if (cumulative.empty()) continue;
+      const double total = cumulative.back();
+      const int x0 = tx * t, x1 = std::min(w, x0 + t);
       Stream rng{mix(seed ^ mix(uint64_t(birthFrame) * 0x100000001b3ULL ^ mix(tile)))};
       const int n = rng.poisson(total * field.impactsPerSquareMeterSecond / fps);
       for (int k = 0; k < n; ++k) {
@@ -124,7 +146,7 @@ std::vector<Impact> impactsBorn(const SplashField& field, const Camera& camera, 
         const size_t j = size_t(std::lower_bound(cumulative.begin(), cumulative.end(), pick) -
                                 cumulative.begin());
         const int x = x0 + int(std::min(j, cumulative.size() - 1)) % (x1 - x0);
-        const int y = y0 + int(std::min(j, cumulative.size() - 1)) / (x1 - x0);
+        const int y = ty * t + int(std::min(j, cumulative.size() - 1)) / (x1 - x0);
         const double px = x + rng.uniform(), py = y + rng.uniform();
         Impact impact;
         impact.point = worldPoint(camera, px, py, surfaceDepth(field.depth, w, h, px, py));
@@ -136,6 +158,13 @@ std::vector<Impact> impactsBorn(const SplashField& field, const Camera& camera, 
       }
     }
   return impacts;
+}
+
+std::vector<Impact> impactsBorn(const SplashField& field, const Camera& camera, int64_t birthFrame,
+                                double fps, uint64_t seed, const ImpactDiameters& diameters,
+                                VelocityModel velocity) {
+  return impactsBorn(field, splashTiles(field, camera.width, camera.height), camera, birthFrame,
+                     fps, seed, diameters, velocity);
 }
 
 double splashLifeSeconds(const Impact& impact) {

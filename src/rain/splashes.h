@@ -48,8 +48,20 @@ struct SplashField {
   int tilePx = 32;
 };
 
+// The field's up-facing area summed per tile (running sums over the tile's pixels, row by row),
+// made once per frame and shared by every birth frame alive in it.
+struct SplashTiles {
+  int tilesX = 0, tilesY = 0;
+  std::vector<std::vector<double>> cumulativeArea;  // per tile; empty: no up-facing area
+};
+SplashTiles splashTiles(const SplashField& field, int width, int height);
+
 // The impacts born during frame `birthFrame` ([birthFrame, birthFrame + 1) / fps), placed on
 // `camera`'s view of the field.
+std::vector<Impact> impactsBorn(const SplashField& field, const SplashTiles& tiles,
+                                const Camera& camera, int64_t birthFrame, double fps, uint64_t seed,
+                                const ImpactDiameters& diameters, VelocityModel velocity);
+// The same, with the tiles made for this call.
 std::vector<Impact> impactsBorn(const SplashField& field, const Camera& camera, int64_t birthFrame,
                                 double fps, uint64_t seed, const ImpactDiameters& diameters,
                                 VelocityModel velocity);

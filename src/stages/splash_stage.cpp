@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "image/equirect.h"
 #include "optics/drop_radiance_map.h"
@@ -68,15 +69,20 @@ class SplashStage : public Stage {
     const double longest = rain::splashLifeSeconds(
         {{}, 0.0, kMaxDiameterMm, rain::terminalVelocity(rain_.velocity, kMaxDiameterMm), 0});
     const int64_t firstBirth = frame.frame - int64_t(std::ceil(longest * fps_));
-    std::vector<rain::ShadedParticle> particles;
-    for (int64_t b = firstBirth; b <= frame.frame; ++b)
+    const rain::SplashTiles tiles = rain::splashTiles(field, camera.width, camera.height);
+    // Each birth frame on its own (its impacts depend on it alone), drawn in birth order.
+    std::vector<std::vector<rain::ShadedParticle>> born(size_t(frame.frame - firstBirth + 1));
+    tbb::parallel_for(firstBirth, frame.frame + 1, [&](int64_t b) {
       for (const rain::Impact& impact :
-           rain::impactsBorn(field, camera, b, fps_, rain_.seed, diameters, rain_.velocity))
+           rain::impactsBorn(field, tiles, camera, b, fps_, rain_.seed, diameters, rain_.velocity))
         for (const rain::SplashParticle& p : rain::splashParticles(impact, open, close)) {
           const Eigen::Vector3d view = (p.from - camera.positionMeters).normalized();
-          particles.push_back(
+          born[size_t(b - firstBirth)].push_back(
               {p, sampleEquirect(radiance_, float(view.x()), float(view.y()), float(view.z()))});
         }
+    });
+    std::vector<rain::ShadedParticle> particles;
+    for (auto& some : born) particles.insert(particles.end(), some.begin(), some.end());
     rain::drawSplashParticles(frame.image, alpha, *depth, camera, particles,
                               float(splash_.opacity));
   }
