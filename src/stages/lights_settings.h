@@ -44,6 +44,7 @@ struct LightsSettings {
   bool find = true;
   double findClipLevel = 0.95;
   int findMinAreaPx = 4;
+  double findCoreGain = 100.0;
   nlohmann::json resolved;
 };
 

@@ -72,7 +72,8 @@ class LightsStage : public Stage {
     std::call_once(placed_, [&] {
       for (const PlateBlob& blob : blobs_) {
         lights_.lights.push_back(plateLight(blob, camera, frame.image.findPlane("depth"),
-                                            backdropMeters_, lights_.findClipLevel));
+                                            backdropMeters_, lights_.findClipLevel,
+                                            lights_.findCoreGain));
         const LightSpec& l = lights_.lights.back();
         log::info(fmt::format(
             "lights: found at ({:.1f}, {:.1f}) px, {} px: world ({:.2f}, "

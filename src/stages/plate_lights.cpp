@@ -8,11 +8,6 @@
 namespace pluvia {
 namespace {
 
-// A clipped pixel only says its radiance is at least the clip level; a street lamp's bulb is
-// typically a few stops above what a night exposure keeps. Two stops (x4) is the guess for the
-// hidden core, so that the lit drops near a found lamp are of the lamp's order rather than of
-// the clip level's (which would make every found lamp as dim as a white wall).
-constexpr double kClippedCoreFactor = 4.0;
 constexpr int kRimInnerPx = 1, kRimOuterPx = 4;
 
 }  // namespace
@@ -63,7 +58,7 @@ std::vector<PlateBlob> findClippedBlobs(const Image& still, double clipLevel, in
 }
 
 LightSpec plateLight(const PlateBlob& blob, const Camera& camera, const std::vector<float>* depth,
-                     double backdropMeters, double clipLevel) {
+                     double backdropMeters, double clipLevel, double coreGain) {
   std::vector<float> rimDepth;
   if (depth)
     for (int pixel : blob.rimPixels) {
@@ -80,7 +75,9 @@ LightSpec plateLight(const PlateBlob& blob, const Camera& camera, const std::vec
   const Eigen::Vector3d world = camera.positionMeters + camera.worldFromCamera * local;
   const double distance = local.norm();
   // A disc of radiance L seen under the solid angle Omega at distance d has the radiant
-  // intensity L * Omega * d^2 (its projected area times L); Omega = area / f^2 per pixel.
+  // intensity L * Omega * d^2 (its projected area times L); Omega = area / f^2 per pixel. A
+  // clipped pixel only says L >= the clip level: coreGain is the guess of how far above it the
+  // bulb is (lights.find_core_gain).
   const double solidAngle = blob.areaPx / (camera.focalPx * camera.focalPx);
   LightSpec light;
   light.worldFrame = true;
@@ -88,7 +85,7 @@ LightSpec plateLight(const PlateBlob& blob, const Camera& camera, const std::vec
   light.yMeters = Ramp(world.y());
   light.zMeters = Ramp(world.z());
   light.rgb = blob.rgb;
-  light.intensity = Ramp(kClippedCoreFactor * clipLevel * solidAngle * distance * distance);
+  light.intensity = Ramp(coreGain * clipLevel * solidAngle * distance * distance);
   light.radiusMeters = std::max(1e-3, std::sqrt(blob.areaPx / M_PI) / camera.focalPx * distance);
   return light;
 }

@@ -27,8 +27,9 @@ std::vector<PlateBlob> findClippedBlobs(const Image& still, double clipLevel, in
 // The blob as a point light in world space (the camera's world: lightsAtFrame follows a moving
 // camera past it). Distance: the median z-depth of the rim pixels in `depth` (width * height,
 // z-depth in metres; +inf is sky), or backdropMeters when no rim pixel has a finite depth or
-// `depth` is null. Intensity: see plate_lights.cpp.
+// `depth` is null. Radiant intensity: coreGain * clipLevel * Omega * d^2, the blob's solid angle
+// Omega, its distance d, the clip level times coreGain its radiance; radius: the blob's.
 LightSpec plateLight(const PlateBlob& blob, const Camera& camera, const std::vector<float>* depth,
-                     double backdropMeters, double clipLevel);
+                     double backdropMeters, double clipLevel, double coreGain);
 
 }  // namespace pluvia
