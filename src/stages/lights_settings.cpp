@@ -59,6 +59,20 @@ SectionSpec lightsSection() {
       numberParam(
           "halo_threshold", 1e-3, {0.0, 1e3}, "radiance",
           "a light whose brightest halo pixel is below this is culled (counted in the log)"),
+      enumParam("find", "auto", {"auto", "off"},
+                "auto: the plate's clipped blobs (lamps) become point lights at the depth the "
+                "depth stage gives around them, coloured like their unclipped rim, fixed in the "
+                "world of the clip's camera; nothing clipped, none; off: only lights.list"),
+      numberParam("find_level", 0.95, {0.01, 1e6}, "working-space",
+                  "a pixel whose max channel is at least this is clipped (the white of a "
+                  "display-referred file is 1.0)"),
+      numberParam("find_min_area_px", 4.0, {1.0, 1e6}, "px", "smallest clipped blob taken"),
+      // A night exposure keeps the lit street (about 1 cd/m^2) near mid-grey; a lamp's diffuser
+      // is 10^4 cd/m^2 and more. 100 (under 7 stops) is a conservative guess of what the clip
+      // hides.
+      numberParam("find_core_gain", 100.0, {1.0, 1e6}, "",
+                  "a found lamp's radiance is find_level times this (its clipped core hides how "
+                  "bright it is): intensity = gain * find_level * solid angle * distance^2"),
   };
   return s;
 }
@@ -87,6 +101,10 @@ LightsSettings lightsSettings(const Preset& p) {
   s.halos = p.boolean("lights.halos");
   s.drops = p.boolean("lights.drops");
   s.haloThresholdRadiance = p.number("lights.halo_threshold");
+  s.find = s.enabled && p.string("lights.find") == "auto";
+  s.findClipLevel = p.number("lights.find_level");
+  s.findMinAreaPx = int(p.number("lights.find_min_area_px"));
+  s.findCoreGain = p.number("lights.find_core_gain");
   s.resolved = p.at("lights");
   return s;
 }

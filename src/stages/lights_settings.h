@@ -40,6 +40,11 @@ struct LightsSettings {
   bool drops = true;  // the drops lit by the lights
   // A light whose brightest halo pixel (unoccluded) is below this radiance is culled.
   double haloThresholdRadiance = 1e-3;
+  // lights.find: the plate's clipped blobs become point lights (stages/plate_lights.h).
+  bool find = true;
+  double findClipLevel = 0.95;
+  int findMinAreaPx = 4;
+  double findCoreGain = 100.0;
   nlohmann::json resolved;
 };
 

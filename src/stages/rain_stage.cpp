@@ -282,8 +282,9 @@ StageInfo rainStageInfo() {
   };
   info.create = [](const Preset& p) {
     const LightsSettings lights = lightsSettings(p);
-    return std::make_unique<RainStage>(rainSettings(p), cameraSettings(p), fogSettings(p),
-                                       lights.enabled && lights.drops && !lights.lights.empty());
+    return std::make_unique<RainStage>(
+        rainSettings(p), cameraSettings(p), fogSettings(p),
+        lights.enabled && lights.drops && (!lights.lights.empty() || lights.find));
   };
   return info;
 }

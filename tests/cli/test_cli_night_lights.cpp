@@ -85,9 +85,17 @@ TEST(CliNightLights, HalosBeamsAndLitStreaksOnADarkenedStreet) {
       if (std::hypot(x + 0.5 - lamp.first, y + 0.5 - lamp.second) > 30.0) continue;
       if (lights.pixel(x, y)[1] > best) best = lights.pixel(x, y)[1], bx = x, by = y;
     }
-  // Measured 2.1 px (above the projection); cause not yet found (the unit test is within 1 px).
-  EXPECT_LE(std::hypot(bx + 0.5 - lamp.first, by + 0.5 - lamp.second), 2.5)
-      << bx << "," << by << " vs " << lamp.first << "," << lamp.second;
+  // The halo is flat across the bulb's image (optics/single_scattering.cpp: a ray passing
+  // within radius_m of the light sees it moved out to the radius), 0.05 m at 6 m = 2.3 px here:
+  // the single brightest pixel lands anywhere on that plateau (it was 2.1 px off), so its
+  // centre is the centroid of the pixels within 2 % of the peak.
+  double sx = 0, sy = 0;
+  int n = 0;
+  for (int y = std::max(0, by - 6); y <= std::min(kHeight - 1, by + 6); ++y)
+    for (int x = std::max(0, bx - 6); x <= std::min(kWidth - 1, bx + 6); ++x)
+      if (lights.pixel(x, y)[1] >= 0.98f * best) sx += x + 0.5, sy += y + 0.5, ++n;
+  EXPECT_LE(std::hypot(sx / n - lamp.first, sy / n - lamp.second), 1.0)
+      << sx / n << "," << sy / n << " vs " << lamp.first << "," << lamp.second;
 
   // The beam: 10 to 40 px below the spot against the same above it.
   auto columnMean = [&](int from, int to) {

@@ -1,0 +1,35 @@
+#pragma once
+// Lights found in the plate (lights.find): the lamps of a night plate show as clipped blobs.
+// Each blob becomes a point light where the plate's lamp is: its centroid's ray, at the depth
+// the depth stage gives around it, coloured like the unclipped rim around it.
+#include <vector>
+
+#include "geometry/camera.h"
+#include "image/image.h"
+#include "stages/lights_settings.h"
+
+namespace pluvia {
+
+// A clipped blob of the still, in pixels (x right, y down, pixel centres at +0.5).
+struct PlateBlob {
+  double xPx = 0.0, yPx = 0.0;  // centroid
+  int areaPx = 0;
+  std::array<double, 3> rgb{1, 1, 1};  // rim chromaticity, max channel 1
+  std::vector<int> rimPixels;          // y * width + x of the ring just outside the blob
+};
+
+// The blobs of `still` whose max channel is >= clipLevel (working-space units; the white of a
+// display-referred file is 1.0) with at least minAreaPx pixels. The rim is the ring 1..4 px
+// outside the blob; its colour is the mean of its pixels with no channel at clipLevel (white
+// when every rim pixel is clipped).
+std::vector<PlateBlob> findClippedBlobs(const Image& still, double clipLevel, int minAreaPx);
+
+// The blob as a point light in world space (the camera's world: lightsAtFrame follows a moving
+// camera past it). Distance: the median z-depth of the rim pixels in `depth` (width * height,
+// z-depth in metres; +inf is sky), or backdropMeters when no rim pixel has a finite depth or
+// `depth` is null. Radiant intensity: coreGain * clipLevel * Omega * d^2, the blob's solid angle
+// Omega, its distance d, the clip level times coreGain its radiance; radius: the blob's.
+LightSpec plateLight(const PlateBlob& blob, const Camera& camera, const std::vector<float>* depth,
+                     double backdropMeters, double clipLevel, double coreGain);
+
+}  // namespace pluvia

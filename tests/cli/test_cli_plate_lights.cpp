@@ -1,0 +1,140 @@
+// Lights found in the plate (lights.find auto): a frame of the real street movie in
+// ../shared/data darkened to night, with clipped lamp discs of known colour painted at known
+// pixels on a depth card 8 m away. The log must list a light within 2 px of each disc with the
+// disc's hue, and the rain AOV must be brighter near the lamps than far from them. The same
+// plate without lamps finds none. Skipped when ../shared/data is absent.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <regex>
+
+#include "test_support.h"
+#include "util/subprocess.h"
+
+using namespace pluvia;
+using namespace pluvia::test;
+namespace stdfs = std::filesystem;
+
+namespace {
+
+double srgbToLinear(double v) {
+  return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+}
+
+constexpr int kWidth = 256, kHeight = 192;
+
+struct Lamp {
+  double x, y;               // disc centre, pixels (centres at +0.5)
+  std::array<float, 3> rgb;  // the rim's colour, max channel 1
+};
+const std::vector<Lamp> kLamps{{60.5, 50.5, {1.0f, 0.6f, 0.2f}}, {190.5, 70.5, {0.3f, 0.6f, 1.0f}}};
+
+std::string nightPlate(const stdfs::path& dir, bool withLamps) {
+  const stdfs::path still = dir / "still.png";
+  auto r = runProcess({"ffmpeg", "-y", "-v", "error", "-i",
+                       (sharedData() / "plate_static/opencv_vtest.avi").string(), "-vf",
+                       "select=eq(n\\,2),scale=256:192", "-frames:v", "1", still.string()});
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  const Image street = readImageFile(still);
+  return writePlateSequence(dir, 1, 1, kWidth, kHeight, [&](Image& image, int) {
+    for (size_t i = 0; i < image.rgba.size(); ++i)
+      image.rgba[i] = (i % 4 == 3) ? 1.0f : 0.06f * street.rgba[i];
+    if (!withLamps) return;
+    for (const Lamp& lamp : kLamps)
+      for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < kWidth; ++x) {
+          const double r = std::hypot(x + 0.5 - lamp.x, y + 0.5 - lamp.y);
+          float* p = image.pixel(x, y);
+          // A clipped white core of radius 3 px in a coloured glow out to 7 px.
+          for (int c = 0; c < 3; ++c)
+            if (r <= 3.0)
+              p[c] = 1.0f;
+            else if (r <= 7.0)
+              p[c] = 0.5f * lamp.rgb[size_t(c)];
+        }
+  });
+}
+
+stdfs::path preset(const stdfs::path& dir) {
+  return writeTextFile(dir, "night.json", R"({
+    "pluvia": 1, "extends": "base",
+    "camera": {"fov_deg": 50, "exposure_s": 0.02, "f_number": 0, "focus_m": 0},
+    "depth": {"source": "layers", "layers": [{"type": "card", "distance_m": 8}]},
+    "fog": {"density": 0.02, "color_source": "constant", "color": [0, 0, 0]},
+    "rain": {"rate_mm_h": 60, "far_m": 8, "seed": 3}
+  })");
+}
+
+}  // namespace
+
+TEST(CliPlateLights, ClippedDiscsBecomeLightsThatLightTheRain) {
+  if (!stdfs::exists(sharedData() / "plate_static/opencv_vtest.avi"))
+    GTEST_SKIP() << "../shared/data is absent";
+  const stdfs::path dir = freshTempDir("plate_lights");
+  const std::string plate = nightPlate(dir, true);
+  const stdfs::path out = dir / "night.####.exr";
+  const auto rendered = runPluvia({"render", plate, "-p", preset(dir).string(), "-o", out.string(),
+                                   "--frames", "1-1", "--aov", "rain,lights"});
+  ASSERT_EQ(rendered.exitCode, 0) << rendered.output;
+  EXPECT_NE(rendered.output.find("2 lights found in the plate"), std::string::npos)
+      << rendered.output;
+  // "found at (x, y) px, A px: world (..) m, colour (r, g, b)": one per disc.
+  const std::regex line(
+      R"(found at \(([-0-9.]+), ([-0-9.]+)\) px.*colour \(([0-9.]+), ([0-9.]+), ([0-9.]+)\))");
+  int matched = 0;
+  for (auto it = std::sregex_iterator(rendered.output.begin(), rendered.output.end(), line);
+       it != std::sregex_iterator(); ++it) {
+    const double x = std::stod((*it)[1]), y = std::stod((*it)[2]);
+    for (const Lamp& lamp : kLamps) {
+      if (std::hypot(x - lamp.x, y - lamp.y) > 2.0) continue;
+      ++matched;
+      // The hue: the rim's colour in the working space (the plate's PNG code values 0.5 * rgb
+      // decoded by the sRGB curve), each channel within 0.05.
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(std::stod((*it)[size_t(3 + c)]),
+                    srgbToLinear(0.5 * lamp.rgb[size_t(c)]) / srgbToLinear(0.5), 0.05)
+            << c;
+    }
+  }
+  EXPECT_EQ(matched, 2) << rendered.output;
+
+  const stdfs::path only = dir / "rain_only.exr";
+  auto r = runProcess({"oiiotool", (dir / "night.0001.exr").string(), "--ch",
+                       "rain.R,rain.G,rain.B,rain.A", "-o", only.string()});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const Image rain = readImageFile(only);
+  double nearSum = 0, farSum = 0;
+  int nearN = 0, farN = 0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const float* p = rain.pixel(x, y);
+      if (p[3] < 0.02f) continue;
+      const double radiance = (p[0] + p[1] + p[2]) / p[3];
+      double nearest = 1e9;
+      for (const Lamp& lamp : kLamps)
+        nearest = std::min(nearest, std::hypot(x + 0.5 - lamp.x, y + 0.5 - lamp.y));
+      if (nearest < 25.0) nearSum += radiance, ++nearN;
+      if (nearest > 80.0) farSum += radiance, ++farN;
+    }
+  ASSERT_GT(nearN, 10);
+  ASSERT_GT(farN, 10);
+  EXPECT_GT(nearSum / nearN, 3.0 * farSum / farN)
+      << "near " << nearSum / nearN << " far " << farSum / farN;
+}
+
+TEST(CliPlateLights, NothingClippedFindsNoLights) {
+  if (!stdfs::exists(sharedData() / "plate_static/opencv_vtest.avi"))
+    GTEST_SKIP() << "../shared/data is absent";
+  const stdfs::path dir = freshTempDir("plate_lights_none");
+  const std::string plate = nightPlate(dir, false);
+  const auto rendered = runPluvia({"render", plate, "-p", preset(dir).string(), "-o",
+                                   (dir / "out.####.exr").string(), "--frames", "1-1"});
+  ASSERT_EQ(rendered.exitCode, 0) << rendered.output;
+  EXPECT_NE(rendered.output.find("0 lights found in the plate"), std::string::npos)
+      << rendered.output;
+  EXPECT_NE(rendered.output.find("the light work is skipped"), std::string::npos);
+  const auto plan = runPluvia({"plan", plate, "-p", preset(dir).string()});
+  ASSERT_EQ(plan.exitCode, 0) << plan.output;
+  EXPECT_NE(plan.output.find("looked for in the plate at render time"), std::string::npos)
+      << plan.output;
+}
