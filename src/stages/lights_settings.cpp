@@ -59,10 +59,11 @@ SectionSpec lightsSection() {
       numberParam(
           "halo_threshold", 1e-3, {0.0, 1e3}, "radiance",
           "a light whose brightest halo pixel is below this is culled (counted in the log)"),
-      enumParam("find", "auto", {"auto", "off"},
-                "auto: the plate's clipped blobs (lamps) become point lights at the depth the "
-                "depth stage gives around them, coloured like their unclipped rim, fixed in the "
-                "world of the clip's camera; nothing clipped, none; off: only lights.list"),
+      enumParam("find", "auto", {"auto", "on", "off"},
+                "auto: on a night plate (median luminance under 0.08), the clipped blobs in the "
+                "dark (lamps) become point lights at the depth the depth stage gives around "
+                "them, coloured like their unclipped rim, fixed in the world of the clip's "
+                "camera; nothing clipped, none; on: on any plate; off: only lights.list"),
       numberParam("find_level", 0.95, {0.01, 1e6}, "working-space",
                   "a pixel whose max channel is at least this is clipped (the white of a "
                   "display-referred file is 1.0)"),
@@ -101,7 +102,8 @@ LightsSettings lightsSettings(const Preset& p) {
   s.halos = p.boolean("lights.halos");
   s.drops = p.boolean("lights.drops");
   s.haloThresholdRadiance = p.number("lights.halo_threshold");
-  s.find = s.enabled && p.string("lights.find") == "auto";
+  s.find = s.enabled && p.string("lights.find") != "off";
+  s.findOnDayPlates = p.string("lights.find") == "on";
   s.findClipLevel = p.number("lights.find_level");
   s.findMinAreaPx = int(p.number("lights.find_min_area_px"));
   s.findCoreGain = p.number("lights.find_core_gain");

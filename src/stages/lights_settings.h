@@ -42,6 +42,7 @@ struct LightsSettings {
   double haloThresholdRadiance = 1e-3;
   // lights.find: the plate's clipped blobs become point lights (stages/plate_lights.h).
   bool find = true;
+  bool findOnDayPlates = false;  // "on": look on any plate, not only a night one
   double findClipLevel = 0.95;
   int findMinAreaPx = 4;
   double findCoreGain = 100.0;

@@ -25,6 +25,12 @@ namespace {
 
 // A clipped blob larger than this share of the frame is a clipped sky or window, not a lamp.
 constexpr double kMaxLampShareOfFrame = 0.005;
+// lights.find auto looks for lamps on night plates only: a day plate's clipped blobs are sky,
+// clouds, white walls and glints, not sources. Night: the still's median luminance below this
+// (scene-linear; about 35 % grey in sRGB). And a lamp is a source in the dark: its rim's mean
+// luminance below this fraction of the clip level (a clipped patch of a lit wall has a bright rim).
+constexpr double kNightMedianLuminance = 0.08;
+constexpr double kLampRimOverClip = 0.4;
 
 // The medium between the lights and the camera: the rain's extinction at the frame's rate plus
 // the fog's density, per metre.
@@ -49,15 +55,27 @@ class LightsStage : public Stage {
     path_ = clip.trackedPath ? *clip.trackedPath : camera_.path(clip.camera);
     if (lights_.find) {
       const Image& still = clipStill(clip);
-      const double maxArea = kMaxLampShareOfFrame * still.width * still.height;
-      for (PlateBlob& blob : findClippedBlobs(still, lights_.findClipLevel, lights_.findMinAreaPx))
-        if (blob.areaPx <= maxArea) blobs_.push_back(std::move(blob));
-      log::info(fmt::format(
-          "lights: {} lights found in the plate (clipped blobs, max channel >= "
-          "lights.find_level = {:g}){}",
-          blobs_.size(), lights_.findClipLevel,
-          blobs_.empty() && lights_.lights.empty() ? ": nothing to light, the light work is skipped"
-                                                   : ""));
+      const double median = medianLuminance(still);
+      if (lights_.findOnDayPlates || median < kNightMedianLuminance) {
+        const double maxArea = kMaxLampShareOfFrame * still.width * still.height;
+        for (PlateBlob& blob :
+             findClippedBlobs(still, lights_.findClipLevel, lights_.findMinAreaPx))
+          if (blob.areaPx <= maxArea &&
+              blob.rimLuminance < kLampRimOverClip * lights_.findClipLevel)
+            blobs_.push_back(std::move(blob));
+        log::info(fmt::format(
+            "lights: {} lights found in the plate (clipped blobs in the dark, max channel >= "
+            "lights.find_level = {:g}){}",
+            blobs_.size(), lights_.findClipLevel,
+            blobs_.empty() && lights_.lights.empty()
+                ? ": nothing to light, the light work is skipped"
+                : ""));
+      } else {
+        log::info(fmt::format(
+            "lights: no lamps looked for: the plate is not a night plate (median luminance "
+            "{:.3f} >= {:g}; lights.find = on looks anyway)",
+            median, kNightMedianLuminance));
+      }
     }
     if (lights_.halos) tables_ = std::make_unique<optics::ScatteringTables>();
     log::info(fmt::format("lights: {} lights{}", lights_.lights.size() + blobs_.size(),

@@ -12,6 +12,17 @@ constexpr int kRimInnerPx = 1, kRimOuterPx = 4;
 
 }  // namespace
 
+double medianLuminance(const Image& still) {
+  std::vector<float> luminance(static_cast<size_t>(still.width) * still.height);
+  for (size_t i = 0; i < luminance.size(); ++i) {
+    const float* p = &still.rgba[i * 4];
+    luminance[i] = 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];
+  }
+  if (luminance.empty()) return 0.0;
+  std::nth_element(luminance.begin(), luminance.begin() + luminance.size() / 2, luminance.end());
+  return luminance[luminance.size() / 2];
+}
+
 std::vector<PlateBlob> findClippedBlobs(const Image& still, double clipLevel, int minAreaPx) {
   const int width = still.width, height = still.height;
   cv::Mat clipped(height, width, CV_8U);
@@ -31,7 +42,13 @@ std::vector<PlateBlob> findClippedBlobs(const Image& still, double clipLevel, in
     // OpenCV's centroid is in pixel indices; pixel centres are at +0.5.
     blob.xPx = centroids.at<double>(label, 0) + 0.5;
     blob.yPx = centroids.at<double>(label, 1) + 0.5;
-    const cv::Mat mask = labels == label;
+    // The rim is looked for in the blob's box grown by the rim's width, not the whole frame.
+    const cv::Rect box = cv::Rect(stats.at<int>(label, cv::CC_STAT_LEFT) - kRimOuterPx,
+                                  stats.at<int>(label, cv::CC_STAT_TOP) - kRimOuterPx,
+                                  stats.at<int>(label, cv::CC_STAT_WIDTH) + 2 * kRimOuterPx,
+                                  stats.at<int>(label, cv::CC_STAT_HEIGHT) + 2 * kRimOuterPx) &
+                         cv::Rect(0, 0, width, height);
+    const cv::Mat mask = labels(box) == label;
     cv::Mat inner, outer;
     const auto disc = [](int r) {
       return cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * r + 1, 2 * r + 1));
@@ -39,16 +56,20 @@ std::vector<PlateBlob> findClippedBlobs(const Image& still, double clipLevel, in
     cv::dilate(mask, inner, disc(kRimInnerPx));
     cv::dilate(mask, outer, disc(kRimOuterPx));
     std::array<double, 3> sum{0, 0, 0};
+    double rimLuminance = 0.0;
     int unclipped = 0;
-    for (int y = 0; y < height; ++y)
-      for (int x = 0; x < width; ++x) {
-        if (!outer.at<uchar>(y, x) || inner.at<uchar>(y, x)) continue;
+    for (int by = 0; by < box.height; ++by)
+      for (int bx = 0; bx < box.width; ++bx) {
+        if (!outer.at<uchar>(by, bx) || inner.at<uchar>(by, bx)) continue;
+        const int x = box.x + bx, y = box.y + by;
         blob.rimPixels.push_back(y * width + x);
         const float* p = &still.rgba[(size_t(y) * width + x) * 4];
+        rimLuminance += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
         if (std::max({p[0], p[1], p[2]}) >= clipLevel) continue;
         for (int c = 0; c < 3; ++c) sum[size_t(c)] += std::max(0.0f, p[c]);
         ++unclipped;
       }
+    if (!blob.rimPixels.empty()) blob.rimLuminance = rimLuminance / blob.rimPixels.size();
     const double peak = std::max({sum[0], sum[1], sum[2]});
     if (unclipped > 0 && peak > 0.0)
       for (int c = 0; c < 3; ++c) blob.rgb[size_t(c)] = sum[size_t(c)] / peak;

@@ -16,7 +16,11 @@ struct PlateBlob {
   int areaPx = 0;
   std::array<double, 3> rgb{1, 1, 1};  // rim chromaticity, max channel 1
   std::vector<int> rimPixels;          // y * width + x of the ring just outside the blob
+  double rimLuminance = 0.0;           // the ring's mean luminance (Rec. 709 weights)
 };
+
+// The median luminance of the still (Rec. 709 weights, working space): how dark the plate is.
+double medianLuminance(const Image& still);
 
 // The blobs of `still` whose max channel is >= clipLevel (working-space units; the white of a
 // display-referred file is 1.0) with at least minAreaPx pixels. The rim is the ring 1..4 px
