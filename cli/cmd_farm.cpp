@@ -16,7 +16,9 @@
 #include "farm/slurm.h"
 #include "io/clip_reader.h"
 #include "io/sequence_pattern.h"
+#include "pipeline/color_settings.h"
 #include "pipeline/frame_metadata.h"
+#include "pipeline/render_job.h"
 #include "stages/registry.h"
 #include "util/error.h"
 #include "util/interrupt.h"
@@ -194,9 +196,11 @@ void addAssembleCommand(CLI::App* farm) {
   cmd->add_option("--set", args->sets, "the render's overrides");
   cmd->callback([=] {
     const auto [first, last] = parseFrameRange(args->range);
+    const Preset preset = loadPreset(args->preset, args->sets);
     WriterOptions options;
     options.fps = args->fps;
-    options.metadata = frameMetadata(loadPreset(args->preset, args->sets), allStages());
+    options.metadata = frameMetadata(preset, allStages());
+    options.color = outputColorTags(colorSettings(preset), args->output);
     InterruptHandlers stopCleanly;
     const auto started = std::chrono::steady_clock::now();
     const int frames = farm::assembleMovie(args->frames, first, last, args->output, options);

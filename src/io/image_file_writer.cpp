@@ -127,7 +127,9 @@ std::vector<unsigned char> encode(Encoding encoding, size_t pixels,
 void describe(OIIO::ImageSpec& spec, const std::string& extension,
               const ImageFileOptions& options) {
   if (const ColorTags* color = options.color) {
-    if (!color->name.empty()) {
+    // Not in a TIFF: for "sRGB" OpenImageIO adds an EXIF directory that, written through the
+    // in-memory proxy below, leaves a file libtiff cannot read ("missing ImageLength").
+    if (!color->name.empty() && extension != "tif" && extension != "tiff") {
       spec.attribute("oiio:ColorSpace", color->name);
       // OpenImageIO keeps no "oiio:" attribute in an EXR header: there the name goes into a
       // string attribute of its own.

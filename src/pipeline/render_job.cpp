@@ -33,13 +33,6 @@ std::string resolveInputSpace(const ColorSettings& color, const ClipInfo& clip) 
   return color.inputSpace;
 }
 
-// "auto": EXR and HDR get the working space, other formats display-encoded sRGB.
-std::string resolveOutputSpace(const ColorSettings& color, const std::string& output) {
-  if (color.outputSpace == "auto")
-    return outputIsLinear(output) ? color.workingSpace : srgbEncodedSpace(color.configPath);
-  return color.outputSpace;
-}
-
 std::vector<int64_t> selectFrames(const RenderRequest& request, const ClipInfo& clip) {
   for (int64_t f : request.frameList) {
     if (!std::binary_search(clip.frames.begin(), clip.frames.end(), f)) {
@@ -185,8 +178,7 @@ WriterOptions writerOptionsFor(const RenderRequest& request, const Preset& prese
   options.aovs = request.aovs;
   options.metadata = frameMetadata(preset, stages);
   carryInputMetadata(options, clip, frames, request.proxyScale);
-  options.color =
-      colorTagsFor(colorSpaceNamesOf(resolveOutputSpace(color, request.output), color.configPath));
+  options.color = outputColorTags(color, request.output);
   // A proxy frame must never pass for a final one: it says so in its header.
   if (request.proxyScale != 1.0)
     options.metadata["pluvia:proxy"] =
@@ -195,6 +187,17 @@ WriterOptions writerOptionsFor(const RenderRequest& request, const Preset& prese
 }
 
 }  // namespace
+
+// "auto": EXR and HDR get the working space, other formats display-encoded sRGB.
+std::string resolveOutputSpace(const ColorSettings& color, const std::string& output) {
+  if (color.outputSpace == "auto")
+    return outputIsLinear(output) ? color.workingSpace : srgbEncodedSpace(color.configPath);
+  return color.outputSpace;
+}
+
+ColorTags outputColorTags(const ColorSettings& color, const std::string& output) {
+  return colorTagsFor(colorSpaceNamesOf(resolveOutputSpace(color, output), color.configPath));
+}
 
 RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
                              const std::vector<StageInfo>& stages, StageTimes& times)

@@ -116,6 +116,12 @@ Plan planJob(const std::string& input, const Preset& preset, const std::string& 
 // loop (pipeline/frame_threads.h). Throws pluvia::Error (naming stage, frame and file) on any
 // failure; frames already written stay valid, no partial frame is left behind, and no input file is
 // ever written. `stages` lists every stage in pipeline order (stages/registry.h: allStages()).
+// The colour space of the frames written to `output` (color.output; "auto": the working space
+// for EXR/HDR, the config's sRGB space otherwise), and the tags a file says it with: a render and
+// a farm's assembly of its frames into a movie tag alike.
+std::string resolveOutputSpace(const ColorSettings& color, const std::string& output);
+ColorTags outputColorTags(const ColorSettings& color, const std::string& output);
+
 RenderSummary renderJob(const RenderRequest& request, const Preset& preset,
                         const std::vector<StageInfo>& stages, StageTimes& times);
 
