@@ -222,8 +222,12 @@ TEST(LocalLights, DropsNearALampGlintMoreByInverseSquare) {
 TEST(LocalLights, PlanSkipsTheStageWithoutLights) {
   const StageInfo* info = findStage("lights");
   ASSERT_NE(info, nullptr);
-  const Preset none = Preset::resolve("base", {}, presetSchema());
+  // Nothing listed and nothing looked for in the plate: skipped.
+  const Preset none = Preset::resolve("base", {"lights.find=off"}, presetSchema());
   EXPECT_NE(info->noOpReason(none).find("no lights"), std::string::npos);
+  // Nothing listed, but lamps may be found in the plate (the default): it runs.
+  const Preset looking = Preset::resolve("base", {}, presetSchema());
+  EXPECT_EQ(info->noOpReason(looking), "");
   const Preset one = Preset::resolve("base", {R"(lights.list=[{"type":"point"}])"}, presetSchema());
   EXPECT_EQ(info->noOpReason(one), "");
 }
