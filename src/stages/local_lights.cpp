@@ -13,6 +13,10 @@ namespace pluvia {
 namespace {
 
 constexpr int kTilePx = 16;
+// A lit tile is interpolated from its corners when its depth varies by under 5 % and its corner
+// glows by under 10 % (addHalos).
+constexpr double kSmoothDepth = 0.05;
+constexpr double kSmoothGlow = 0.1;
 
 optics::Vec3 unitRay(const Camera& camera, double px, double py, double& lengthPerDepth) {
   const Eigen::Vector3d r = camera.rayCamera(px, py);
@@ -146,25 +150,67 @@ HaloResult addHalos(Image& image, const Camera& camera, const std::vector<FrameL
       continue;
     }
     if (!any) continue;
-    tbb::parallel_for(0, height, [&](int y) {
-      size_t done = 0;
-      for (int x = 0; x < width; ++x) {
-        if (!tileLit[static_cast<size_t>((y / kTilePx) * tilesX + x / kTilePx)]) continue;
-        const size_t pixel = static_cast<size_t>(y) * width + x;
-        double lengthPerDepth;
-        const optics::Vec3 ray = unitRay(camera, x + 0.5, y + 0.5, lengthPerDepth);
-        const double z = depth ? double((*depth)[pixel]) : HUGE_VAL;
-        const double length = std::isfinite(z) && z > 0.0 ? z * lengthPerDepth : HUGE_VAL;
-        const double glow = optics::inscatteredRadiance(tables, light, ray, length, betaPerMeter);
-        ++done;
-        if (!(glow > 0.0)) continue;
-        for (int c = 0; c < 3; ++c) {
-          const float add = float(glow * frameLight.rgbIntensity[size_t(c)]);
-          image.rgba[pixel * 4 + size_t(c)] += add;
-          (*aov[size_t(c)])[pixel] += add;
-        }
+    auto glowAt = [&](double px, double py, double z) {
+      double lengthPerDepth;
+      const optics::Vec3 ray = unitRay(camera, px, py, lengthPerDepth);
+      const double length = std::isfinite(z) && z > 0.0 ? z * lengthPerDepth : HUGE_VAL;
+      return optics::inscatteredRadiance(tables, light, ray, length, betaPerMeter);
+    };
+    auto add = [&](size_t pixel, double glow) {
+      if (!(glow > 0.0)) return;
+      for (int c = 0; c < 3; ++c) {
+        const float value = float(glow * frameLight.rgbIntensity[size_t(c)]);
+        image.rgba[pixel * 4 + size_t(c)] += value;
+        (*aov[size_t(c)])[pixel] += value;
       }
-      evaluations += done;
+    };
+    tbb::parallel_for(0, tilesX * tilesY, [&](int tile) {
+      if (!tileLit[static_cast<size_t>(tile)]) return;
+      const int tx = tile % tilesX, ty = tile / tilesX;
+      const int x0 = tx * kTilePx, y0 = ty * kTilePx;
+      const int x1 = std::min(width, x0 + kTilePx), y1 = std::min(height, y0 + kTilePx);
+      auto zAt = [&](int x, int y) {
+        return depth ? double((*depth)[static_cast<size_t>(y) * width + x]) : HUGE_VAL;
+      };
+      // A smooth tile is interpolated from its corner pixels: its depth varies by under
+      // kSmoothDepth and its corners' glow by under kSmoothGlow, so the glow inside is bilinear
+      // to well under 1 % (a tile is 16 px; a glow varying that little across it is many tiles
+      // wide). Near the light's own image, at depth edges and where the glow turns fast, every
+      // pixel is evaluated.
+      bool smooth = (std::abs(tx - lightTileX) > 1 || std::abs(ty - lightTileY) > 1) &&
+                    x1 - x0 > 1 && y1 - y0 > 1;
+      double zMin = HUGE_VAL, zMax = 0.0;
+      for (int y = y0; y < y1 && smooth; ++y)
+        for (int x = x0; x < x1; ++x) {
+          const double z = zAt(x, y);
+          zMin = std::min(zMin, z);
+          zMax = std::max(zMax, z);
+        }
+      if (smooth && std::isfinite(zMax)) smooth = zMax <= zMin * (1.0 + kSmoothDepth);
+      if (smooth && !std::isfinite(zMax)) smooth = !std::isfinite(zMin);  // all sky
+      std::array<double, 4> corner{};
+      if (smooth) {
+        const int xs[2] = {x0, x1 - 1}, ys[2] = {y0, y1 - 1};
+        for (int j = 0; j < 2; ++j)
+          for (int i = 0; i < 2; ++i)
+            corner[size_t(j * 2 + i)] = glowAt(xs[i] + 0.5, ys[j] + 0.5, zAt(xs[i], ys[j]));
+        const auto [lo, hi] = std::minmax_element(corner.begin(), corner.end());
+        smooth = *hi <= *lo * (1.0 + kSmoothGlow);
+      }
+      size_t done = 0;
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+          const size_t pixel = static_cast<size_t>(y) * width + x;
+          if (smooth) {
+            const double u = double(x - x0) / (x1 - 1 - x0), v = double(y - y0) / (y1 - 1 - y0);
+            add(pixel, (1 - v) * ((1 - u) * corner[0] + u * corner[1]) +
+                           v * ((1 - u) * corner[2] + u * corner[3]));
+          } else {
+            add(pixel, glowAt(x + 0.5, y + 0.5, zAt(x, y)));
+            ++done;
+          }
+        }
+      evaluations += smooth ? 4 : done;
     });
   }
   result.pixelsLit = evaluations.load();
