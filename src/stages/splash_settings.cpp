@@ -18,7 +18,7 @@ SectionSpec splashSection() {
       numberParam("max_tilt_deg", 30.0, {0.0, 89.0}, "deg",
                   "surfaces tilted more than this from horizontal take no splashes"),
       numberParam("opacity", 1.0, {0.0, 1.0}, "", "scale on the splashes' coverage"),
-      numberParam("min_size_px", 1.0, {0.0, 100.0}, "px",
+      numberParam("min_size_px", 2.0, {0.0, 100.0}, "px",
                   "surfaces so far that a 3 mm drop's crown (12 mm across) spans fewer pixels "
                   "take no splashes: beyond, a splash is a sub-pixel speck that costs time and "
                   "shows nothing; 0 splashes everywhere"),

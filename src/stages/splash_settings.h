@@ -13,7 +13,7 @@ struct SplashSettings {
   double minDiameterMm = 0.5;  // smaller drops make no visible splash
   double maxTiltDeg = 30.0;    // surfaces steeper than this take no splashes
   double opacity = 1.0;
-  double minSizePx = 1.0;  // nearest crown size drawn: sets the farthest surface that splashes
+  double minSizePx = 2.0;  // nearest crown size drawn: sets the farthest surface that splashes
 };
 
 SplashSettings splashSettings(const Preset& preset);
