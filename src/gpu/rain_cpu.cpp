@@ -42,15 +42,8 @@ struct PixelRange {
 
 // Pixels whose centres may lie on the quad: its bounding box, one pixel wider for rounding.
 PixelRange candidatePixels(const StreakQuad& quad, int width, int height) {
-  float minX = INFINITY, minY = INFINITY, maxX = -INFINITY, maxY = -INFINITY;
-  for (int s = 0; s < 2; ++s) {
-    for (int t = 0; t < 2; ++t) {
-      float x, y;
-      quad.corner(s, t, 0.0f, x, y);
-      minX = std::min(minX, x), maxX = std::max(maxX, x);
-      minY = std::min(minY, y), maxY = std::max(maxY, y);
-    }
-  }
+  float minX, minY, maxX, maxY;
+  quad.bounds(minX, minY, maxX, maxY);
   auto clampTo = [](float value, int size) {
     return static_cast<int>(std::clamp(value, -1.0f, static_cast<float>(size)));
   };

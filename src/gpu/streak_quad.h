@@ -2,6 +2,7 @@
 // The screen-space quad of one streak and its matte coordinates, on the CPU. The vertex and
 // fragment shaders (shaders/rain_stroke.vert, .frag) compute the same frame with the same
 // float operations; renderRainCpu() relies on that to match the GPU pixel for pixel.
+#include <algorithm>
 #include <cmath>
 
 #include "rain/streak_types.h"
@@ -54,6 +55,20 @@ struct StreakQuad {
     const float across = s == 0 ? -halfWidth : halfWidth;
     x = headX + axisX * along - axisY * across;
     y = headY + axisY * along + axisX * across;
+  }
+
+  // The axis-aligned box of the quad's four corners.
+  void bounds(float& minX, float& minY, float& maxX, float& maxY) const {
+    minX = minY = INFINITY;
+    maxX = maxY = -INFINITY;
+    for (int s = 0; s < 2; ++s) {
+      for (int t = 0; t < 2; ++t) {
+        float x, y;
+        corner(s, t, 0.0f, x, y);
+        minX = std::min(minX, x), maxX = std::max(maxX, x);
+        minY = std::min(minY, y), maxY = std::max(maxY, y);
+      }
+    }
   }
 };
 

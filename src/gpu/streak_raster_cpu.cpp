@@ -21,15 +21,8 @@ constexpr std::array<const char*, 4> kRainPlaneNames = {"rain.R", "rain.G", "rai
 // The pixels whose centres may lie on the quad, as in renderRainCpu's candidatePixels(); an
 // empty range (x0 > x1) when the quad misses the frame.
 void boundingPixels(const StreakQuad& quad, int width, int height, Setup& setup) {
-  float minX = INFINITY, minY = INFINITY, maxX = -INFINITY, maxY = -INFINITY;
-  for (int s = 0; s < 2; ++s) {
-    for (int t = 0; t < 2; ++t) {
-      float x, y;
-      quad.corner(s, t, 0.0f, x, y);
-      minX = std::min(minX, x), maxX = std::max(maxX, x);
-      minY = std::min(minY, y), maxY = std::max(maxY, y);
-    }
-  }
+  float minX, minY, maxX, maxY;
+  quad.bounds(minX, minY, maxX, maxY);
   // Pixel x has its centre at x + 0.5: the centres inside [min, max] are ceil(min - 0.5) ..
   // floor(max - 0.5); one more on each side for rounding.
   auto first = [](float v, int size) {

@@ -14,19 +14,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr double kPathsMeters[] = {5.0, 300.0, 5000.0};
 
-std::vector<std::array<double, 3>> viewDirections(int count) {
-  std::mt19937 rng(11);
-  std::normal_distribution<double> g;
-  std::vector<std::array<double, 3>> out;
-  for (int i = 0; i < count; ++i) {
-    std::array<double, 3> v{g(rng), g(rng), g(rng)};
-    const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    for (double& c : v) c /= n;
-    out.push_back(v);
-  }
-  return out;
-}
-
 // References per (direction, path), computed once per environment.
 struct Sample {
   std::array<double, 3> view;
@@ -65,7 +52,7 @@ std::vector<FogReportRow> runFogReport(
   for (const auto& [name, environment] : environments) {
     std::vector<Sample> samples;
     const auto refStart = Clock::now();
-    for (const auto& v : viewDirections(settings.directions)) {
+    for (const auto& v : randomViewDirections(settings.directions, 11)) {
       for (double path : kPathsMeters)
         samples.push_back({v, path, optics::skylightReference(environment, medium, v, path)});
     }
@@ -82,7 +69,7 @@ std::vector<FogReportRow> runFogReport(
       row.buildMilliseconds =
           std::chrono::duration<double, std::milli>(Clock::now() - start).count();
       // Per-pixel cost: the table lookup and mix, timed over many evaluations.
-      const auto views = viewDirections(4096);
+      const auto views = randomViewDirections(4096, 11);
       float sink = 0.0f;
       const auto evalStart = Clock::now();
       for (int repeat = 0; repeat < 64; ++repeat)
@@ -117,6 +104,19 @@ std::string formatFogReport(const std::vector<FogReportRow>& rows) {
     out += fmt::format("{:<28} {:<26} {:>9.3f}% {:>9.3f}% {:>10.1f} {:>10.1f}\n", r.environment,
                        r.model, 100.0 * r.meanRelativeError, 100.0 * r.maxRelativeError,
                        r.buildMilliseconds, r.nanosecondsPerPixel);
+  }
+  return out;
+}
+
+std::vector<std::array<double, 3>> randomViewDirections(int count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g;
+  std::vector<std::array<double, 3>> out;
+  for (int i = 0; i < count; ++i) {
+    std::array<double, 3> v{g(rng), g(rng), g(rng)};
+    const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (double& c : v) c /= n;
+    out.push_back(v);
   }
   return out;
 }

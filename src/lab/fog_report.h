@@ -5,6 +5,7 @@
 // exponential model (one airlight, the environment's horizon) against the same reference.
 // Relative error of one sample: the worst channel of |model - reference| / reference for a black
 // surface at a path length of 5 m, 300 m and 5 km, over random view directions (fixed seed).
+#include <array>
 #include <string>
 #include <vector>
 
@@ -32,5 +33,8 @@ std::vector<FogReportRow> runFogReport(
     const std::vector<std::pair<std::string, EquirectMap>>& environments,
     const FogReportSettings& settings);
 std::string formatFogReport(const std::vector<FogReportRow>& rows);
+
+// `count` unit directions uniform over the sphere (normalised Gaussians, fixed seed).
+std::vector<std::array<double, 3>> randomViewDirections(int count, unsigned seed);
 
 }  // namespace pluvia::lab

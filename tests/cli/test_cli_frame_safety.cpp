@@ -27,20 +27,7 @@ namespace {
 
 // Frames first..last of a small textured plate, as PNG; returns the pattern.
 std::string writePlate(const stdfs::path& dir, int first, int last, int w = 64, int h = 48) {
-  for (int f = first; f <= last; ++f) {
-    Image image(w, h);
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        float* p = image.pixel(x, y);
-        p[0] = float((x * 7 + y * 3 + f) % 256) / 255.0f;
-        p[1] = float((x * 2 + y * 5) % 256) / 255.0f;
-        p[2] = float((x + y * 11) % 256) / 255.0f;
-      }
-    char name[64];
-    std::snprintf(name, sizeof name, "plate.%04d.png", f);
-    writeImageFile(dir / name, image);
-  }
-  return (dir / "plate.####.png").string();
+  return test::writeTexturedPlate(dir, first, last, w, h);
 }
 
 std::string frameName(const std::string& prefix, int frame, const std::string& extension) {

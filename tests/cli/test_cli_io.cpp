@@ -23,15 +23,7 @@ namespace {
 
 // A small textured plate sequence, frames first..last, written as PNG.
 std::string writePlate(const stdfs::path& dir, int first, int last, int w = 64, int h = 36) {
-  return test::writePlateSequence(dir, first, last, w, h, [](Image& image, int f) {
-    for (int y = 0; y < image.height; ++y)
-      for (int x = 0; x < image.width; ++x) {
-        float* p = image.pixel(x, y);
-        p[0] = float((x * 7 + y * 3 + f) % 256) / 255.0f;
-        p[1] = float((x * 2 + y * 5) % 256) / 255.0f;
-        p[2] = float((x + y * 11) % 256) / 255.0f;
-      }
-  });
+  return test::writeTexturedPlate(dir, first, last, w, h);
 }
 
 // A 4x4 PNG of pure red (255, 0, 0): dir/red.png.

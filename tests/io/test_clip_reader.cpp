@@ -14,6 +14,8 @@
 
 namespace pluvia {
 namespace {
+
+using test::expectError;
 namespace stdfs = std::filesystem;
 
 // Writes interleaved float samples to a file of the given sample type, keeping alpha straight.
@@ -44,19 +46,6 @@ void cutFile(const stdfs::path& from, const stdfs::path& to, double fraction) {
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   std::ofstream(to, std::ios::binary)
       .write(bytes.data(), static_cast<std::streamsize>(bytes.size() * fraction));
-}
-
-// Runs `action`, expecting a pluvia::Error whose message names `needle`; returns the error.
-template <typename Action>
-Error expectError(Action action, const std::string& needle) {
-  try {
-    action();
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << "message: " << e.what();
-    return e;
-  }
-  ADD_FAILURE() << "no pluvia::Error thrown (expected one naming " << needle << ")";
-  return Error("none");
 }
 
 TEST(ClipReaderMovie, ExampleClipInfo) {

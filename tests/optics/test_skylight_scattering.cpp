@@ -8,6 +8,7 @@
 #include <random>
 
 #include "image/equirect.h"
+#include "lab/fog_report.h"
 #include "optics/environment_file.h"
 #include "optics/skylight_scattering.h"
 #include "test_support.h"
@@ -17,16 +18,7 @@ namespace {
 
 // Directions spread over the sphere (fixed seed).
 std::vector<std::array<double, 3>> viewDirections(int count) {
-  std::mt19937 rng(7);
-  std::normal_distribution<double> g;
-  std::vector<std::array<double, 3>> out;
-  for (int i = 0; i < count; ++i) {
-    std::array<double, 3> v{g(rng), g(rng), g(rng)};
-    const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    for (double& c : v) c /= n;
-    out.push_back(v);
-  }
-  return out;
+  return lab::randomViewDirections(count, 7);
 }
 
 struct Errors {

@@ -164,6 +164,20 @@ std::string writePlateSequence(const stdfs::path& dir, int first, int last, int 
   return (dir / "plate.####.png").string();
 }
 
+void paintTexturedPlate(Image& image, int frame) {
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      float* p = image.pixel(x, y);
+      p[0] = float((x * 7 + y * 3 + frame) % 256) / 255.0f;
+      p[1] = float((x * 2 + y * 5) % 256) / 255.0f;
+      p[2] = float((x + y * 11) % 256) / 255.0f;
+    }
+}
+
+std::string writeTexturedPlate(const stdfs::path& dir, int first, int last, int width, int height) {
+  return writePlateSequence(dir, first, last, width, height, paintTexturedPlate);
+}
+
 stdfs::path writeTextFile(const stdfs::path& dir, const std::string& name,
                           const std::string& text) {
   const stdfs::path path = dir / name;

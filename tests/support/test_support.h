@@ -6,7 +6,10 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
+
 #include "image/image.h"
+#include "util/error.h"
 
 namespace pluvia::test {
 
@@ -57,5 +60,24 @@ void writeImageFile(const std::filesystem::path& path, const Image& image, int c
 // `paint(image, frame)`, and returns the pattern "dir/plate.####.png".
 std::string writePlateSequence(const std::filesystem::path& dir, int first, int last, int width,
                                int height, const std::function<void(Image&, int)>& paint);
+
+// paintTexturedPlate on every frame: diagonal ramps that move with the frame number, so a frame
+// mix-up or a shifted frame shows.
+void paintTexturedPlate(Image& image, int frame);
+std::string writeTexturedPlate(const std::filesystem::path& dir, int first, int last, int width,
+                               int height);
+
+// Runs `action`, expecting a pluvia::Error whose message names `needle`; returns the error.
+template <typename Action>
+Error expectError(Action action, const std::string& needle) {
+  try {
+    action();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << "message: " << e.what();
+    return e;
+  }
+  ADD_FAILURE() << "no pluvia::Error thrown (expected one naming " << needle << ")";
+  return Error("none");
+}
 
 }  // namespace pluvia::test
