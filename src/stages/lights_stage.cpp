@@ -140,6 +140,13 @@ StageInfo lightsStageInfo() {
     if (lights.lights.empty() && !lights.find)
       return "no lights (lights.list is empty, lights.find off): the light work is skipped";
     if (!lights.halos && !lights.drops) return "lights.halos and lights.drops are both off";
+    // Halos need a medium and lit drops need drops: with neither rain nor fog there is nothing
+    // for the lights to light.
+    const RainSettings rain = rainSettings(p);
+    const FogSettings fog = fogSettings(p);
+    const bool raining = rain.enabled && rain.rateMmPerHour.maxValue() > 0.0;
+    const bool foggy = fog.enabled && fog.densityPerMeter > 0.0;
+    if (!raining && !foggy) return "no rain and no fog: nothing scatters the lights";
     return "";
   };
   info.note = [](const Preset& p) -> std::string {
