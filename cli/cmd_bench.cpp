@@ -17,6 +17,7 @@
 #include <fmt/format.h>
 
 #include "bench_drops.h"
+#include "bench_lod.h"
 #include "bench_streaks.h"
 #include "commands.h"
 #include "common.h"
@@ -287,7 +288,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     std::string input, preset = "moderate";
     std::vector<std::string> sets;
     int frames = 48;
-    std::string strokes, size = "720x480", backend = "both";
+    std::string strokes, size = "720x480", backend = "both", lod;
     int64_t drops = 0;
     bool depthPlane = false, passes = false;
   };
@@ -302,6 +303,9 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
       "--strokes", args->strokes,
       "bench the GPU rain insertion alone: streak counts, e.g. 10000,20000,40000,80000");
   cmd->add_option("--size", args->size, "with --strokes: frame size WIDTHxHEIGHT (720x480)");
+  cmd->add_option("--lod", args->lod,
+                  "bench rain.lod_px: time and rain AOV error of each size against 0 (every "
+                  "drop), e.g. 0,0.5,1,1.5 at --size (default 1920x1080)");
   cmd->add_option("--drops", args->drops,
                   "bench the drop simulation alone (CPU per frame), e.g. 100000")
       ->check(CLI::Range(int64_t(1), int64_t(10000000)));
@@ -317,6 +321,11 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
   cmd->callback([=, &invocation] {
     if (args->drops > 0) {
       runDropBench(args->drops, cmd->count("--frames") > 0 ? args->frames : 30);
+      return;
+    }
+    if (!args->lod.empty()) {
+      runLodBench(args->lod, cmd->count("--size") > 0 ? args->size : "1920x1080",
+                  cmd->count("--frames") > 0 ? args->frames : 10);
       return;
     }
     if (args->passes) {

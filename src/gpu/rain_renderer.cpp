@@ -14,6 +14,7 @@
 #include <tbb/info.h>
 
 #include "gpu/egl_context.h"
+#include "gpu/far_drop_layer.h"
 #include "gpu/frame_targets.h"
 #include "gpu/gl_check.h"
 #include "gpu/gpu_radiance_map.h"
@@ -68,7 +69,8 @@ struct EglBackend {
     }
   }
 
-  void render(Image& frame, const OrderedStreaks& ordered, const rain::ShadingParams& shading);
+  void render(Image& frame, const OrderedStreaks& ordered, const rain::ShadingParams& shading,
+              const FarDropLayer* farDrops);
 };
 
 }  // namespace
@@ -77,6 +79,7 @@ struct RainRenderer::Impl {
   std::unique_ptr<EglBackend> egl;  // one of the two
   std::unique_ptr<StreakRasterCpu> cpu;
   std::string description;
+  FarDropLayer farDrops;
 };
 
 namespace {
@@ -102,7 +105,7 @@ void keepFreedBlocksForTheNextFrame() {
 }  // namespace
 
 void EglBackend::render(Image& frame, const OrderedStreaks& ordered,
-                        const rain::ShadingParams& shading) {
+                        const rain::ShadingParams& shading, const FarDropLayer* farDrops) {
   context.makeCurrent();
   gpu->ensureTargets(frame.width, frame.height);
   // Without a depth plane every streak is in front (of kFarDepthMeters): the variant without
@@ -132,6 +135,7 @@ void EglBackend::render(Image& frame, const OrderedStreaks& ordered,
   // The GPU drew alpha * C over transparent black; B and c enter on the CPU (rain_inputs.h).
   rainRgba.resize(frame.pixelCount() * 4);
   gpu->targets->readRainLayer(rainRgba.data());
+  if (farDrops) farDrops->underlay(hasDepth ? sceneDepth.data() : nullptr, rainRgba);
   compositeRainLayer(rainRgba, shading.backgroundWeight, frame);
 }
 
@@ -198,6 +202,7 @@ RainRenderer::RainRenderer(int width, int height, RainBackend backend)
 RainRenderer::~RainRenderer() = default;
 
 void RainRenderer::setStrokeAtlas(const rain::StrokeAtlas& atlas) {
+  impl_->farDrops.setStrokeMeans(atlas);
   if (impl_->cpu) {
     impl_->cpu->setStrokeAtlas(atlas);
     return;
@@ -207,20 +212,37 @@ void RainRenderer::setStrokeAtlas(const rain::StrokeAtlas& atlas) {
 }
 
 void RainRenderer::render(Image& frame, const std::vector<rain::StreakInstance>& streaks,
-                          const rain::ShadingParams& shading) {
+                          const rain::ShadingParams& shading,
+                          const std::vector<rain::StreakInstance>& farStreaks) {
   validateFrame(frame);
   validateShading(shading);
-  validateStreaks(streaks,
-                  impl_->cpu ? impl_->cpu->strokeCount() : impl_->egl->gpu->atlas.strokeCount());
+  const int strokeCount =
+      impl_->cpu ? impl_->cpu->strokeCount() : impl_->egl->gpu->atlas.strokeCount();
+  validateStreaks(streaks, strokeCount);
+  const FarDropLayer* farDrops = nullptr;
+  if (!farStreaks.empty()) {
+    validateStreaks(farStreaks, strokeCount);
+    const std::vector<float>* depth = frame.findPlane("depth");
+    impl_->farDrops.build(frame.width, frame.height, farStreaks, shading,
+                          depth ? depth->data() : nullptr);
+    if (!impl_->farDrops.empty()) farDrops = &impl_->farDrops;
+  }
   const OrderedStreaks ordered = orderForDrawing(streaks);
-  if (ordered.streaks.empty()) {
+  if (ordered.streaks.empty() && !farDrops) {
     clearRainLayer(frame);
     return;
   }
   if (impl_->cpu) {
-    impl_->cpu->render(frame, ordered.streaks, shading);
+    impl_->cpu->render(frame, ordered.streaks, shading, farDrops);
+  } else if (ordered.streaks.empty()) {
+    // Nothing for the GPU to draw: the veil alone, composited on the CPU.
+    std::vector<float> layer(frame.pixelCount() * 4, 0.0f);
+    std::vector<float> sceneDepth;
+    comparableSceneDepth(frame, sceneDepth);
+    farDrops->underlay(sceneDepth.data(), layer);
+    compositeRainLayer(layer, shading.backgroundWeight, frame);
   } else {
-    impl_->egl->render(frame, ordered, shading);
+    impl_->egl->render(frame, ordered, shading, farDrops);
   }
 }
 

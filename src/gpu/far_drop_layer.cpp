@@ -1,0 +1,163 @@
+#include "gpu/far_drop_layer.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "gpu/rain_inputs.h"
+#include "gpu/streak_quad.h"
+#include "gpu/streak_radiance.h"
+
+namespace pluvia::gpu {
+namespace {
+
+constexpr int kCellFloats = 5;  // r, g, b, a, depth
+constexpr int kSumDoubles = 5;  // mass, mass * r, g, b, mass * depth
+
+// Cell index and weight of the next cell for position p (pixels) on an axis of `cells` cells:
+// cell centres at (i + 0.5) * kCellPx, clamped at the edges.
+struct AxisWeights {
+  int first, second;
+  float secondWeight;
+};
+
+inline AxisWeights axisWeights(float p, int cells) {
+  const float f = p / static_cast<float>(FarDropLayer::kCellPx) - 0.5f;
+  const float floorF = std::floor(f);
+  const int i = static_cast<int>(floorF);
+  return {std::clamp(i, 0, cells - 1), std::clamp(i + 1, 0, cells - 1), f - floorF};
+}
+
+}  // namespace
+
+void FarDropLayer::setStrokeMeans(const rain::StrokeAtlas& atlas) {
+  strokeMeans_.clear();
+  for (const auto& rect : atlas.rects) {
+    const int x0 = static_cast<int>(rect[0]), y0 = static_cast<int>(rect[1]);
+    const int x1 = static_cast<int>(rect[2]), y1 = static_cast<int>(rect[3]);
+    double sum = 0.0;
+    for (int y = y0; y < y1; ++y) {
+      for (int x = x0; x < x1; ++x) sum += atlas.alpha[static_cast<size_t>(y) * atlas.width + x];
+    }
+    const double texels = std::max(1.0, static_cast<double>(x1 - x0) * (y1 - y0));
+    strokeMeans_.push_back(static_cast<float>(sum / texels));
+  }
+}
+
+void FarDropLayer::build(int width, int height, const std::vector<rain::StreakInstance>& streaks,
+                         const rain::ShadingParams& shading, const float* sceneDepth) {
+  width_ = width, height_ = height;
+  cellsX_ = (width + kCellPx - 1) / kCellPx;
+  cellsY_ = (height + kCellPx - 1) / kCellPx;
+  const size_t cells = static_cast<size_t>(cellsX_) * static_cast<size_t>(cellsY_);
+  sums_.assign(cells * kSumDoubles, 0.0);
+  empty_ = true;
+  for (const rain::StreakInstance& streak : streaks) {
+    if (isInvisible(streak)) continue;
+    const float dx = streak.tailX - streak.headX, dy = streak.tailY - streak.headY;
+    const float length = std::sqrt(dx * dx + dy * dy);
+    const auto stroke = static_cast<size_t>(streak.strokeIndex);
+    const double mass = static_cast<double>(std::min(streak.alpha, 1.0f)) * strokeMeans_[stroke] *
+                        streak.widthPx * (length + streak.widthPx);
+    std::array<float, 3> radiance = streakRadiance(shading, streak);
+    // localLightBead() averages 1 + kBeadDepth / 3 over its period.
+    const float bead = 1.0f + rain::kBeadDepth / 3.0f;
+    radiance[0] += bead * streak.localR;
+    radiance[1] += bead * streak.localG;
+    radiance[2] += bead * streak.localB;
+    const int points = 1 + static_cast<int>(length / static_cast<float>(kCellPx));
+    const double pointMass = mass / points;
+    for (int k = 0; k < points; ++k) {
+      const float t = (static_cast<float>(k) + 0.5f) / static_cast<float>(points);
+      const float x = streak.headX + t * dx, y = streak.headY + t * dy;
+      // Off the frame the quad draws nothing either.
+      if (!(x >= 0.0f && y >= 0.0f && x < static_cast<float>(width) &&
+            y < static_cast<float>(height))) {
+        continue;
+      }
+      if (sceneDepth) {
+        const size_t pixel =
+            static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x);
+        if (streak.depthMeters > comparableDepthMeters(sceneDepth[pixel])) continue;
+      }
+      const AxisWeights wx = axisWeights(x, cellsX_), wy = axisWeights(y, cellsY_);
+      const int columns[2] = {wx.first, wx.second}, rows[2] = {wy.first, wy.second};
+      const double weightsX[2] = {1.0 - wx.secondWeight, wx.secondWeight};
+      const double weightsY[2] = {1.0 - wy.secondWeight, wy.secondWeight};
+      for (int j = 0; j < 2; ++j) {
+        for (int i = 0; i < 2; ++i) {
+          const double m = pointMass * weightsX[i] * weightsY[j];
+          double* sum =
+              sums_.data() + (static_cast<size_t>(rows[j]) * cellsX_ + columns[i]) * kSumDoubles;
+          sum[0] += m;
+          sum[1] += m * radiance[0];
+          sum[2] += m * radiance[1];
+          sum[3] += m * radiance[2];
+          sum[4] += m * streak.depthMeters;
+        }
+      }
+      empty_ = false;
+    }
+  }
+  cells_.assign(cells * kCellFloats, 0.0f);
+  const double cellArea = static_cast<double>(kCellPx) * kCellPx;
+  for (size_t c = 0; c < cells; ++c) {
+    const double* sum = sums_.data() + c * kSumDoubles;
+    float* cell = cells_.data() + c * kCellFloats;
+    cell[4] = kFarDepthMeters;  // an empty cell is transparent: its depth does not matter
+    if (!(sum[0] > 0.0)) continue;
+    const double coverage = 1.0 - std::exp(-sum[0] / cellArea);
+    for (int k = 0; k < 3; ++k) cell[k] = static_cast<float>(coverage * sum[1 + k] / sum[0]);
+    cell[3] = static_cast<float>(coverage);
+    cell[4] = static_cast<float>(sum[4] / sum[0]);
+  }
+}
+
+void FarDropLayer::row(int y, int x0, int x1, const float* depthRow, float* r, float* g, float* b,
+                       float* a) const {
+  const AxisWeights wy = axisWeights(static_cast<float>(y) + 0.5f, cellsY_);
+  const float* rowA = cells_.data() + static_cast<size_t>(wy.first) * cellsX_ * kCellFloats;
+  const float* rowB = cells_.data() + static_cast<size_t>(wy.second) * cellsX_ * kCellFloats;
+  for (int x = x0; x <= x1; ++x) {
+    const AxisWeights wx = axisWeights(static_cast<float>(x) + 0.5f, cellsX_);
+    const float* corner[4] = {rowA + wx.first * kCellFloats, rowA + wx.second * kCellFloats,
+                              rowB + wx.first * kCellFloats, rowB + wx.second * kCellFloats};
+    float weight[4] = {(1.0f - wx.secondWeight) * (1.0f - wy.secondWeight),
+                       wx.secondWeight * (1.0f - wy.secondWeight),
+                       (1.0f - wx.secondWeight) * wy.secondWeight,
+                       wx.secondWeight * wy.secondWeight};
+    if (depthRow) {
+      const float scene = comparableDepthMeters(depthRow[x]);
+      for (int k = 0; k < 4; ++k) weight[k] = corner[k][4] > scene ? 0.0f : weight[k];
+    }
+    float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    for (int k = 0; k < 4; ++k) {
+      for (int c = 0; c < 4; ++c) sum[c] += weight[k] * corner[k][c];
+    }
+    const int i = x - x0;
+    r[i] = sum[0], g[i] = sum[1], b[i] = sum[2], a[i] = sum[3];
+  }
+}
+
+void FarDropLayer::underlay(const float* sceneDepth, std::vector<float>& rgba) const {
+  if (empty_) return;
+  std::vector<float> veil(static_cast<size_t>(width_) * 4);
+  float* r = veil.data();
+  float* g = r + width_;
+  float* b = g + width_;
+  float* a = b + width_;
+  for (int y = 0; y < height_; ++y) {
+    const size_t first = static_cast<size_t>(y) * width_;
+    row(y, 0, width_ - 1, sceneDepth ? sceneDepth + first : nullptr, r, g, b, a);
+    for (int x = 0; x < width_; ++x) {
+      float* pixel = rgba.data() + (first + x) * 4;
+      const float keep = 1.0f - pixel[3];
+      pixel[0] += keep * r[x];
+      pixel[1] += keep * g[x];
+      pixel[2] += keep * b[x];
+      pixel[3] += keep * a[x];
+    }
+  }
+}
+
+}  // namespace pluvia::gpu
