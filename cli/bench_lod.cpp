@@ -1,7 +1,7 @@
 // `pluvia bench --lod 0,0.5,1,1.5`: error against time of the far-drop veil (rain.lod_px,
-// gpu/far_drop_layer.h). One simulated frame of `moderate` rain (8 mm/h, 2.5 m/s wind, drops
-// 0.5-15 m, 1/48 s exposure, a 60-degree camera 1.6 m up, level) over a street-like scene depth
-// (sky in the top third, the ground below), rendered by the renderer a render would choose,
+// gpu/far_drop_layer.h). One simulated frame of `moderate` rain (8 mm/h or --rate, 2.5 m/s wind,
+// drops 0.5-15 m, 1/48 s exposure, a 60-degree camera 1.6 m up, level) over a street-like scene
+// depth (sky in the top third, the ground below), rendered by the renderer a render would choose,
 // once per lod_px. Each is compared with drawing every drop (lod_px 0) on the rain AOV (the
 // premultiplied layer rain.R, rain.G, rain.B): the mean and max absolute difference, and the
 // layer's mean radiance and mean coverage (rain.A) over those of drawing every drop.
@@ -80,7 +80,8 @@ double mean(const std::vector<float>& v) {
 
 }  // namespace
 
-void runLodBench(const std::string& lodList, const std::string& size, int frames) {
+void runLodBench(const std::string& lodList, const std::string& size, int frames,
+                 double rateMmPerHour) {
   const std::vector<double> lods = parseLods(lodList);
   int width = 0, height = 0;
   char x = 0;
@@ -99,7 +100,7 @@ void runLodBench(const std::string& lodList, const std::string& size, int frames
   settings.stepSeconds = 1.0 / 24.0;
   const Camera camera = Camera::fromFieldOfView(width, height, 60.0, 0.0, 1.6);
   rain::RainAtFrame moderate;
-  moderate.rateMmPerHour = 8.0;
+  moderate.rateMmPerHour = rateMmPerHour;
   moderate.windSpeedMetersPerSecond = 2.5;
   moderate.windDirectionDeg = 20.0;
   rain::DropSimulation simulation(
@@ -114,9 +115,9 @@ void runLodBench(const std::string& lodList, const std::string& size, int frames
   renderer.setStrokeAtlas(library.atlas);
   const Image background = streetDepth(width, height);
   std::cout << fmt::format(
-      "bench lod: {}x{}, moderate rain (8 mm/h, 2.5 m/s), {} renders each (median after 2 "
-      "warm-up), {}\n",
-      width, height, frames, renderer.deviceDescription());
+      "bench lod: {}x{}, {} mm/h (moderate's 8 unless --rate), 2.5 m/s, {} renders each (median "
+      "after 2 warm-up), {}\n",
+      width, height, rateMmPerHour, frames, renderer.deviceDescription());
   std::cout << fmt::format("{:>7} {:>8} {:>8} {:>9} {:>8} {:>11} {:>10} {:>10} {:>10}\n", "lod_px",
                            "streaks", "veiled", "ms/frame", "speed", "mean|diff|", "max|diff|",
                            "radiance", "coverage");

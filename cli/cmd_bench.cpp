@@ -290,6 +290,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     int frames = 48;
     std::string strokes, size = "720x480", backend = "both", lod;
     int64_t drops = 0;
+    double rate = 8.0;
     bool depthPlane = false, passes = false;
   };
   auto args = std::make_shared<Args>();
@@ -306,6 +307,8 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
   cmd->add_option("--lod", args->lod,
                   "bench rain.lod_px: time and rain AOV error of each size against 0 (every "
                   "drop), e.g. 0,0.5,1,1.5 at --size (default 1920x1080)");
+  cmd->add_option("--rate", args->rate, "with --lod: rain rate in mm/h (8, moderate's)")
+      ->check(CLI::Range(0.1, 500.0));
   cmd->add_option("--drops", args->drops,
                   "bench the drop simulation alone (CPU per frame), e.g. 100000")
       ->check(CLI::Range(int64_t(1), int64_t(10000000)));
@@ -325,7 +328,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     }
     if (!args->lod.empty()) {
       runLodBench(args->lod, cmd->count("--size") > 0 ? args->size : "1920x1080",
-                  cmd->count("--frames") > 0 ? args->frames : 10);
+                  cmd->count("--frames") > 0 ? args->frames : 10, args->rate);
       return;
     }
     if (args->passes) {

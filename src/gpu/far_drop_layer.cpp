@@ -118,24 +118,64 @@ void FarDropLayer::row(int y, int x0, int x1, const float* depthRow, float* r, f
   const AxisWeights wy = axisWeights(static_cast<float>(y) + 0.5f, cellsY_);
   const float* rowA = cells_.data() + static_cast<size_t>(wy.first) * cellsX_ * kCellFloats;
   const float* rowB = cells_.data() + static_cast<size_t>(wy.second) * cellsX_ * kCellFloats;
-  for (int x = x0; x <= x1; ++x) {
+  const float bottom = wy.secondWeight, top = 1.0f - bottom;
+  // Pixels between two cell centres share their four corners: walk the row in such spans.
+  int x = x0;
+  while (x <= x1) {
     const AxisWeights wx = axisWeights(static_cast<float>(x) + 0.5f, cellsX_);
+    // Centres between cell centres i and i + 1, (i + 0.5) kCellPx <= x + 0.5 < (i + 1.5)
+    // kCellPx, are pixels i kCellPx + kCellPx / 2 to i kCellPx + 3 kCellPx / 2 - 1.
+    const int cell = static_cast<int>(
+        std::floor((static_cast<float>(x) + 0.5f) / static_cast<float>(kCellPx) - 0.5f));
+    const int last = std::min(x1, cell * kCellPx + 3 * kCellPx / 2 - 1);
     const float* corner[4] = {rowA + wx.first * kCellFloats, rowA + wx.second * kCellFloats,
                               rowB + wx.first * kCellFloats, rowB + wx.second * kCellFloats};
-    float weight[4] = {(1.0f - wx.secondWeight) * (1.0f - wy.secondWeight),
-                       wx.secondWeight * (1.0f - wy.secondWeight),
-                       (1.0f - wx.secondWeight) * wy.secondWeight,
-                       wx.secondWeight * wy.secondWeight};
+    const int n = last - x + 1, i0 = x - x0;
+    if (corner[0][3] == 0.0f && corner[1][3] == 0.0f && corner[2][3] == 0.0f &&
+        corner[3][3] == 0.0f) {
+      std::fill_n(r + i0, n, 0.0f), std::fill_n(g + i0, n, 0.0f);
+      std::fill_n(b + i0, n, 0.0f), std::fill_n(a + i0, n, 0.0f);
+      x = last + 1;
+      continue;
+    }
+    // Every corner in front of the whole span (no depth plane, or the scene farther than the
+    // farthest corner throughout): the masks are all 1, a plain bilinear blend.
+    float sceneNearest = INFINITY;
     if (depthRow) {
-      const float scene = comparableDepthMeters(depthRow[x]);
-      for (int k = 0; k < 4; ++k) weight[k] = corner[k][4] > scene ? 0.0f : weight[k];
+      for (int k = x; k <= last; ++k) {
+        sceneNearest = std::min(sceneNearest, comparableDepthMeters(depthRow[k]));
+      }
     }
-    float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    for (int k = 0; k < 4; ++k) {
-      for (int c = 0; c < 4; ++c) sum[c] += weight[k] * corner[k][c];
+    const float cornerFarthest =
+        std::max(std::max(corner[0][4], corner[1][4]), std::max(corner[2][4], corner[3][4]));
+    const bool allInFront = !depthRow || cornerFarthest <= sceneNearest;
+    float left[4], right[4];
+    for (int c = 0; c < 4; ++c) {
+      left[c] = top * corner[0][c] + bottom * corner[2][c];
+      right[c] = top * corner[1][c] + bottom * corner[3][c];
     }
-    const int i = x - x0;
-    r[i] = sum[0], g[i] = sum[1], b[i] = sum[2], a[i] = sum[3];
+    for (int k = x; k <= last; ++k) {
+      const float fx = static_cast<float>(k) + 0.5f;
+      const float f = fx / static_cast<float>(kCellPx) - 0.5f;
+      const float w = wx.first == wx.second ? 0.0f : f - std::floor(f);
+      float out[4];
+      if (allInFront) {
+        for (int c = 0; c < 4; ++c) out[c] = left[c] + w * (right[c] - left[c]);
+      } else {
+        const float scene = comparableDepthMeters(depthRow[k]);
+        const float weight[4] = {corner[0][4] > scene ? 0.0f : (1.0f - w) * top,
+                                 corner[1][4] > scene ? 0.0f : w * top,
+                                 corner[2][4] > scene ? 0.0f : (1.0f - w) * bottom,
+                                 corner[3][4] > scene ? 0.0f : w * bottom};
+        for (int c = 0; c < 4; ++c) {
+          out[c] = weight[0] * corner[0][c] + weight[1] * corner[1][c] + weight[2] * corner[2][c] +
+                   weight[3] * corner[3][c];
+        }
+      }
+      const int i = k - x0;
+      r[i] = out[0], g[i] = out[1], b[i] = out[2], a[i] = out[3];
+    }
+    x = last + 1;
   }
 }
 
