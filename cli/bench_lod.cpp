@@ -1,11 +1,13 @@
-// `pluvia bench --lod 0,0.5,1,1.5`: error against time of the far-drop veil (rain.lod_px,
-// gpu/far_drop_layer.h). One simulated frame of `moderate` rain (8 mm/h or --rate, 2.5 m/s wind,
-// drops 0.5-15 m, 1/48 s exposure, a 60-degree camera 1.6 m up, level) over a street-like scene
-// depth (sky in the top third, the ground below), rendered by the renderer a render would choose,
-// once per lod_px. Each is compared with drawing every drop (lod_px 0) on the rain AOV (the
-// premultiplied layer rain.R, rain.G, rain.B): the mean and max absolute difference, and the
-// layer's mean radiance and mean coverage (rain.A) over those of drawing every drop.
+// `pluvia bench --lod 0,0.5,1,1.5`: error against time of the far drops drawn as lines
+// (rain.lod_px, gpu/far_drop_lines.h). One simulated frame of `moderate` rain (8 mm/h or
+// --rate, 2.5 m/s wind, drops 0.5-15 m, 1/48 s exposure, a 60-degree camera 1.6 m up, level) over a
+// street-like scene depth (sky in the top third, the ground below), rendered by the renderer a
+// render would choose, once per lod_px. Each is compared with drawing every drop (lod_px 0) on the
+// rain AOV (the premultiplied layer rain.R, rain.G, rain.B): the mean and max absolute difference,
+// and the layer's mean radiance and mean coverage (rain.A) over those of drawing every drop.
 #include "bench_lod.h"
+
+#include <time.h>
 
 #include <algorithm>
 #include <chrono>
@@ -72,6 +74,14 @@ Layer layerOf(const Image& frame) {
           *frame.findPlane("rain.A")};
 }
 
+// CPU time of the whole process (every thread), in ms: on a shared machine it varies less than
+// the wall time.
+double processCpuMs() {
+  timespec now{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+  return 1000.0 * static_cast<double>(now.tv_sec) + 1e-6 * static_cast<double>(now.tv_nsec);
+}
+
 double mean(const std::vector<float>& v) {
   double sum = 0.0;
   for (float x : v) sum += x;
@@ -118,30 +128,37 @@ void runLodBench(const std::string& lodList, const std::string& size, int frames
       "bench lod: {}x{}, {} mm/h (moderate's 8 unless --rate), 2.5 m/s, {} renders each (median "
       "after 2 warm-up), {}\n",
       width, height, rateMmPerHour, frames, renderer.deviceDescription());
-  std::cout << fmt::format("{:>7} {:>8} {:>8} {:>9} {:>8} {:>11} {:>10} {:>10} {:>10}\n", "lod_px",
-                           "streaks", "veiled", "ms/frame", "speed", "mean|diff|", "max|diff|",
-                           "radiance", "coverage");
+  std::cout << fmt::format(
+      "{:>7} {:>8} {:>8} {:>9} {:>8} {:>7} {:>8} {:>11} {:>10} {:>10} {:>10}\n", "lod_px",
+      "streaks", "lines", "ms/frame", "speed", "CPU ms", "CPU spd", "mean|diff|", "max|diff|",
+      "radiance", "coverage");
   Layer reference;
-  double referenceMs = 0.0;
+  double referenceMs = 0.0, referenceCpuMs = 0.0;
   for (size_t k = 0; k < lods.size(); ++k) {
     look.lodPx = lods[k];
     std::vector<rain::StreakInstance> far;
     const std::vector<rain::StreakInstance> near = simulation.buildStreaks(look, &far);
     Image frame;
-    std::vector<double> ms;
+    std::vector<double> ms, cpuMs;
     for (int i = 0; i < frames + 2; ++i) {
       frame = background;
       const auto started = std::chrono::steady_clock::now();
+      const double cpuStarted = processCpuMs();
       renderer.render(frame, near, shading, far);
-      if (i >= 2) ms.push_back(1000.0 * secondsSince(started));
+      if (i >= 2) {
+        ms.push_back(1000.0 * secondsSince(started));
+        cpuMs.push_back(processCpuMs() - cpuStarted);
+      }
     }
     std::sort(ms.begin(), ms.end());
-    const double median = ms[ms.size() / 2];
+    std::sort(cpuMs.begin(), cpuMs.end());
+    const double median = ms[ms.size() / 2], cpuMedian = cpuMs[cpuMs.size() / 2];
     const Layer layer = layerOf(frame);
     if (k == 0) {
       if (lods[0] != 0.0) throw UsageError("--lod must start with 0 (every drop, the reference)");
       reference = layer;
       referenceMs = median;
+      referenceCpuMs = cpuMedian;
     }
     double sumDiff = 0.0, maxDiff = 0.0;
     const std::vector<float>* planes[3] = {&layer.r, &layer.g, &layer.b};
@@ -155,9 +172,10 @@ void runLodBench(const std::string& lodList, const std::string& size, int frames
     const double radiance = mean(layer.r) + mean(layer.g) + mean(layer.b);
     const double referenceRadiance = mean(reference.r) + mean(reference.g) + mean(reference.b);
     std::cout << fmt::format(
-        "{:>7.2f} {:>8} {:>8} {:>9.2f} {:>7.2f}x {:>11.2e} {:>10.4f} {:>10.4f} {:>10.4f}\n",
-        lods[k], near.size(), far.size(), median, referenceMs / median,
-        sumDiff / (3.0 * static_cast<double>(layer.r.size())), maxDiff,
+        "{:>7.2f} {:>8} {:>8} {:>9.2f} {:>7.2f}x {:>7.1f} {:>7.2f}x {:>11.2e} {:>10.4f} {:>10.4f} "
+        "{:>10.4f}\n",
+        lods[k], near.size(), far.size(), median, referenceMs / median, cpuMedian,
+        referenceCpuMs / cpuMedian, sumDiff / (3.0 * static_cast<double>(layer.r.size())), maxDiff,
         radiance / referenceRadiance, mean(layer.a) / mean(reference.a));
     std::cout.flush();
   }

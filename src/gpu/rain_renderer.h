@@ -59,7 +59,7 @@ class RainRenderer {
   // planes "rain.R", "rain.G", "rain.B", "rain.A" hold the premultiplied rain layer alone (rain
   // over transparent black), "matte" = rain.A. Throws pluvia::Error (stage "rain") on
   // inconsistent inputs, shading included.
-  // farStreaks: drawn as the far-drop veil under the streaks (far_drop_layer.h), not as quads;
+  // farStreaks: drawn as single-pixel lines under the streaks (far_drop_lines.h), not as quads;
   // empty (the default), and the frame is exactly what drawing `streaks` alone gives.
   void render(Image& frame, const std::vector<rain::StreakInstance>& streaks,
               const rain::ShadingParams& shading,

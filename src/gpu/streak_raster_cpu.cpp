@@ -109,7 +109,8 @@ void StreakRasterCpu::setStrokeAtlas(const rain::StrokeAtlas& atlas) {
 }
 
 void StreakRasterCpu::render(Image& frame, const std::vector<rain::StreakInstance>& streaks,
-                             const rain::ShadingParams& shading, const FarDropLayer* farDrops) {
+                             const rain::ShadingParams& shading, FarDropLines* farLines,
+                             const std::vector<rain::StreakInstance>* farStreaks) {
   const int width = frame.width, height = frame.height;
   const size_t count = streaks.size();
   const int tilesX = (width + kTilePx - 1) / kTilePx, tilesY = (height + kTilePx - 1) / kTilePx;
@@ -165,7 +166,17 @@ void StreakRasterCpu::render(Image& frame, const std::vector<rain::StreakInstanc
   const RainPlanes planes = rainPlanesOf(frame);
   const TileTarget target{planes.r, planes.g, planes.b, planes.a, depth ? depth->data() : nullptr,
                           width,    fresh};
-  const bool veiled = farDrops && !farDrops->empty();
+  const bool lined = farLines && farStreaks && !farStreaks->empty();
+  if (lined) {
+    // The lines go under every streak: drawn over the whole cleared layer first.
+    if (!fresh) {
+      for (float* plane : {planes.r, planes.g, planes.b, planes.a}) {
+        std::fill_n(plane, frame.pixelCount(), 0.0f);
+      }
+    }
+    farLines->draw(*farStreaks, shading,
+                   {planes.r, planes.g, planes.b, planes.a, target.depth, width, height});
+  }
   const PaddedAtlas atlas{quads_.data(), paddedWidth_};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles, 1), [&](const auto& range) {
     for (size_t t = range.begin(); t != range.end(); ++t) {
@@ -173,17 +184,8 @@ void StreakRasterCpu::render(Image& frame, const std::vector<rain::StreakInstanc
       const int ty0 = static_cast<int>(t / tilesX) * kTilePx;
       const int tx1 = std::min(tx0 + kTilePx, width) - 1;
       const int ty1 = std::min(ty0 + kTilePx, height) - 1;
-      if (veiled) {
-        // The tile starts as the veil instead of transparent black: the streaks go over it.
-        for (int y = ty0; y <= ty1; ++y) {
-          const size_t first = static_cast<size_t>(y) * width + static_cast<size_t>(tx0);
-          farDrops->row(y, tx0, tx1,
-                        target.depth ? target.depth + static_cast<size_t>(y) * width : nullptr,
-                        planes.r + first, planes.g + first, planes.b + first, planes.a + first);
-        }
-      }
       TileTarget tile = target;
-      tile.cleared = target.cleared || veiled;
+      tile.cleared = target.cleared || lined;
       drawTile(binned_.data() + tileStart_[t], tileStart_[t + 1] - tileStart_[t], atlas, tile, tx0,
                ty0, tx1, ty1, portableOnly_);
       // The tile's layer is still in cache: finish Eq. 2 on it now.

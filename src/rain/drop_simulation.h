@@ -83,7 +83,7 @@ struct StreakSettings {
   double fNumber = 0.0;
   double sensorWidthMm = 36.0;
   // Level of detail (rain.lod_px): drops whose projected diameter (before defocus) is under
-  // this many pixels are the far ones drawn as a veil (gpu/far_drop_layer.h); 0: none.
+  // this many pixels are the far ones drawn as lines (gpu/far_drop_lines.h); 0: none.
   double lodPx = 0.0;
 };
 

@@ -33,9 +33,9 @@ SectionSpec rainSection() {
       numberParam("far_m", 15.0, {0.1, 1000.0}, "m", "farthest drops drawn"),
       integerParam("max_drops", 100000, {0, 10000000}, "drops", "cap on the simulated drops"),
       numberParam("lod_px", 0.0, {0.0, 10.0}, "px",
-                  "level of detail: drops whose projected diameter is under this are drawn as a "
-                  "statistically equivalent veil (mean coverage and radiance over 8 px cells), "
-                  "not one streak each; 0: every drop a streak"),
+                  "level of detail: drops whose projected diameter is under this are drawn as "
+                  "single-pixel lines carrying their coverage, not textured streaks; 0: every drop "
+                  "a streak"),
       enumParam("shading", "default", {"default", "paper"},
                 "default: environment convolved with the drop's transfer function (about 1 % "
                 "from a ray-traced drop); paper: Wang et al.'s 16 SH coefficients + c B (about "

@@ -252,7 +252,7 @@ class RainStage : public Stage {
   double fps_ = 24.0;
   rain::StrokeAtlas atlas_;
   rain::StreakSettings streakParams_;
-  std::vector<rain::StreakInstance> farStreaks_;  // under rain.lod_px: the veil's
+  std::vector<rain::StreakInstance> farStreaks_;  // under rain.lod_px: drawn as lines
   rain::ShadingParams shading_;
   std::vector<std::pair<int64_t, rain::ShadingParams>>
       keyShading_;  // empty: shading_ for every frame

@@ -1,11 +1,11 @@
-// Level of detail for far rain (rain.lod_px, gpu/far_drop_layer.h): the veil that stands in for
-// the far drops' streaks, against drawing every drop as its own streak.
+// Level of detail for far rain (rain.lod_px, gpu/far_drop_lines.h): the single-pixel lines that
+// stand in for the far drops' streaks, against drawing every drop as its own textured streak.
 //
-// Tolerances: the veil keeps the far drops' coverage mass, so the frame's mean rain alpha and
-// mean rain radiance with the veil are within 3 % of drawing every streak (the sampled
-// simulation below gives 1-2 %: the veil's exp(-M / a) against the product of 1 - alpha per
-// pixel, and mass that a quad near the frame's edge loses off it). One faint streak on its own
-// is kept to 1 % of its analytic mass alpha * meanMatte * width * (length + width). With
+// Tolerances: a line keeps its streak's coverage mass, so the frame's mean rain alpha and mean
+// rain radiance with lines are within 3 % of drawing every streak (the sampled simulation below
+// gives about 1 %: overlapping streaks blend "over", and a quad's bilinear matte at pixel
+// centres is not exactly its mean). One faint streak on its own is kept to 1 % of its analytic
+// mass alpha * meanMatte * width * (length + width). With
 // lod_px 0 nothing changes: the streaks and the frame are bit-identical to the call without a
 // far list.
 #include <gtest/gtest.h>
@@ -66,7 +66,7 @@ double planeMean(const Image& frame, const char* name) {
   return std::accumulate(plane.begin(), plane.end(), 0.0) / static_cast<double>(plane.size());
 }
 
-class FarDropLayerTest : public ::testing::Test {
+class FarDropLinesTest : public ::testing::Test {
  protected:
   void SetUp() override {
     atlas_ = rain::loadStrokeLibrary(rain::builtinStrokeLibraryPath()).atlas;
@@ -91,7 +91,7 @@ Image greyFrame() {
   return frame;
 }
 
-TEST_F(FarDropLayerTest, VeilKeepsTheMeanCoverageAndRadianceOfDrawingEveryDrop) {
+TEST_F(FarDropLinesTest, LinesKeepTheMeanCoverageAndRadianceOfDrawingEveryDrop) {
   const auto simulation = makeSimulation();
   std::vector<rain::StreakInstance> far;
   const std::vector<rain::StreakInstance> near =
@@ -103,18 +103,18 @@ TEST_F(FarDropLayerTest, VeilKeepsTheMeanCoverageAndRadianceOfDrawingEveryDrop) 
 
   const Image background = greyFrame();
   const Image full = render(every, {}, background);
-  const Image veiled = render(near, far, background);
+  const Image lined = render(near, far, background);
   const Image nearOnly = render(near, {}, background);
-  const double fullAlpha = planeMean(full, "rain.A"), veiledAlpha = planeMean(veiled, "rain.A");
+  const double fullAlpha = planeMean(full, "rain.A"), linedAlpha = planeMean(lined, "rain.A");
   // The far drops must matter: without them the coverage is clearly lower.
   EXPECT_LT(planeMean(nearOnly, "rain.A"), 0.8 * fullAlpha);
-  EXPECT_NEAR(veiledAlpha / fullAlpha, 1.0, 0.03);
+  EXPECT_NEAR(linedAlpha / fullAlpha, 1.0, 0.03);
   for (const char* channel : {"rain.R", "rain.G", "rain.B"}) {
-    EXPECT_NEAR(planeMean(veiled, channel) / planeMean(full, channel), 1.0, 0.03) << channel;
+    EXPECT_NEAR(planeMean(lined, channel) / planeMean(full, channel), 1.0, 0.03) << channel;
   }
 }
 
-TEST_F(FarDropLayerTest, OneFaintStreakKeepsItsAnalyticMass) {
+TEST_F(FarDropLinesTest, OneFaintStreakKeepsItsAnalyticMass) {
   // alpha * meanMatte(stroke) * width * (length + width): the matte integrated over its quad.
   rain::StreakInstance streak{};
   streak.headX = 150.3f, streak.headY = 100.7f, streak.tailX = 153.1f, streak.tailY = 124.2f;
@@ -132,8 +132,8 @@ TEST_F(FarDropLayerTest, OneFaintStreakKeepsItsAnalyticMass) {
     }
   }
   const double mass = 0.02 * (matteSum / texels) * 1.5 * (length + 1.5);
-  const Image veiled = render({}, {streak}, greyFrame());
-  const double sum = planeMean(veiled, "rain.A") * kWidth * kHeight;
+  const Image lined = render({}, {streak}, greyFrame());
+  const double sum = planeMean(lined, "rain.A") * kWidth * kHeight;
   EXPECT_NEAR(sum / mass, 1.0, 0.01);
   // Drawn as a quad the same streak covers the same mass (within the matte's bilinear
   // sampling at its pixel centres).
@@ -141,7 +141,7 @@ TEST_F(FarDropLayerTest, OneFaintStreakKeepsItsAnalyticMass) {
   EXPECT_NEAR(planeMean(drawn, "rain.A") * kWidth * kHeight / mass, 1.0, 0.1);
 }
 
-TEST_F(FarDropLayerTest, VeilIsHiddenBehindANearerScene) {
+TEST_F(FarDropLinesTest, LinesAreHiddenBehindANearerScene) {
   const auto simulation = makeSimulation();
   std::vector<rain::StreakInstance> far;
   const std::vector<rain::StreakInstance> near =
@@ -155,8 +155,8 @@ TEST_F(FarDropLayerTest, VeilIsHiddenBehindANearerScene) {
   for (int y = 0; y < kHeight; ++y)
     for (int x = 0; x < kWidth; ++x)
       depth[size_t(y) * kWidth + x] = x < kWidth / 2 ? 0.5f : INFINITY;
-  const Image veiled = render({}, far, background);
-  const std::vector<float>& alpha = *veiled.findPlane("rain.A");
+  const Image lined = render({}, far, background);
+  const std::vector<float>& alpha = *lined.findPlane("rain.A");
   double left = 0.0, right = 0.0;
   for (int y = 0; y < kHeight; ++y) {
     for (int x = 0; x < kWidth; ++x)
@@ -166,7 +166,7 @@ TEST_F(FarDropLayerTest, VeilIsHiddenBehindANearerScene) {
   EXPECT_GT(right, 0.0);
 }
 
-TEST_F(FarDropLayerTest, LodOffReproducesTheFrame) {
+TEST_F(FarDropLinesTest, LodOffReproducesTheFrame) {
   const auto simulation = makeSimulation();
   std::vector<rain::StreakInstance> far{rain::StreakInstance{}};
   const std::vector<rain::StreakInstance> withList =
@@ -185,7 +185,7 @@ TEST_F(FarDropLayerTest, LodOffReproducesTheFrame) {
   EXPECT_EQ(*a.findPlane("rain.A"), *b.findPlane("rain.A"));
 }
 
-TEST_F(FarDropLayerTest, EglAndCpuComposeTheSameVeil) {
+TEST_F(FarDropLinesTest, EglAndCpuComposeTheSameLines) {
   const auto simulation = makeSimulation();
   std::vector<rain::StreakInstance> far;
   const std::vector<rain::StreakInstance> near =
