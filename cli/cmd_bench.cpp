@@ -2,6 +2,7 @@
 // decode + encode of the same clip with the same encoder settings, measured in the same run.
 // `pluvia bench --strokes 10000,...,80000`: the GPU rain insertion alone (Table 3 of Wang et al.):
 // frames per second of RainRenderer::render for a synthetic, deterministic streak population.
+#include <sys/resource.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -32,6 +33,7 @@
 #include "util/error.h"
 #include "util/log.h"
 #include "util/subprocess.h"
+#include "util/thread_limit.h"
 
 namespace pluvia::cli {
 namespace stdfs = std::filesystem;
@@ -94,6 +96,21 @@ double processCpuMs() {
   timespec now{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
   return 1000.0 * static_cast<double>(now.tv_sec) + 1e-6 * static_cast<double>(now.tv_nsec);
+}
+
+// CPU seconds of this process and of its children that have been waited for (ffmpeg's encoder
+// and decoder once closed): the work a run costs, which a machine shared with other jobs
+// changes less than the wall time.
+double cpuSecondsWithChildren() {
+  auto seconds = [](int who) {
+    rusage usage{};
+    getrusage(who, &usage);
+    auto of = [](const timeval& t) {
+      return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
+    };
+    return of(usage.ru_utime) + of(usage.ru_stime);
+  };
+  return seconds(RUSAGE_SELF) + seconds(RUSAGE_CHILDREN);
 }
 
 struct RenderTiming {
@@ -347,13 +364,34 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     std::string input = args->input.empty() ? makeBenchClip(folder, args->frames) : args->input;
     Preset preset = loadPreset(args->preset, args->sets);
 
-    // ffmpeg alone: decode and encode with the settings pluvia's movie writer uses.
+    // ffmpeg alone: decode and encode with the settings pluvia's movie reader and writer use,
+    // threads included (io/movie_reader.cpp, io/movie_writer.cpp).
+    const std::string threads = std::to_string(threadLimit());
     auto started = std::chrono::steady_clock::now();
-    auto r =
-        runProcess({"ffmpeg", "-y", "-v", "error", "-i", input, "-frames:v",
-                    std::to_string(args->frames), "-c:v", "libx264", "-preset", "medium", "-crf",
-                    "16", "-pix_fmt", "yuv420p", (folder / "ffmpeg_passthrough.mp4").string()});
+    double cpuStarted = cpuSecondsWithChildren();
+    auto r = runProcess({"ffmpeg",
+                         "-y",
+                         "-v",
+                         "error",
+                         "-threads",
+                         threads,
+                         "-i",
+                         input,
+                         "-frames:v",
+                         std::to_string(args->frames),
+                         "-c:v",
+                         "libx264",
+                         "-preset",
+                         "medium",
+                         "-crf",
+                         "16",
+                         "-pix_fmt",
+                         "yuv420p",
+                         "-threads",
+                         threads,
+                         (folder / "ffmpeg_passthrough.mp4").string()});
     const double ffmpegSeconds = secondsSince(started);
+    const double ffmpegCpuSeconds = cpuSecondsWithChildren() - cpuStarted;
     if (r.exitCode != 0) throw Error("ffmpeg passthrough failed: " + r.output);
 
     RenderRequest request;
@@ -365,6 +403,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     auto log = log::level();
     log::setLevel(log::Level::Warning);
     started = std::chrono::steady_clock::now();
+    cpuStarted = cpuSecondsWithChildren();
     RenderSummary summary;
     try {
       ClipInfo clip;
@@ -377,6 +416,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
       throw;
     }
     const double pluviaSeconds = secondsSince(started);
+    const double pluviaCpuSeconds = cpuSecondsWithChildren() - cpuStarted;
     log::setLevel(log);
     const int frames = summary.framesWritten;
 
@@ -424,6 +464,8 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
                                "16",
                                "-pix_fmt",
                                "yuv420p",
+                               "-threads",
+                               threads,
                                (folder / "ffmpeg_encode_only.mp4").string()});
     const double encodeSeconds = secondsSince(started);
     if (encoded.exitCode != 0) throw Error("ffmpeg could not encode the render: " + encoded.output);
@@ -431,7 +473,10 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     const double pluviaFps = frames / pluviaSeconds;
     const double ffmpegFps = args->frames / ffmpegSeconds;
     const double encodeFps = frames / encodeSeconds;
-    std::cout << "encoder settings: libx264 -preset medium -crf 16 -pix_fmt yuv420p\n";
+    std::cout << fmt::format(
+        "encoder settings: libx264 -preset medium -crf 16 -pix_fmt yuv420p -threads {0} (decoder "
+        "-threads {0})\n",
+        threads);
     std::cout << fmt::format("pluvia end to end:      {:.2f} frames/s ({:.1f} s)\n", pluviaFps,
                              pluviaSeconds);
     std::cout << fmt::format("ffmpeg decode+encode:   {:.2f} frames/s ({:.1f} s; the plate)\n",
@@ -441,6 +486,14 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
         encodeFps, encodeSeconds);
     std::cout << fmt::format("ratio pluvia / ffmpeg:  {:.3f}\n", pluviaFps / ffmpegFps);
     std::cout << fmt::format("ratio pluvia / encode only: {:.3f}\n", pluviaFps / encodeFps);
+    // On a machine shared with other jobs the wall times swing; the CPU time each run cost
+    // (every thread, ffmpeg's processes included) does much less.
+    std::cout << fmt::format(
+        "CPU s per frame: pluvia {:.3f} (with its ffmpeg decoder and encoder), ffmpeg "
+        "decode+encode "
+        "{:.3f}; ratio ffmpeg / pluvia: {:.3f}\n",
+        pluviaCpuSeconds / std::max(1, frames), ffmpegCpuSeconds / args->frames,
+        (ffmpegCpuSeconds / args->frames) / (pluviaCpuSeconds / std::max(1, frames)));
     std::cout << "(stage times overlap: decode and encode run on their own threads)\n";
     stdfs::remove_all(folder);
   });
