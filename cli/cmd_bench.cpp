@@ -442,6 +442,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     if (decoded.exitCode != 0) throw Error("ffmpeg could not decode the render: " + decoded.output);
     const ClipInfo rendered = openClip(request.output)->info();
     started = std::chrono::steady_clock::now();
+    cpuStarted = cpuSecondsWithChildren();
     auto encoded = runProcess({"ffmpeg",
                                "-y",
                                "-v",
@@ -468,6 +469,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
                                threads,
                                (folder / "ffmpeg_encode_only.mp4").string()});
     const double encodeSeconds = secondsSince(started);
+    const double encodeCpuSeconds = cpuSecondsWithChildren() - cpuStarted;
     if (encoded.exitCode != 0) throw Error("ffmpeg could not encode the render: " + encoded.output);
 
     const double pluviaFps = frames / pluviaSeconds;
