@@ -492,10 +492,12 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     // (every thread, ffmpeg's processes included) does much less.
     std::cout << fmt::format(
         "CPU s per frame: pluvia {:.3f} (with its ffmpeg decoder and encoder), ffmpeg "
-        "decode+encode "
-        "{:.3f}; ratio ffmpeg / pluvia: {:.3f}\n",
+        "decode+encode {:.3f}, ffmpeg encode only {:.3f}; ratio ffmpeg / pluvia: {:.3f} (encode "
+        "only / pluvia: {:.3f})\n",
         pluviaCpuSeconds / std::max(1, frames), ffmpegCpuSeconds / args->frames,
-        (ffmpegCpuSeconds / args->frames) / (pluviaCpuSeconds / std::max(1, frames)));
+        encodeCpuSeconds / std::max(1, frames),
+        (ffmpegCpuSeconds / args->frames) / (pluviaCpuSeconds / std::max(1, frames)),
+        encodeCpuSeconds / pluviaCpuSeconds);
     std::cout << "(stage times overlap: decode and encode run on their own threads)\n";
     stdfs::remove_all(folder);
   });
