@@ -2,6 +2,7 @@
 // decode + encode of the same clip with the same encoder settings, measured in the same run.
 // `pluvia bench --strokes 10000,...,80000`: the GPU rain insertion alone (Table 3 of Wang et al.):
 // frames per second of RainRenderer::render for a synthetic, deterministic streak population.
+#include <sys/resource.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -17,6 +18,7 @@
 #include <fmt/format.h>
 
 #include "bench_drops.h"
+#include "bench_lod.h"
 #include "bench_streaks.h"
 #include "commands.h"
 #include "common.h"
@@ -31,6 +33,7 @@
 #include "util/error.h"
 #include "util/log.h"
 #include "util/subprocess.h"
+#include "util/thread_limit.h"
 
 namespace pluvia::cli {
 namespace stdfs = std::filesystem;
@@ -93,6 +96,21 @@ double processCpuMs() {
   timespec now{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
   return 1000.0 * static_cast<double>(now.tv_sec) + 1e-6 * static_cast<double>(now.tv_nsec);
+}
+
+// CPU seconds of this process and of its children that have been waited for (ffmpeg's encoder
+// and decoder once closed): the work a run costs, which a machine shared with other jobs
+// changes less than the wall time.
+double cpuSecondsWithChildren() {
+  auto seconds = [](int who) {
+    rusage usage{};
+    getrusage(who, &usage);
+    auto of = [](const timeval& t) {
+      return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
+    };
+    return of(usage.ru_utime) + of(usage.ru_stime);
+  };
+  return seconds(RUSAGE_SELF) + seconds(RUSAGE_CHILDREN);
 }
 
 struct RenderTiming {
@@ -287,8 +305,9 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     std::string input, preset = "moderate";
     std::vector<std::string> sets;
     int frames = 48;
-    std::string strokes, size = "720x480", backend = "both";
+    std::string strokes, size = "720x480", backend = "both", lod;
     int64_t drops = 0;
+    double rate = 8.0;
     bool depthPlane = false, passes = false;
   };
   auto args = std::make_shared<Args>();
@@ -302,6 +321,11 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
       "--strokes", args->strokes,
       "bench the GPU rain insertion alone: streak counts, e.g. 10000,20000,40000,80000");
   cmd->add_option("--size", args->size, "with --strokes: frame size WIDTHxHEIGHT (720x480)");
+  cmd->add_option("--lod", args->lod,
+                  "bench rain.lod_px: time and rain AOV error of each size against 0 (every "
+                  "drop), e.g. 0,0.5,1,1.5 at --size (default 1920x1080)");
+  cmd->add_option("--rate", args->rate, "with --lod: rain rate in mm/h (8, moderate's)")
+      ->check(CLI::Range(0.1, 500.0));
   cmd->add_option("--drops", args->drops,
                   "bench the drop simulation alone (CPU per frame), e.g. 100000")
       ->check(CLI::Range(int64_t(1), int64_t(10000000)));
@@ -317,6 +341,11 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
   cmd->callback([=, &invocation] {
     if (args->drops > 0) {
       runDropBench(args->drops, cmd->count("--frames") > 0 ? args->frames : 30);
+      return;
+    }
+    if (!args->lod.empty()) {
+      runLodBench(args->lod, cmd->count("--size") > 0 ? args->size : "1920x1080",
+                  cmd->count("--frames") > 0 ? args->frames : 10, args->rate);
       return;
     }
     if (args->passes) {
@@ -335,13 +364,34 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     std::string input = args->input.empty() ? makeBenchClip(folder, args->frames) : args->input;
     Preset preset = loadPreset(args->preset, args->sets);
 
-    // ffmpeg alone: decode and encode with the settings pluvia's movie writer uses.
+    // ffmpeg alone: decode and encode with the settings pluvia's movie reader and writer use,
+    // threads included (io/movie_reader.cpp, io/movie_writer.cpp).
+    const std::string threads = std::to_string(threadLimit());
     auto started = std::chrono::steady_clock::now();
-    auto r =
-        runProcess({"ffmpeg", "-y", "-v", "error", "-i", input, "-frames:v",
-                    std::to_string(args->frames), "-c:v", "libx264", "-preset", "medium", "-crf",
-                    "16", "-pix_fmt", "yuv420p", (folder / "ffmpeg_passthrough.mp4").string()});
+    double cpuStarted = cpuSecondsWithChildren();
+    auto r = runProcess({"ffmpeg",
+                         "-y",
+                         "-v",
+                         "error",
+                         "-threads",
+                         threads,
+                         "-i",
+                         input,
+                         "-frames:v",
+                         std::to_string(args->frames),
+                         "-c:v",
+                         "libx264",
+                         "-preset",
+                         "medium",
+                         "-crf",
+                         "16",
+                         "-pix_fmt",
+                         "yuv420p",
+                         "-threads",
+                         threads,
+                         (folder / "ffmpeg_passthrough.mp4").string()});
     const double ffmpegSeconds = secondsSince(started);
+    const double ffmpegCpuSeconds = cpuSecondsWithChildren() - cpuStarted;
     if (r.exitCode != 0) throw Error("ffmpeg passthrough failed: " + r.output);
 
     RenderRequest request;
@@ -353,6 +403,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     auto log = log::level();
     log::setLevel(log::Level::Warning);
     started = std::chrono::steady_clock::now();
+    cpuStarted = cpuSecondsWithChildren();
     RenderSummary summary;
     try {
       ClipInfo clip;
@@ -365,6 +416,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
       throw;
     }
     const double pluviaSeconds = secondsSince(started);
+    const double pluviaCpuSeconds = cpuSecondsWithChildren() - cpuStarted;
     log::setLevel(log);
     const int frames = summary.framesWritten;
 
@@ -390,6 +442,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     if (decoded.exitCode != 0) throw Error("ffmpeg could not decode the render: " + decoded.output);
     const ClipInfo rendered = openClip(request.output)->info();
     started = std::chrono::steady_clock::now();
+    cpuStarted = cpuSecondsWithChildren();
     auto encoded = runProcess({"ffmpeg",
                                "-y",
                                "-v",
@@ -412,14 +465,20 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
                                "16",
                                "-pix_fmt",
                                "yuv420p",
+                               "-threads",
+                               threads,
                                (folder / "ffmpeg_encode_only.mp4").string()});
     const double encodeSeconds = secondsSince(started);
+    const double encodeCpuSeconds = cpuSecondsWithChildren() - cpuStarted;
     if (encoded.exitCode != 0) throw Error("ffmpeg could not encode the render: " + encoded.output);
 
     const double pluviaFps = frames / pluviaSeconds;
     const double ffmpegFps = args->frames / ffmpegSeconds;
     const double encodeFps = frames / encodeSeconds;
-    std::cout << "encoder settings: libx264 -preset medium -crf 16 -pix_fmt yuv420p\n";
+    std::cout << fmt::format(
+        "encoder settings: libx264 -preset medium -crf 16 -pix_fmt yuv420p -threads {0} (decoder "
+        "-threads {0})\n",
+        threads);
     std::cout << fmt::format("pluvia end to end:      {:.2f} frames/s ({:.1f} s)\n", pluviaFps,
                              pluviaSeconds);
     std::cout << fmt::format("ffmpeg decode+encode:   {:.2f} frames/s ({:.1f} s; the plate)\n",
@@ -429,6 +488,16 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
         encodeFps, encodeSeconds);
     std::cout << fmt::format("ratio pluvia / ffmpeg:  {:.3f}\n", pluviaFps / ffmpegFps);
     std::cout << fmt::format("ratio pluvia / encode only: {:.3f}\n", pluviaFps / encodeFps);
+    // On a machine shared with other jobs the wall times swing; the CPU time each run cost
+    // (every thread, ffmpeg's processes included) does much less.
+    std::cout << fmt::format(
+        "CPU s per frame: pluvia {:.3f} (with its ffmpeg decoder and encoder), ffmpeg "
+        "decode+encode {:.3f}, ffmpeg encode only {:.3f}; ratio ffmpeg / pluvia: {:.3f} (encode "
+        "only / pluvia: {:.3f})\n",
+        pluviaCpuSeconds / std::max(1, frames), ffmpegCpuSeconds / args->frames,
+        encodeCpuSeconds / std::max(1, frames),
+        (ffmpegCpuSeconds / args->frames) / (pluviaCpuSeconds / std::max(1, frames)),
+        encodeCpuSeconds / pluviaCpuSeconds);
     std::cout << "(stage times overlap: decode and encode run on their own threads)\n";
     stdfs::remove_all(folder);
   });

@@ -192,6 +192,18 @@ void compositeRainPixels(float backgroundWeight, const RainPlanes& planes, size_
       std::fill(planes.matte + start, planes.matte + end, 0.0f);
       continue;
     }
+    if (c == 0.0f) {
+      // The default shading: no c * B term, and a pixel without rain keeps B exactly.
+      for (size_t i = start; i < end; ++i) {
+        float* background = planes.rgba + i * 4;
+        const float keep = 1.0f - planes.a[i];
+        background[0] = planes.r[i] + keep * background[0];
+        background[1] = planes.g[i] + keep * background[1];
+        background[2] = planes.b[i] + keep * background[2];
+        planes.matte[i] = planes.a[i];
+      }
+      continue;
+    }
     for (size_t i = start; i < end; ++i) {
       float* background = planes.rgba + i * 4;
       const float coverage = planes.a[i];

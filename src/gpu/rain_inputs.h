@@ -1,6 +1,8 @@
 #pragma once
 // Checks and preparation of render inputs shared by RainRenderer and renderRainCpu, so both
 // reject the same inputs and compare against the same depths.
+#include <cfloat>
+#include <cmath>
 #include <vector>
 
 #include "image/image.h"
@@ -11,6 +13,12 @@ namespace pluvia::gpu {
 // Stands in for "infinitely far" (no depth plane, +inf, NaN): a finite value keeps the
 // streak-behind-scene comparison well defined on every GPU (some flush infinities in textures).
 inline constexpr float kFarDepthMeters = 3.0e38f;
+
+// The scene depth a streak is compared with: as comparableSceneDepth(), every non-finite value
+// (sky, NaN) is kFarDepthMeters.
+inline float comparableDepthMeters(float depthMeters) {
+  return std::abs(depthMeters) <= FLT_MAX ? depthMeters : kFarDepthMeters;
+}
 
 // Throw pluvia::Error (stage "rain") naming what is wrong.
 void validateFrame(const Image& frame);

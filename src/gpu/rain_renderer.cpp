@@ -14,6 +14,7 @@
 #include <tbb/info.h>
 
 #include "gpu/egl_context.h"
+#include "gpu/far_drop_lines.h"
 #include "gpu/frame_targets.h"
 #include "gpu/gl_check.h"
 #include "gpu/gpu_radiance_map.h"
@@ -68,7 +69,8 @@ struct EglBackend {
     }
   }
 
-  void render(Image& frame, const OrderedStreaks& ordered, const rain::ShadingParams& shading);
+  void render(Image& frame, const OrderedStreaks& ordered, const rain::ShadingParams& shading,
+              FarDropLines* farLines, const std::vector<rain::StreakInstance>& farStreaks);
 };
 
 }  // namespace
@@ -77,6 +79,7 @@ struct RainRenderer::Impl {
   std::unique_ptr<EglBackend> egl;  // one of the two
   std::unique_ptr<StreakRasterCpu> cpu;
   std::string description;
+  FarDropLines farLines;
 };
 
 namespace {
@@ -99,10 +102,29 @@ void keepFreedBlocksForTheNextFrame() {
   (void)once;
 }
 
+// The far streaks' lines (far_drop_lines.h) under an interleaved premultiplied layer read back
+// from the GPU: layer = layer + (1 - layer.A) * lines, as drawing the lines first would give.
+void underlayFarLines(FarDropLines& lines, const std::vector<rain::StreakInstance>& farStreaks,
+                      const rain::ShadingParams& shading, const Image& frame,
+                      std::vector<float>& rgba) {
+  const size_t n = frame.pixelCount();
+  std::vector<float> planes(4 * n, 0.0f);
+  const std::vector<float>* depth = frame.findPlane("depth");
+  lines.draw(farStreaks, shading,
+             {planes.data(), planes.data() + n, planes.data() + 2 * n, planes.data() + 3 * n,
+              depth ? depth->data() : nullptr, frame.width, frame.height});
+  for (size_t i = 0; i < n; ++i) {
+    float* pixel = rgba.data() + i * 4;
+    const float keep = 1.0f - pixel[3];
+    for (int c = 0; c < 4; ++c) pixel[c] += keep * planes[c * n + i];
+  }
+}
+
 }  // namespace
 
 void EglBackend::render(Image& frame, const OrderedStreaks& ordered,
-                        const rain::ShadingParams& shading) {
+                        const rain::ShadingParams& shading, FarDropLines* farLines,
+                        const std::vector<rain::StreakInstance>& farStreaks) {
   context.makeCurrent();
   gpu->ensureTargets(frame.width, frame.height);
   // Without a depth plane every streak is in front (of kFarDepthMeters): the variant without
@@ -132,6 +154,7 @@ void EglBackend::render(Image& frame, const OrderedStreaks& ordered,
   // The GPU drew alpha * C over transparent black; B and c enter on the CPU (rain_inputs.h).
   rainRgba.resize(frame.pixelCount() * 4);
   gpu->targets->readRainLayer(rainRgba.data());
+  if (!farStreaks.empty()) underlayFarLines(*farLines, farStreaks, shading, frame, rainRgba);
   compositeRainLayer(rainRgba, shading.backgroundWeight, frame);
 }
 
@@ -198,6 +221,7 @@ RainRenderer::RainRenderer(int width, int height, RainBackend backend)
 RainRenderer::~RainRenderer() = default;
 
 void RainRenderer::setStrokeAtlas(const rain::StrokeAtlas& atlas) {
+  impl_->farLines.setStrokeMeans(atlas);
   if (impl_->cpu) {
     impl_->cpu->setStrokeAtlas(atlas);
     return;
@@ -207,20 +231,28 @@ void RainRenderer::setStrokeAtlas(const rain::StrokeAtlas& atlas) {
 }
 
 void RainRenderer::render(Image& frame, const std::vector<rain::StreakInstance>& streaks,
-                          const rain::ShadingParams& shading) {
+                          const rain::ShadingParams& shading,
+                          const std::vector<rain::StreakInstance>& farStreaks) {
   validateFrame(frame);
   validateShading(shading);
-  validateStreaks(streaks,
-                  impl_->cpu ? impl_->cpu->strokeCount() : impl_->egl->gpu->atlas.strokeCount());
+  const int strokeCount =
+      impl_->cpu ? impl_->cpu->strokeCount() : impl_->egl->gpu->atlas.strokeCount();
+  validateStreaks(streaks, strokeCount);
+  if (!farStreaks.empty()) validateStreaks(farStreaks, strokeCount);
   const OrderedStreaks ordered = orderForDrawing(streaks);
-  if (ordered.streaks.empty()) {
+  if (ordered.streaks.empty() && farStreaks.empty()) {
     clearRainLayer(frame);
     return;
   }
   if (impl_->cpu) {
-    impl_->cpu->render(frame, ordered.streaks, shading);
+    impl_->cpu->render(frame, ordered.streaks, shading, &impl_->farLines, &farStreaks);
+  } else if (ordered.streaks.empty()) {
+    // Nothing for the GPU to draw: the lines alone, composited on the CPU.
+    std::vector<float> layer(frame.pixelCount() * 4, 0.0f);
+    underlayFarLines(impl_->farLines, farStreaks, shading, frame, layer);
+    compositeRainLayer(layer, shading.backgroundWeight, frame);
   } else {
-    impl_->egl->render(frame, ordered, shading);
+    impl_->egl->render(frame, ordered, shading, &impl_->farLines, farStreaks);
   }
 }
 

@@ -59,8 +59,11 @@ class RainRenderer {
   // planes "rain.R", "rain.G", "rain.B", "rain.A" hold the premultiplied rain layer alone (rain
   // over transparent black), "matte" = rain.A. Throws pluvia::Error (stage "rain") on
   // inconsistent inputs, shading included.
+  // farStreaks: drawn as single-pixel lines under the streaks (far_drop_lines.h), not as quads;
+  // empty (the default), and the frame is exactly what drawing `streaks` alone gives.
   void render(Image& frame, const std::vector<rain::StreakInstance>& streaks,
-              const rain::ShadingParams& shading);
+              const rain::ShadingParams& shading,
+              const std::vector<rain::StreakInstance>& farStreaks = {});
 
   // "llvmpipe (LLVM 15.0.6, 256 bits), OpenGL 4.5 ...", "NVIDIA H100 ...", or "CPU streak
   // rasteriser (2 threads; ...)".

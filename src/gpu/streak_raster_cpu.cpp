@@ -109,7 +109,8 @@ void StreakRasterCpu::setStrokeAtlas(const rain::StrokeAtlas& atlas) {
 }
 
 void StreakRasterCpu::render(Image& frame, const std::vector<rain::StreakInstance>& streaks,
-                             const rain::ShadingParams& shading) {
+                             const rain::ShadingParams& shading, FarDropLines* farLines,
+                             const std::vector<rain::StreakInstance>* farStreaks) {
   const int width = frame.width, height = frame.height;
   const size_t count = streaks.size();
   const int tilesX = (width + kTilePx - 1) / kTilePx, tilesY = (height + kTilePx - 1) / kTilePx;
@@ -165,6 +166,17 @@ void StreakRasterCpu::render(Image& frame, const std::vector<rain::StreakInstanc
   const RainPlanes planes = rainPlanesOf(frame);
   const TileTarget target{planes.r, planes.g, planes.b, planes.a, depth ? depth->data() : nullptr,
                           width,    fresh};
+  const bool lined = farLines && farStreaks && !farStreaks->empty();
+  if (lined) {
+    // The lines go under every streak: drawn over the whole cleared layer first.
+    if (!fresh) {
+      for (float* plane : {planes.r, planes.g, planes.b, planes.a}) {
+        std::fill_n(plane, frame.pixelCount(), 0.0f);
+      }
+    }
+    farLines->draw(*farStreaks, shading,
+                   {planes.r, planes.g, planes.b, planes.a, target.depth, width, height});
+  }
   const PaddedAtlas atlas{quads_.data(), paddedWidth_};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles, 1), [&](const auto& range) {
     for (size_t t = range.begin(); t != range.end(); ++t) {
@@ -172,8 +184,10 @@ void StreakRasterCpu::render(Image& frame, const std::vector<rain::StreakInstanc
       const int ty0 = static_cast<int>(t / tilesX) * kTilePx;
       const int tx1 = std::min(tx0 + kTilePx, width) - 1;
       const int ty1 = std::min(ty0 + kTilePx, height) - 1;
-      drawTile(binned_.data() + tileStart_[t], tileStart_[t + 1] - tileStart_[t], atlas, target,
-               tx0, ty0, tx1, ty1, portableOnly_);
+      TileTarget tile = target;
+      tile.cleared = target.cleared || lined;
+      drawTile(binned_.data() + tileStart_[t], tileStart_[t + 1] - tileStart_[t], atlas, tile, tx0,
+               ty0, tx1, ty1, portableOnly_);
       // The tile's layer is still in cache: finish Eq. 2 on it now.
       for (int y = ty0; y <= ty1; ++y) {
         compositeRainPixels(shading.backgroundWeight, planes,

@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "gpu/far_drop_lines.h"
 #include "gpu/streak_tile.h"
 #include "image/image.h"
 #include "rain/streak_types.h"
@@ -40,8 +41,10 @@ class StreakRasterCpu {
 
   // `streaks` are the visible ones in drawing order (orderForDrawing), inputs already checked
   // (rain_inputs.h). Sets frame.rgba's RGB and the rain planes as RainRenderer::render does.
+  // farStreaks: drawn first as lines by farLines (far_drop_lines.h), the streaks over them.
   void render(Image& frame, const std::vector<rain::StreakInstance>& streaks,
-              const rain::ShadingParams& shading);
+              const rain::ShadingParams& shading, FarDropLines* farLines = nullptr,
+              const std::vector<rain::StreakInstance>* farStreaks = nullptr);
 
   // Tile edge in pixels: small enough to give both cores many tiles on a 720x480 frame, large
   // enough that most streaks fall in one or two tiles.

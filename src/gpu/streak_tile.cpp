@@ -28,12 +28,6 @@ inline void rowSpan(const StreakSetup& s, int y, int xFirst, int xLast, int& x0,
   x1 = std::min(xLast, static_cast<int>(std::min(std::floor(to - 0.5f + kSpanSlackPx), 1.0e9f)));
 }
 
-// The scene depth a streak is compared with: as comparableSceneDepth(), every non-finite
-// value (sky, NaN) is kFarDepthMeters.
-inline float comparableDepth(float depthMeters) {
-  return std::abs(depthMeters) <= FLT_MAX ? depthMeters : kFarDepthMeters;
-}
-
 void clearTile(const TileTarget& target, int x0, int y0, int x1, int y1) {
   if (target.cleared) return;
   for (int y = y0; y <= y1; ++y) {
@@ -68,7 +62,8 @@ void drawStreakPortable(const StreakSetup& s, const PaddedAtlas& atlas, const Ti
       const float v = vStart + k * vStep;
       const bool inside = u >= 0.0f && u <= 1.0f && v >= 0.0f && v <= 1.0f;
       const size_t pixel = row + static_cast<size_t>(x0 + i);
-      const bool inFront = !target.depth || !(s.depthMeters > comparableDepth(target.depth[pixel]));
+      const bool inFront =
+          !target.depth || !(s.depthMeters > comparableDepthMeters(target.depth[pixel]));
       // Bilinear between texel centres; the border makes every neighbour of a coordinate in
       // the rectangle a valid texel, and outside the quad the coordinates are clamped into it.
       const float tx = s.rectX0 + std::clamp(u, 0.0f, 1.0f) * s.rectWidth;

@@ -220,7 +220,8 @@ bool DropSimulation::insideBox(const Eigen::Vector3d& worldMeters) const {
   return true;
 }
 
-std::vector<StreakInstance> DropSimulation::buildStreaks(const StreakSettings& s) const {
+std::vector<StreakInstance> DropSimulation::buildStreaks(
+    const StreakSettings& s, std::vector<StreakInstance>* farStreaks) const {
   const Camera start = cameraAt_(double(frame_));
   const Camera end = cameraAt_(double(frame_) + s.exposureSeconds / settings_.stepSeconds);
   const ThinLens lens =
@@ -229,6 +230,7 @@ std::vector<StreakInstance> DropSimulation::buildStreaks(const StreakSettings& s
 
   std::vector<StreakInstance> streaks;
   streaks.reserve(positions_.size() / 2);
+  if (farStreaks) farStreaks->clear();
   for (size_t i = 0; i < positions_.size(); ++i) {
     const Eigen::Vector3d p = positions_[i].cast<double>();
     if (!isActive(i)) continue;
@@ -280,7 +282,11 @@ std::vector<StreakInstance> DropSimulation::buildStreaks(const StreakSettings& s
     streak.beadCycles =
         float(std::min(1e3, oscillationFrequencyHz(diameterMm) * s.exposureSeconds));
     streak.beadPhase = float(rng.uniform());
-    streaks.push_back(streak);
+    if (farStreaks && widthPx < s.lodPx) {
+      farStreaks->push_back(streak);
+    } else {
+      streaks.push_back(streak);
+    }
   }
   return streaks;
 }

@@ -82,6 +82,9 @@ struct StreakSettings {
   double focusMeters = 0.0;
   double fNumber = 0.0;
   double sensorWidthMm = 36.0;
+  // Level of detail (rain.lod_px): drops whose projected diameter (before defocus) is under
+  // this many pixels are the far ones drawn as lines (gpu/far_drop_lines.h); 0: none.
+  double lodPx = 0.0;
 };
 
 class DropSimulation {
@@ -114,7 +117,10 @@ class DropSimulation {
   // widthPx / (lengthPx + drawnWidthPx), so alpha x area is the drop's widthPx^2), times the
   // fraction of a drawn pixel the drop covers when thinner than minWidthPx, spread over the circle
   // of confusion when defocused, divided by the matte's mean.
-  std::vector<StreakInstance> buildStreaks(const StreakSettings& settings) const;
+  // farStreaks: when given, the streaks of drops under settings.lodPx go there instead (each
+  // list in drop order); when null, every streak is returned.
+  std::vector<StreakInstance> buildStreaks(const StreakSettings& settings,
+                                           std::vector<StreakInstance>* farStreaks = nullptr) const;
 
  private:
   void restart();

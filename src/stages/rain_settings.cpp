@@ -32,6 +32,10 @@ SectionSpec rainSection() {
                    "so plates with other handles get the same rain on the same frame numbers"),
       numberParam("far_m", 15.0, {0.1, 1000.0}, "m", "farthest drops drawn"),
       integerParam("max_drops", 100000, {0, 10000000}, "drops", "cap on the simulated drops"),
+      numberParam("lod_px", 0.0, {0.0, 10.0}, "px",
+                  "level of detail: drops whose projected diameter is under this are drawn as "
+                  "single-pixel lines carrying their coverage, not textured streaks; 0: every drop "
+                  "a streak"),
       enumParam("shading", "default", {"default", "paper"},
                 "default: environment convolved with the drop's transfer function (about 1 % "
                 "from a ray-traced drop); paper: Wang et al.'s 16 SH coefficients + c B (about "
@@ -88,6 +92,7 @@ RainSettings rainSettings(const Preset& p) {
   s.startFrame = int64_t(p.number("rain.start_frame"));
   s.farMeters = p.number("rain.far_m");
   s.maxDrops = int64_t(p.number("rain.max_drops"));
+  s.lodPx = p.number("rain.lod_px");
   s.shading = p.string("rain.shading");
   s.dispersion = p.boolean("rain.dispersion");
   s.backgroundWeight = p.number("rain.background_weight");

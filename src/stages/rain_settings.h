@@ -26,6 +26,7 @@ struct RainSettings {
   int64_t startFrame = 0;
   double farMeters = 15.0;
   int64_t maxDrops = 100000;
+  double lodPx = 0.0;  // drops narrower than this (px) drawn as lines (far_drop_lines.h); 0: none
   std::string shading = "default";  // "default" | "paper"
   bool dispersion = false;
   double backgroundWeight = 0.7;  // shading "paper" only

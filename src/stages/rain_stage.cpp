@@ -157,6 +157,7 @@ class RainStage : public Stage {
     streakParams_.sensorWidthMm = camera_.sensorWidthMm;
     streakParams_.fogDensityPerMeter = fog_.enabled ? fog_.densityPerMeter : 0.0;
     streakParams_.strokeCount = int(atlas_.rects.size());
+    streakParams_.lodPx = rain_.lodPx;
     streakParams_.meanMatte = rain::meanMatte(atlas_);
     if (!clip.environment) throw Error("rain needs the lighting stage's environment", {"rain"});
     // One shading for the clip, or one per key environment of a looming camera.
@@ -174,12 +175,15 @@ class RainStage : public Stage {
     simulation_->advanceTo(frame.frame);
     streakParams_.exposureSeconds = camera_.exposureSecondsAt(fps_, double(frame.frame));
     streakParams_.opacity = rain_.opacity.valueAt(double(frame.frame));
-    auto streaks = simulation_->buildStreaks(streakParams_);
-    if (litDrops_ && !frame.lights.empty()) lightDrops(streaks, frame);
+    auto streaks = simulation_->buildStreaks(streakParams_, &farStreaks_);
+    if (litDrops_ && !frame.lights.empty()) {
+      lightDrops(streaks, frame);
+      lightDrops(farStreaks_, frame);
+    }
     if (keyShading_.empty()) {
-      renderer_->render(frame.image, streaks, shading_);
+      renderer_->render(frame.image, streaks, shading_, farStreaks_);
     } else {
-      renderer_->render(frame.image, streaks, shadingAt(frame.frame));
+      renderer_->render(frame.image, streaks, shadingAt(frame.frame), farStreaks_);
     }
   }
 
@@ -248,6 +252,7 @@ class RainStage : public Stage {
   double fps_ = 24.0;
   rain::StrokeAtlas atlas_;
   rain::StreakSettings streakParams_;
+  std::vector<rain::StreakInstance> farStreaks_;  // under rain.lod_px: drawn as lines
   rain::ShadingParams shading_;
   std::vector<std::pair<int64_t, rain::ShadingParams>>
       keyShading_;  // empty: shading_ for every frame
