@@ -7,6 +7,8 @@
 #include <tbb/parallel_for.h>
 #include <Eigen/Geometry>
 
+#include "rain/counter_stream.h"
+
 namespace pluvia::rain {
 namespace {
 
@@ -16,31 +18,6 @@ constexpr double kDiscontinuity = 0.25;
 // Constants of the splash's look (splashes.h).
 constexpr double kCrownRadiusPerDiameter = 2.0, kCrownLifePerDropTime = 20.0;
 constexpr double kDropletDiameterFraction = 0.15, kDropletSpeedFraction = 0.2;
-
-uint64_t mix(uint64_t x) {  // splitmix64's finaliser
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
-// A counter-based stream: the same key always gives the same numbers.
-struct Stream {
-  uint64_t state;
-  double uniform() { return double(mix(state++) >> 11) * 0x1.0p-53; }
-  int poisson(double mean) {
-    if (mean > 500.0)  // normal approximation, where Knuth's product would underflow
-      return std::max(0, int(std::lround(mean + std::sqrt(mean) * normal())));
-    const double limit = std::exp(-mean);
-    int k = 0;
-    for (double p = uniform(); p > limit; p *= uniform()) ++k;
-    return k;
-  }
-  double normal() {
-    const double u1 = std::max(uniform(), 1e-300), u2 = uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
-  }
-};
 
 Eigen::Vector3d worldPoint(const Camera& camera, double px, double py, double depth) {
   return camera.positionMeters + camera.worldFromCamera * (camera.rayCamera(px, py) * depth);

@@ -1,7 +1,8 @@
 // Splashes: where the rain's drops strike surfaces facing up, a crown and a few droplets
-// (rain/splashes.h), drawn on the CPU over the plate after the rain (rain/splash_draw.h),
-// shaded like the drops (the environment convolved with the drop's transfer function, looked up
-// along each particle's view direction), their coverage in the "splash" plane.
+// (rain/splashes.h), with splash.splatter a splatter texture's flash (rain/splatter.h), drawn on
+// the CPU over the plate after the rain (rain/splash_draw.h), shaded like the drops (the
+// environment convolved with the drop's transfer function, looked up along each particle's view
+// direction), their coverage in the "splash" plane.
 #include <cmath>
 #include <limits>
 
@@ -16,6 +17,7 @@
 #include "rain/splash_memo.h"
 #include "rain/splash_rate.h"
 #include "rain/splashes.h"
+#include "rain/splatter.h"
 #include "stages/rain_settings.h"
 #include "stages/registry.h"
 #include "stages/splash_settings.h"
@@ -68,27 +70,37 @@ class SplashStage : public Stage {
     // Splashes born up to the longest life before the shutter opens are still alive.
     const double longest = rain::splashLifeSeconds(
         {{}, 0.0, kMaxDiameterMm, rain::terminalVelocity(rain_.velocity, kMaxDiameterMm), 0});
-    const int64_t firstBirth = frame.frame - int64_t(std::ceil(longest * fps_));
+    const double flash = splash_.splatter ? splash_.splatterSeconds : 0.0;
+    const int64_t firstBirth = frame.frame - int64_t(std::ceil(std::max(longest, flash) * fps_));
     const std::vector<const std::vector<rain::Impact>*> born =
         memo_.impacts(firstBirth, frame.frame, fps_, rain_.seed, diameters, rate, rain_.velocity);
     // Each birth frame on its own (its impacts depend on it alone), drawn in birth order.
     std::vector<std::vector<rain::ShadedParticle>> shaded(born.size());
+    std::vector<std::vector<rain::ShadedImpact>> flashes(born.size());
     tbb::parallel_for(size_t(0), born.size(), [&](size_t b) {
       for (const rain::Impact& impact : *born[b]) {
-        if (impact.timeSeconds + rain::splashLifeSeconds(impact) <= open) continue;  // gone
+        const bool flashing = flash > 0.0 && rain::splatterExposureShare(impact.timeSeconds, flash,
+                                                                         open, close) > 0.0;
+        if (!flashing && impact.timeSeconds + rain::splashLifeSeconds(impact) <= open) continue;
         double px, py, z;
         if (!camera.project(impact.point, px, py, z)) continue;
         const std::vector<rain::SplashParticle> particles =
             rain::splashParticles(impact, open, close, z / camera.focalPx);
-        if (particles.empty()) continue;
+        if (particles.empty() && !flashing) continue;
         // One radiance per splash: its particles lie millimetres apart, the map varies over
         // degrees.
         const Eigen::Vector3d view = (impact.point - camera.positionMeters).normalized();
         const std::array<float, 3> radiance =
             sampleEquirect(radiance_, float(view.x()), float(view.y()), float(view.z()));
+        if (flashing) flashes[b].push_back({&impact, radiance});
         for (const rain::SplashParticle& p : particles) shaded[b].push_back({p, radiance});
       }
     });
+    // The splatters lie on the surface, under the crowns and droplets.
+    std::vector<rain::ShadedImpact> splatters;
+    for (auto& some : flashes) splatters.insert(splatters.end(), some.begin(), some.end());
+    rain::drawSplatters(frame.image, alpha, *depth, camera, splatters, flash, open, close,
+                        float(splash_.opacity));
     std::vector<rain::ShadedParticle> particles;
     for (auto& some : shaded) particles.insert(particles.end(), some.begin(), some.end());
     rain::drawSplashParticles(frame.image, alpha, *depth, camera, particles,
