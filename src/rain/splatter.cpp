@@ -15,6 +15,7 @@ namespace {
 constexpr double kCoreRadius = 1.2, kRayHalfWidth = 0.2, kRayMin = 2.5, kRayMax = 4.0;
 constexpr double kTipRadius = 0.3, kTipGap = 0.3;
 constexpr int kMaxRays = 8;
+static_assert(kRayMax + kTipGap + 2.0 * kTipRadius < kSplatterReachPerDiameter);
 constexpr uint64_t kSplatterSalt = 0x5b1a77e5ULL;  // a stream apart from the droplets'
 constexpr int kBandRows = 32;                      // rows drawn by one task (splash_draw.cpp)
 

@@ -22,7 +22,7 @@
 
 namespace pluvia::rain {
 
-inline constexpr double kSplatterReachPerDiameter = 4.6;  // farthest droplet edge, in D
+inline constexpr double kSplatterReachPerDiameter = 5.0;  // beyond the farthest droplet, in D
 inline constexpr double kSplatterPeakOpacity = 0.6;
 
 // The texture's opacity, 0 to kSplatterPeakOpacity, at (u, v) metres from the impact point along
