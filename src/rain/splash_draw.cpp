@@ -31,7 +31,7 @@ bool project(const Camera& camera, const SplashParticle& p, float opacity, Proje
   const double drawn = std::max(diameterPx, 1.0);
   out.alpha =
       float(opacity * (diameterPx / drawn) * (diameterPx / drawn) * drawn / (out.length + drawn));
-  if (!(out.alpha > 0.0f)) return false;
+  if (!(out.alpha >= kMinParticleCoverage)) return false;
   // A pixel's rim weight is radius + 0.5 - distance: zero beyond radius + 0.5 of the segment.
   const double reach = out.radius + 0.5;
   out.x0 = std::max(0, int(std::ceil(std::min(out.ax, out.bx) - reach - 0.5)));
