@@ -43,6 +43,11 @@ bool project(const Camera& camera, const SplashParticle& p, float opacity, Proje
 
 }  // namespace
 
+float splashParticleCoverage(const Camera& camera, const SplashParticle& particle, float opacity) {
+  Projected p;
+  return project(camera, particle, opacity, p) ? p.alpha : 0.0f;
+}
+
 void drawSplashParticles(Image& image, std::vector<float>& alpha, const std::vector<float>& depth,
                          const Camera& camera, const std::vector<ShadedParticle>& particles,
                          float opacity) {

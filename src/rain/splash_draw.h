@@ -27,6 +27,10 @@ struct ShadedParticle {
   std::array<float, 3> radiance{0, 0, 0};
 };
 
+// The most a particle covers any pixel (opacity included): 0 behind the camera. The stage keeps
+// only particles with kMinParticleCoverage or more, as drawSplashParticles draws.
+float splashParticleCoverage(const Camera& camera, const SplashParticle& particle, float opacity);
+
 // `depth`: width * height z-depths; `alpha`: width * height, the splash AOV (over-composited).
 void drawSplashParticles(Image& image, std::vector<float>& alpha, const std::vector<float>& depth,
                          const Camera& camera, const std::vector<ShadedParticle>& particles,

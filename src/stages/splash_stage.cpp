@@ -93,7 +93,10 @@ class SplashStage : public Stage {
         const std::array<float, 3> radiance =
             sampleEquirect(radiance_, float(view.x()), float(view.y()), float(view.z()));
         if (flashing) flashes[b].push_back({&impact, radiance});
-        for (const rain::SplashParticle& p : particles) shaded[b].push_back({p, radiance});
+        for (const rain::SplashParticle& p : particles)
+          if (rain::splashParticleCoverage(camera, p, float(splash_.opacity)) >=
+              rain::kMinParticleCoverage)
+            shaded[b].push_back({p, radiance});
       }
     });
     // The splatters lie on the surface, under the crowns and droplets.
@@ -101,9 +104,9 @@ class SplashStage : public Stage {
     for (auto& some : flashes) splatters.insert(splatters.end(), some.begin(), some.end());
     rain::drawSplatters(frame.image, alpha, *depth, camera, splatters, flash, open, close,
                         float(splash_.opacity));
-    std::vector<rain::ShadedParticle> particles;
-    for (auto& some : shaded) particles.insert(particles.end(), some.begin(), some.end());
-    rain::drawSplashParticles(frame.image, alpha, *depth, camera, particles,
+    particles_.clear();  // kept between frames: its memory is reused
+    for (auto& some : shaded) particles_.insert(particles_.end(), some.begin(), some.end());
+    rain::drawSplashParticles(frame.image, alpha, *depth, camera, particles_,
                               float(splash_.opacity));
   }
 
@@ -115,6 +118,7 @@ class SplashStage : public Stage {
   double fps_ = 24.0;
   EquirectMap radiance_;
   rain::SplashMemo memo_;
+  std::vector<rain::ShadedParticle> particles_;
 };
 
 }  // namespace
