@@ -17,6 +17,7 @@
 
 #include <fmt/format.h>
 
+#include "bench_day.h"
 #include "bench_drops.h"
 #include "bench_lod.h"
 #include "bench_streaks.h"
@@ -308,7 +309,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     std::string strokes, size = "720x480", backend = "both", lod;
     int64_t drops = 0;
     double rate = 8.0;
-    bool depthPlane = false, passes = false;
+    bool depthPlane = false, passes = false, day = false;
   };
   auto args = std::make_shared<Args>();
   cmd->add_option("INPUT", args->input, "clip to bench; default: the example scaled to 1080p");
@@ -336,6 +337,9 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
   cmd->add_flag("--passes", args->passes,
                 "bench the per-pixel passes alone (colour in and out, darken, blur, fog) on one "
                 "frame of --size (default 1920x1080)");
+  cmd->add_flag("--day", args->day,
+                "put the day-time stages to work (skylight fog, a sun behind the camera, the "
+                "ground in view: cli/bench_day.h) and print their cost over the rain stage's");
   cmd->add_flag("--depth-plane", args->depthPlane,
                 "with --strokes: give the frame a scene depth plane (3-50 m)");
   cmd->callback([=, &invocation] {
@@ -362,7 +366,9 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     stdfs::path folder = stdfs::temp_directory_path() / fmt::format("pluvia-bench-{}", ::getpid());
     stdfs::create_directories(folder);
     std::string input = args->input.empty() ? makeBenchClip(folder, args->frames) : args->input;
-    Preset preset = loadPreset(args->preset, args->sets);
+    std::vector<std::string> sets = args->day ? dayBenchOverrides() : std::vector<std::string>{};
+    sets.insert(sets.end(), args->sets.begin(), args->sets.end());
+    Preset preset = loadPreset(args->preset, sets);
 
     // ffmpeg alone: decode and encode with the settings pluvia's movie reader and writer use,
     // threads included (io/movie_reader.cpp, io/movie_writer.cpp).
@@ -499,6 +505,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
         (ffmpegCpuSeconds / args->frames) / (pluviaCpuSeconds / std::max(1, frames)),
         encodeCpuSeconds / pluviaCpuSeconds);
     std::cout << "(stage times overlap: decode and encode run on their own threads)\n";
+    if (args->day) printDayStageRatios(times, frames);
     stdfs::remove_all(folder);
   });
 }

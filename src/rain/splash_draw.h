@@ -16,11 +16,20 @@
 namespace pluvia::rain {
 
 inline constexpr double kSurfaceToleranceMeters = 0.05;
+// Level of detail: a particle that covers no pixel by more than this (under a 10-bit code value
+// over white) is not drawn. At 1080p that is most droplets of drops under 2 mm beyond a few
+// metres: half the particles of a level camera's ground, and particles so sparse (about one in
+// four pixels) that together they would add a few of these at most.
+inline constexpr float kMinParticleCoverage = 1.0f / 1024.0f;
 
 struct ShadedParticle {
   SplashParticle particle;
   std::array<float, 3> radiance{0, 0, 0};
 };
+
+// The most a particle covers any pixel (opacity included): 0 behind the camera. The stage keeps
+// only particles with kMinParticleCoverage or more, as drawSplashParticles draws.
+float splashParticleCoverage(const Camera& camera, const SplashParticle& particle, float opacity);
 
 // `depth`: width * height z-depths; `alpha`: width * height, the splash AOV (over-composited).
 void drawSplashParticles(Image& image, std::vector<float>& alpha, const std::vector<float>& depth,

@@ -1,13 +1,13 @@
 #include "rain/splashes.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include <tbb/parallel_for.h>
 #include <Eigen/Geometry>
+
+#include "rain/counter_stream.h"
 
 namespace pluvia::rain {
 namespace {
@@ -18,31 +18,6 @@ constexpr double kDiscontinuity = 0.25;
 // Constants of the splash's look (splashes.h).
 constexpr double kCrownRadiusPerDiameter = 2.0, kCrownLifePerDropTime = 20.0;
 constexpr double kDropletDiameterFraction = 0.15, kDropletSpeedFraction = 0.2;
-
-uint64_t mix(uint64_t x) {  // splitmix64's finaliser
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
-// A counter-based stream: the same key always gives the same numbers.
-struct Stream {
-  uint64_t state;
-  double uniform() { return double(mix(state++) >> 11) * 0x1.0p-53; }
-  int poisson(double mean) {
-    if (mean > 500.0)  // normal approximation, where Knuth's product would underflow
-      return std::max(0, int(std::lround(mean + std::sqrt(mean) * normal())));
-    const double limit = std::exp(-mean);
-    int k = 0;
-    for (double p = uniform(); p > limit; p *= uniform()) ++k;
-    return k;
-  }
-  double normal() {
-    const double u1 = std::max(uniform(), 1e-300), u2 = uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
-  }
-};
 
 Eigen::Vector3d worldPoint(const Camera& camera, double px, double py, double depth) {
   return camera.positionMeters + camera.worldFromCamera * (camera.rayCamera(px, py) * depth);
@@ -78,7 +53,7 @@ int dropletCount(const Impact& impact) {
 }  // namespace
 
 std::vector<float> upFacingAreaPerPixel(const Camera& camera, const std::vector<float>& depth,
-                                        double maxTiltDeg) {
+                                        double maxTiltDeg, double maxDepthMeters) {
   const int w = camera.width, h = camera.height;
   std::vector<float> area(depth.size(), 0.0f);
   const double minUp = std::cos(maxTiltDeg * M_PI / 180.0);
@@ -91,7 +66,9 @@ std::vector<float> upFacingAreaPerPixel(const Camera& camera, const std::vector<
       const size_t i = size_t(y) * size_t(w) + size_t(x);
       // Forward differences, backward at the last column and row.
       const int dx = x + 1 < w ? 1 : -1, dy = y + 1 < h ? 1 : -1;
-      const double z = depth[i], zx = depth[i + size_t(dx)], zy = depth[i + size_t(dy) * size_t(w)];
+      const double z = depth[i];
+      if (!(z <= maxDepthMeters)) continue;
+      const double zx = depth[i + size_t(dx)], zy = depth[i + size_t(dy) * size_t(w)];
       if (!continuous(z, zx) || !continuous(z, zy)) continue;
       const Eigen::Vector3d p = worldPoint(camera, x + 0.5, y + 0.5, z);
       const Eigen::Vector3d ex = (worldPoint(camera, x + 0.5 + dx, y + 0.5, zx) - p) * dx;
@@ -174,15 +151,19 @@ double splashLifeSeconds(const Impact& impact) {
   return std::max(crownLifeSeconds(impact), 2.0 * up / kGravity);
 }
 
-std::vector<SplashParticle> splashParticles(const Impact& impact, double open, double close) {
+std::vector<SplashParticle> splashParticles(const Impact& impact, double open, double close,
+                                            double pixelMeters) {
   std::vector<SplashParticle> particles;
   const double d = impact.diameterMm * 1e-3;
   // Crown: a rim growing as sqrt(age), standing D tall.
   const double crownLife = crownLifeSeconds(impact);
   const double a0 = std::max(open - impact.timeSeconds, 0.0);
   const double a1 = std::min(close - impact.timeSeconds, crownLife);
-  if (a1 > a0) {
-    const double rMax = kCrownRadiusPerDiameter * d;
+  const double rMax = kCrownRadiusPerDiameter * d;
+  if (a1 > a0 && 2.0 * rMax < pixelMeters) {
+    const Eigen::Vector3d centre = impact.point + Eigen::Vector3d(0, 0.5 * d, 0);
+    particles.push_back({centre, centre, std::sqrt(double(kCrownPoints)) * d / 3.0});
+  } else if (a1 > a0) {
     for (int k = 0; k < kCrownPoints; ++k) {
       const double phi = 2.0 * M_PI * (k + 0.5) / kCrownPoints;
       const Eigen::Vector3d dir(std::cos(phi), 0.0, std::sin(phi));

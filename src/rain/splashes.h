@@ -16,6 +16,7 @@
 //  - 2 + 2 D[mm] secondary droplets of diameter 0.15 D, thrown at 0.2 U, 45..75 deg above the
 //    surface in random azimuths, falling back under gravity until they reach the surface.
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -29,9 +30,12 @@ inline constexpr double kGravity = 9.81;  // m/s^2
 inline constexpr int kCrownPoints = 12;
 
 // Horizontal area (m^2) of each pixel's surface where it faces up (normal within maxTiltDeg of
-// +Y), else 0; 0 too at depth discontinuities (more than 25 % between neighbours) and sky.
-std::vector<float> upFacingAreaPerPixel(const Camera& camera, const std::vector<float>& depth,
-                                        double maxTiltDeg);
+// +Y), else 0; 0 too at depth discontinuities (more than 25 % between neighbours), sky, and
+// depths beyond maxDepthMeters (the level of detail's limit: not looked at, so a far surface
+// costs nothing).
+std::vector<float> upFacingAreaPerPixel(
+    const Camera& camera, const std::vector<float>& depth, double maxTiltDeg,
+    double maxDepthMeters = std::numeric_limits<double>::infinity());
 
 struct Impact {
   Eigen::Vector3d point;  // world, on the surface
@@ -75,8 +79,10 @@ struct SplashParticle {
   double diameterMeters = 0.0;
 };
 // The crown's and droplets' motion during [openSeconds, closeSeconds] (clipped to their lives);
-// none when the splash is not alive then.
+// none when the splash is not alive then. A crown narrower than `pixelMeters` (a pixel's width
+// at the impact's depth; 0: never) is one still particle at its centre with the area of its
+// kCrownPoints blobs: drawn under a pixel, it covers that pixel as much as they would together.
 std::vector<SplashParticle> splashParticles(const Impact& impact, double openSeconds,
-                                            double closeSeconds);
+                                            double closeSeconds, double pixelMeters = 0.0);
 
 }  // namespace pluvia::rain

@@ -22,6 +22,12 @@ SectionSpec splashSection() {
                   "surfaces so far that a 3 mm drop's crown (12 mm across) spans fewer pixels "
                   "take no splashes: beyond, a splash is a sub-pixel speck that costs time and "
                   "shows nothing; 0 splashes everywhere"),
+      booleanParam("splatter", false,
+                   "flash a splatter texture flat on the surface at each impact (Wang et al.'s "
+                   "splatters, made per impact); off by default: a look, not physics, and it "
+                   "speckles the whole wet ground on a locked-off plate"),
+      numberParam("splatter_ms", 40.0, {1.0, 1000.0}, "ms",
+                  "how long a splatter shows after its impact (a frame at 25 fps)"),
   };
   return s;
 }
@@ -33,6 +39,8 @@ SplashSettings splashSettings(const Preset& p) {
   s.maxTiltDeg = p.number("splash.max_tilt_deg");
   s.opacity = p.number("splash.opacity");
   s.minSizePx = p.number("splash.min_size_px");
+  s.splatter = p.boolean("splash.splatter");
+  s.splatterSeconds = p.number("splash.splatter_ms") * 1e-3;
   return s;
 }
 

@@ -14,6 +14,8 @@ struct SplashSettings {
   double maxTiltDeg = 30.0;    // surfaces steeper than this take no splashes
   double opacity = 1.0;
   double minSizePx = 2.0;  // nearest crown size drawn: sets the farthest surface that splashes
+  bool splatter = false;   // splatter texture flashes at the impacts (rain/splatter.h)
+  double splatterSeconds = 0.04;
 };
 
 SplashSettings splashSettings(const Preset& preset);

@@ -1,8 +1,10 @@
 // Splashes: where the rain's drops strike surfaces facing up, a crown and a few droplets
-// (rain/splashes.h), drawn on the CPU over the plate after the rain (rain/splash_draw.h),
-// shaded like the drops (the environment convolved with the drop's transfer function, looked up
-// along each particle's view direction), their coverage in the "splash" plane.
+// (rain/splashes.h), with splash.splatter a splatter texture's flash (rain/splatter.h), drawn on
+// the CPU over the plate after the rain (rain/splash_draw.h), shaded like the drops (the
+// environment convolved with the drop's transfer function, looked up along each particle's view
+// direction), their coverage in the "splash" plane.
 #include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
@@ -12,8 +14,10 @@
 #include "optics/drop_shading.h"
 #include "pipeline/camera_settings.h"
 #include "rain/splash_draw.h"
+#include "rain/splash_memo.h"
 #include "rain/splash_rate.h"
 #include "rain/splashes.h"
+#include "rain/splatter.h"
 #include "stages/rain_settings.h"
 #include "stages/registry.h"
 #include "stages/splash_settings.h"
@@ -51,39 +55,58 @@ class SplashStage : public Stage {
     const double rate = rain_.rateMmPerHour.valueAt(f);
     if (!depth || rate <= 0.0) return;
     const Camera camera = path_.cameraAt(f);
-    std::vector<float> area = rain::upFacingAreaPerPixel(camera, *depth, splash_.maxTiltDeg);
+    rain::SplashFieldInputs inputs;
+    inputs.maxTiltDeg = splash_.maxTiltDeg;
     // Level of detail: beyond this depth a crown is under splash.min_size_px: no splashes there.
-    if (splash_.minSizePx > 0.0) {
-      const double farthest = camera.focalPx * kCrownAcrossMeters / splash_.minSizePx;
-      for (size_t i = 0; i < area.size(); ++i)
-        if (!((*depth)[i] <= farthest)) area[i] = 0.0f;
-    }
-    rain::SplashField field{
-        *depth, std::move(area),
-        rain::impactsPerSquareMeterSecond(rain_.distribution, rain_.velocity, rate,
-                                          splash_.minDiameterMm, kMaxDiameterMm)};
+    inputs.maxDepthMeters = splash_.minSizePx > 0.0
+                                ? camera.focalPx * kCrownAcrossMeters / splash_.minSizePx
+                                : std::numeric_limits<double>::infinity();
+    inputs.impactsPerSquareMeterSecond = rain::impactsPerSquareMeterSecond(
+        rain_.distribution, rain_.velocity, rate, splash_.minDiameterMm, kMaxDiameterMm);
+    memo_.setField(camera, *depth, inputs);
     const rain::ImpactDiameters diameters(rain_.distribution, rain_.velocity, rate,
                                           splash_.minDiameterMm, kMaxDiameterMm);
     const double open = f / fps_, close = open + camera_.exposureSecondsAt(fps_, f);
     // Splashes born up to the longest life before the shutter opens are still alive.
     const double longest = rain::splashLifeSeconds(
         {{}, 0.0, kMaxDiameterMm, rain::terminalVelocity(rain_.velocity, kMaxDiameterMm), 0});
-    const int64_t firstBirth = frame.frame - int64_t(std::ceil(longest * fps_));
-    const rain::SplashTiles tiles = rain::splashTiles(field, camera.width, camera.height);
+    const double flash = splash_.splatter ? splash_.splatterSeconds : 0.0;
+    const int64_t firstBirth = frame.frame - int64_t(std::ceil(std::max(longest, flash) * fps_));
+    const std::vector<const std::vector<rain::Impact>*> born =
+        memo_.impacts(firstBirth, frame.frame, fps_, rain_.seed, diameters, rate, rain_.velocity);
     // Each birth frame on its own (its impacts depend on it alone), drawn in birth order.
-    std::vector<std::vector<rain::ShadedParticle>> born(size_t(frame.frame - firstBirth + 1));
-    tbb::parallel_for(firstBirth, frame.frame + 1, [&](int64_t b) {
-      for (const rain::Impact& impact :
-           rain::impactsBorn(field, tiles, camera, b, fps_, rain_.seed, diameters, rain_.velocity))
-        for (const rain::SplashParticle& p : rain::splashParticles(impact, open, close)) {
-          const Eigen::Vector3d view = (p.from - camera.positionMeters).normalized();
-          born[size_t(b - firstBirth)].push_back(
-              {p, sampleEquirect(radiance_, float(view.x()), float(view.y()), float(view.z()))});
-        }
+    std::vector<std::vector<rain::ShadedParticle>> shaded(born.size());
+    std::vector<std::vector<rain::ShadedImpact>> flashes(born.size());
+    tbb::parallel_for(size_t(0), born.size(), [&](size_t b) {
+      for (const rain::Impact& impact : *born[b]) {
+        const bool flashing = flash > 0.0 && rain::splatterExposureShare(impact.timeSeconds, flash,
+                                                                         open, close) > 0.0;
+        if (!flashing && impact.timeSeconds + rain::splashLifeSeconds(impact) <= open) continue;
+        double px, py, z;
+        if (!camera.project(impact.point, px, py, z)) continue;
+        const std::vector<rain::SplashParticle> particles =
+            rain::splashParticles(impact, open, close, z / camera.focalPx);
+        if (particles.empty() && !flashing) continue;
+        // One radiance per splash: its particles lie millimetres apart, the map varies over
+        // degrees.
+        const Eigen::Vector3d view = (impact.point - camera.positionMeters).normalized();
+        const std::array<float, 3> radiance =
+            sampleEquirect(radiance_, float(view.x()), float(view.y()), float(view.z()));
+        if (flashing) flashes[b].push_back({&impact, radiance});
+        for (const rain::SplashParticle& p : particles)
+          if (rain::splashParticleCoverage(camera, p, float(splash_.opacity)) >=
+              rain::kMinParticleCoverage)
+            shaded[b].push_back({p, radiance});
+      }
     });
-    std::vector<rain::ShadedParticle> particles;
-    for (auto& some : born) particles.insert(particles.end(), some.begin(), some.end());
-    rain::drawSplashParticles(frame.image, alpha, *depth, camera, particles,
+    // The splatters lie on the surface, under the crowns and droplets.
+    std::vector<rain::ShadedImpact> splatters;
+    for (auto& some : flashes) splatters.insert(splatters.end(), some.begin(), some.end());
+    rain::drawSplatters(frame.image, alpha, *depth, camera, splatters, flash, open, close,
+                        float(splash_.opacity));
+    particles_.clear();  // kept between frames: its memory is reused
+    for (auto& some : shaded) particles_.insert(particles_.end(), some.begin(), some.end());
+    rain::drawSplashParticles(frame.image, alpha, *depth, camera, particles_,
                               float(splash_.opacity));
   }
 
@@ -94,6 +117,8 @@ class SplashStage : public Stage {
   CameraPath path_;
   double fps_ = 24.0;
   EquirectMap radiance_;
+  rain::SplashMemo memo_;
+  std::vector<rain::ShadedParticle> particles_;
 };
 
 }  // namespace
