@@ -393,6 +393,7 @@ void runEnvironment(const EquirectMap& env, EnvmapEnvironment info,
     PanoramaResult result = renderEquirect(frames, placement, render);
     row.renderSeconds = secondsSince(renderStart);
     row.coveredFraction = result.coveredFraction;
+    row.fillModel = result.fillModel;
 
     measureStitched(row, result);
     report.rows.push_back(row);
@@ -447,8 +448,13 @@ void runEnvironment(const EquirectMap& env, EnvmapEnvironment info,
     const auto renderStart = Clock::now();
     const PanoramaResult result = renderEquirect(widestFrames, widestPlacement, render);
     row.renderSeconds = secondsSince(renderStart);
+    row.fillModel = result.fillModel;
     measureStitched(row, result);
     report.rows.push_back(row);
+    if (!settings.imagesDir.empty())
+      writePng(result.radiance, 1.0,
+               fs::path(settings.imagesDir) /
+                   fmt::format("{}_stitched_{}_sky_model.png", info.name, counts.back()));
   }
   if (!settings.imagesDir.empty()) {
     const fs::path dir(settings.imagesDir);
@@ -670,12 +676,32 @@ std::string formatEnvmapReport(const EnvmapReport& report) {
           "direction (worst mean {:.1f} %).\n",
           lightMeanMet, lightRows, lightMaxMet, lightRows, 100.0 * worstLightMean);
     }
-    if (modelRows > 0)
+    if (modelRows > 0) {
       out += fmt::format(
-          "With the unseen sphere filled by the sky model (CIE overcast or uniform, fitted to the "
-          "seen sky) instead of the nearest seen colour: {} of {} on the mean (worst mean "
-          "{:.1f} %).\n",
+          "With the unseen sphere filled by the sky model (Preetham, CIE overcast or uniform, "
+          "fitted to the seen sky, and the seen ground's albedo under it) instead of the nearest "
+          "seen colour: {} of {} on the mean (worst mean {:.1f} %).\n",
           modelMeanMet, modelRows, 100.0 * worstModelMean);
+      out += fmt::format("\nUnseen fill at the most frames, drop colour mean (max) error:\n{:<28} "
+                         "{:>16} {:>16}  {}\n",
+                         "environment", "nearest", "sky model", "fitted");
+      for (size_t i = 1; i < report.rows.size(); ++i) {
+        const EnvmapReportRow& row = report.rows[i];
+        if (!row.skyModelFill) continue;
+        // The nearest row of the same pan: the last plain row of this environment before it.
+        for (size_t j = i; j-- > 0;) {
+          const EnvmapReportRow& nearest = report.rows[j];
+          if (nearest.environment != row.environment) break;
+          if (nearest.lightsRestored || nearest.skyModelFill || nearest.frames != row.frames)
+            continue;
+          out += fmt::format("{:<28} {:>7} ({:>6}) {:>7} ({:>6})  {}\n", row.environment,
+                             percentOrDash(nearest.dropMeanError),
+                             percentOrDash(nearest.dropMaxError), percentOrDash(row.dropMeanError),
+                             percentOrDash(row.dropMaxError), row.fillModel);
+          break;
+        }
+      }
+    }
     out += fmt::format("Slowest stitch of {} frames of {}x{} (placement + rendering): {:.2f} s",
                        mostFrames, report.frameWidth, report.frameHeight, slowest);
     if (mostFrames == 24 && report.frameWidth == 1280 && report.frameHeight == 720)
@@ -709,16 +735,16 @@ void writeEnvmapReportCsv(const EnvmapReport& report, const std::string& path) {
   if (!file) throw Error("cannot write the report", {"report", {}, path});
   file << "environment,frames,lights_restored,lights,yaw_step_deg,from_features,pose_error_deg,"
           "focal_error,covered_fraction,sh_error,drop_mean_error,drop_max_error,directions,"
-          "placement_seconds,render_seconds,total_seconds,fill\n";
+          "placement_seconds,render_seconds,total_seconds,fill,fill_model\n";
   for (const EnvmapReportRow& row : report.rows) {
     file << fmt::format(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", row.environment, row.frames,
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},\"{}\"\n", row.environment, row.frames,
         row.lightsRestored ? 1 : 0, row.lights, csvNumber(row.yawStepDeg), row.fromFeatures ? 1 : 0,
         csvNumber(row.poseErrorDeg), csvNumber(row.focalError), csvNumber(row.coveredFraction),
         csvNumber(row.shError), csvNumber(row.dropMeanError), csvNumber(row.dropMaxError),
         row.directions, csvNumber(row.placementSeconds), csvNumber(row.renderSeconds),
         csvNumber(row.placementSeconds + row.renderSeconds),
-        row.skyModelFill ? "sky_model" : "nearest");
+        row.skyModelFill ? "sky_model" : "nearest", row.fillModel);
   }
   if (!file) throw Error("failed while writing the report", {"report", {}, path});
 }

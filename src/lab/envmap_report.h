@@ -53,6 +53,7 @@ struct EnvmapReportRow {
   int frames = 0;
   bool lightsRestored = false;  // the "+ lights" row
   bool skyModelFill = false;    // the unseen sphere filled by the sky model (else the nearest)
+  std::string fillModel;        // what filled it ("nearest", "preetham T 3.1, sun at ...")
   int lights = 0;               // light sources given in that row
   double yawStepDeg = 0.0;
   bool fromFeatures = false;  // placement from matched features (false: the fallback)
