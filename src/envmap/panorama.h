@@ -67,8 +67,7 @@ struct LightSource {
 //    when one is given, else fitted), the CIE overcast sky (Huang et al.) or a uniform sky,
 //    whichever fits best (sky_model.h); the ground below it a Lambertian ground of the seen
 //    ground's albedo lit by that sky (the seen ground's mean radiance; with no ground seen,
-//    albedo 0.18). Within `blendDeg` of the coverage both fade into the nearest seen colour (no
-//    seam). With no sky seen, the overcast sky that lights the seen ground; with nothing seen,
+//    albedo 0.18). Near the coverage both fade into the nearest seen colour (no seam). With no sky seen, the overcast sky that lights the seen ground; with nothing seen,
 //    Nearest. unseen_fill.h has the details.
 enum class UnseenFill { Nearest, SkyModel };
 
@@ -76,7 +75,6 @@ struct EquirectSettings {
   int width = 512;  // height = width / 2
   std::vector<LightSource> lights;
   UnseenFill fill = UnseenFill::Nearest;  // measured better (pluvia report envmap)
-  double blendDeg = 20.0;                 // SkyModel: the fade from the seen colour to the model
 };
 
 struct PanoramaResult {

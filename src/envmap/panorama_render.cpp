@@ -157,19 +157,32 @@ std::vector<float> estimateGains(const std::vector<FrameView>& views) {
   return gains;
 }
 
-// The sun for the sky model: the brightest direction light above the horizon, if any.
-std::optional<Vec3> sunFromLights(const std::vector<LightSource>& lights) {
+// The sun for the sky model, from the lights: the brightest light above the horizon, a
+// direction light's direction or the mean direction of the texels a frame-region light covers.
+std::optional<Vec3> sunFromLights(const std::vector<LightSource>& lights,
+                                  const std::vector<const LightSource*>& texelLight, int width,
+                                  int height) {
   std::optional<Vec3> sun;
   double brightest = 0.0;
-  for (const auto& light : lights) {
-    if (!light.direction) continue;
-    Vec3 d = *light.direction;
-    const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  auto consider = [&](const LightSource& light, cv::Vec3d d) {
     const double power = meanOf(cv::Vec3f(light.radiance[0], light.radiance[1], light.radiance[2]));
-    if (!(len > 0) || d[1] <= 0 || power <= brightest) continue;
-    for (double& c : d) c /= len;
-    sun = d;
+    const double len = cv::norm(d);
+    if (!(len > 0) || d[1] <= 0 || power <= brightest) return;
+    d /= len;
+    sun = Vec3{d[0], d[1], d[2]};
     brightest = power;
+  };
+  std::vector<cv::Vec3d> regionSum(lights.size(), cv::Vec3d(0, 0, 0));
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      if (const LightSource* l = texelLight[size_t(y) * size_t(width) + size_t(x)])
+        regionSum[size_t(l - lights.data())] += texelDirection(width, height, x, y);
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const LightSource& light = lights[i];
+    if (light.direction)
+      consider(light, {(*light.direction)[0], (*light.direction)[1], (*light.direction)[2]});
+    else
+      consider(light, regionSum[i]);
   }
   return sun;
 }
@@ -265,8 +278,7 @@ PanoramaResult renderEquirect(const std::vector<PanoramaFrame>& frames, const Pl
   if (covered > 0) {
     const std::vector<int> nearest = nearestSeenTexels(result.coverage);
     ModelFillSettings model;
-    model.sun = sunFromLights(settings.lights);
-    model.blendDeg = settings.blendDeg;
+    model.sun = sunFromLights(settings.lights, texelLight, width, height);
     if (!(settings.fill == UnseenFill::SkyModel &&
           fillModel(result.radiance, result.coverage, clipped, nearest, model, result.fillModel)))
       fillNearest(result.radiance, result.coverage, nearest);

@@ -407,13 +407,14 @@ void runEnvironment(const EquirectMap& env, EnvmapEnvironment info,
   if (!widest) return;
   info.sunSeen = info.sun && covers(widest->coverage, sunDirection(info));
 
+  EquirectSettings lightsRender;
   {
     // The paper's light-source replacement, with the radiances "measured when we captured the
     // video" taken from the HDR: each clipped region of each frame, and the sun where the pan
     // did not see it.
     EnvmapReportRow row = report.rows.back();
     row.lightsRestored = true;
-    EquirectSettings render;
+    EquirectSettings& render = lightsRender;
     render.width = settings.panoramaWidth;
     std::vector<CameraPose> truth;
     for (int i = 0; i < counts.back(); ++i)
@@ -437,14 +438,18 @@ void runEnvironment(const EquirectMap& env, EnvmapEnvironment info,
                fs::path(settings.imagesDir) /
                    fmt::format("{}_stitched_{}_lights.png", info.name, counts.back()));
   }
-  {
-    // The unseen sphere filled by the sky model (panorama.h) instead of the paper's nearest
-    // seen colour the rows above use.
-    EnvmapReportRow row = report.rows[report.rows.size() - 2];  // the widest pan, as recorded
+  // The unseen sphere filled by the sky model (panorama.h) instead of the paper's nearest seen
+  // colour the rows above use: as recorded, and with the lights of the "+ lights" row (the sun
+  // for the Preetham fit then comes from them).
+  const std::vector<LightSource> lights = lightsRender.lights;
+  for (const bool withLights : {false, true}) {
+    // The nearest-fill row it stands beside: the widest pan as recorded, then "+ lights".
+    EnvmapReportRow row = report.rows[report.rows.size() - 2];
     row.skyModelFill = true;
     EquirectSettings render;
     render.width = settings.panoramaWidth;
     render.fill = UnseenFill::SkyModel;
+    if (withLights) render.lights = lights;
     const auto renderStart = Clock::now();
     const PanoramaResult result = renderEquirect(widestFrames, widestPlacement, render);
     row.renderSeconds = secondsSince(renderStart);
@@ -454,7 +459,8 @@ void runEnvironment(const EquirectMap& env, EnvmapEnvironment info,
     if (!settings.imagesDir.empty())
       writePng(result.radiance, 1.0,
                fs::path(settings.imagesDir) /
-                   fmt::format("{}_stitched_{}_sky_model.png", info.name, counts.back()));
+                   fmt::format("{}_stitched_{}{}_sky_model.png", info.name, counts.back(),
+                               withLights ? "_lights" : ""));
   }
   if (!settings.imagesDir.empty()) {
     const fs::path dir(settings.imagesDir);
@@ -541,7 +547,8 @@ void runRealPhotos(const EnvmapReportSettings& settings, EnvmapReport& report) {
 }
 
 std::string rowLabel(const EnvmapReportRow& row) {
-  if (row.skyModelFill) return fmt::format("{} sky model", row.frames);
+  if (row.skyModelFill)
+    return fmt::format("{}{} sky model", row.frames, row.lightsRestored ? "+lights" : "");
   return row.lightsRestored ? fmt::format("{}+lights", row.frames) : std::to_string(row.frames);
 }
 
@@ -637,15 +644,20 @@ std::string formatEnvmapReport(const EnvmapReport& report) {
 
   // The targets, at the most frames of each environment.
   int environments = 0, meanMet = 0, maxMet = 0, lightRows = 0, lightMeanMet = 0, lightMaxMet = 0;
-  int modelRows = 0, modelMeanMet = 0;
-  double worstMean = 0.0, worstLightMean = 0.0, worstModelMean = 0.0, slowest = 0.0;
+  int modelRows = 0, modelMeanMet = 0, modelLightRows = 0, modelLightMeanMet = 0;
+  double worstMean = 0.0, worstLightMean = 0.0, worstModelMean = 0.0, worstModelLightMean = 0.0;
+  double slowest = 0.0;
   int mostFrames = 0;
   for (size_t i = 0; i < report.rows.size(); ++i) {
     const EnvmapReportRow& row = report.rows[i];
     const bool last = i + 1 == report.rows.size() ||
                       report.rows[i + 1].environment != row.environment ||
                       report.rows[i + 1].lightsRestored || report.rows[i + 1].skyModelFill;
-    if (row.skyModelFill) {
+    if (row.skyModelFill && row.lightsRestored) {
+      ++modelLightRows;
+      modelLightMeanMet += row.dropMeanError < kTarget;
+      worstModelLightMean = std::max(worstModelLightMean, row.dropMeanError);
+    } else if (row.skyModelFill) {
       ++modelRows;
       modelMeanMet += row.dropMeanError < kTarget;
       worstModelMean = std::max(worstModelMean, row.dropMeanError);
@@ -682,24 +694,34 @@ std::string formatEnvmapReport(const EnvmapReport& report) {
           "fitted to the seen sky, and the seen ground's albedo under it) instead of the nearest "
           "seen colour: {} of {} on the mean (worst mean {:.1f} %).\n",
           modelMeanMet, modelRows, 100.0 * worstModelMean);
-      out += fmt::format("\nUnseen fill at the most frames, drop colour mean (max) error:\n{:<28} "
-                         "{:>16} {:>16}  {}\n",
-                         "environment", "nearest", "sky model", "fitted");
-      for (size_t i = 1; i < report.rows.size(); ++i) {
-        const EnvmapReportRow& row = report.rows[i];
-        if (!row.skyModelFill) continue;
-        // The nearest row of the same pan: the last plain row of this environment before it.
-        for (size_t j = i; j-- > 0;) {
-          const EnvmapReportRow& nearest = report.rows[j];
-          if (nearest.environment != row.environment) break;
-          if (nearest.lightsRestored || nearest.skyModelFill || nearest.frames != row.frames)
-            continue;
-          out += fmt::format("{:<28} {:>7} ({:>6}) {:>7} ({:>6})  {}\n", row.environment,
-                             percentOrDash(nearest.dropMeanError),
-                             percentOrDash(nearest.dropMaxError), percentOrDash(row.dropMeanError),
-                             percentOrDash(row.dropMaxError), row.fillModel);
-          break;
-        }
+      out += fmt::format(
+          "With the lights and the sky model (the sun for the fit from the lights): {} of {} on "
+          "the mean (worst mean {:.1f} %).\n",
+          modelLightMeanMet, modelLightRows, 100.0 * worstModelLightMean);
+      out += fmt::format(
+          "\nUnseen fill at the most frames, drop colour mean (max) error, as recorded and with "
+          "the lights:\n{:<28} {:>16} {:>16} {:>16} {:>16}  {}\n",
+          "environment", "nearest", "sky model", "nearest+lights", "model+lights", "fitted (+lights)");
+      // Per environment, its rows at the most frames: nearest, +lights, model, +lights model.
+      std::map<std::string, std::array<const EnvmapReportRow*, 4>> byEnvironment;
+      std::vector<std::string> order;
+      for (const EnvmapReportRow& row : report.rows) {
+        if (!byEnvironment.count(row.environment)) order.push_back(row.environment);
+        auto& slots = byEnvironment[row.environment];
+        const size_t slot = (row.skyModelFill ? 1 : 0) + (row.lightsRestored ? 2 : 0);
+        if (!slots[slot] || slots[slot]->frames <= row.frames) slots[slot] = &row;
+      }
+      auto cell = [](const EnvmapReportRow* row) {
+        return row ? fmt::format("{:>7} ({:>6})", percentOrDash(row->dropMeanError),
+                                 percentOrDash(row->dropMaxError))
+                   : std::string("-");
+      };
+      for (const std::string& name : order) {
+        const auto& slots = byEnvironment[name];
+        if (!slots[1]) continue;
+        out += fmt::format("{:<28} {:>16} {:>16} {:>16} {:>16}  {}{}\n", name, cell(slots[0]),
+                           cell(slots[1]), cell(slots[2]), cell(slots[3]), slots[1]->fillModel,
+                           slots[3] ? " (" + slots[3]->fillModel + ")" : "");
       }
     }
     out += fmt::format("Slowest stitch of {} frames of {}x{} (placement + rendering): {:.2f} s",
