@@ -74,7 +74,9 @@ enum class UnseenFill { Nearest, SkyModel };
 struct EquirectSettings {
   int width = 512;  // height = width / 2
   std::vector<LightSource> lights;
-  UnseenFill fill = UnseenFill::Nearest;  // measured better (pluvia report envmap)
+  // The model fill measured better on all six shared HDRs (pluvia report envmap: drop colour
+  // error at 24 frames 24 -> 20 % on city, 8.4 -> 6.4 % on sunset, equal where it falls back).
+  UnseenFill fill = UnseenFill::SkyModel;
 };
 
 struct PanoramaResult {
