@@ -389,6 +389,7 @@ void runEnvironment(const EquirectMap& env, EnvmapEnvironment info,
 
     EquirectSettings render;
     render.width = settings.panoramaWidth;
+    render.fill = UnseenFill::Nearest;  // the paper's; the sky model has its own rows below
     const auto renderStart = Clock::now();
     PanoramaResult result = renderEquirect(frames, placement, render);
     row.renderSeconds = secondsSince(renderStart);
@@ -416,6 +417,7 @@ void runEnvironment(const EquirectMap& env, EnvmapEnvironment info,
     row.lightsRestored = true;
     EquirectSettings& render = lightsRender;
     render.width = settings.panoramaWidth;
+    render.fill = UnseenFill::Nearest;
     std::vector<CameraPose> truth;
     for (int i = 0; i < counts.back(); ++i)
       truth.push_back(panPose(i * row.yawStepDeg, settings.pitchDeg, fov, w));
