@@ -67,8 +67,9 @@ struct LightSource {
 //    when one is given, else fitted), the CIE overcast sky (Huang et al.) or a uniform sky,
 //    whichever fits best (sky_model.h); the ground below it a Lambertian ground of the seen
 //    ground's albedo lit by that sky (the seen ground's mean radiance; with no ground seen,
-//    albedo 0.18). Near the coverage both fade into the nearest seen colour (no seam). With no sky seen, the overcast sky that lights the seen ground; with nothing seen,
-//    Nearest. unseen_fill.h has the details.
+//    albedo 0.18). Near the coverage both fade into the nearest seen colour (no seam). With no sky
+//    seen, the overcast sky that lights the seen ground; with nothing seen, Nearest. unseen_fill.h
+//    has the details.
 enum class UnseenFill { Nearest, SkyModel };
 
 struct EquirectSettings {
@@ -80,9 +81,9 @@ struct EquirectSettings {
 };
 
 struct PanoramaResult {
-  EquirectMap radiance;          // filled everywhere
+  EquirectMap radiance;   // filled everywhere
   std::string fillModel;  // what filled the unseen directions ("nearest", "preetham T 3.1, ...")
-  cv::Mat coverage;              // CV_8UC1 width x height: nonzero where a frame saw the direction
+  cv::Mat coverage;       // CV_8UC1 width x height: nonzero where a frame saw the direction
   double coveredFraction = 0.0;  // of the sphere's solid angle
   std::vector<float> gains;      // per frame exposure gain applied (1 for frame 0)
 };

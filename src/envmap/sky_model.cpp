@@ -294,7 +294,8 @@ std::array<double, 3> skyIrradiance(const SkyFit& fit) {
         kPi * (std::pow(std::sin(theta1), 2) - std::pow(std::sin(theta0), 2)) / kColumns;
     for (int j = 0; j < kColumns; ++j) {
       const double phi = 2.0 * kPi * (j + 0.5) / kColumns;
-      const Vec3 v{std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi)};
+      const Vec3 v{std::sin(theta) * std::sin(phi), std::cos(theta),
+                   -std::sin(theta) * std::cos(phi)};
       const auto l = evaluateSky(fit, v);
       for (size_t c = 0; c < 3; ++c) e[c] += weight * l[c];
     }

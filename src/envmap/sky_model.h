@@ -48,11 +48,11 @@ enum class SkyKind { Preetham, CieOvercast, Uniform };
 
 struct SkyFit {
   SkyKind kind = SkyKind::Uniform;
-  double turbidity = 0.0;          // Preetham
-  Vec3 sun{0, 1, 0};               // Preetham
-  std::array<double, 3> scale{};   // per channel, on the model's shape
-  double residual = 0.0;           // weighted RMS of log(seen / model), mean over channels
-  std::string describe() const;    // "preetham T 3.2, sun at 20° elevation 35° azimuth", ...
+  double turbidity = 0.0;         // Preetham
+  Vec3 sun{0, 1, 0};              // Preetham
+  std::array<double, 3> scale{};  // per channel, on the model's shape
+  double residual = 0.0;          // weighted RMS of log(seen / model), mean over channels
+  std::string describe() const;   // "preetham T 3.2, sun at 20° elevation 35° azimuth", ...
 };
 
 struct SkyFitSettings {

@@ -167,8 +167,8 @@ bool fillModel(EquirectMap& map, const cv::Mat& coverage, const cv::Mat& clipped
   // left unclipped is not that sky. The nearest colour then keeps at least the clipped value.
   double clippedSky = 0.0;
   for (int y = 0; y < h / 2 && !clipped.empty(); ++y)
-    clippedSky += cv::countNonZero(clipped.row(y) & coverage.row(y)) *
-                  equirectTexelSolidAngle(w, h, y);
+    clippedSky +=
+        cv::countNonZero(clipped.row(y) & coverage.row(y)) * equirectTexelSolidAngle(w, h, y);
   if (sky && clippedSky > kMaxClippedSky * skySolidAngle) {
     model = fmt::format("nearest (the seen sky is clipped: {:.3f} sr against {:.3f} sr fitted)",
                         clippedSky, skySolidAngle);
@@ -195,7 +195,9 @@ bool fillModel(EquirectMap& map, const cv::Mat& coverage, const cv::Mat& clipped
     model = sky->describe();
     const auto e = skyIrradiance(*sky);
     if (groundWeight > 0) {
-      model += fmt::format(", ground albedo {:.2f}", CV_PI * (0.2126 * ground[0] + 0.7152 * ground[1] + 0.0722 * ground[2]) / (0.2126 * e[0] + 0.7152 * e[1] + 0.0722 * e[2]));
+      model += fmt::format(", ground albedo {:.2f}",
+                           CV_PI * (0.2126 * ground[0] + 0.7152 * ground[1] + 0.0722 * ground[2]) /
+                               (0.2126 * e[0] + 0.7152 * e[1] + 0.0722 * e[2]));
     } else {
       for (size_t k = 0; k < 3; ++k) ground[k] = kSceneAlbedo * e[k] / CV_PI;
       model += ", ground it lights at albedo 0.18";
@@ -209,9 +211,7 @@ bool fillModel(EquirectMap& map, const cv::Mat& coverage, const cv::Mat& clipped
     sky = overcast;
     model = "cie overcast lighting the seen ground";
   }
-  auto modelAt = [&](const Vec3& d) {
-    return d[1] > 0 ? evaluateSky(*sky, d) : ground;
-  };
+  auto modelAt = [&](const Vec3& d) { return d[1] > 0 ? evaluateSky(*sky, d) : ground; };
   const double skyBlend = std::max(settings.skyBlendDeg, 1e-3) * CV_PI / 180.0;
   const double obstacleBlend = std::max(settings.obstacleBlendDeg, 1e-3) * CV_PI / 180.0;
   tbb::parallel_for(0, h, [&](int y) {

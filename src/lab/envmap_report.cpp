@@ -459,10 +459,10 @@ void runEnvironment(const EquirectMap& env, EnvmapEnvironment info,
     measureStitched(row, result);
     report.rows.push_back(row);
     if (!settings.imagesDir.empty())
-      writePng(result.radiance, 1.0,
-               fs::path(settings.imagesDir) /
-                   fmt::format("{}_stitched_{}{}_sky_model.png", info.name, counts.back(),
-                               withLights ? "_lights" : ""));
+      writePng(
+          result.radiance, 1.0,
+          fs::path(settings.imagesDir) / fmt::format("{}_stitched_{}{}_sky_model.png", info.name,
+                                                     counts.back(), withLights ? "_lights" : ""));
   }
   if (!settings.imagesDir.empty()) {
     const fs::path dir(settings.imagesDir);
@@ -702,8 +702,9 @@ std::string formatEnvmapReport(const EnvmapReport& report) {
           modelLightMeanMet, modelLightRows, 100.0 * worstModelLightMean);
       out += fmt::format(
           "\nUnseen fill at the most frames, drop colour mean (max) error, as recorded and with "
-          "the lights:\n{:<28} {:>16} {:>16} {:>16} {:>16}  {}\n",
-          "environment", "nearest", "sky model", "nearest+lights", "model+lights", "fitted (+lights)");
+          "the lights:\n  {:<28} {:>16} {:>16} {:>16} {:>16}  {}\n",
+          "environment", "nearest", "sky model", "nearest+lights", "model+lights",
+          "fitted (+lights)");
       // Per environment, its rows at the most frames: nearest, +lights, model, +lights model.
       std::map<std::string, std::array<const EnvmapReportRow*, 4>> byEnvironment;
       std::vector<std::string> order;
@@ -721,9 +722,10 @@ std::string formatEnvmapReport(const EnvmapReport& report) {
       for (const std::string& name : order) {
         const auto& slots = byEnvironment[name];
         if (!slots[1]) continue;
-        out += fmt::format("{:<28} {:>16} {:>16} {:>16} {:>16}  {}{}\n", name, cell(slots[0]),
-                           cell(slots[1]), cell(slots[2]), cell(slots[3]), slots[1]->fillModel,
-                           slots[3] ? " (" + slots[3]->fillModel + ")" : "");
+        // "name:": the main table's rows are the ones whose first word is the name.
+        out += fmt::format("  {:<28} {:>16} {:>16} {:>16} {:>16}  {}{}\n", name + ":",
+                           cell(slots[0]), cell(slots[1]), cell(slots[2]), cell(slots[3]),
+                           slots[1]->fillModel, slots[3] ? " (" + slots[3]->fillModel + ")" : "");
       }
     }
     out += fmt::format("Slowest stitch of {} frames of {}x{} (placement + rendering): {:.2f} s",
@@ -754,6 +756,14 @@ std::string formatEnvmapReport(const EnvmapReport& report) {
   return out;
 }
 
+namespace {
+// A free-text CSV field: its commas become semicolons (readers split on commas).
+std::string withoutCommas(std::string text) {
+  std::replace(text.begin(), text.end(), ',', ';');
+  return text;
+}
+}  // namespace
+
 void writeEnvmapReportCsv(const EnvmapReport& report, const std::string& path) {
   std::ofstream file(path);
   if (!file) throw Error("cannot write the report", {"report", {}, path});
@@ -762,13 +772,13 @@ void writeEnvmapReportCsv(const EnvmapReport& report, const std::string& path) {
           "placement_seconds,render_seconds,total_seconds,fill,fill_model\n";
   for (const EnvmapReportRow& row : report.rows) {
     file << fmt::format(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},\"{}\"\n", row.environment, row.frames,
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", row.environment, row.frames,
         row.lightsRestored ? 1 : 0, row.lights, csvNumber(row.yawStepDeg), row.fromFeatures ? 1 : 0,
         csvNumber(row.poseErrorDeg), csvNumber(row.focalError), csvNumber(row.coveredFraction),
         csvNumber(row.shError), csvNumber(row.dropMeanError), csvNumber(row.dropMaxError),
         row.directions, csvNumber(row.placementSeconds), csvNumber(row.renderSeconds),
         csvNumber(row.placementSeconds + row.renderSeconds),
-        row.skyModelFill ? "sky_model" : "nearest", row.fillModel);
+        row.skyModelFill ? "sky_model" : "nearest", withoutCommas(row.fillModel));
   }
   if (!file) throw Error("failed while writing the report", {"report", {}, path});
 }

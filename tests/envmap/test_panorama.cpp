@@ -318,8 +318,8 @@ TEST(Panorama, PanThatAlsoTiltsIsPlacedAndCoversMore) {
   ASSERT_TRUE(placement.fromFeatures) << placement.note;
   double worstPitch = 0, worstYaw = 0;
   for (size_t k = 0; k < yaws.size(); ++k) {
-    worstPitch = std::max(worstPitch, std::abs(std::asin(forwardOf(placement.poses[k])[1]) / kDeg -
-                                               pitches[k]));
+    worstPitch = std::max(
+        worstPitch, std::abs(std::asin(forwardOf(placement.poses[k])[1]) / kDeg - pitches[k]));
     worstYaw = std::max(worstYaw, std::abs(wrapDeg(yawOf(placement.poses[k]) - yaws[k])));
   }
   EXPECT_LT(worstPitch, 1.0);

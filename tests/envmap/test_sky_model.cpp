@@ -40,8 +40,9 @@ TEST(SkyModel, PreethamZenithValuesMatchTheAppendixWorkedByHand) {
   EXPECT_NEAR(luminance(preethamRgb(2.0, sun, {0, 1, 0})), 5.886743, 5.886743 * 1e-3);
   // Perez F at theta = 0 and gamma = theta_s is the normaliser: 1 by construction there.
   const auto k = preethamLuminanceCoefficients(3.0);
-  EXPECT_NEAR(perez(k, 0.0, 0.5), (1 + k.a * std::exp(k.b)) * (1 + k.c * std::exp(k.d * 0.5) +
-                                                                  k.e * std::cos(0.5) * std::cos(0.5)),
+  EXPECT_NEAR(perez(k, 0.0, 0.5),
+              (1 + k.a * std::exp(k.b)) *
+                  (1 + k.c * std::exp(k.d * 0.5) + k.e * std::cos(0.5) * std::cos(0.5)),
               1e-12);
 }
 
@@ -85,7 +86,7 @@ std::vector<SkySample> panBand(double t, const Vec3& sun, const std::array<doubl
 
 TEST(SkyModel, FitRecoversTurbiditySunAndScaleFromTheSeenBand) {
   const Vec3 sun = direction(22.0, 65.0);
-  const std::array<double, 3> scale = {0.011, 0.010, 0.013};  // camera exposure and white balance
+  const std::array<double, 3> scale = {0.011, 0.010, 0.013};    // camera exposure and white balance
   const auto fit = fitSky(panBand(3.0, sun, scale, 0.02), {});  // 2 % noise per texel
   ASSERT_TRUE(fit.has_value());
   ASSERT_EQ(fit->kind, SkyKind::Preetham);
