@@ -37,6 +37,10 @@ Vec3 xyzToRec709(double x, double y, double z) {
           0.0556434 * x - 0.2040259 * y + 1.0572252 * z};
 }
 
+double luminanceOf(const Vec3& rgb) {  // Rec.709
+  return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
+}
+
 // One Preetham sky: the coefficients and the zenith values (divided by F(0, theta_s)) for a
 // turbidity and sun, so each view costs three Perez evaluations.
 class PreethamSky {
@@ -105,6 +109,10 @@ std::array<double, 3> shapeOf(const SkyFit& fit, const Vec3& view) {
   switch (fit.kind) {
     case SkyKind::Preetham: {
       const Vec3 rgb = PreethamSky(fit.turbidity, fit.sun).rgb(view);
+      if (fit.grey) {
+        const double y = luminanceOf(rgb);
+        return {y, y, y};
+      }
       return {rgb[0], rgb[1], rgb[2]};
     }
     case SkyKind::CieOvercast: {
@@ -125,10 +133,18 @@ SkyFit fitPreetham(const LogSamples& s, const std::optional<Vec3>& knownSun) {
     fit.turbidity = turbidity;
     fit.sun = knownSun ? *knownSun : fromElevationAzimuth(elevation, azimuth);
     const PreethamSky sky(turbidity, fit.sun);
-    return fitScale(s, fit, [&](const Vec3& v) {
+    const SkyFit colour = fitScale(s, fit, [&](const Vec3& v) {
       const Vec3 rgb = sky.rgb(v);
       return std::array<double, 3>{rgb[0], rgb[1], rgb[2]};
     });
+    // The luminance distribution with one colour: a hazy or white-balanced sky whose colour does
+    // not follow Preetham's chromaticity across the dome.
+    fit.grey = true;
+    const SkyFit grey = fitScale(s, fit, [&](const Vec3& v) {
+      const double y = luminanceOf(sky.rgb(v));
+      return std::array<double, 3>{y, y, y};
+    });
+    return grey.residual < colour.residual ? grey : colour;
   };
   const std::vector<double> turbidities = {1.7, 2.0, 2.5, 3.0, 4.0, 5.0, 6.5, 8.0, 10.0};
   std::vector<double> elevations = {2, 8, 15, 25, 35, 45, 60, 75, 88};
@@ -224,7 +240,8 @@ double cieOvercastShape(const Vec3& view) {
 std::string SkyFit::describe() const {
   switch (kind) {
     case SkyKind::Preetham:
-      return fmt::format("preetham T {:.1f}, sun at {:.0f}° elevation {:.0f}° azimuth", turbidity,
+      return fmt::format("preetham{} T {:.1f}, sun at {:.0f}° elevation {:.0f}° azimuth",
+                         grey ? " (luminance, one colour)" : "", turbidity,
                          std::asin(std::clamp(sun[1], -1.0, 1.0)) / kDeg,
                          std::atan2(sun[0], -sun[2]) / kDeg);
     case SkyKind::CieOvercast:

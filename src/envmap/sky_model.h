@@ -49,6 +49,7 @@ enum class SkyKind { Preetham, CieOvercast, Uniform };
 struct SkyFit {
   SkyKind kind = SkyKind::Uniform;
   double turbidity = 0.0;         // Preetham
+  bool grey = false;              // Preetham: its luminance distribution only, in one colour
   Vec3 sun{0, 1, 0};              // Preetham
   std::array<double, 3> scale{};  // per channel, on the model's shape
   double residual = 0.0;          // weighted RMS of log(seen / model), mean over channels
