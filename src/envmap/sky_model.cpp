@@ -257,14 +257,19 @@ std::optional<SkyFit> fitSky(const std::vector<SkySample>& samples,
   LogSamples s;
   // A floor for log: far below anything a camera records next to this sky.
   double mean = 0.0, total = 0.0;
+  auto usable = [](const SkySample& sample) {  // a NaN or infinity from a bad file is no sky
+    return sample.weight > 0.0 && sample.direction[1] > 0.0 && std::isfinite(sample.rgb[0]) &&
+           std::isfinite(sample.rgb[1]) && std::isfinite(sample.rgb[2]);
+  };
   for (const SkySample& sample : samples) {
+    if (!usable(sample)) continue;
     mean += sample.weight * (sample.rgb[0] + sample.rgb[1] + sample.rgb[2]) / 3.0;
     total += sample.weight;
   }
   if (!(total > 0.0) || !(mean > 0.0)) return std::nullopt;
   const double floor = 1e-4 * mean / total;
   for (const SkySample& sample : samples) {
-    if (!(sample.weight > 0.0) || !(sample.direction[1] > 0.0)) continue;
+    if (!usable(sample)) continue;
     s.direction.push_back(sample.direction);
     std::array<double, 3> logRgb;
     for (size_t c = 0; c < 3; ++c) logRgb[c] = std::log(std::max(double(sample.rgb[c]), floor));

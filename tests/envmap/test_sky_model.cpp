@@ -119,10 +119,12 @@ TEST(SkyModel, OvercastSkyIsFittedAsOvercastAndUniformAsUniform) {
       overcast.push_back({v, {f, f, f}, 1.0});
       uniform.push_back({v, {0.3f, 0.4f, 0.5f}, 1.0});
     }
+  overcast.push_back({direction(30, 0), {NAN, 0.5f, 0.5f}, 1.0});  // left out, not spread
   const auto o = fitSky(overcast, {});
   ASSERT_TRUE(o.has_value());
   EXPECT_EQ(o->kind, SkyKind::CieOvercast);
   EXPECT_NEAR(evaluateSky(*o, {0, 1, 0})[1], 0.8, 1e-3);
+  EXPECT_TRUE(std::isfinite(evaluateSky(*o, {0, 1, 0})[0]));
   const auto u = fitSky(uniform, {});
   ASSERT_TRUE(u.has_value());
   EXPECT_EQ(u->kind, SkyKind::Uniform);
