@@ -65,6 +65,7 @@ EnvironmentKey makeKey(int64_t frame, const std::vector<PanoramaFrame>& frames,
   EquirectSettings render;
   render.width = settings.width;
   render.lights = settings.lights;
+  render.fill = settings.fill;
   const PanoramaResult panorama = renderEquirect(frames, placement, render);
   EnvironmentKey key;
   key.frame = frame;

@@ -25,6 +25,7 @@ struct ClipEnvironmentSettings {
   int shOrder = 3;
   int width = 512;  // of each panorama (height = width / 2)
   std::vector<LightSource> lights;
+  UnseenFill fill = UnseenFill::SkyModel;  // the directions no frame saw (panorama.h)
   std::string inputSpace =
       "auto";  // colour space of the frames (auto: linear for float files, else sRGB)
 };

@@ -8,8 +8,10 @@
 #include <array>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "envmap/panorama.h"
+#include "envmap/unseen_fill.h"
 
 namespace pluvia::envmap {
 namespace {
@@ -155,113 +157,34 @@ std::vector<float> estimateGains(const std::vector<FrameView>& views) {
   return gains;
 }
 
-// Each uncovered texel takes the colour of the nearest covered one (in texel distance, on the
-// map tripled horizontally so the nearest may lie across the u = 0 / 1 seam).
-void fillNearest(EquirectMap& map, const cv::Mat& coverage) {
-  const int w = map.width, h = map.height;
-  cv::Mat tripled(h, 3 * w, CV_8UC1);
-  for (int y = 0; y < h; ++y) {
-    const uchar* c = coverage.ptr<uchar>(y);
-    uchar* t = tripled.ptr<uchar>(y);
-    for (int x = 0; x < 3 * w; ++x) t[x] = c[x % w] ? 0 : 255;  // zero: seen
+// The sun for the sky model, from the lights: the brightest light above the horizon, a
+// direction light's direction or the mean direction of the texels a frame-region light covers.
+std::optional<Vec3> sunFromLights(const std::vector<LightSource>& lights,
+                                  const std::vector<const LightSource*>& texelLight, int width,
+                                  int height) {
+  std::optional<Vec3> sun;
+  double brightest = 0.0;
+  auto consider = [&](const LightSource& light, cv::Vec3d d) {
+    const double power = meanOf(cv::Vec3f(light.radiance[0], light.radiance[1], light.radiance[2]));
+    const double len = cv::norm(d);
+    if (!(len > 0) || d[1] <= 0 || power <= brightest) return;
+    d /= len;
+    sun = Vec3{d[0], d[1], d[2]};
+    brightest = power;
+  };
+  std::vector<cv::Vec3d> regionSum(lights.size(), cv::Vec3d(0, 0, 0));
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      if (const LightSource* l = texelLight[size_t(y) * size_t(width) + size_t(x)])
+        regionSum[size_t(l - lights.data())] += texelDirection(width, height, x, y);
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const LightSource& light = lights[i];
+    if (light.direction)
+      consider(light, {(*light.direction)[0], (*light.direction)[1], (*light.direction)[2]});
+    else
+      consider(light, regionSum[i]);
   }
-  cv::Mat dist, labels;
-  cv::distanceTransform(tripled, dist, labels, cv::DIST_L2, cv::DIST_MASK_5, cv::DIST_LABEL_PIXEL);
-  // DIST_LABEL_PIXEL numbers the zero pixels 1, 2, ... in raster order.
-  std::vector<int> labelX(1, 0), labelY(1, 0);
-  for (int y = 0; y < h; ++y) {
-    const uchar* t = tripled.ptr<uchar>(y);
-    for (int x = 0; x < 3 * w; ++x)
-      if (!t[x]) {
-        labelX.push_back(x % w);
-        labelY.push_back(y);
-      }
-  }
-  tbb::parallel_for(0, h, [&](int y) {
-    const int* l = labels.ptr<int>(y);
-    const uchar* c = coverage.ptr<uchar>(y);
-    for (int x = 0; x < w; ++x) {
-      if (c[x]) continue;
-      const int label = l[x + w];
-      if (label <= 0 || label >= int(labelX.size())) continue;
-      const float* src = map.texel(labelX[label], labelY[label]);
-      float* dst = map.texel(x, y);
-      dst[0] = src[0];
-      dst[1] = src[1];
-      dst[2] = src[2];
-    }
-  });
-}
-
-// The sky and ground models of UnseenFill::SkyModel (panorama.h); false when there is nothing
-// to fit (nothing seen above or below the horizon), leaving the map to fillNearest.
-constexpr double kSceneAlbedo = 0.18;
-
-bool fillSkyModel(EquirectMap& map, const cv::Mat& coverage, std::string& model) {
-  const int w = map.width, h = map.height;
-  // Weighted sums over seen texels: sky (elevation > 0) against f = (1 + 2 cos theta) / 3, the
-  // CIE overcast shape, and 1 (uniform); the ground's mean.
-  std::array<double, 3> skyF{0, 0, 0}, skyOne{0, 0, 0}, skySq{0, 0, 0}, ground{0, 0, 0};
-  double ff = 0, ones = 0, groundWeight = 0;
-  for (int y = 0; y < h; ++y) {
-    const double solid = equirectTexelSolidAngle(w, h, y);
-    const double cosTheta = std::cos(CV_PI * (y + 0.5) / h);  // sin of the elevation
-    const double f = (1.0 + 2.0 * cosTheta) / 3.0;
-    const uchar* c = coverage.ptr<uchar>(y);
-    for (int x = 0; x < w; ++x) {
-      if (!c[x]) continue;
-      const float* v = map.texel(x, y);
-      if (cosTheta > 0) {
-        for (int k = 0; k < 3; ++k) {
-          skyF[size_t(k)] += solid * f * v[k];
-          skyOne[size_t(k)] += solid * v[k];
-          skySq[size_t(k)] += solid * double(v[k]) * v[k];
-        }
-        ff += solid * f * f;
-        ones += solid;
-      } else {
-        for (int k = 0; k < 3; ++k) ground[size_t(k)] += solid * v[k];
-        groundWeight += solid;
-      }
-    }
-  }
-  if (ones <= 0 && groundWeight <= 0) return false;
-  // Least squares per channel: L = a f (CIE) or L = b (uniform); keep the smaller residual
-  // summed over the channels (sum v^2 - a^2 ff, and sum v^2 - b^2 ones).
-  std::array<double, 3> zenith{0, 0, 0}, uniform{0, 0, 0};
-  double cieResidual = 0, uniformResidual = 0;
-  for (int k = 0; k < 3 && ones > 0; ++k) {
-    zenith[size_t(k)] = skyF[size_t(k)] / ff;
-    uniform[size_t(k)] = skyOne[size_t(k)] / ones;
-    cieResidual += skySq[size_t(k)] - zenith[size_t(k)] * skyF[size_t(k)];
-    uniformResidual += skySq[size_t(k)] - uniform[size_t(k)] * skyOne[size_t(k)];
-  }
-  const bool cie = ones <= 0 || cieResidual < uniformResidual;
-  std::array<double, 3> groundRgb{0, 0, 0};
-  for (int k = 0; k < 3; ++k) {
-    if (ones <= 0)  // the overcast sky that lights the seen ground: E = 7 pi Lz / 9
-      zenith[size_t(k)] = ground[size_t(k)] / groundWeight / kSceneAlbedo * 9.0 / 7.0;
-    // The ground a sky lights: albedo E / pi (E of the uniform sky: pi L).
-    const double lit = kSceneAlbedo * (cie ? 7.0 / 9.0 * zenith[size_t(k)] : uniform[size_t(k)]);
-    groundRgb[size_t(k)] = groundWeight > 0 ? ground[size_t(k)] / groundWeight : lit;
-  }
-  model = ones <= 0 ? "cie overcast lighting the seen ground"
-          : cie     ? "cie overcast"
-                    : "uniform sky";
-  if (groundWeight <= 0) model += ", ground it lights";
-  tbb::parallel_for(0, h, [&](int y) {
-    const double cosTheta = std::cos(CV_PI * (y + 0.5) / h);
-    const double f = (1.0 + 2.0 * cosTheta) / 3.0;
-    const uchar* c = coverage.ptr<uchar>(y);
-    for (int x = 0; x < w; ++x) {
-      if (c[x]) continue;
-      float* out = map.texel(x, y);
-      for (int k = 0; k < 3; ++k)
-        out[k] = float(cosTheta > 0 ? (cie ? zenith[size_t(k)] * f : uniform[size_t(k)])
-                                    : groundRgb[size_t(k)]);
-    }
-  });
-  return true;
+  return sun;
 }
 
 }  // namespace
@@ -273,6 +196,8 @@ PanoramaResult renderEquirect(const std::vector<PanoramaFrame>& frames, const Pl
   const int height = width / 2;
   result.radiance = EquirectMap(width, height);
   result.coverage = cv::Mat(height, width, CV_8UC1, cv::Scalar(0));
+  // Seen only through clipped pixels: a lower bound, kept out of the sky model's fit.
+  cv::Mat clipped(height, width, CV_8UC1, cv::Scalar(0));
   // The frame-region light a texel's saturated pixel lies in; applied after the fill, so the
   // unseen directions take the footage's colours, not copies of a light (which would multiply
   // its power).
@@ -339,6 +264,7 @@ PanoramaResult renderEquirect(const std::vector<PanoramaFrame>& frames, const Pl
         for (int c = 0; c < 3; ++c) out[c] = float(satSum[c] / satWeight);  // keeps its clip
       }
       if (weight > 0 || satWeight > 0 || hitLight) cov[x] = 255;
+      if (weight <= 0 && (satWeight > 0 || hitLight)) clipped.at<uchar>(y, x) = 255;
     }
   });
 
@@ -349,9 +275,14 @@ PanoramaResult renderEquirect(const std::vector<PanoramaFrame>& frames, const Pl
   }
   result.coveredFraction = covered / (4.0 * CV_PI);
   result.fillModel = "nearest";
-  if (covered > 0 && !(settings.fill == UnseenFill::SkyModel &&
-                       fillSkyModel(result.radiance, result.coverage, result.fillModel)))
-    fillNearest(result.radiance, result.coverage);
+  if (covered > 0) {
+    const std::vector<int> nearest = nearestSeenTexels(result.coverage);
+    ModelFillSettings model;
+    model.sun = sunFromLights(settings.lights, texelLight, width, height);
+    if (!(settings.fill == UnseenFill::SkyModel &&
+          fillModel(result.radiance, result.coverage, clipped, nearest, model, result.fillModel)))
+      fillNearest(result.radiance, result.coverage, nearest);
+  }
   // A saturated pixel inside a frame's light region: the light's measured radiance.
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x)

@@ -389,10 +389,12 @@ void runEnvironment(const EquirectMap& env, EnvmapEnvironment info,
 
     EquirectSettings render;
     render.width = settings.panoramaWidth;
+    render.fill = UnseenFill::Nearest;  // the paper's; the sky model has its own rows below
     const auto renderStart = Clock::now();
     PanoramaResult result = renderEquirect(frames, placement, render);
     row.renderSeconds = secondsSince(renderStart);
     row.coveredFraction = result.coveredFraction;
+    row.fillModel = result.fillModel;
 
     measureStitched(row, result);
     report.rows.push_back(row);
@@ -406,14 +408,16 @@ void runEnvironment(const EquirectMap& env, EnvmapEnvironment info,
   if (!widest) return;
   info.sunSeen = info.sun && covers(widest->coverage, sunDirection(info));
 
+  EquirectSettings lightsRender;
   {
     // The paper's light-source replacement, with the radiances "measured when we captured the
     // video" taken from the HDR: each clipped region of each frame, and the sun where the pan
     // did not see it.
     EnvmapReportRow row = report.rows.back();
     row.lightsRestored = true;
-    EquirectSettings render;
+    EquirectSettings& render = lightsRender;
     render.width = settings.panoramaWidth;
+    render.fill = UnseenFill::Nearest;
     std::vector<CameraPose> truth;
     for (int i = 0; i < counts.back(); ++i)
       truth.push_back(panPose(i * row.yawStepDeg, settings.pitchDeg, fov, w));
@@ -436,19 +440,29 @@ void runEnvironment(const EquirectMap& env, EnvmapEnvironment info,
                fs::path(settings.imagesDir) /
                    fmt::format("{}_stitched_{}_lights.png", info.name, counts.back()));
   }
-  {
-    // The unseen sphere filled by the sky model (panorama.h) instead of the paper's nearest
-    // seen colour the rows above use.
-    EnvmapReportRow row = report.rows[report.rows.size() - 2];  // the widest pan, as recorded
+  // The unseen sphere filled by the sky model (panorama.h) instead of the paper's nearest seen
+  // colour the rows above use: as recorded, and with the lights of the "+ lights" row (the sun
+  // for the Preetham fit then comes from them).
+  const std::vector<LightSource> lights = lightsRender.lights;
+  for (const bool withLights : {false, true}) {
+    // The nearest-fill row it stands beside: the widest pan as recorded, then "+ lights".
+    EnvmapReportRow row = report.rows[report.rows.size() - 2];
     row.skyModelFill = true;
     EquirectSettings render;
     render.width = settings.panoramaWidth;
     render.fill = UnseenFill::SkyModel;
+    if (withLights) render.lights = lights;
     const auto renderStart = Clock::now();
     const PanoramaResult result = renderEquirect(widestFrames, widestPlacement, render);
     row.renderSeconds = secondsSince(renderStart);
+    row.fillModel = result.fillModel;
     measureStitched(row, result);
     report.rows.push_back(row);
+    if (!settings.imagesDir.empty())
+      writePng(
+          result.radiance, 1.0,
+          fs::path(settings.imagesDir) / fmt::format("{}_stitched_{}{}_sky_model.png", info.name,
+                                                     counts.back(), withLights ? "_lights" : ""));
   }
   if (!settings.imagesDir.empty()) {
     const fs::path dir(settings.imagesDir);
@@ -535,7 +549,8 @@ void runRealPhotos(const EnvmapReportSettings& settings, EnvmapReport& report) {
 }
 
 std::string rowLabel(const EnvmapReportRow& row) {
-  if (row.skyModelFill) return fmt::format("{} sky model", row.frames);
+  if (row.skyModelFill)
+    return fmt::format("{}{} sky model", row.frames, row.lightsRestored ? "+lights" : "");
   return row.lightsRestored ? fmt::format("{}+lights", row.frames) : std::to_string(row.frames);
 }
 
@@ -631,15 +646,20 @@ std::string formatEnvmapReport(const EnvmapReport& report) {
 
   // The targets, at the most frames of each environment.
   int environments = 0, meanMet = 0, maxMet = 0, lightRows = 0, lightMeanMet = 0, lightMaxMet = 0;
-  int modelRows = 0, modelMeanMet = 0;
-  double worstMean = 0.0, worstLightMean = 0.0, worstModelMean = 0.0, slowest = 0.0;
+  int modelRows = 0, modelMeanMet = 0, modelLightRows = 0, modelLightMeanMet = 0;
+  double worstMean = 0.0, worstLightMean = 0.0, worstModelMean = 0.0, worstModelLightMean = 0.0;
+  double slowest = 0.0;
   int mostFrames = 0;
   for (size_t i = 0; i < report.rows.size(); ++i) {
     const EnvmapReportRow& row = report.rows[i];
     const bool last = i + 1 == report.rows.size() ||
                       report.rows[i + 1].environment != row.environment ||
                       report.rows[i + 1].lightsRestored || report.rows[i + 1].skyModelFill;
-    if (row.skyModelFill) {
+    if (row.skyModelFill && row.lightsRestored) {
+      ++modelLightRows;
+      modelLightMeanMet += row.dropMeanError < kTarget;
+      worstModelLightMean = std::max(worstModelLightMean, row.dropMeanError);
+    } else if (row.skyModelFill) {
       ++modelRows;
       modelMeanMet += row.dropMeanError < kTarget;
       worstModelMean = std::max(worstModelMean, row.dropMeanError);
@@ -670,12 +690,44 @@ std::string formatEnvmapReport(const EnvmapReport& report) {
           "direction (worst mean {:.1f} %).\n",
           lightMeanMet, lightRows, lightMaxMet, lightRows, 100.0 * worstLightMean);
     }
-    if (modelRows > 0)
+    if (modelRows > 0) {
       out += fmt::format(
-          "With the unseen sphere filled by the sky model (CIE overcast or uniform, fitted to the "
-          "seen sky) instead of the nearest seen colour: {} of {} on the mean (worst mean "
-          "{:.1f} %).\n",
+          "With the unseen sphere filled by the sky model (Preetham, CIE overcast or uniform, "
+          "fitted to the seen sky, and the seen ground's albedo under it) instead of the nearest "
+          "seen colour: {} of {} on the mean (worst mean {:.1f} %).\n",
           modelMeanMet, modelRows, 100.0 * worstModelMean);
+      out += fmt::format(
+          "With the lights and the sky model (the sun for the fit from the lights): {} of {} on "
+          "the mean (worst mean {:.1f} %).\n",
+          modelLightMeanMet, modelLightRows, 100.0 * worstModelLightMean);
+      out += fmt::format(
+          "\nUnseen fill at the most frames, drop colour mean (max) error, as recorded and with "
+          "the lights:\n  {:<28} {:>16} {:>16} {:>16} {:>16}  {}\n",
+          "environment", "nearest", "sky model", "nearest+lights", "model+lights",
+          "fitted (+lights)");
+      // Per environment, its rows at the most frames: nearest, +lights, model, +lights model.
+      std::map<std::string, std::array<const EnvmapReportRow*, 4>> byEnvironment;
+      std::vector<std::string> order;
+      for (const EnvmapReportRow& row : report.rows) {
+        if (!byEnvironment.count(row.environment)) order.push_back(row.environment);
+        auto& slots = byEnvironment[row.environment];
+        const size_t slot = (row.skyModelFill ? 1 : 0) + (row.lightsRestored ? 2 : 0);
+        if (!slots[slot] || slots[slot]->frames <= row.frames) slots[slot] = &row;
+      }
+      auto cell = [](const EnvmapReportRow* row) {
+        return row ? fmt::format("{:>7} ({:>6})", percentOrDash(row->dropMeanError),
+                                 percentOrDash(row->dropMaxError))
+                   : std::string("-");
+      };
+      for (const std::string& name : order) {
+        const auto& slots = byEnvironment[name];
+        if (!slots[1]) continue;
+        // "name:": the main table's rows are the ones whose first word is the name.
+        out += fmt::format("  {:<28} {:>16} {:>16} {:>16} {:>16}  {}{}\n", name + ":",
+                           cell(slots[0]), cell(slots[1]), cell(slots[2]), cell(slots[3]),
+                           slots[1]->fillModel, slots[3] ? " (" + slots[3]->fillModel + ")" : "");
+      }
+    }
     out += fmt::format("Slowest stitch of {} frames of {}x{} (placement + rendering): {:.2f} s",
                        mostFrames, report.frameWidth, report.frameHeight, slowest);
     if (mostFrames == 24 && report.frameWidth == 1280 && report.frameHeight == 720)
@@ -704,21 +756,29 @@ std::string formatEnvmapReport(const EnvmapReport& report) {
   return out;
 }
 
+namespace {
+// A free-text CSV field: its commas become semicolons (readers split on commas).
+std::string withoutCommas(std::string text) {
+  std::replace(text.begin(), text.end(), ',', ';');
+  return text;
+}
+}  // namespace
+
 void writeEnvmapReportCsv(const EnvmapReport& report, const std::string& path) {
   std::ofstream file(path);
   if (!file) throw Error("cannot write the report", {"report", {}, path});
   file << "environment,frames,lights_restored,lights,yaw_step_deg,from_features,pose_error_deg,"
           "focal_error,covered_fraction,sh_error,drop_mean_error,drop_max_error,directions,"
-          "placement_seconds,render_seconds,total_seconds,fill\n";
+          "placement_seconds,render_seconds,total_seconds,fill,fill_model\n";
   for (const EnvmapReportRow& row : report.rows) {
     file << fmt::format(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", row.environment, row.frames,
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", row.environment, row.frames,
         row.lightsRestored ? 1 : 0, row.lights, csvNumber(row.yawStepDeg), row.fromFeatures ? 1 : 0,
         csvNumber(row.poseErrorDeg), csvNumber(row.focalError), csvNumber(row.coveredFraction),
         csvNumber(row.shError), csvNumber(row.dropMeanError), csvNumber(row.dropMaxError),
         row.directions, csvNumber(row.placementSeconds), csvNumber(row.renderSeconds),
         csvNumber(row.placementSeconds + row.renderSeconds),
-        row.skyModelFill ? "sky_model" : "nearest");
+        row.skyModelFill ? "sky_model" : "nearest", withoutCommas(row.fillModel));
   }
   if (!file) throw Error("failed while writing the report", {"report", {}, path});
 }

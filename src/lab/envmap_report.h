@@ -25,6 +25,10 @@
 //      direction LightSource (direction of the HDR's brightest texel, disc of the solid angle
 //      of the connected texels around it above max(clip level, 25 % of the peak), radiance
 //      their mean: power kept).
+//      The "sky model" rows re-render the most frames, as recorded and with those lights, with
+//      the unseen sphere filled by UnseenFill::SkyModel (panorama.h) instead of the paper's
+//      nearest seen colour (the rows above ask for Nearest); a table compares the four per
+//      environment and names the sky each fit kept.
 //  (b) Real photos (stitching/weir): placed with an unknown field of view (the focal is
 //      estimated), the estimated yaws, pitches and field of view and the covered fraction.
 #include <array>
@@ -53,6 +57,7 @@ struct EnvmapReportRow {
   int frames = 0;
   bool lightsRestored = false;  // the "+ lights" row
   bool skyModelFill = false;    // the unseen sphere filled by the sky model (else the nearest)
+  std::string fillModel;        // what filled it ("nearest", "preetham T 3.1, sun at ...")
   int lights = 0;               // light sources given in that row
   double yawStepDeg = 0.0;
   bool fromFeatures = false;  // placement from matched features (false: the fallback)

@@ -47,6 +47,10 @@ SectionSpec lightingSection() {
       integerParam("every", 5, {1, 10000}, "frames", "stitch, loom: a panorama every N frames"),
       integerParam("pan_frames", 24, {1, 500}, "frames",
                    "stitch, pan: frames stitched, evenly over the clip"),
+      enumParam("unseen_fill", "sky_model", {"sky_model", "nearest"},
+                "stitch: the directions no frame saw; sky_model: a Preetham, CIE overcast or "
+                "uniform sky fitted to the seen sky and the seen ground's albedo under it; "
+                "nearest: the nearest seen colour (Wang et al.)"),
       lightsParam(),
       stringParam("hdr", "",
                   "equirect HDR (.exr, .hdr; linear Rec.709; +Y up, image centre looking along "
@@ -69,6 +73,7 @@ LightingSettings lightingSettings(const Preset& p) {
   s.motion = p.string("lighting.motion");
   s.everyFrames = int(p.number("lighting.every"));
   s.panFrames = int(p.number("lighting.pan_frames"));
+  s.unseenFill = p.string("lighting.unseen_fill");
   s.lights = p.at("lighting.lights");
   s.hdrPath = p.string("lighting.hdr");
   s.intensity = p.number("lighting.intensity");

@@ -15,10 +15,11 @@ SectionSpec lightingSection();
 
 struct LightingSettings {
   bool enabled = true;
-  std::string source = "frame";  // frame | frame_average | constant | hdr | stitch
-  std::string motion = "auto";   // stitch: auto | pan | loom | static
-  int everyFrames = 5;           // stitch, loom: a panorama every N frames
-  int panFrames = 24;            // stitch, pan: frames stitched
+  std::string source = "frame";          // frame | frame_average | constant | hdr | stitch
+  std::string motion = "auto";           // stitch: auto | pan | loom | static
+  int everyFrames = 5;                   // stitch, loom: a panorama every N frames
+  int panFrames = 24;                    // stitch, pan: frames stitched
+  std::string unseenFill = "sky_model";  // stitch: sky_model | nearest
   // Light sources the footage saturated, as given: items of type "direction" or "region"
   // (envmap::parseLights reads them; region fields are in frame pixels).
   nlohmann::json lights = nlohmann::json::array();
