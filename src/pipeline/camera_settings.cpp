@@ -2,8 +2,6 @@
 
 #include <limits>
 
-#include "preset/settings_table.h"
-
 namespace pluvia {
 
 namespace {
@@ -24,6 +22,25 @@ ParamSpec pathParam() {
   path.orderedBy = "frame";
   return path;
 }
+
+// camera.path items {"frame": F, "position_m": [x, y, z], "yaw_deg": .., "pitch_deg": ..,
+// "roll_deg": ..}.
+std::vector<std::pair<double, CameraPose>> pathKeys(const nlohmann::json& items) {
+  std::vector<std::pair<double, CameraPose>> keys;
+  if (!items.is_array()) return keys;
+  for (const auto& item : items) {
+    CameraPose pose;
+    const nlohmann::json& p = item.at("position_m");
+    pose.positionMeters = {p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>()};
+    pose.yawDeg = item.value("yaw_deg", 0.0);
+    pose.pitchDeg = item.value("pitch_deg", 0.0);
+    pose.rollDeg = item.value("roll_deg", 0.0);
+    keys.emplace_back(item.at("frame").get<double>(), pose);
+  }
+  return keys;
+}
+
+}  // namespace
 
 const SettingsTable<CameraSettings>& cameraTable() {
   using S = CameraSettings;
@@ -61,33 +78,9 @@ const SettingsTable<CameraSettings>& cameraTable() {
   return table;
 }
 
-// camera.path items {"frame": F, "position_m": [x, y, z], "yaw_deg": .., "pitch_deg": ..,
-// "roll_deg": ..}.
-std::vector<std::pair<double, CameraPose>> pathKeys(const nlohmann::json& items) {
-  std::vector<std::pair<double, CameraPose>> keys;
-  if (!items.is_array()) return keys;
-  for (const auto& item : items) {
-    CameraPose pose;
-    const nlohmann::json& p = item.at("position_m");
-    pose.positionMeters = {p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>()};
-    pose.yawDeg = item.value("yaw_deg", 0.0);
-    pose.pitchDeg = item.value("pitch_deg", 0.0);
-    pose.rollDeg = item.value("roll_deg", 0.0);
-    keys.emplace_back(item.at("frame").get<double>(), pose);
-  }
-  return keys;
-}
-
-}  // namespace
-
-SectionSpec cameraSection() {
-  return cameraTable().section();
-}
-
 CameraSettings cameraSettings(const Preset& p) {
   CameraSettings s = cameraTable().read(p);
   if (p.has("camera.path")) s.pathKeys = pathKeys(p.at("camera.path"));
-  s.resolved = p.at("camera");
   return s;
 }
 

@@ -1,10 +1,6 @@
 #include "pipeline/color_settings.h"
 
-#include "preset/settings_table.h"
-
 namespace pluvia {
-
-namespace {
 
 const SettingsTable<ColorSettings>& colorTable() {
   using S = ColorSettings;
@@ -32,16 +28,8 @@ const SettingsTable<ColorSettings>& colorTable() {
   return table;
 }
 
-}  // namespace
-
-SectionSpec colorSection() {
-  return colorTable().section();
-}
-
 ColorSettings colorSettings(const Preset& p) {
-  ColorSettings s = colorTable().read(p);
-  s.resolved = p.at("color");
-  return s;
+  return colorTable().read(p);
 }
 
 }  // namespace pluvia

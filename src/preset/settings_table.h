@@ -124,11 +124,15 @@ class SettingsTable {
 
   const SectionSpec& section() const { return section_; }
 
-  // The bound members from the resolved preset; the others keep their defaults.
+  // The bound members from the resolved preset; the others keep their defaults. A struct with a
+  // `resolved` member also gets the section as the preset resolved it: the cache keys of what
+  // depends on the section hash it (the JSON text, so a key does not change with how a number
+  // was written).
   Settings read(const Preset& preset) const {
     Settings settings;
     for (const auto& row : rows_)
       if (row.read) row.read(preset, section_.name + "." + row.spec.key, settings);
+    if constexpr (requires { settings.resolved; }) settings.resolved = preset.at(section_.name);
     return settings;
   }
 

@@ -1,10 +1,6 @@
 #include "stages/blur_settings.h"
 
-#include "preset/settings_table.h"
-
 namespace pluvia {
-
-namespace {
 
 const SettingsTable<BlurSettings>& blurTable() {
   static const SettingsTable<BlurSettings> table(
@@ -18,12 +14,6 @@ const SettingsTable<BlurSettings>& blurTable() {
                                                    "standard deviation; 0 leaves the plate sharp")),
       });
   return table;
-}
-
-}  // namespace
-
-SectionSpec blurSection() {
-  return blurTable().section();
 }
 
 BlurSettings blurSettings(const Preset& p) {

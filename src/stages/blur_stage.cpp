@@ -22,7 +22,7 @@ class BlurStage : public Stage {
 
 StageInfo blurStageInfo() {
   StageInfo info;
-  info.spec = blurSection();
+  info.spec = blurTable().section();
   info.noOpReason = [](const Preset& p) {
     return blurSettings(p).sigmaPx == 0.0 ? std::string("sigma_px is 0") : "";
   };

@@ -1,10 +1,6 @@
 #include "stages/darken_settings.h"
 
-#include "preset/settings_table.h"
-
 namespace pluvia {
-
-namespace {
 
 const SettingsTable<DarkenSettings>& darkenTable() {
   static const SettingsTable<DarkenSettings> table(
@@ -22,12 +18,6 @@ const SettingsTable<DarkenSettings>& darkenTable() {
                            "brightness lost at amount 1: out *= 1 - amount*darkening")),
       });
   return table;
-}
-
-}  // namespace
-
-SectionSpec darkenSection() {
-  return darkenTable().section();
 }
 
 DarkenSettings darkenSettings(const Preset& p) {

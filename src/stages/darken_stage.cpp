@@ -21,7 +21,7 @@ class DarkenStage : public Stage {
 
 StageInfo darkenStageInfo() {
   StageInfo info;
-  info.spec = darkenSection();
+  info.spec = darkenTable().section();
   info.noOpReason = [](const Preset& p) {
     return darkenSettings(p).amount == 0.0 ? std::string("amount is 0") : "";
   };

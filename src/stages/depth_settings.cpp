@@ -1,7 +1,5 @@
 #include "stages/depth_settings.h"
 
-#include "preset/settings_table.h"
-
 namespace pluvia {
 
 namespace {
@@ -40,6 +38,8 @@ ParamSpec layersParam() {
                    {{"ground", {}}, {"card", card}, {"polygon", polygon}, {"sky", sky}},
                    "painted in order, each over the pixels it covers; uncovered pixels are sky");
 }
+
+}  // namespace
 
 const SettingsTable<DepthSettings>& depthTable() {
   using S = DepthSettings;
@@ -118,16 +118,8 @@ const SettingsTable<DepthSettings>& depthTable() {
   return table;
 }
 
-}  // namespace
-
-SectionSpec depthSection() {
-  return depthTable().section();
-}
-
 DepthSettings depthSettings(const Preset& p) {
-  DepthSettings s = depthTable().read(p);
-  s.resolved = p.at("depth");
-  return s;
+  return depthTable().read(p);
 }
 
 }  // namespace pluvia

@@ -1,10 +1,6 @@
 #include "stages/derain_settings.h"
 
-#include "preset/settings_table.h"
-
 namespace pluvia {
-
-namespace {
 
 const SettingsTable<DerainSettings>& derainTable() {
   using S = DerainSettings;
@@ -26,16 +22,8 @@ const SettingsTable<DerainSettings>& derainTable() {
   return table;
 }
 
-}  // namespace
-
-SectionSpec derainSection() {
-  return derainTable().section();
-}
-
 DerainSettings derainSettings(const Preset& p) {
-  DerainSettings s = derainTable().read(p);
-  s.resolved = p.at("derain");
-  return s;
+  return derainTable().read(p);
 }
 
 }  // namespace pluvia

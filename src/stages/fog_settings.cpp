@@ -2,12 +2,9 @@
 
 #include <fmt/format.h>
 
-#include "preset/settings_table.h"
 #include "util/error.h"
 
 namespace pluvia {
-
-namespace {
 
 const SettingsTable<FogSettings>& fogTable() {
   using S = FogSettings;
@@ -45,12 +42,6 @@ const SettingsTable<FogSettings>& fogTable() {
                             "view directions; pluvia report fog: error against size)")),
       });
   return table;
-}
-
-}  // namespace
-
-SectionSpec fogSection() {
-  return fogTable().section();
 }
 
 FogSettings fogSettings(const Preset& p) {

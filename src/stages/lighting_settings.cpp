@@ -1,7 +1,5 @@
 #include "stages/lighting_settings.h"
 
-#include "preset/settings_table.h"
-
 namespace pluvia {
 
 namespace {
@@ -26,6 +24,8 @@ ParamSpec lightsParam() {
       "stitch: light sources the footage saturated, given their measured radiance");
   return lights;
 }
+
+}  // namespace
 
 const SettingsTable<LightingSettings>& lightingTable() {
   using S = LightingSettings;
@@ -68,16 +68,8 @@ const SettingsTable<LightingSettings>& lightingTable() {
   return table;
 }
 
-}  // namespace
-
-SectionSpec lightingSection() {
-  return lightingTable().section();
-}
-
 LightingSettings lightingSettings(const Preset& p) {
-  LightingSettings s = lightingTable().read(p);
-  s.resolved = p.at("lighting");
-  return s;
+  return lightingTable().read(p);
 }
 
 }  // namespace pluvia

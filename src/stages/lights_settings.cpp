@@ -1,7 +1,5 @@
 #include "stages/lights_settings.h"
 
-#include "preset/settings_table.h"
-
 namespace pluvia {
 namespace {
 
@@ -40,6 +38,8 @@ double numberOr(const nlohmann::json& item, const char* key, double fallback) {
 Ramp rampOr(const nlohmann::json& item, const char* key, double fallback) {
   return item.contains(key) ? Ramp::fromJson(item.at(key)) : Ramp(fallback);
 }
+
+}  // namespace
 
 const SettingsTable<LightsSettings>& lightsTable() {
   using S = LightsSettings;
@@ -85,12 +85,6 @@ const SettingsTable<LightsSettings>& lightsTable() {
   return table;
 }
 
-}  // namespace
-
-SectionSpec lightsSection() {
-  return lightsTable().section();
-}
-
 LightsSettings lightsSettings(const Preset& p) {
   LightsSettings s = lightsTable().read(p);
   for (const nlohmann::json& item : p.at("lights.list")) {
@@ -113,7 +107,6 @@ LightsSettings lightsSettings(const Preset& p) {
   }
   s.find = s.enabled && p.string("lights.find") != "off";
   s.findOnDayPlates = p.string("lights.find") == "on";
-  s.resolved = p.at("lights");
   return s;
 }
 

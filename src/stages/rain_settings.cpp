@@ -1,10 +1,6 @@
 #include "stages/rain_settings.h"
 
-#include "preset/settings_table.h"
-
 namespace pluvia {
-
-namespace {
 
 // The Ramp members (rate, the artist scales, the wind's speed and direction) are keyframable:
 // what the simulation reads frame by frame (drop_simulation.h's RainAtFrame, and the streaks'
@@ -106,12 +102,6 @@ const SettingsTable<RainSettings>& rainTable() {
                            "camera")),
       });
   return table;
-}
-
-}  // namespace
-
-SectionSpec rainSection() {
-  return rainTable().section();
 }
 
 RainSettings rainSettings(const Preset& p) {

@@ -1,10 +1,6 @@
 #include "stages/rainbow_settings.h"
 
-#include "preset/settings_table.h"
-
 namespace pluvia {
-
-namespace {
 
 const SettingsTable<RainbowSettings>& rainbowTable() {
   using S = RainbowSettings;
@@ -38,12 +34,6 @@ const SettingsTable<RainbowSettings>& rainbowTable() {
                numberParam("strength", 1.0, {0.0, 100.0}, "", "scale on the physical radiance")),
       });
   return table;
-}
-
-}  // namespace
-
-SectionSpec rainbowSection() {
-  return rainbowTable().section();
 }
 
 RainbowSettings rainbowSettings(const Preset& p) {

@@ -1,10 +1,6 @@
 #include "stages/splash_settings.h"
 
-#include "preset/settings_table.h"
-
 namespace pluvia {
-
-namespace {
 
 const SettingsTable<SplashSettings>& splashTable() {
   using S = SplashSettings;
@@ -31,12 +27,6 @@ const SettingsTable<SplashSettings>& splashTable() {
                            "costs time and shows nothing; 0 splashes everywhere")),
       });
   return table;
-}
-
-}  // namespace
-
-SectionSpec splashSection() {
-  return splashTable().section();
 }
 
 SplashSettings splashSettings(const Preset& p) {

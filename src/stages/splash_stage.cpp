@@ -100,10 +100,9 @@ class SplashStage : public Stage {
 
 StageInfo splashStageInfo() {
   StageInfo info;
-  info.spec = splashSection();
+  info.spec = splashTable().section();
   info.noOpReason = [](const Preset& p) -> std::string {
-    const RainSettings rain = rainSettings(p);
-    if (!rain.enabled || rain.rateMmPerHour.maxValue() == 0.0) return "no rain falls";
+    if (!rainSettings(p).falls()) return "no rain falls";
     if (splashSettings(p).opacity == 0.0) return "opacity is 0";
     return "";
   };
