@@ -2,6 +2,7 @@
 // Paths and small helpers shared by the tests.
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -46,6 +47,25 @@ double parseNumber(const std::string& text, const std::string& line);
 
 // How many lines of `text` start with one of `firstWords` (a report's table rows).
 int countLinesStartingWith(const std::string& text, const std::set<std::string>& firstWords);
+
+// Runs build/pluvia with the arguments like runPluvia, and prints its output and how long it took
+// (a report test's log).
+CommandResult runPluviaTimed(const std::vector<std::string>& args);
+
+// A CSV file read whole (a report's table): the header's columns by name and the non-empty rows,
+// split. A missing file leaves it empty; a row with another number of fields than the header
+// fails the test and is left out.
+struct CsvTable {
+  std::string header;
+  std::map<std::string, size_t> column;
+  std::vector<std::string> lines;  // each row as written, for messages
+  std::vector<std::vector<std::string>> rows;
+};
+CsvTable readCsvTable(const std::filesystem::path& path);
+// Whether the table has every column named; each missing one fails the test, naming the header.
+bool hasColumns(const CsvTable& table, const std::vector<std::string>& names);
+// Expects the plot a report wrote at `path`: a file that decodes to a non-empty image.
+void expectPlot(const std::filesystem::path& path);
 
 // Writes `text` to dir/name and returns the path.
 std::filesystem::path writeTextFile(const std::filesystem::path& dir, const std::string& name,
