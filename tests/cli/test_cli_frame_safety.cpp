@@ -25,11 +25,6 @@ namespace stdfs = std::filesystem;
 
 namespace {
 
-// Frames first..last of a small textured plate, as PNG; returns the pattern.
-std::string writePlate(const stdfs::path& dir, int first, int last, int w = 64, int h = 48) {
-  return test::writeTexturedPlate(dir, first, last, w, h);
-}
-
 std::string frameName(const std::string& prefix, int frame, const std::string& extension) {
   char name[128];
   std::snprintf(name, sizeof name, "%s.%04d.%s", prefix.c_str(), frame, extension.c_str());
@@ -90,7 +85,7 @@ TEST(CliFrameSafety, FileSizeLimitFailsCleanlyAndResumes) {
   for (const std::string extension : {"png", "jpg"}) {
     SCOPED_TRACE(extension);
     auto dir = freshTempDir("file_size_limit_" + extension);
-    auto plate = writePlate(dir, 1, 4);
+    auto plate = writeTexturedPlate(dir, 1, 4);
     stdfs::create_directories(dir / "out");
     const std::string out = (dir / "out" / ("o.####." + extension)).string();
     // One block (512 or 1024 bytes): no frame fits.
@@ -109,7 +104,7 @@ TEST(CliFrameSafety, FileSizeLimitFailsCleanlyAndResumes) {
 // A real full disk: a 16 KiB tmpfs holds two of these frames. Needs the right to mount.
 TEST(CliFrameSafety, FullDiskFailsAndLeavesOnlyWholeFrames) {
   auto dir = freshTempDir("full_disk");
-  auto plate = writePlate(dir, 1, 8);
+  auto plate = writeTexturedPlate(dir, 1, 8);
   const stdfs::path disk = dir / "disk";
   stdfs::create_directories(disk);
   if (runProcess({"mount", "-t", "tmpfs", "-o", "size=16k", "tmpfs", disk.string()}).exitCode != 0)
@@ -124,7 +119,7 @@ TEST(CliFrameSafety, FullDiskFailsAndLeavesOnlyWholeFrames) {
 
 TEST(CliFrameSafety, SkipExistingRendersEmptyTruncatedAndOtherPresetFramesAgain) {
   auto dir = freshTempDir("skip_checks");
-  auto plate = writePlate(dir, 1, 4);
+  auto plate = writeTexturedPlate(dir, 1, 4);
   const std::string out = (dir / "o.####.png").string();
   ASSERT_EQ(runPluvia({"render", plate, "-p", "drizzle", "-o", out, "--frames", "1-3"}).exitCode,
             0);
@@ -148,7 +143,7 @@ TEST(CliFrameSafety, SkipExistingRendersEmptyTruncatedAndOtherPresetFramesAgain)
 
 TEST(CliFrameSafety, SkipExistingRendersAnEmptyOrShortMovieAgain) {
   auto dir = freshTempDir("skip_movie");
-  auto plate = writePlate(dir, 1, 3);
+  auto plate = writeTexturedPlate(dir, 1, 3);
   const std::string movie = (dir / "o.mp4").string();
   std::ofstream(movie, std::ios::binary);  // empty
   auto r = runPluvia({"render", plate, "-p", "drizzle", "-o", movie, "--skip-existing"});
@@ -165,7 +160,7 @@ TEST(CliFrameSafety, SkipExistingRendersAnEmptyOrShortMovieAgain) {
 
 TEST(CliFrameSafety, OneImageFileIsRefusedForManyFramesAndTakesOne) {
   auto dir = freshTempDir("single_file");
-  auto plate = writePlate(dir, 1, 3);
+  auto plate = writeTexturedPlate(dir, 1, 3);
   const std::string out = (dir / "still.exr").string();
   auto r = runPluvia({"render", plate, "-p", "drizzle", "-o", out});
   EXPECT_EQ(r.exitCode, 2) << r.output;
@@ -178,7 +173,7 @@ TEST(CliFrameSafety, OneImageFileIsRefusedForManyFramesAndTakesOne) {
 
 TEST(CliFrameSafety, APresetOverTheArgumentLimitStillMakesMoviesAndSmallFrames) {
   auto dir = freshTempDir("large_preset");
-  auto plate = writePlate(dir, 1, 2);
+  auto plate = writeTexturedPlate(dir, 1, 2);
   const std::string preset = (dir / "large.json").string();
   std::ofstream(preset) << R"({"pluvia": 1, "extends": "drizzle", "description": ")"
                         << std::string(200 * 1024, 'x') << "\"}";
@@ -219,7 +214,7 @@ TEST(CliFrameSafety, ATruncatedMovieIsAnErrorNamingTheFirstMissingFrame) {
 
 TEST(CliFrameSafety, ASecondRenderIntoTheSameFramesIsRefusedNamingTheFirst) {
   auto dir = freshTempDir("output_lock");
-  auto plate = writePlate(dir, 1, 2);
+  auto plate = writeTexturedPlate(dir, 1, 2);
   const std::string lockPath = (dir / "o.####.png.pluvia-lock").string();
   // A render in progress: its lock file, held whole (as a movie's render holds it).
   std::ofstream(lockPath) << "4242 farm-node-7\n";
@@ -245,7 +240,7 @@ TEST(CliFrameSafety, ASecondRenderIntoTheSameFramesIsRefusedNamingTheFirst) {
 
 TEST(CliFrameSafety, ChunksOfOneOutputRenderTogetherAndAnOverlapIsRefused) {
   auto dir = freshTempDir("output_lock_chunks");
-  auto plate = writePlate(dir, 1, 4);
+  auto plate = writeTexturedPlate(dir, 1, 4);
   const std::string lockPath = (dir / "o.####.png.pluvia-lock").string();
   // A farm chunk rendering frames 3-4 (on another host, say): its bytes of the lock file
   // (64 per frame), with its pid and host at their start, and a temporary of its frame 3.
@@ -318,7 +313,7 @@ TEST(CliFrameSafety, SigintStopsASequenceRenderLeavingWholeFramesOnly) {
 
 TEST(CliFrameSafety, ARenderRemovesItsOutputsTemporariesOfDeadRendersOnly) {
   auto dir = freshTempDir("stale_temporaries");
-  auto plate = writePlate(dir, 1, 1);
+  auto plate = writeTexturedPlate(dir, 1, 1);
   stdfs::create_directories(dir / "out");
   // A pid that runs no process (pid_max - 1 is as good as free here), and our own.
   int deadPid = 4194303;
@@ -347,7 +342,7 @@ TEST(CliFrameSafety, ARenderRemovesItsOutputsTemporariesOfDeadRendersOnly) {
 
 TEST(CliFrameSafety, DevicesAreRefusedAsInputs) {
   auto dir = freshTempDir("device_inputs");
-  auto plate = writePlate(dir, 1, 1);
+  auto plate = writeTexturedPlate(dir, 1, 1);
   const std::string out = (dir / "o.####.png").string();
   const std::vector<std::vector<std::string>> cases{
       {plate, "--set", "lighting.source=hdr", "--set", "lighting.hdr=/dev/zero"},
@@ -367,7 +362,7 @@ TEST(CliFrameSafety, DevicesAreRefusedAsInputs) {
 
 TEST(CliFrameSafety, MovieNamesThatLookLikeOptionsOrProtocolsAreFiles) {
   auto dir = freshTempDir("movie_names");
-  auto plate = writePlate(dir, 1, 2);
+  auto plate = writeTexturedPlate(dir, 1, 2);
   for (const std::string name : {"-y.mp4", "pipe:1.mp4"}) {
     const ProcessResult r =
         runProcess({"sh", "-c", "cd \"$1\" && shift && exec \"$@\"", "sh", dir.string(),
@@ -381,7 +376,7 @@ TEST(CliFrameSafety, MovieNamesThatLookLikeOptionsOrProtocolsAreFiles) {
 // rendered alone or in a chunk, at whatever time, into whatever folder.
 TEST(CliFrameSafety, ChunkedFramesAreByteIdenticalFiles) {
   auto dir = freshTempDir("byte_identical");
-  auto plate = writePlate(dir, 1, 3);
+  auto plate = writeTexturedPlate(dir, 1, 3);
   const std::vector<std::string> extensions{"exr", "tif", "dpx", "png", "jpg"};
   auto render = [&](const std::string& folder, const std::string& extension,
                     const std::vector<std::string>& extra) {

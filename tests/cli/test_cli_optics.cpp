@@ -90,22 +90,6 @@ void expectError(const CommandResult& r, int code, const std::string& mentions) 
   EXPECT_EQ(r.output.find("terminate called"), std::string::npos) << r.output;
 }
 
-// Splits one CSV line, honouring double quotes (the setting column holds commas).
-std::vector<std::string> splitCsv(const std::string& line) {
-  std::vector<std::string> fields(1);
-  bool quoted = false;
-  for (char ch : line) {
-    if (ch == '"') {
-      quoted = !quoted;
-    } else if (ch == ',' && !quoted) {
-      fields.emplace_back();
-    } else {
-      fields.back() += ch;
-    }
-  }
-  return fields;
-}
-
 TEST(CliOptics, ShadeDropMethodsPrintThreeNumbersAndDefaultMatchesTrace) {
   const auto dir = freshTempDir("optics_methods");
   writeImageFile(dir / "env.exr", gradientEnvironment());

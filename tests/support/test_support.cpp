@@ -125,8 +125,11 @@ int countLinesStartingWith(const std::string& text, const std::set<std::string>&
 
 std::vector<std::string> splitCsv(const std::string& line) {
   std::vector<std::string> fields(1);
+  bool quoted = false;
   for (char ch : line) {
-    if (ch == ',') {
+    if (ch == '"') {
+      quoted = !quoted;
+    } else if (ch == ',' && !quoted) {
       fields.emplace_back();
     } else {
       fields.back() += ch;

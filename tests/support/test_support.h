@@ -40,7 +40,8 @@ int waitForExit(int pid);
 // Polls `ready` every 100 ms for up to `seconds`; whether it came to hold.
 bool waitUntil(const std::function<bool()>& ready, double seconds = 60);
 
-// A CSV line's fields (no quoting: the reports write none).
+// A CSV line's fields; a double-quoted field may hold commas (the optics and lights reports'
+// setting column), its quotes dropped.
 std::vector<std::string> splitCsv(const std::string& line);
 // A CSV field as a number; a field that is not wholly a number fails the test, naming `line`.
 double parseNumber(const std::string& text, const std::string& line);
@@ -84,8 +85,8 @@ std::string writePlateSequence(const std::filesystem::path& dir, int first, int 
 // paintTexturedPlate on every frame: diagonal ramps that move with the frame number, so a frame
 // mix-up or a shifted frame shows.
 void paintTexturedPlate(Image& image, int frame);
-std::string writeTexturedPlate(const std::filesystem::path& dir, int first, int last, int width,
-                               int height);
+std::string writeTexturedPlate(const std::filesystem::path& dir, int first, int last,
+                               int width = 64, int height = 48);
 
 // Runs `action`, expecting a pluvia::Error whose message names `needle`; returns the error.
 template <typename Action>
