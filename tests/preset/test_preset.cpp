@@ -227,118 +227,120 @@ TEST(Preset, KeyframeProblemsNameTheirPaths) {
                   "/rain/wind/speed_m_s/keys: expected a list of at least one [frame, value] key",
                   "/rain/wind/dir_deg/key: unknown key 'key' in keyframes (did you mean 'keys'?)",
                   "/rain/wind/dir_deg/keys: missing"});
-  EXPECT_TRUE(
-      anyContains(problems, "/camera/exposure_s/keys/1/0: key frames must increase strictly"));
-  expectProblems(problems, {"/camera/exposure_s/keys/2/0: expected a frame number", "/camera/exposure_s/keys/3: expected [frame, value]", "/blur/sigma_px: cannot be keyframed"));  // --set shorthand EXPECT_TRUE(anyContains(problems, "/fog/density: expected a number"});
-    // List item fields not marked keyframable take plain numbers only.
-    auto items = problemsOf(
-        "moderate",
-        {R"(camera.path=[{"frame": 0, "position_m": [0, 1, 0], "yaw_deg": [[0, 1], [10, 2]]}])"});
-    EXPECT_TRUE(anyContains(items, "/camera/path/0/yaw_deg: expected a number"));
+  expectProblems(problems, {"/camera/exposure_s/keys/1/0: key frames must increase strictly",
+                            "/camera/exposure_s/keys/2/0: expected a frame number",
+                            "/camera/exposure_s/keys/3: expected [frame, value]",
+                            "/blur/sigma_px: cannot be keyframed",  // --set shorthand
+                            "/fog/density: expected a number"});
+  // List item fields not marked keyframable take plain numbers only.
+  auto items = problemsOf(
+      "moderate",
+      {R"(camera.path=[{"frame": 0, "position_m": [0, 1, 0], "yaw_deg": [[0, 1], [10, 2]]}])"});
+  EXPECT_TRUE(anyContains(items, "/camera/path/0/yaw_deg: expected a number"));
 }
 
 TEST(Preset, DepthLayerFieldsAcceptKeyframesAndPolygons) {
-    Preset p = Preset::resolve("moderate", {R"(depth.layers=[{"type": "ground"},
+  Preset p = Preset::resolve("moderate", {R"(depth.layers=[{"type": "ground"},
           {"type": "card", "distance_m": [[0, 10], [20, 30]], "y1": {"keys": [[0, 0.2], [5, 0.3]], "interpolation": "hold"}},
           {"type": "polygon", "points": [[0, 0.5], [1, 0.5], [1, 1]], "depth_m": 20, "depth_bottom_m": [[0, 4], [10, 6]]},
           {"type": "polygon", "points": [{"frame": 0, "points": [[0, 0], [0.1, 0], [0, 0.1]]}, {"frame": 8, "points": [[0.5, 0], [0.6, 0], [0.5, 0.1]]}]},
           {"type": "sky", "points": [[0, 0], [1, 0], [0.5, 0.2]]}])"},
-                               presetSchema());
-    // The bare pair list is stored in full form, as for section parameters.
-    EXPECT_EQ(p.at("depth.layers.1.distance_m.interpolation"), "linear");
-    EXPECT_DOUBLE_EQ(p.number("depth.layers.1.distance_m", 10), 20.0);
-    EXPECT_DOUBLE_EQ(p.number("depth.layers.2.depth_bottom_m", 5), 5.0);
-    EXPECT_FALSE(p.has("depth.layers.3.depth_bottom_m"));  // optional: stays absent
-    EXPECT_DOUBLE_EQ(p.number("depth.layers.3.depth_m"), 10.0);
+                             presetSchema());
+  // The bare pair list is stored in full form, as for section parameters.
+  EXPECT_EQ(p.at("depth.layers.1.distance_m.interpolation"), "linear");
+  EXPECT_DOUBLE_EQ(p.number("depth.layers.1.distance_m", 10), 20.0);
+  EXPECT_DOUBLE_EQ(p.number("depth.layers.2.depth_bottom_m", 5), 5.0);
+  EXPECT_FALSE(p.has("depth.layers.3.depth_bottom_m"));  // optional: stays absent
+  EXPECT_DOUBLE_EQ(p.number("depth.layers.3.depth_m"), 10.0);
 
-    auto problems = problemsOf(
-        "moderate", {R"(depth.layers=[{"type": "card", "distance_m": {"keys": [[0, 10], [5, -1]]}},
+  auto problems = problemsOf(
+      "moderate", {R"(depth.layers=[{"type": "card", "distance_m": {"keys": [[0, 10], [5, -1]]}},
           {"type": "polygon", "points": [[0, 0], [1, 1]]},
           {"type": "polygon", "depth_m": 3},
           {"type": "polygon", "points": [[0, 0], [1, 0], [1, "a"]]},
           {"type": "polygon", "points": [{"frame": 4, "points": [[0, 0], [1, 0], [1, 1]]}, {"frame": 2, "points": [[0, 0], [1, 0], [1, 1], [0, 1]]}]},
           {"type": "sky", "points": [[0, 0], [1, 0], [9, 1]], "x0": [[0, 0], [1, 0.5]]}])"});
-    for (const auto& line : problems) std::cerr << line << "\n";
-    EXPECT_TRUE(anyContains(problems, "/depth/layers/0/distance_m/keys/1/1: must be between 0.01"));
-    EXPECT_TRUE(
-        anyContains(problems, "/depth/layers/1/points: expected [[x, y], ...] with at least 3"));
-    expectProblems(problems,
-                   {"/depth/layers/2/points: missing", "/depth/layers/3/points/2: expected [x, y]",
-                    "/depth/layers/4/points/1/frame: key frames must increase"});
-    EXPECT_TRUE(
-        anyContains(problems, "/depth/layers/4/points/1/points: every key needs the same number"));
-    EXPECT_TRUE(anyContains(problems, "/depth/layers/5/points/2: each must be between -1 and 2"));
-    EXPECT_EQ(problems.size(), 7u);  // the keyed x0 of the sky is fine
+  for (const auto& line : problems) std::cerr << line << "\n";
+  EXPECT_TRUE(anyContains(problems, "/depth/layers/0/distance_m/keys/1/1: must be between 0.01"));
+  EXPECT_TRUE(
+      anyContains(problems, "/depth/layers/1/points: expected [[x, y], ...] with at least 3"));
+  expectProblems(problems,
+                 {"/depth/layers/2/points: missing", "/depth/layers/3/points/2: expected [x, y]",
+                  "/depth/layers/4/points/1/frame: key frames must increase"});
+  EXPECT_TRUE(
+      anyContains(problems, "/depth/layers/4/points/1/points: every key needs the same number"));
+  EXPECT_TRUE(anyContains(problems, "/depth/layers/5/points/2: each must be between -1 and 2"));
+  EXPECT_EQ(problems.size(), 7u);  // the keyed x0 of the sky is fine
 }
 
 TEST(Preset, HashChangesWithKeys) {
-    Preset a = Preset::resolve("moderate", {"rain.rate_mm_h=[[0,0],[48,40]]"}, presetSchema());
-    Preset b = Preset::resolve("moderate", {"rain.rate_mm_h=[[0,0],[48,41]]"}, presetSchema());
-    Preset c = Preset::resolve("moderate", {"rain.rate_mm_h=[[0,0],[47,40]]"}, presetSchema());
-    Preset d = Preset::resolve(
-        "moderate", {"rain.rate_mm_h={\"keys\": [[0,0],[48,40]], \"interpolation\": \"smooth\"}"},
-        presetSchema());
-    Preset same =
-        Preset::resolve("moderate", {"rain.rate_mm_h={\"keys\": [[0,0],[48,40]]}"}, presetSchema());
-    EXPECT_NE(a.hash(), b.hash());
-    EXPECT_NE(a.hash(), c.hash());
-    EXPECT_NE(a.hash(), d.hash());
-    EXPECT_EQ(a.hash(), same.hash());  // the shorthand resolves to the same document
+  Preset a = Preset::resolve("moderate", {"rain.rate_mm_h=[[0,0],[48,40]]"}, presetSchema());
+  Preset b = Preset::resolve("moderate", {"rain.rate_mm_h=[[0,0],[48,41]]"}, presetSchema());
+  Preset c = Preset::resolve("moderate", {"rain.rate_mm_h=[[0,0],[47,40]]"}, presetSchema());
+  Preset d = Preset::resolve(
+      "moderate", {"rain.rate_mm_h={\"keys\": [[0,0],[48,40]], \"interpolation\": \"smooth\"}"},
+      presetSchema());
+  Preset same =
+      Preset::resolve("moderate", {"rain.rate_mm_h={\"keys\": [[0,0],[48,40]]}"}, presetSchema());
+  EXPECT_NE(a.hash(), b.hash());
+  EXPECT_NE(a.hash(), c.hash());
+  EXPECT_NE(a.hash(), d.hash());
+  EXPECT_EQ(a.hash(), same.hash());  // the shorthand resolves to the same document
 }
 
 TEST(Preset, CameraPathAndLensKeys) {
-    Preset plain = Preset::resolve("moderate", {}, presetSchema());
-    EXPECT_TRUE(plain.at("camera.path").empty());
-    EXPECT_DOUBLE_EQ(plain.number("camera.shutter_angle_deg"), 0.0);
-    // The shipped lens: focused on the default depth's backdrop, stopped down for daylight.
-    EXPECT_DOUBLE_EQ(plain.number("camera.focus_m"), 20.0);
-    EXPECT_DOUBLE_EQ(plain.number("camera.f_number"), 11.0);
-    EXPECT_DOUBLE_EQ(plain.number("camera.sensor_width_mm"), 36.0);
-    Camera base = Camera::fromFieldOfView(640, 360, 40, 0, 1.6);
-    EXPECT_FALSE(cameraSettings(plain).path(base).moving());
+  Preset plain = Preset::resolve("moderate", {}, presetSchema());
+  EXPECT_TRUE(plain.at("camera.path").empty());
+  EXPECT_DOUBLE_EQ(plain.number("camera.shutter_angle_deg"), 0.0);
+  // The shipped lens: focused on the default depth's backdrop, stopped down for daylight.
+  EXPECT_DOUBLE_EQ(plain.number("camera.focus_m"), 20.0);
+  EXPECT_DOUBLE_EQ(plain.number("camera.f_number"), 11.0);
+  EXPECT_DOUBLE_EQ(plain.number("camera.sensor_width_mm"), 36.0);
+  Camera base = Camera::fromFieldOfView(640, 360, 40, 0, 1.6);
+  EXPECT_FALSE(cameraSettings(plain).path(base).moving());
 
-    Preset moving = Preset::resolve(
-        "moderate",
-        {R"(camera.path=[{"frame": 0, "position_m": [0, 1.6, 0]}, {"frame": 10, "position_m": [2, 1.6, 0], "yaw_deg": 20}])"},
-        presetSchema());
-    EXPECT_DOUBLE_EQ(moving.number("camera.path.1.pitch_deg"), 0.0);  // defaults filled
-    CameraPath path = cameraSettings(moving).path(base);
-    EXPECT_TRUE(path.moving());
-    EXPECT_NEAR(path.cameraAt(5).positionMeters.x(), 1.0, 1e-12);
-    EXPECT_DOUBLE_EQ(path.cameraAt(5).focalPx, base.focalPx);
+  Preset moving = Preset::resolve(
+      "moderate",
+      {R"(camera.path=[{"frame": 0, "position_m": [0, 1.6, 0]}, {"frame": 10, "position_m": [2, 1.6, 0], "yaw_deg": 20}])"},
+      presetSchema());
+  EXPECT_DOUBLE_EQ(moving.number("camera.path.1.pitch_deg"), 0.0);  // defaults filled
+  CameraPath path = cameraSettings(moving).path(base);
+  EXPECT_TRUE(path.moving());
+  EXPECT_NEAR(path.cameraAt(5).positionMeters.x(), 1.0, 1e-12);
+  EXPECT_DOUBLE_EQ(path.cameraAt(5).focalPx, base.focalPx);
 
-    auto problems = problemsOf(
-        "moderate",
-        {R"(camera.path=[{"frame": 5, "position_m": [0, 1, 0]}, {"frame": 5, "position_m": [0, 1]}, {"position_m": [0, 1, 0], "pitch_deg": 120}, {"type": "key", "frame": 9, "position_m": [0, 1, 0]}, 3])",
-         "camera.shutter_angle_deg=400"});
-    for (const auto& line : problems) std::cerr << line << "\n";
-    expectProblems(
-        problems, {"/camera/path/1/frame: must increase strictly",
-                   "/camera/path/1/position_m: expected [x, y, z]", "/camera/path/2/frame: missing",
-                   "/camera/path/2/pitch_deg: must be between -90 and 90 deg",
-                   "/camera/path/3/type: unknown key", "/camera/path/4: expected an object",
-                   "/camera/shutter_angle_deg: must be between 0 and 360 deg"});
+  auto problems = problemsOf(
+      "moderate",
+      {R"(camera.path=[{"frame": 5, "position_m": [0, 1, 0]}, {"frame": 5, "position_m": [0, 1]}, {"position_m": [0, 1, 0], "pitch_deg": 120}, {"type": "key", "frame": 9, "position_m": [0, 1, 0]}, 3])",
+       "camera.shutter_angle_deg=400"});
+  for (const auto& line : problems) std::cerr << line << "\n";
+  expectProblems(problems,
+                 {"/camera/path/1/frame: must increase strictly",
+                  "/camera/path/1/position_m: expected [x, y, z]", "/camera/path/2/frame: missing",
+                  "/camera/path/2/pitch_deg: must be between -90 and 90 deg",
+                  "/camera/path/3/type: unknown key", "/camera/path/4: expected an object",
+                  "/camera/shutter_angle_deg: must be between 0 and 360 deg"});
 }
 
 TEST(Preset, DescribeMentionsKeyframes) {
-    const Schema schema = presetSchema();
-    auto rain = std::find_if(schema.begin(), schema.end(),
-                             [](const SectionSpec& s) { return s.name == "rain"; });
-    ASSERT_NE(rain, schema.end());
-    std::string text = describeSection(*rain);
-    EXPECT_NE(text.find("rate_mm_h"), std::string::npos);
-    EXPECT_NE(text.find("number|keys"), std::string::npos) << text;
-    EXPECT_NE(text.find("\"interpolation\": \"linear|smooth|hold\""), std::string::npos) << text;
-    auto camera = std::find_if(schema.begin(), schema.end(),
-                               [](const SectionSpec& s) { return s.name == "camera"; });
-    std::string cameraText = describeSection(*camera);
-    EXPECT_NE(cameraText.find("each item:"), std::string::npos) << cameraText;
-    EXPECT_NE(cameraText.find("position_m"), std::string::npos);
-    // Keyframable list item fields (depth layers) are shown as such, with the syntax.
-    auto depth = std::find_if(schema.begin(), schema.end(),
-                              [](const SectionSpec& s) { return s.name == "depth"; });
-    std::string depthText = describeSection(*depth);
-    EXPECT_NE(depthText.find("item type \"polygon\""), std::string::npos) << depthText;
-    EXPECT_NE(depthText.find("number|keys"), std::string::npos) << depthText;
-    EXPECT_NE(depthText.find("\"interpolation\": \"linear|smooth|hold\""), std::string::npos);
+  const Schema schema = presetSchema();
+  auto rain = std::find_if(schema.begin(), schema.end(),
+                           [](const SectionSpec& s) { return s.name == "rain"; });
+  ASSERT_NE(rain, schema.end());
+  std::string text = describeSection(*rain);
+  EXPECT_NE(text.find("rate_mm_h"), std::string::npos);
+  EXPECT_NE(text.find("number|keys"), std::string::npos) << text;
+  EXPECT_NE(text.find("\"interpolation\": \"linear|smooth|hold\""), std::string::npos) << text;
+  auto camera = std::find_if(schema.begin(), schema.end(),
+                             [](const SectionSpec& s) { return s.name == "camera"; });
+  std::string cameraText = describeSection(*camera);
+  EXPECT_NE(cameraText.find("each item:"), std::string::npos) << cameraText;
+  EXPECT_NE(cameraText.find("position_m"), std::string::npos);
+  // Keyframable list item fields (depth layers) are shown as such, with the syntax.
+  auto depth = std::find_if(schema.begin(), schema.end(),
+                            [](const SectionSpec& s) { return s.name == "depth"; });
+  std::string depthText = describeSection(*depth);
+  EXPECT_NE(depthText.find("item type \"polygon\""), std::string::npos) << depthText;
+  EXPECT_NE(depthText.find("number|keys"), std::string::npos) << depthText;
+  EXPECT_NE(depthText.find("\"interpolation\": \"linear|smooth|hold\""), std::string::npos);
 }
