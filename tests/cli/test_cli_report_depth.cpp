@@ -95,8 +95,7 @@ TEST(CliReportDepth, AFailedRowFailsTheCommand) {
   const ProcessResult r = runProcess(
       {"env", "PLUVIA_COLMAP=/bin/false", pluviaBinary().string(), "report", "depth", "--quick"});
   EXPECT_EQ(r.exitCode, 1) << r.output;
-  EXPECT_NE(r.output.find("failed"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("report depth: 1 of its rows failed"), std::string::npos) << r.output;
+  expectOutputHas(r.output, {"failed", "report depth: 1 of its rows failed"});
 }
 
 }  // namespace

@@ -149,6 +149,11 @@ double parseNumber(const std::string& text, const std::string& line) {
   return value;
 }
 
+void expectOutputHas(const std::string& output, const std::vector<std::string>& needles) {
+  for (const std::string& needle : needles)
+    EXPECT_NE(output.find(needle), std::string::npos) << "no '" << needle << "' in:\n" << output;
+}
+
 CommandResult runPluviaTimed(const std::vector<std::string>& args) {
   const auto start = std::chrono::steady_clock::now();
   CommandResult result = runPluvia(args);

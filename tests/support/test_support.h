@@ -49,6 +49,9 @@ double parseNumber(const std::string& text, const std::string& line);
 // How many lines of `text` start with one of `firstWords` (a report's table rows).
 int countLinesStartingWith(const std::string& text, const std::set<std::string>& firstWords);
 
+// Expects each of `needles` in a command's `output`, printing the output when one is missing.
+void expectOutputHas(const std::string& output, const std::vector<std::string>& needles);
+
 // Runs build/pluvia with the arguments like runPluvia, and prints its output and how long it took
 // (a report test's log).
 CommandResult runPluviaTimed(const std::vector<std::string>& args);
