@@ -39,22 +39,43 @@ std::string sharedDataFolder(const std::string& option) {
   return findBesideInstall("../shared/data");
 }
 
+// The --csv and --plot of a report with a table: the options and the files they ask for.
+struct TableFiles {
+  std::string csv, plot;
+
+  void addOptions(CLI::App* command, const std::string& plotted) {
+    command->add_option("--csv", csv, "also write the table as CSV");
+    command->add_option("--plot", plot, "also write " + plotted + " as a PNG");
+  }
+  template <class Report>
+  void write(const Report& report, void (*writeCsv)(const Report&, const std::string&),
+             void (*writePlot)(const Report&, const std::string&)) const {
+    if (!csv.empty()) writeCsv(report, csv);
+    if (!plot.empty()) writePlot(report, plot);
+  }
+};
+
+// --data (see sharedDataFolder); `withoutIt` says what the report leaves out without the folder.
+void addDataOption(CLI::App* command, std::string& data, const std::string& withoutIt) {
+  command->add_option("--data", data,
+                      "shared data folder (default: $PLUVIA_SHARED_DATA, else ../shared/data "
+                      "beside the install prefix or the current directory); " +
+                          withoutIt);
+}
+
 void addReportDerain(CLI::App& report, Invocation& invocation) {
   auto* derain = report.add_subcommand(
       "derain", "rain extraction: error vs time against synthetic truth, and on real footage");
   struct Args {
-    std::string csv, plot, images, data;
+    TableFiles files;
+    std::string images, data;
     lab::DerainReportSettings settings;
   };
   auto args = std::make_shared<Args>();
-  derain->add_option("--csv", args->csv, "also write the table as CSV");
-  derain->add_option("--plot", args->plot, "also write PSNR vs time as a PNG");
+  args->files.addOptions(derain, "PSNR vs time");
   derain->add_option("--images", args->images,
                      "write previews here (PNG): clean plates, mattes x4, input frames");
-  derain->add_option("--data", args->data,
-                     "shared data folder (default: $PLUVIA_SHARED_DATA, else ../shared/data "
-                     "beside the install prefix or the current directory); without it only the "
-                     "example plate is used");
+  addDataOption(derain, args->data, "without it only the example plate is used");
   derain->add_flag("--quick", args->settings.quick,
                    "one 320x240 case, short sweeps, no real footage (for tests)");
   derain->callback([=, &invocation] {
@@ -64,8 +85,7 @@ void addReportDerain(CLI::App& report, Invocation& invocation) {
     settings.imagesDir = args->images;
     const lab::DerainReport result = lab::runDerainReport(settings);
     std::cout << lab::formatDerainReport(result);
-    if (!args->csv.empty()) lab::writeDerainReportCsv(result, args->csv);
-    if (!args->plot.empty()) lab::writeDerainReportPlot(result, args->plot);
+    args->files.write(result, lab::writeDerainReportCsv, lab::writeDerainReportPlot);
     invocation.exitCode = 0;
   });
 }
@@ -74,21 +94,18 @@ void addReportEnvmap(CLI::App& report, Invocation& invocation) {
   auto* envmap = report.add_subcommand(
       "envmap", "environments stitched from a pan: SH and drop colour error vs frames and time");
   struct Args {
-    std::string env, csv, plot, images, data;
+    TableFiles files;
+    std::string env, images, data;
     lab::EnvmapReportSettings settings;
   };
   auto args = std::make_shared<Args>();
   envmap->add_option("--env", args->env,
                      "equirect HDR (default: every HDR in the shared data's hdr/, else a "
                      "built-in test environment with a sun)");
-  envmap->add_option("--csv", args->csv, "also write the table as CSV");
-  envmap->add_option("--plot", args->plot, "also write drop colour error vs time as a PNG");
+  args->files.addOptions(envmap, "drop colour error vs time");
   envmap->add_option("--images", args->images,
                      "write panoramas here (PNG; the real photos' also as EXR)");
-  envmap->add_option("--data", args->data,
-                     "shared data folder (default: $PLUVIA_SHARED_DATA, else ../shared/data "
-                     "beside the install prefix or the current directory); without it only the "
-                     "built-in environment is used");
+  addDataOption(envmap, args->data, "without it only the built-in environment is used");
   envmap->add_flag("--quick", args->settings.quick,
                    "the built-in environment, 640x360 frames, 3 and 12 frames, no photos (for "
                    "tests)");
@@ -101,8 +118,7 @@ void addReportEnvmap(CLI::App& report, Invocation& invocation) {
     settings.imagesDir = args->images;
     const lab::EnvmapReport result = lab::runEnvmapReport(settings);
     std::cout << lab::formatEnvmapReport(result);
-    if (!args->csv.empty()) lab::writeEnvmapReportCsv(result, args->csv);
-    if (!args->plot.empty()) lab::writeEnvmapReportPlot(result, args->plot);
+    args->files.write(result, lab::writeEnvmapReportCsv, lab::writeEnvmapReportPlot);
     invocation.exitCode = 0;
   });
 }
@@ -111,18 +127,15 @@ void addReportDepth(CLI::App& report, Invocation& invocation) {
   auto* depth = report.add_subcommand(
       "depth", "camera tracking and depth (COLMAP): pose and depth error vs frames, size, time");
   struct Args {
-    std::string csv, plot, images, data, workspace;
+    TableFiles files;
+    std::string images, data, workspace;
     lab::DepthReportSettings settings;
   };
   auto args = std::make_shared<Args>();
-  depth->add_option("--csv", args->csv, "also write the table as CSV");
-  depth->add_option("--plot", args->plot, "also write rotation and depth error vs time as a PNG");
+  args->files.addOptions(depth, "rotation and depth error vs time");
   depth->add_option("--images", args->images,
                     "write depth vs truth previews here (PNG, the middle frame of each row)");
-  depth->add_option("--data", args->data,
-                    "shared data folder (default: $PLUVIA_SHARED_DATA, else ../shared/data "
-                    "beside the install prefix or the current directory); without it the real "
-                    "photos are skipped");
+  addDataOption(depth, args->data, "without it the real photos are skipped");
   depth->add_option("--workspace", args->workspace,
                     "keep COLMAP's folders (frames, database, models, colmap.log) here, one per "
                     "row (default: a temporary folder, removed unless COLMAP failed)");
@@ -136,8 +149,7 @@ void addReportDepth(CLI::App& report, Invocation& invocation) {
     settings.workspace = args->workspace;
     const lab::DepthReport result = lab::runDepthReport(settings);
     std::cout << lab::formatDepthReport(result);
-    if (!args->csv.empty()) lab::writeDepthReportCsv(result, args->csv);
-    if (!args->plot.empty()) lab::writeDepthReportPlot(result, args->plot);
+    args->files.write(result, lab::writeDepthReportCsv, lab::writeDepthReportPlot);
     // The table is printed either way; a row that failed makes the command fail.
     int failed = result.real.status == "failed" ? 1 : 0;
     for (const lab::DepthReportRow& row : result.rows) failed += row.status == "failed" ? 1 : 0;
@@ -150,12 +162,11 @@ void addReportLights(CLI::App& report, Invocation& invocation) {
   auto* lights = report.add_subcommand(
       "lights", "local lights: halo, beam and lit-drop error against their references vs time");
   struct Args {
-    std::string csv, plot;
+    TableFiles files;
     lab::LightsReportSettings settings;
   };
   auto args = std::make_shared<Args>();
-  lights->add_option("--csv", args->csv, "also write the table as CSV");
-  lights->add_option("--plot", args->plot, "also write error vs time as a PNG");
+  args->files.addOptions(lights, "error vs time");
   lights->add_option("--samples", args->settings.samples, "(light, ray) pairs per table row")
       ->check(CLI::Range(1, 100000));
   lights->add_option("--trace-rays", args->settings.traceRays, "drop tracer rays per angle")
@@ -164,8 +175,7 @@ void addReportLights(CLI::App& report, Invocation& invocation) {
   lights->callback([=, &invocation] {
     const lab::LightsReport report = lab::runLightsReport(args->settings);
     std::cout << lab::formatLightsReport(report);
-    if (!args->csv.empty()) lab::writeLightsReportCsv(report, args->csv);
-    if (!args->plot.empty()) lab::writeLightsReportPlot(report, args->plot);
+    args->files.write(report, lab::writeLightsReportCsv, lab::writeLightsReportPlot);
     invocation.exitCode = 0;
   });
 }
@@ -216,14 +226,14 @@ void addReportCommand(CLI::App& app, Invocation& invocation) {
   auto* optics =
       cmd->add_subcommand("optics", "drop shading: error against the ray-traced reference vs time");
   struct Args {
-    std::string env, csv, plot;
+    TableFiles files;
+    std::string env;
     lab::OpticsReportSettings settings;
   };
   auto args = std::make_shared<Args>();
   optics->add_option("--env", args->env,
                      "equirect HDR (default: a built-in test environment with a sun)");
-  optics->add_option("--csv", args->csv, "also write the table as CSV");
-  optics->add_option("--plot", args->plot, "also write error vs time as a PNG");
+  args->files.addOptions(optics, "error vs time");
   optics
       ->add_option("--directions", args->settings.directions, "view directions (Fibonacci sphere)")
       ->check(CLI::Range(1, 100000));
@@ -242,8 +252,7 @@ void addReportCommand(CLI::App& app, Invocation& invocation) {
     std::cout << "environment: " << (args->env.empty() ? "built-in test environment" : args->env)
               << "\n"
               << lab::formatOpticsReport(report);
-    if (!args->csv.empty()) lab::writeOpticsReportCsv(report, args->csv);
-    if (!args->plot.empty()) lab::writeOpticsReportPlot(report, args->plot);
+    args->files.write(report, lab::writeOpticsReportCsv, lab::writeOpticsReportPlot);
     invocation.exitCode = 0;
   });
   addReportDerain(*cmd, invocation);

@@ -61,25 +61,24 @@ using GlVertexArray = GlName<gl_delete::vertexArray>;
 using GlProgram = GlName<gl_delete::program>;
 using GlShader = GlName<gl_delete::shader>;
 
-inline GlTexture genTexture() {
+// One new GL name from `generate` (glGenTextures, glGenBuffers, ...), owned.
+template <class Name, class Generate>
+Name genName(Generate generate) {
   GLuint id = 0;
-  glGenTextures(1, &id);
-  return GlTexture(id);
+  generate(1, &id);
+  return Name(id);
+}
+inline GlTexture genTexture() {
+  return genName<GlTexture>(glGenTextures);
 }
 inline GlBuffer genBuffer() {
-  GLuint id = 0;
-  glGenBuffers(1, &id);
-  return GlBuffer(id);
+  return genName<GlBuffer>(glGenBuffers);
 }
 inline GlFramebuffer genFramebuffer() {
-  GLuint id = 0;
-  glGenFramebuffers(1, &id);
-  return GlFramebuffer(id);
+  return genName<GlFramebuffer>(glGenFramebuffers);
 }
 inline GlVertexArray genVertexArray() {
-  GLuint id = 0;
-  glGenVertexArrays(1, &id);
-  return GlVertexArray(id);
+  return genName<GlVertexArray>(glGenVertexArrays);
 }
 
 // An immutable single-level 2D texture of `internalFormat`, nearest filtering, clamped.

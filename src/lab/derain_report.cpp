@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <memory>
 
@@ -31,7 +30,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 constexpr double kSweepAngleDeg = 12.0;  // the angle of the case the sweeps (b) run on
 constexpr float kMatteViewGain = 4.0f;   // mattes are written x4 (clamped) to be visible
@@ -497,28 +495,29 @@ std::string formatDerainReport(const DerainReport& report) {
 }
 
 void writeDerainReportCsv(const DerainReport& report, const std::string& path) {
-  std::ofstream file(path);
-  if (!file) throw Error("cannot write the report", {"report", {}, path});
-  file << "section,scene,true_angle_deg,method,frames,iterations,psnr_db,ssim,"
-          "alpha_mae,angle_deg,angle_error_deg,seconds,seconds_per_frame,objective,data_rms\n";
-  for (const DerainReportRow& row : report.rows) {
-    file << fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", row.section, row.scene,
-                        csvNumber(row.trueAngleDeg), row.method, row.frames,
-                        row.method == "solver" ? std::to_string(row.iterations) : "",
-                        csvNumber(row.psnrDb), csvNumber(row.ssim), csvNumber(row.alphaMae),
-                        csvNumber(row.angleDeg), csvNumber(row.angleErrorDeg),
-                        csvNumber(row.seconds), csvNumber(row.seconds / row.frames),
-                        csvNumber(row.objective), csvNumber(row.dataRms));
-  }
-  if (report.real.present) {
-    for (const DerainIteration& it : report.real.result.history) {
-      file << fmt::format("real,nturain_ra1,,solver,{},{},,,,,{},,{},{},{},{}\n",
-                          report.real.frames, it.iteration, csvNumber(it.angleDeg),
-                          csvNumber(it.seconds), csvNumber(it.seconds / report.real.frames),
-                          csvNumber(it.objective), csvNumber(it.dataRms));
-    }
-  }
-  if (!file) throw Error("failed while writing the report", {"report", {}, path});
+  writeReportCsv(
+      path,
+      "section,scene,true_angle_deg,method,frames,iterations,psnr_db,ssim,"
+      "alpha_mae,angle_deg,angle_error_deg,seconds,seconds_per_frame,objective,data_rms",
+      [&](std::ostream& file) {
+        for (const DerainReportRow& row : report.rows) {
+          file << fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", row.section,
+                              row.scene, csvNumber(row.trueAngleDeg), row.method, row.frames,
+                              row.method == "solver" ? std::to_string(row.iterations) : "",
+                              csvNumber(row.psnrDb), csvNumber(row.ssim), csvNumber(row.alphaMae),
+                              csvNumber(row.angleDeg), csvNumber(row.angleErrorDeg),
+                              csvNumber(row.seconds), csvNumber(row.seconds / row.frames),
+                              csvNumber(row.objective), csvNumber(row.dataRms));
+        }
+        if (report.real.present) {
+          for (const DerainIteration& it : report.real.result.history) {
+            file << fmt::format("real,nturain_ra1,,solver,{},{},,,,,{},,{},{},{},{}\n",
+                                report.real.frames, it.iteration, csvNumber(it.angleDeg),
+                                csvNumber(it.seconds), csvNumber(it.seconds / report.real.frames),
+                                csvNumber(it.objective), csvNumber(it.dataRms));
+          }
+        }
+      });
 }
 
 }  // namespace pluvia::lab

@@ -11,6 +11,7 @@
 
 #include "lab/derain_report.h"
 #include "lab/log_grid.h"
+#include "lab/plot_labels.h"
 #include "util/error.h"
 
 namespace pluvia::lab {
@@ -42,33 +43,8 @@ struct Axes {
   }
 };
 
-// Labels are placed right of their point and pushed down until they overlap no earlier one.
-class Labeller {
- public:
-  void draw(cv::Mat& canvas, cv::Point p, const std::string& text, const cv::Scalar& colour) {
-    int baseline = 0;
-    const cv::Size size = cv::getTextSize(text, kFont, 0.42, 1, &baseline);
-    cv::Rect box(p.x + 8, p.y - 4 - size.height, size.width, size.height + baseline);
-    if (box.x + box.width > kWidth - 5) box.x = p.x - 8 - size.width;
-    for (bool clear = false; !clear;) {
-      clear = true;
-      for (const cv::Rect& other : placed_) {
-        if ((box & other).area() > 0) {
-          box.y = other.y + other.height + 1;
-          clear = false;
-        }
-      }
-    }
-    placed_.push_back(box);
-    cv::putText(canvas, text, {box.x, box.y + size.height}, kFont, 0.42, colour);
-  }
-
- private:
-  std::vector<cv::Rect> placed_;
-};
-
 void drawSeries(cv::Mat& canvas, const Axes& axes, const std::vector<Point>& points,
-                const cv::Scalar& colour, bool joined, Labeller& labels) {
+                const cv::Scalar& colour, bool joined, PlotLabeller& labels) {
   for (size_t i = 0; joined && i + 1 < points.size(); ++i) {
     cv::line(canvas, axes.at(points[i].seconds, points[i].psnr),
              axes.at(points[i + 1].seconds, points[i + 1].psnr), colour, 2, cv::LINE_AA);
@@ -138,7 +114,7 @@ void writeDerainReportPlot(const DerainReport& report, const std::string& path) 
                           scene, angle, report.size.width, report.size.height),
               {kLeft, 35}, kFont, 0.7, {0, 0, 0}, 2);
 
-  Labeller labels;
+  PlotLabeller labels(0.42, 8);
   drawSeries(canvas, axes, iterations, kIterationColour, true, labels);
   drawSeries(canvas, axes, windows, kWindowColour, true, labels);
   drawSeries(canvas, axes, medians, kMedianColour, false, labels);

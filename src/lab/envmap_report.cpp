@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <optional>
@@ -39,7 +38,6 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 using Direction = std::array<double, 3>;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kDeg = M_PI / 180.0;
 constexpr double kTarget = 0.10;       // drop colour error in covered directions
 constexpr double kTimeTarget = 30.0;   // seconds to stitch 24 frames of 720p
@@ -765,22 +763,23 @@ std::string withoutCommas(std::string text) {
 }  // namespace
 
 void writeEnvmapReportCsv(const EnvmapReport& report, const std::string& path) {
-  std::ofstream file(path);
-  if (!file) throw Error("cannot write the report", {"report", {}, path});
-  file << "environment,frames,lights_restored,lights,yaw_step_deg,from_features,pose_error_deg,"
-          "focal_error,covered_fraction,sh_error,drop_mean_error,drop_max_error,directions,"
-          "placement_seconds,render_seconds,total_seconds,fill,fill_model\n";
-  for (const EnvmapReportRow& row : report.rows) {
-    file << fmt::format(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", row.environment, row.frames,
-        row.lightsRestored ? 1 : 0, row.lights, csvNumber(row.yawStepDeg), row.fromFeatures ? 1 : 0,
-        csvNumber(row.poseErrorDeg), csvNumber(row.focalError), csvNumber(row.coveredFraction),
-        csvNumber(row.shError), csvNumber(row.dropMeanError), csvNumber(row.dropMaxError),
-        row.directions, csvNumber(row.placementSeconds), csvNumber(row.renderSeconds),
-        csvNumber(row.placementSeconds + row.renderSeconds),
-        row.skyModelFill ? "sky_model" : "nearest", withoutCommas(row.fillModel));
-  }
-  if (!file) throw Error("failed while writing the report", {"report", {}, path});
+  writeReportCsv(
+      path,
+      "environment,frames,lights_restored,lights,yaw_step_deg,from_features,pose_error_deg,"
+      "focal_error,covered_fraction,sh_error,drop_mean_error,drop_max_error,directions,"
+      "placement_seconds,render_seconds,total_seconds,fill,fill_model",
+      [&](std::ostream& file) {
+        for (const EnvmapReportRow& row : report.rows) {
+          file << fmt::format(
+              "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", row.environment,
+              row.frames, row.lightsRestored ? 1 : 0, row.lights, csvNumber(row.yawStepDeg),
+              row.fromFeatures ? 1 : 0, csvNumber(row.poseErrorDeg), csvNumber(row.focalError),
+              csvNumber(row.coveredFraction), csvNumber(row.shError), csvNumber(row.dropMeanError),
+              csvNumber(row.dropMaxError), row.directions, csvNumber(row.placementSeconds),
+              csvNumber(row.renderSeconds), csvNumber(row.placementSeconds + row.renderSeconds),
+              row.skyModelFill ? "sky_model" : "nearest", withoutCommas(row.fillModel));
+        }
+      });
 }
 
 // The plot: same canvas, margins and fonts as the other reports' plots.

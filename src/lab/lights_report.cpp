@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 
 #include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
@@ -207,12 +206,13 @@ std::string formatLightsReport(const LightsReport& report) {
 }
 
 void writeLightsReportCsv(const LightsReport& report, const std::string& path) {
-  std::ofstream f(path);
-  if (!f) throw Error(fmt::format("cannot write {}", path), {"report", {}, path});
-  f << "group,setting,mean_relative_error,max_relative_error,ns_per_evaluation\n";
-  for (const auto& row : report.rows)
-    f << row.group << ",\"" << row.setting << "\"," << csvNumber(row.meanRelativeError) << ","
-      << csvNumber(row.maxRelativeError) << "," << csvNumber(row.nanosecondsPerEvaluation) << "\n";
+  writeReportCsv(path, "group,setting,mean_relative_error,max_relative_error,ns_per_evaluation",
+                 [&](std::ostream& f) {
+                   for (const auto& row : report.rows)
+                     f << row.group << ",\"" << row.setting << "\","
+                       << csvNumber(row.meanRelativeError) << "," << csvNumber(row.maxRelativeError)
+                       << "," << csvNumber(row.nanosecondsPerEvaluation) << "\n";
+                 });
 }
 
 void writeLightsReportPlot(const LightsReport& report, const std::string& path) {

@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <functional>
 #include <stdexcept>
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
+#include "lab/report_numbers.h"
 #include "optics/drop_shading.h"
 #include "optics/drop_trace.h"
 #include "optics/paper_transfer_table.h"
@@ -231,16 +231,17 @@ std::string formatOpticsReport(const OpticsReport& report) {
 }
 
 void writeOpticsReportCsv(const OpticsReport& report, const std::string& path) {
-  std::ofstream file(path);
-  if (!file) throw Error("cannot write the report", {"report", {}, path});
-  file << "group,setting,mean_relative_error,max_relative_error,ns_per_drop,precompute_ms,memory_"
-          "bytes\n";
-  for (const OpticsReportRow& row : report.rows) {
-    file << fmt::format("{},\"{}\",{:.6g},{:.6g},{:.6g},{:.6g},{:.0f}\n", row.group, row.setting,
-                        row.meanRelativeError, row.maxRelativeError, row.nanosecondsPerDrop,
-                        row.precomputeMilliseconds, row.memoryBytes);
-  }
-  if (!file) throw Error("failed while writing the report", {"report", {}, path});
+  writeReportCsv(
+      path,
+      "group,setting,mean_relative_error,max_relative_error,ns_per_drop,precompute_ms,memory_"
+      "bytes",
+      [&](std::ostream& file) {
+        for (const OpticsReportRow& row : report.rows) {
+          file << fmt::format("{},\"{}\",{:.6g},{:.6g},{:.6g},{:.6g},{:.0f}\n", row.group,
+                              row.setting, row.meanRelativeError, row.maxRelativeError,
+                              row.nanosecondsPerDrop, row.precomputeMilliseconds, row.memoryBytes);
+        }
+      });
 }
 
 }  // namespace pluvia::lab

@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "lab/optics_report.h"
+#include "lab/plot_labels.h"
 #include "util/error.h"
 
 namespace pluvia::lab {
@@ -73,7 +74,7 @@ void writeOpticsReportPlot(const OpticsReport& report, const std::string& path) 
   for (const auto& row : report.rows) {
     if (row.group == "terms") allTermsError = row.meanRelativeError;
   }
-  std::vector<cv::Rect> labels;  // drawn so far: a new label moves down until it is clear
+  PlotLabeller labels(0.38, 7);
   for (const auto& row : report.rows) {
     const cv::Scalar colour =
         kGroupColours.count(row.group) ? kGroupColours.at(row.group) : cv::Scalar(0, 0, 0);
@@ -85,21 +86,7 @@ void writeOpticsReportPlot(const OpticsReport& report, const std::string& path) 
       label = label.substr(label.find("N="));
       if (row.meanRelativeError < 2.0 * allTermsError) continue;
     }
-    int baseline = 0;
-    const cv::Size size = cv::getTextSize(label, font, 0.38, 1, &baseline);
-    cv::Rect box(p.x + 7, p.y - 4 - size.height, size.width, size.height + baseline);
-    if (box.x + box.width > kWidth - 5) box.x = p.x - 7 - size.width;  // keep it on the canvas
-    for (bool clear = false; !clear;) {
-      clear = true;
-      for (const cv::Rect& other : labels) {
-        if ((box & other).area() > 0) {
-          box.y = other.y + other.height + 1;
-          clear = false;
-        }
-      }
-    }
-    labels.push_back(box);
-    cv::putText(canvas, label, {box.x, box.y + size.height}, font, 0.38, colour);
+    labels.draw(canvas, p, label, colour);
   }
   int legendY = kTop + 20;
   for (const auto& [group, colour] : kGroupColours) {

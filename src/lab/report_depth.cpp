@@ -8,7 +8,6 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <map>
@@ -36,7 +35,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kRotationTargetDeg = 0.5;
 constexpr double kDepthTarget = 0.10;
 constexpr double kTimeTargetSeconds = 300.0;  // 48 frames of 720p
@@ -519,39 +517,44 @@ std::string formatDepthReport(const DepthReport& report) {
 }
 
 void writeDepthReportCsv(const DepthReport& report, const std::string& path) {
-  std::ofstream file(path);
-  if (!file) throw Error("cannot write the report", {"report", {}, path});
-  file << "scene,clip_frames,frames_used,width,height,status,registered_used,frames_with_pose,"
-          "rotation_mean_deg,rotation_max_deg,position_mean_m,position_max_m,scale_ratio,"
-          "level_error_deg,height_offset_m,focal_error,reprojection_px,depth_frames,"
-          "depth_median_rel_error,depth_p90_rel_error,depth_median_ground,depth_median_walls,"
-          "depth_median_boxes,sky_as_inf_fraction,nonsky_as_inf_fraction,render_seconds,"
-          "colmap_seconds,tracking_seconds,densify_seconds_per_frame,total_seconds\n";
-  for (const DepthReportRow& row : report.rows) {
-    file << fmt::format(
-        "synthetic,{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}"
-        ","
-        "{},{}\n",
-        row.clipFrames, row.framesUsed, row.width, row.height, row.status, row.registeredUsed,
-        row.framesWithPose, csvNumber(row.rotationMeanDeg), csvNumber(row.rotationMaxDeg),
-        csvNumber(row.positionMeanMeters), csvNumber(row.positionMaxMeters),
-        csvNumber(row.scaleRatio), csvNumber(row.levelErrorDeg), csvNumber(row.heightOffsetMeters),
-        csvNumber(row.focalError), csvNumber(row.reprojectionPx), row.depthFrames,
-        csvNumber(row.depthMedian), csvNumber(row.depthP90), csvNumber(row.depthMedianGround),
-        csvNumber(row.depthMedianWalls), csvNumber(row.depthMedianBoxes),
-        csvNumber(row.skyAsInfinity), csvNumber(row.nonSkyAsInfinity), csvNumber(row.renderSeconds),
-        csvNumber(row.colmapSeconds), csvNumber(row.trackingSeconds),
-        csvNumber(row.densifySecondsPerFrame), csvNumber(row.totalSeconds));
-  }
-  const DepthReportReal& real = report.real;
-  if (real.present) {
-    // The same columns: what the photos give (no truth: no pose or depth error).
-    file << fmt::format("opensfm_lund,{},{},{},{},{},{},,,,,,,,,,{},,,,,,,,,,{},{},,{}\n",
-                        real.photos, real.photos, real.width, real.height, real.status,
-                        real.registered, csvNumber(real.reprojectionPx), csvNumber(real.seconds),
-                        csvNumber(real.seconds), csvNumber(real.seconds));
-  }
-  if (!file) throw Error("failed while writing the report", {"report", {}, path});
+  writeReportCsv(
+      path,
+      "scene,clip_frames,frames_used,width,height,status,registered_used,frames_with_pose,"
+      "rotation_mean_deg,rotation_max_deg,position_mean_m,position_max_m,scale_ratio,"
+      "level_error_deg,height_offset_m,focal_error,reprojection_px,depth_frames,"
+      "depth_median_rel_error,depth_p90_rel_error,depth_median_ground,depth_median_walls,"
+      "depth_median_boxes,sky_as_inf_fraction,nonsky_as_inf_fraction,render_seconds,"
+      "colmap_seconds,tracking_seconds,densify_seconds_per_frame,total_seconds",
+      [&](std::ostream& file) {
+        for (const DepthReportRow& row : report.rows) {
+          file << fmt::format(
+              "synthetic,{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}"
+              ",{},{}"
+              ","
+              "{},{}\n",
+              row.clipFrames, row.framesUsed, row.width, row.height, row.status, row.registeredUsed,
+              row.framesWithPose, csvNumber(row.rotationMeanDeg), csvNumber(row.rotationMaxDeg),
+              csvNumber(row.positionMeanMeters), csvNumber(row.positionMaxMeters),
+              csvNumber(row.scaleRatio), csvNumber(row.levelErrorDeg),
+              csvNumber(row.heightOffsetMeters), csvNumber(row.focalError),
+              csvNumber(row.reprojectionPx), row.depthFrames, csvNumber(row.depthMedian),
+              csvNumber(row.depthP90), csvNumber(row.depthMedianGround),
+              csvNumber(row.depthMedianWalls), csvNumber(row.depthMedianBoxes),
+              csvNumber(row.skyAsInfinity), csvNumber(row.nonSkyAsInfinity),
+              csvNumber(row.renderSeconds), csvNumber(row.colmapSeconds),
+              csvNumber(row.trackingSeconds), csvNumber(row.densifySecondsPerFrame),
+              csvNumber(row.totalSeconds));
+        }
+        const DepthReportReal& real = report.real;
+        if (real.present) {
+          // The same columns: what the photos give (no truth: no pose or depth error).
+          file << fmt::format("opensfm_lund,{},{},{},{},{},{},,,,,,,,,,{},,,,,,,,,,{},{},,{}\n",
+                              real.photos, real.photos, real.width, real.height, real.status,
+                              real.registered, csvNumber(real.reprojectionPx),
+                              csvNumber(real.seconds), csvNumber(real.seconds),
+                              csvNumber(real.seconds));
+        }
+      });
 }
 
 // The plot: same canvas, margins and fonts as the other reports' plots, in two panels.

@@ -1,8 +1,11 @@
 #include "lab/report_numbers.h"
 
 #include <cmath>
+#include <fstream>
 
 #include <fmt/format.h>
+
+#include "util/error.h"
 
 namespace pluvia::lab {
 
@@ -16,6 +19,15 @@ std::string percentOrDash(double fraction) {
 
 std::string csvNumber(double value) {
   return std::isfinite(value) ? fmt::format("{:.6g}", value) : "";
+}
+
+void writeReportCsv(const std::string& path, const std::string& header,
+                    const std::function<void(std::ostream&)>& writeRows) {
+  std::ofstream file(path);
+  if (!file) throw Error("cannot write the report", {"report", {}, path});
+  file << header << "\n";
+  writeRows(file);
+  if (!file) throw Error("failed while writing the report", {"report", {}, path});
 }
 
 }  // namespace pluvia::lab

@@ -1,6 +1,9 @@
 #pragma once
-// How the reports (pluvia report ...) print numbers: a missing value (NaN, a failed row) is "-"
-// in a table and empty in a CSV.
+// How the reports (pluvia report ...) print numbers and write their CSVs: a missing value (NaN, a
+// failed row) is "-" in a table and empty in a CSV.
+#include <functional>
+#include <limits>
+#include <ostream>
 #include <string>
 
 namespace pluvia::lab {
@@ -8,5 +11,13 @@ namespace pluvia::lab {
 std::string fixedOrDash(double value, int decimals);  // "1.234" or "-"
 std::string percentOrDash(double fraction);           // 0.1234 -> "12.3" or "-"
 std::string csvNumber(double value);                  // 6 significant digits, or ""
+
+// A measure a row does not have.
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Writes a report's CSV to `path`: the `header` line, then what `writeRows` writes. Throws
+// pluvia::Error naming the file when it cannot be opened or written.
+void writeReportCsv(const std::string& path, const std::string& header,
+                    const std::function<void(std::ostream&)>& writeRows);
 
 }  // namespace pluvia::lab

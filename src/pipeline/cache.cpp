@@ -7,7 +7,8 @@ namespace pluvia {
 
 ArtifactCache::ArtifactCache(std::filesystem::path folder) : folder_(std::move(folder)) {}
 
-std::filesystem::path ArtifactCache::pathFor(const std::string& stage, const std::string& key) const {
+std::filesystem::path ArtifactCache::pathFor(const std::string& stage,
+                                             const std::string& key) const {
   return folder_ / (stage + "-" + key + ".json");
 }
 
@@ -15,7 +16,8 @@ bool ArtifactCache::contains(const std::string& stage, const std::string& key) c
   return load(stage, key).has_value();
 }
 
-std::optional<nlohmann::json> ArtifactCache::load(const std::string& stage, const std::string& key) const {
+std::optional<nlohmann::json> ArtifactCache::load(const std::string& stage,
+                                                  const std::string& key) const {
   auto path = pathFor(stage, key);
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;
@@ -27,7 +29,8 @@ std::optional<nlohmann::json> ArtifactCache::load(const std::string& stage, cons
   }
 }
 
-void ArtifactCache::store(const std::string& stage, const std::string& key, const nlohmann::json& value) const {
+void ArtifactCache::store(const std::string& stage, const std::string& key,
+                          const nlohmann::json& value) const {
   fs::writeTextFile(pathFor(stage, key), value.dump(1));
 }
 

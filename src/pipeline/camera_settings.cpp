@@ -4,10 +4,9 @@
 
 namespace pluvia {
 
-SectionSpec cameraSection() {
-  SectionSpec s;
-  s.name = "camera";
-  s.help = "The virtual camera that films the rain; match it to the plate's camera.";
+namespace {
+
+ParamSpec pathParam() {
   // camera.path: poses over clip frames (geometry/camera_path.h has the angle conventions).
   ParamSpec path = listParam(
       "path", nlohmann::json::array(),
@@ -21,31 +20,8 @@ SectionSpec cameraSection() {
       "poses over clip frames, interpolated between keys, held outside them; empty: a static "
       "camera from tilt_deg and height_m");
   path.orderedBy = "frame";
-  s.params = {
-      numberParam("fov_deg", 36.0, {1.0, 170.0}, "deg", "horizontal field of view"),
-      numberParam("exposure_s", 0.02, {1.0 / 8000.0, 1.0}, "s",
-                  "shutter time; sets the streak length"),
-      numberParam(
-          "shutter_angle_deg", 0.0, {0.0, 360.0}, "deg",
-          "when > 0: exposure = shutter_angle / 360 / fps, overriding exposure_s; 0: unused"),
-      numberParam("fps", 0.0, {0.0, 240.0}, "1/s",
-                  "frame rate; 0 takes the clip's (24 for sequences)"),
-      numberParam("tilt_deg", 0.0, {-89.0, 89.0}, "deg",
-                  "pitch of the camera, positive looking down"),
-      numberParam("height_m", 1.6, {0.0, 1000.0}, "m", "camera height above the ground plane"),
-      numberParam("focus_m", 20.0, {0.0, 1e6}, "m",
-                  "focus distance (the default depth's backdrop); 0: no defocus"),
-      numberParam("f_number", 11.0, {0.0, 128.0}, "", "aperture f-number; 0: pinhole, no defocus"),
-      numberParam("sensor_width_mm", 36.0, {1.0, 100.0}, "mm",
-                  "sensor width; with fov_deg gives the focal length (defocus)"),
-      path,
-  };
-  // The exposure may ramp (the rain stage reads it per frame); the rest is fixed for the shot.
-  allowKeyframes(s.params, {"exposure_s"});
-  return s;
+  return path;
 }
-
-namespace {
 
 // camera.path items {"frame": F, "position_m": [x, y, z], "yaw_deg": .., "pitch_deg": ..,
 // "roll_deg": ..}.
@@ -66,19 +42,45 @@ std::vector<std::pair<double, CameraPose>> pathKeys(const nlohmann::json& items)
 
 }  // namespace
 
+const SettingsTable<CameraSettings>& cameraTable() {
+  using S = CameraSettings;
+  static const SettingsTable<CameraSettings> table(
+      {.name = "camera",
+       .help = "The virtual camera that films the rain; match it to the plate's camera."},
+      {
+          bind(&S::fovDeg,
+               numberParam("fov_deg", 36.0, {1.0, 170.0}, "deg", "horizontal field of view")),
+          // The exposure may ramp (the rain stage reads it per frame); the rest is fixed for
+          // the shot.
+          bind(&S::exposureSeconds, numberParam("exposure_s", 0.02, {1.0 / 8000.0, 1.0}, "s",
+                                                "shutter time; sets the streak length")),
+          bind(&S::shutterAngleDeg,
+               numberParam("shutter_angle_deg", 0.0, {0.0, 360.0}, "deg",
+                           "when > 0: exposure = shutter_angle / 360 / fps, overriding "
+                           "exposure_s; 0: unused")),
+          bind(&S::framesPerSecond,
+               numberParam("fps", 0.0, {0.0, 240.0}, "1/s",
+                           "frame rate; 0 takes the clip's (24 for sequences)")),
+          bind(&S::tiltDeg, numberParam("tilt_deg", 0.0, {-89.0, 89.0}, "deg",
+                                        "pitch of the camera, positive looking down")),
+          bind(&S::heightMeters, numberParam("height_m", 1.6, {0.0, 1000.0}, "m",
+                                             "camera height above the ground plane")),
+          bind(&S::focusMeters, numberParam("focus_m", 20.0, {0.0, 1e6}, "m",
+                                            "focus distance (the default depth's backdrop); 0: no "
+                                            "defocus")),
+          bind(&S::fNumber, numberParam("f_number", 11.0, {0.0, 128.0}, "",
+                                        "aperture f-number; 0: pinhole, no defocus")),
+          bind(&S::sensorWidthMm,
+               numberParam("sensor_width_mm", 36.0, {1.0, 100.0}, "mm",
+                           "sensor width; with fov_deg gives the focal length (defocus)")),
+          unbound<S>(pathParam()),
+      });
+  return table;
+}
+
 CameraSettings cameraSettings(const Preset& p) {
-  CameraSettings s;
-  s.fovDeg = p.number("camera.fov_deg");
-  s.exposureSeconds = p.ramp("camera.exposure_s");
-  s.shutterAngleDeg = p.number("camera.shutter_angle_deg");
-  s.framesPerSecond = p.number("camera.fps");
-  s.tiltDeg = p.number("camera.tilt_deg");
-  s.heightMeters = p.number("camera.height_m");
-  s.focusMeters = p.number("camera.focus_m");
-  s.fNumber = p.number("camera.f_number");
-  s.sensorWidthMm = p.number("camera.sensor_width_mm");
+  CameraSettings s = cameraTable().read(p);
   if (p.has("camera.path")) s.pathKeys = pathKeys(p.at("camera.path"));
-  s.resolved = p.at("camera");
   return s;
 }
 

@@ -9,14 +9,11 @@
 
 #include "geometry/camera.h"
 #include "geometry/camera_path.h"
-#include "preset/param_table.h"
 #include "preset/preset.h"
 #include "preset/ramp.h"
+#include "preset/settings_table.h"
 
 namespace pluvia {
-
-// The section's parameter table (part of presetSchema(), stages/registry.h).
-SectionSpec cameraSection();
 
 struct CameraSettings {
   double fovDeg = 36.0;  // horizontal field of view
@@ -30,8 +27,9 @@ struct CameraSettings {
   double sensorWidthMm = 36.0;
   // camera.path: poses over clip frames; empty: a static camera from tiltDeg and heightMeters.
   std::vector<std::pair<double, CameraPose>> pathKeys;
-  // The section as the preset resolved it: per-clip analyses that depend on the camera hash it
-  // into their cache keys (the JSON text, so a key stays the same however a number was written).
+  // The section as the preset resolved it (filled by SettingsTable::read): per-clip analyses that
+  // depend on the camera hash it into their cache keys (the JSON text, so a key stays the same
+  // however a number was written).
   nlohmann::json resolved;
 
   // The camera of a frame `width` x `height` px: fovDeg, tiltDeg and heightMeters.
@@ -43,6 +41,9 @@ struct CameraSettings {
   double exposureSecondsAt(double fps, double frame) const;
 };
 
+// The section's table (its SectionSpec is part of presetSchema(), stages/registry.h) and its
+// settings read from a resolved preset.
+const SettingsTable<CameraSettings>& cameraTable();
 CameraSettings cameraSettings(const Preset& preset);
 
 }  // namespace pluvia

@@ -6,13 +6,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "preset/param_table.h"
 #include "preset/preset.h"
+#include "preset/settings_table.h"
 
 namespace pluvia {
-
-// The section's parameter table (part of presetSchema(), stages/registry.h).
-SectionSpec colorSection();
 
 struct ColorSettings {
   std::string inputSpace =
@@ -20,11 +17,14 @@ struct ColorSettings {
   std::string workingSpace = "scene_linear";  // a name, alias or role of the config
   std::string outputSpace = "auto";  // auto: the working space for EXR, the config's sRGB otherwise
   std::string configPath;            // an .ocio config; empty: $OCIO, else pluvia's built-in one
-  // The section as the preset resolved it, for the cache keys of per-clip analyses that depend
-  // on it (see CameraSettings::resolved).
+  // The section as the preset resolved it (filled by SettingsTable::read), for the cache keys of
+  // per-clip analyses that depend on it (see CameraSettings::resolved).
   nlohmann::json resolved;
 };
 
+// The section's table (its SectionSpec is part of presetSchema(), stages/registry.h) and its
+// settings read from a resolved preset.
+const SettingsTable<ColorSettings>& colorTable();
 ColorSettings colorSettings(const Preset& preset);
 
 }  // namespace pluvia

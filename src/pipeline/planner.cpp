@@ -53,14 +53,16 @@ Plan makePlan(const Preset& preset, const ClipInfo& clip, const ArtifactCache* c
       if (needed.count(output)) readers.push_back(output);
     }
     if (readers.empty()) {
-      entry.reason = fmt::format("nothing reads its output ({})", fmt::join(info.spec.outputs, ", "));
+      entry.reason =
+          fmt::format("nothing reads its output ({})", fmt::join(info.spec.outputs, ", "));
       continue;
     }
     const std::string key = info.cacheKey ? info.cacheKey(preset, clip) : "";
     const bool inCache = cache && !key.empty() && cache->contains(info.spec.name, key);
     if (info.perClip && inCache) {
       entry.cached = true;
-      entry.reason = fmt::format("result in cache ({})", cache->pathFor(info.spec.name, key).string());
+      entry.reason =
+          fmt::format("result in cache ({})", cache->pathFor(info.spec.name, key).string());
       continue;
     }
     entry.runs = true;
@@ -71,10 +73,11 @@ Plan makePlan(const Preset& preset, const ClipInfo& clip, const ArtifactCache* c
     if (!info.perClip && !key.empty()) {
       entry.reason += inCache ? fmt::format("; per-clip analysis cached ({})",
                                             cache->pathFor(info.spec.name, key).string())
-                              : cache ? std::string("; per-clip analysis needed (not in the cache)")
-                                      : std::string("; per-clip analysis needed (no --cache)");
+                      : cache ? std::string("; per-clip analysis needed (not in the cache)")
+                              : std::string("; per-clip analysis needed (no --cache)");
     }
-    for (const auto& input : info.reads ? info.reads(preset) : info.spec.inputs) needed.insert(input);
+    for (const auto& input : info.reads ? info.reads(preset) : info.spec.inputs)
+      needed.insert(input);
   }
   // Cached per-clip results still feed their readers: keep the reads of cached stages out,
   // since a cached stage reads nothing.

@@ -78,12 +78,13 @@ ParamSpec withoutDefault(ParamSpec field);
 // that is not one of them (a programming error in a stage's table).
 void allowKeyframes(std::vector<ParamSpec>& params, const std::vector<std::string>& keys);
 
+// Every member has an initializer, so that a designated initializer may leave any out.
 struct SectionSpec {
-  std::string name;  // top-level preset key
-  std::string help;
-  std::vector<std::string> inputs;   // artifacts read (pipeline stages only)
-  std::vector<std::string> outputs;  // artifacts written
-  std::vector<ParamSpec> params;
+  std::string name = {};  // top-level preset key
+  std::string help = {};
+  std::vector<std::string> inputs = {};   // artifacts read (pipeline stages only)
+  std::vector<std::string> outputs = {};  // artifacts written
+  std::vector<ParamSpec> params = {};
   // Pairs of Number keys whose values must increase, {"near_m", "far_m"}: near_m < far_m.
   std::vector<std::pair<std::string, std::string>> increasing = {};
   const ParamSpec* find(const std::string& key) const;

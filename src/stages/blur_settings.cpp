@@ -2,25 +2,22 @@
 
 namespace pluvia {
 
-SectionSpec blurSection() {
-  SectionSpec s;
-  s.name = "blur";
-  s.help = "Gaussian blur of the plate (refraction through rain).";
-  s.inputs = {"image"};
-  s.outputs = {"image"};
-  s.params = {
-      enabledParam(),
-      numberParam("sigma_px", 0.0, {0.0, 100.0}, "px",
-                  "standard deviation; 0 leaves the plate sharp"),
-  };
-  return s;
+const SettingsTable<BlurSettings>& blurTable() {
+  static const SettingsTable<BlurSettings> table(
+      {.name = "blur",
+       .help = "Gaussian blur of the plate (refraction through rain).",
+       .inputs = {"image"},
+       .outputs = {"image"}},
+      {
+          bind(&BlurSettings::enabled, enabledParam()),
+          bind(&BlurSettings::sigmaPx, numberParam("sigma_px", 0.0, {0.0, 100.0}, "px",
+                                                   "standard deviation; 0 leaves the plate sharp")),
+      });
+  return table;
 }
 
 BlurSettings blurSettings(const Preset& p) {
-  BlurSettings s;
-  s.enabled = p.boolean("blur.enabled");
-  s.sigmaPx = p.number("blur.sigma_px");
-  return s;
+  return blurTable().read(p);
 }
 
 }  // namespace pluvia

@@ -1,11 +1,9 @@
 #pragma once
 // The preset's "darken" section: its parameter table and its settings, read once from the preset.
-#include "preset/param_table.h"
 #include "preset/preset.h"
+#include "preset/settings_table.h"
 
 namespace pluvia {
-
-SectionSpec darkenSection();
 
 struct DarkenSettings {
   bool enabled = true;
@@ -13,6 +11,9 @@ struct DarkenSettings {
   double darkening = 0.5;  // brightness lost at amount 1: out *= 1 - amount * darkening
 };
 
+// The section's table (`section()`: the StageInfo's spec) and its settings read from a
+// resolved preset.
+const SettingsTable<DarkenSettings>& darkenTable();
 DarkenSettings darkenSettings(const Preset& preset);
 
 }  // namespace pluvia

@@ -41,85 +41,85 @@ ParamSpec layersParam() {
 
 }  // namespace
 
-SectionSpec depthSection() {
-  SectionSpec s;
-  s.name = "depth";
-  s.help =
-      "Scene depth per frame (metres) from manual layers (ground, card, polygon, sky), COLMAP "
-      "structure from motion or a depth sequence of the plate (depth.file); sky is at infinity.";
-  s.outputs = {"depth"};
-  s.params = {
-      enabledParam(),
-      enumParam("source", "auto", {"auto", "layers", "colmap", "file", "none"},
-                "auto: a guess from the plate (sky at infinity, the ground under the camera, the "
-                "rest at depth.backdrop_m); layers: depth.layers; colmap: COLMAP structure from "
-                "motion of the clip (its camera also moves the rain); file: depth.file, a depth "
-                "sequence frame-matched to the plate; none: all sky"),
-      layersParam(),
-      numberParam("backdrop_m", 20.0, {0.5, 1e5}, "m",
-                  "auto: the distance of everything that is neither sky nor ground"),
-      enumParam("fallback", "error", {"error", "layers"},
-                "colmap: when tracking fails (no colmap, no parallax, too few frames "
-                "registered), stop (error) or use depth.layers (layers)"),
-      integerParam("frame_step", 0, {0, 1000}, "frames",
-                   "colmap: every Nth frame is tracked; 0: frames chosen so that each shows "
-                   "parallax against the one before; frames between interpolate"),
-      integerParam("max_frames", 200, {3, 100000}, "frames",
-                   "colmap: at most this many frames are tracked (thinned evenly)"),
-      integerParam("colmap_image_px", 1600, {160, 10000}, "px",
-                   "colmap: features are found on frames downscaled to this longest side"),
-      stringParam("colmap_model", "",
-                  "colmap: a COLMAP text model of this clip (cameras.txt, images.txt, "
-                  "points3D.txt) to read instead of running COLMAP; images named frame_%08d.png "
-                  "(pluvia depth's) or as the clip's files"),
-      stringParam("colmap_dense", "",
-                  "colmap: a dense workspace of the same model (stereo/depth_maps after "
-                  "patch_match_stereo); its depth maps replace the densified points where they "
-                  "have estimates"),
-      enumParam("scale", "camera_height", {"camera_height", "first_frame_depth"},
-                "colmap: metric scale from camera.height_m over the fitted ground plane, or from "
-                "depth.first_frame_depth_m"),
-      numberParam("first_frame_depth_m", 10.0, {0.01, 1e6}, "m",
-                  "colmap, scale first_frame_depth: median distance of what the first frame sees"),
-      stringParam("file", "",
-                  "file: the depth sequence, depth.####.exr or depth.%04d.png (frame N for plate "
-                  "frame N, a movie plate's frames counted from 0), or one file for every frame; "
-                  "channel Z, depth.Z, Y or R, or the only one; resampled to the plate size "
-                  "(bilinear on 1/z)"),
-      enumParam("file_encoding", "z_m", {"z_m", "inverse", "normalized"},
-                "file: what a value v means (8/16-bit files: v = code / max code, in [0, 1]); "
-                "z_m: z-depth = file_scale * v metres; inverse: z = file_scale / v (depth "
-                "estimators); normalized: z = file_near_m + v * (file_far_m - file_near_m); z <= "
-                "0, NaN, inf: sky"),
-      numberParam("file_scale", 1.0, {1e-9, 1e9}, "",
-                  "file, z_m: metres per file unit; inverse: z = file_scale / v metres"),
-      numberParam("file_near_m", 1.0, {0.0, 1e6}, "m", "file, normalized: z-depth at v = 0"),
-      numberParam("file_far_m", 100.0, {0.01, 1e6}, "m", "file, normalized: z-depth at v = 1"),
-  };
-  return s;
+const SettingsTable<DepthSettings>& depthTable() {
+  using S = DepthSettings;
+  static const SettingsTable<DepthSettings> table(
+      {.name = "depth",
+       .help = "Scene depth per frame (metres) from manual layers (ground, card, polygon, sky), "
+               "COLMAP structure from motion or a depth sequence of the plate (depth.file); sky is "
+               "at infinity.",
+       .outputs = {"depth"}},
+      {
+          bind(&S::enabled, enabledParam()),
+          bind(&S::source,
+               enumParam("source", "auto", {"auto", "layers", "colmap", "file", "none"},
+                         "auto: a guess from the plate (sky at infinity, the ground under the "
+                         "camera, the rest at depth.backdrop_m); layers: depth.layers; colmap: "
+                         "COLMAP structure from motion of the clip (its camera also moves the "
+                         "rain); file: depth.file, a depth sequence frame-matched to the plate; "
+                         "none: all sky")),
+          bind(&S::layers, layersParam()),
+          bind(&S::backdropMeters,
+               numberParam("backdrop_m", 20.0, {0.5, 1e5}, "m",
+                           "auto: the distance of everything that is neither sky nor ground")),
+          bind(&S::fallback,
+               enumParam("fallback", "error", {"error", "layers"},
+                         "colmap: when tracking fails (no colmap, no parallax, too few frames "
+                         "registered), stop (error) or use depth.layers (layers)")),
+          bind(&S::frameStep,
+               integerParam("frame_step", 0, {0, 1000}, "frames",
+                            "colmap: every Nth frame is tracked; 0: frames chosen so that each "
+                            "shows parallax against the one before; frames between interpolate")),
+          bind(&S::maxFrames,
+               integerParam("max_frames", 200, {3, 100000}, "frames",
+                            "colmap: at most this many frames are tracked (thinned evenly)")),
+          bind(&S::colmapImagePx,
+               integerParam("colmap_image_px", 1600, {160, 10000}, "px",
+                            "colmap: features are found on frames downscaled to this longest "
+                            "side")),
+          bind(&S::colmapModel,
+               stringParam("colmap_model", "",
+                           "colmap: a COLMAP text model of this clip (cameras.txt, images.txt, "
+                           "points3D.txt) to read instead of running COLMAP; images named "
+                           "frame_%08d.png (pluvia depth's) or as the clip's files")),
+          bind(&S::colmapDense,
+               stringParam("colmap_dense", "",
+                           "colmap: a dense workspace of the same model (stereo/depth_maps after "
+                           "patch_match_stereo); its depth maps replace the densified points where "
+                           "they have estimates")),
+          bind(&S::scale,
+               enumParam("scale", "camera_height", {"camera_height", "first_frame_depth"},
+                         "colmap: metric scale from camera.height_m over the fitted "
+                         "ground plane, or from depth.first_frame_depth_m")),
+          bind(&S::firstFrameDepthMeters,
+               numberParam("first_frame_depth_m", 10.0, {0.01, 1e6}, "m",
+                           "colmap, scale first_frame_depth: median distance of what the first "
+                           "frame sees")),
+          bind(&S::file,
+               stringParam("file", "",
+                           "file: the depth sequence, depth.####.exr or depth.%04d.png (frame N "
+                           "for plate frame N, a movie plate's frames counted from 0), or one "
+                           "file for every frame; channel Z, depth.Z, Y or R, or the only one; "
+                           "resampled to the plate size (bilinear on 1/z)")),
+          bind(&S::fileEncoding,
+               enumParam("file_encoding", "z_m", {"z_m", "inverse", "normalized"},
+                         "file: what a value v means (8/16-bit files: v = code / max code, in "
+                         "[0, 1]); z_m: z-depth = file_scale * v metres; inverse: z = file_scale "
+                         "/ v (depth estimators); normalized: z = file_near_m + v * (file_far_m - "
+                         "file_near_m); z <= 0, NaN, inf: sky")),
+          bind(&S::fileScale,
+               numberParam("file_scale", 1.0, {1e-9, 1e9}, "",
+                           "file, z_m: metres per file unit; inverse: z = file_scale / v metres")),
+          bind(&S::fileNearMeters, numberParam("file_near_m", 1.0, {0.0, 1e6}, "m",
+                                               "file, normalized: z-depth at v = 0")),
+          bind(&S::fileFarMeters, numberParam("file_far_m", 100.0, {0.01, 1e6}, "m",
+                                              "file, normalized: z-depth at v = 1")),
+      });
+  return table;
 }
 
 DepthSettings depthSettings(const Preset& p) {
-  DepthSettings s;
-  s.enabled = p.boolean("depth.enabled");
-  s.source = p.string("depth.source");
-  s.layers = p.at("depth.layers");
-  s.backdropMeters = p.number("depth.backdrop_m");
-  s.fallback = p.string("depth.fallback");
-  s.frameStep = int(p.number("depth.frame_step"));
-  s.maxFrames = int(p.number("depth.max_frames"));
-  s.colmapImagePx = int(p.number("depth.colmap_image_px"));
-  s.colmapModel = p.string("depth.colmap_model");
-  s.colmapDense = p.string("depth.colmap_dense");
-  s.scale = p.string("depth.scale");
-  s.firstFrameDepthMeters = p.number("depth.first_frame_depth_m");
-  s.file = p.string("depth.file");
-  s.fileEncoding = p.string("depth.file_encoding");
-  s.fileScale = p.number("depth.file_scale");
-  s.fileNearMeters = p.number("depth.file_near_m");
-  s.fileFarMeters = p.number("depth.file_far_m");
-  s.resolved = p.at("depth");
-  return s;
+  return depthTable().read(p);
 }
 
 }  // namespace pluvia

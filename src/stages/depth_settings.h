@@ -4,12 +4,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "preset/param_table.h"
 #include "preset/preset.h"
+#include "preset/settings_table.h"
 
 namespace pluvia {
-
-SectionSpec depthSection();
 
 struct DepthSettings {
   bool enabled = true;
@@ -30,11 +28,14 @@ struct DepthSettings {
   double fileScale = 1.0;
   double fileNearMeters = 1.0;
   double fileFarMeters = 100.0;
-  // The section as the preset resolved it: the COLMAP tracking's cache key hashes the values it
-  // depends on from it (see CameraSettings::resolved).
+  // The section as the preset resolved it (filled by SettingsTable::read): the COLMAP tracking's
+  // cache key hashes the values it depends on from it (see CameraSettings::resolved).
   nlohmann::json resolved;
 };
 
+// The section's table (`section()`: the StageInfo's spec) and its settings read from a
+// resolved preset.
+const SettingsTable<DepthSettings>& depthTable();
 DepthSettings depthSettings(const Preset& preset);
 
 }  // namespace pluvia

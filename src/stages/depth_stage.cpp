@@ -167,7 +167,7 @@ class DepthStage : public Stage {
 
 StageInfo depthStageInfo() {
   StageInfo info;
-  info.spec = depthSection();
+  info.spec = depthTable().section();
   info.note = [](const Preset& p) -> std::string {
     const DepthSettings depth = depthSettings(p);
     if (depth.source == "file")

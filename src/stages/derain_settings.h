@@ -4,23 +4,24 @@
 
 #include <nlohmann/json.hpp>
 
-#include "preset/param_table.h"
 #include "preset/preset.h"
+#include "preset/settings_table.h"
 
 namespace pluvia {
-
-SectionSpec derainSection();
 
 struct DerainSettings {
   bool enabled = true;
   std::string input;  // rain footage; empty: the render input
   int frames = 20;    // solved together, from the footage's first frame
   int strokeCount = 64;
-  // The section as the preset resolved it: the cache key of the cut strokes hashes it (see
-  // CameraSettings::resolved).
+  // The section as the preset resolved it (filled by SettingsTable::read): the cache key of the cut
+  // strokes hashes it (see CameraSettings::resolved).
   nlohmann::json resolved;
 };
 
+// The section's table (`section()`: the StageInfo's spec) and its settings read from a
+// resolved preset.
+const SettingsTable<DerainSettings>& derainTable();
 DerainSettings derainSettings(const Preset& preset);
 
 }  // namespace pluvia

@@ -89,7 +89,7 @@ class DerainStage : public Stage {
 
 StageInfo derainStageInfo() {
   StageInfo info;
-  info.spec = derainSection();
+  info.spec = derainTable().section();
   info.perClip = true;
   info.cacheKey = [](const Preset& p, const ClipInfo& clip) {
     return derainCacheKey(derainSettings(p), clip);

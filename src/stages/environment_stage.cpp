@@ -239,7 +239,7 @@ class EnvironmentStage : public Stage {
 
 StageInfo environmentStageInfo() {
   StageInfo info;
-  info.spec = lightingSection();
+  info.spec = lightingTable().section();
   info.perClip = true;
   info.cacheKey = [](const Preset& p, const ClipInfo& clip) {
     LightingSettings lighting = lightingSettings(p);

@@ -3,12 +3,10 @@
 #include <array>
 #include <string>
 
-#include "preset/param_table.h"
 #include "preset/preset.h"
+#include "preset/settings_table.h"
 
 namespace pluvia {
-
-SectionSpec fogSection();
 
 struct FogSettings {
   bool enabled = true;
@@ -21,6 +19,9 @@ struct FogSettings {
   int skylightTableWidth = 64;  // the skylight model's table of in-scattering per direction
 };
 
+// The section's table (`section()`: the StageInfo's spec) and its settings read from a
+// resolved preset.
+const SettingsTable<FogSettings>& fogTable();
 FogSettings fogSettings(const Preset& preset);
 
 }  // namespace pluvia

@@ -84,7 +84,7 @@ class FogStage : public Stage {
 
 StageInfo fogStageInfo() {
   StageInfo info;
-  info.spec = fogSection();
+  info.spec = fogTable().section();
   info.noOpReason = [](const Preset& p) {
     const FogSettings fog = fogSettings(p);
     // Skylight fog scatters through the rain as well: no-op only without fog and rain.

@@ -27,60 +27,54 @@ ParamSpec lightsParam() {
 
 }  // namespace
 
-SectionSpec lightingSection() {
-  SectionSpec s;
-  s.name = "lighting";
-  s.help =
-      "Environment lighting for the drops (per clip): an equirect HDR, a constant, or the clip's "
-      "average.";
-  s.outputs = {"environment"};
-  s.params = {
-      enabledParam(),
-      enumParam("source", "frame", {"frame", "frame_average", "constant", "hdr", "stitch"},
-                "frame: the plate itself within the camera's view, its mean by elevation "
-                "elsewhere (the sky above lights the drops); stitch: the shot's frames stitched "
-                "into a panorama (Wang et al. 4.1); frame_average: mean radiance of sampled "
-                "frames in every direction; constant: lighting.color; hdr: lighting.hdr"),
-      enumParam("motion", "auto", {"auto", "pan", "loom", "static"},
-                "stitch: the camera's motion (auto: rotation found by the features makes a pan, "
-                "a changing view a loom)"),
-      integerParam("every", 5, {1, 10000}, "frames", "stitch, loom: a panorama every N frames"),
-      integerParam("pan_frames", 24, {1, 500}, "frames",
-                   "stitch, pan: frames stitched, evenly over the clip"),
-      enumParam("unseen_fill", "sky_model", {"sky_model", "nearest"},
-                "stitch: the directions no frame saw; sky_model: a Preetham, CIE overcast or "
-                "uniform sky fitted to the seen sky and the seen ground's albedo under it; "
-                "nearest: the nearest seen colour (Wang et al.)"),
-      lightsParam(),
-      stringParam("hdr", "",
-                  "equirect HDR (.exr, .hdr; linear Rec.709; +Y up, image centre looking along "
-                  "-Z) for source hdr"),
-      numberParam("intensity", 1.0, {0.0, 1e6}, "",
-                  "scale on the HDR's radiance, to match the plate"),
-      colorParam("color", nlohmann::json::array({0.5, 0.5, 0.5}), "linear",
-                 "radiance when source is constant"),
-      integerParam("sample_frames", 8, {1, 1000}, "frames",
-                   "frames averaged for frame_average (frame takes the median of 5 over the "
-                   "clip)"),
-  };
-  return s;
+const SettingsTable<LightingSettings>& lightingTable() {
+  using S = LightingSettings;
+  static const SettingsTable<LightingSettings> table(
+      {.name = "lighting",
+       .help = "Environment lighting for the drops (per clip): an equirect HDR, a constant, or the "
+               "clip's average.",
+       .outputs = {"environment"}},
+      {
+          bind(&S::enabled, enabledParam()),
+          bind(&S::source,
+               enumParam("source", "frame", {"frame", "frame_average", "constant", "hdr", "stitch"},
+                         "frame: the plate itself within the camera's view, its mean by elevation "
+                         "elsewhere (the sky above lights the drops); stitch: the shot's frames "
+                         "stitched into a panorama (Wang et al. 4.1); frame_average: mean radiance "
+                         "of sampled frames in every direction; constant: lighting.color; hdr: "
+                         "lighting.hdr")),
+          bind(&S::motion,
+               enumParam("motion", "auto", {"auto", "pan", "loom", "static"},
+                         "stitch: the camera's motion (auto: rotation found by the features makes "
+                         "a pan, a changing view a loom)")),
+          bind(&S::everyFrames, integerParam("every", 5, {1, 10000}, "frames",
+                                             "stitch, loom: a panorama every N frames")),
+          bind(&S::panFrames, integerParam("pan_frames", 24, {1, 500}, "frames",
+                                           "stitch, pan: frames stitched, evenly over the clip")),
+          bind(&S::unseenFill,
+               enumParam("unseen_fill", "sky_model", {"sky_model", "nearest"},
+                         "stitch: the directions no frame saw; sky_model: a Preetham, CIE "
+                         "overcast or uniform sky fitted to the seen sky and the seen ground's "
+                         "albedo under it; nearest: the nearest seen colour (Wang et al.)")),
+          bind(&S::lights, lightsParam()),
+          bind(&S::hdrPath,
+               stringParam("hdr", "",
+                           "equirect HDR (.exr, .hdr; linear Rec.709; +Y up, image centre looking "
+                           "along -Z) for source hdr")),
+          bind(&S::intensity, numberParam("intensity", 1.0, {0.0, 1e6}, "",
+                                          "scale on the HDR's radiance, to match the plate")),
+          bind(&S::constantRgb, colorParam("color", nlohmann::json::array({0.5, 0.5, 0.5}),
+                                           "linear", "radiance when source is constant")),
+          bind(&S::sampleFrames,
+               integerParam("sample_frames", 8, {1, 1000}, "frames",
+                            "frames averaged for frame_average (frame takes the median of 5 over "
+                            "the clip)")),
+      });
+  return table;
 }
 
 LightingSettings lightingSettings(const Preset& p) {
-  LightingSettings s;
-  s.enabled = p.boolean("lighting.enabled");
-  s.source = p.string("lighting.source");
-  s.motion = p.string("lighting.motion");
-  s.everyFrames = int(p.number("lighting.every"));
-  s.panFrames = int(p.number("lighting.pan_frames"));
-  s.unseenFill = p.string("lighting.unseen_fill");
-  s.lights = p.at("lighting.lights");
-  s.hdrPath = p.string("lighting.hdr");
-  s.intensity = p.number("lighting.intensity");
-  s.constantRgb = p.color("lighting.color");
-  s.sampleFrames = int(p.number("lighting.sample_frames"));
-  s.resolved = p.at("lighting");
-  return s;
+  return lightingTable().read(p);
 }
 
 }  // namespace pluvia

@@ -6,12 +6,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "preset/param_table.h"
 #include "preset/preset.h"
+#include "preset/settings_table.h"
 
 namespace pluvia {
-
-SectionSpec lightingSection();
 
 struct LightingSettings {
   bool enabled = true;
@@ -27,11 +25,14 @@ struct LightingSettings {
   double intensity = 1.0;                              // scale on the HDR's radiance
   std::array<float, 3> constantRgb{0.5f, 0.5f, 0.5f};  // source constant, linear
   int sampleFrames = 8;                                // source frame_average
-  // The section as the preset resolved it: the environment's cache key hashes it (see
-  // CameraSettings::resolved).
+  // The section as the preset resolved it (filled by SettingsTable::read): the environment's cache
+  // key hashes it (see CameraSettings::resolved).
   nlohmann::json resolved;
 };
 
+// The section's table (`section()`: the StageInfo's spec) and its settings read from a
+// resolved preset.
+const SettingsTable<LightingSettings>& lightingTable();
 LightingSettings lightingSettings(const Preset& preset);
 
 }  // namespace pluvia

@@ -41,46 +41,52 @@ Ramp rampOr(const nlohmann::json& item, const char* key, double fallback) {
 
 }  // namespace
 
-SectionSpec lightsSection() {
-  SectionSpec s;
-  s.name = "lights";
-  s.help =
-      "Local lights at night: drops glint near them (the drop's transfer function, 1/d^2, the "
-      "spot's cone), and each light glows in the wet air and a spot shows its beam (single "
-      "scattering, Huang et al. 2006 after Sun et al. 2005), occluded by the scene's depth; the "
-      "extinction is the rain's plus the fog's.";
-  s.inputs = {"image", "depth"};
-  s.outputs = {"image"};
-  s.params = {
-      enabledParam(),
-      listOfLights(),
-      booleanParam("halos", true, "the glow around lights and the beams of spots"),
-      booleanParam("drops", true, "the drops lit by the lights"),
-      numberParam(
-          "halo_threshold", 1e-3, {0.0, 1e3}, "radiance",
-          "a light whose brightest halo pixel is below this is culled (counted in the log)"),
-      enumParam("find", "auto", {"auto", "on", "off"},
-                "auto: on a night plate (median luminance under 0.08), the clipped blobs in the "
-                "dark (lamps) become point lights at the depth the depth stage gives around "
-                "them, coloured like their unclipped rim, fixed in the world of the clip's "
-                "camera; nothing clipped, none; on: on any plate; off: only lights.list"),
-      numberParam("find_level", 0.95, {0.01, 1e6}, "working-space",
-                  "a pixel whose max channel is at least this is clipped (the white of a "
-                  "display-referred file is 1.0)"),
-      numberParam("find_min_area_px", 4.0, {1.0, 1e6}, "px", "smallest clipped blob taken"),
-      // A night exposure keeps the lit street (about 1 cd/m^2) near mid-grey; a lamp's diffuser
-      // is 10^4 cd/m^2 and more. 100 (under 7 stops) is a conservative guess of what the clip
-      // hides.
-      numberParam("find_core_gain", 100.0, {1.0, 1e6}, "",
-                  "a found lamp's radiance is find_level times this (its clipped core hides how "
-                  "bright it is): intensity = gain * find_level * solid angle * distance^2"),
-  };
-  return s;
+const SettingsTable<LightsSettings>& lightsTable() {
+  using S = LightsSettings;
+  static const SettingsTable<LightsSettings> table(
+      {.name = "lights",
+       .help = "Local lights at night: drops glint near them (the drop's transfer function, 1/d^2, "
+               "the spot's cone), and each light glows in the wet air and a spot shows its beam "
+               "(single scattering, Huang et al. 2006 after Sun et al. 2005), occluded by the "
+               "scene's depth; the extinction is the rain's plus the fog's.",
+       .inputs = {"image", "depth"},
+       .outputs = {"image"}},
+      {
+          bind(&S::enabled, enabledParam()),
+          unbound<S>(listOfLights()),
+          bind(&S::halos,
+               booleanParam("halos", true, "the glow around lights and the beams of spots")),
+          bind(&S::drops, booleanParam("drops", true, "the drops lit by the lights")),
+          bind(&S::haloThresholdRadiance,
+               numberParam("halo_threshold", 1e-3, {0.0, 1e3}, "radiance",
+                           "a light whose brightest halo pixel is below this is culled (counted "
+                           "in the log)")),
+          unbound<S>(enumParam(
+              "find", "auto", {"auto", "on", "off"},
+              "auto: on a night plate (median luminance under 0.08), the clipped blobs in the "
+              "dark (lamps) become point lights at the depth the depth stage gives around "
+              "them, coloured like their unclipped rim, fixed in the world of the clip's "
+              "camera; nothing clipped, none; on: on any plate; off: only lights.list")),
+          bind(&S::findClipLevel,
+               numberParam("find_level", 0.95, {0.01, 1e6}, "working-space",
+                           "a pixel whose max channel is at least this is clipped (the white of a "
+                           "display-referred file is 1.0)")),
+          bind(&S::findMinAreaPx, numberParam("find_min_area_px", 4.0, {1.0, 1e6}, "px",
+                                              "smallest clipped blob taken")),
+          // A night exposure keeps the lit street (about 1 cd/m^2) near mid-grey; a lamp's
+          // diffuser is 10^4 cd/m^2 and more. 100 (under 7 stops) is a conservative guess of what
+          // the clip hides.
+          bind(&S::findCoreGain,
+               numberParam("find_core_gain", 100.0, {1.0, 1e6}, "",
+                           "a found lamp's radiance is find_level times this (its clipped core "
+                           "hides how bright it is): intensity = gain * find_level * solid angle "
+                           "* distance^2")),
+      });
+  return table;
 }
 
 LightsSettings lightsSettings(const Preset& p) {
-  LightsSettings s;
-  s.enabled = p.boolean("lights.enabled");
+  LightsSettings s = lightsTable().read(p);
   for (const nlohmann::json& item : p.at("lights.list")) {
     LightSpec light;
     light.spot = item.at("type").get<std::string>() == "spot";
@@ -99,15 +105,8 @@ LightsSettings lightsSettings(const Preset& p) {
     light.falloffQ = numberOr(item, "falloff_q", 0.0);
     s.lights.push_back(light);
   }
-  s.halos = p.boolean("lights.halos");
-  s.drops = p.boolean("lights.drops");
-  s.haloThresholdRadiance = p.number("lights.halo_threshold");
   s.find = s.enabled && p.string("lights.find") != "off";
   s.findOnDayPlates = p.string("lights.find") == "on";
-  s.findClipLevel = p.number("lights.find_level");
-  s.findMinAreaPx = int(p.number("lights.find_min_area_px"));
-  s.findCoreGain = p.number("lights.find_core_gain");
-  s.resolved = p.at("lights");
   return s;
 }
 

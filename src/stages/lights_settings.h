@@ -8,13 +8,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "preset/param_table.h"
 #include "preset/preset.h"
 #include "preset/ramp.h"
+#include "preset/settings_table.h"
 
 namespace pluvia {
-
-SectionSpec lightsSection();
 
 // One light of lights.list. Positions and directions are in the camera's space (+X right, +Y
 // up, looking along -Z: geometry/camera.h) or in the world's (+Y up, metres; the tracked
@@ -49,6 +47,9 @@ struct LightsSettings {
   nlohmann::json resolved;
 };
 
+// The section's table (`section()`: the StageInfo's spec) and its settings read from a
+// resolved preset.
+const SettingsTable<LightsSettings>& lightsTable();
 LightsSettings lightsSettings(const Preset& preset);
 
 }  // namespace pluvia

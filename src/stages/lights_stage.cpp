@@ -134,7 +134,7 @@ class LightsStage : public Stage {
 
 StageInfo lightsStageInfo() {
   StageInfo info;
-  info.spec = lightsSection();
+  info.spec = lightsTable().section();
   info.noOpReason = [](const Preset& p) -> std::string {
     const LightsSettings lights = lightsSettings(p);
     if (lights.lights.empty() && !lights.find)
@@ -142,11 +142,10 @@ StageInfo lightsStageInfo() {
     if (!lights.halos && !lights.drops) return "lights.halos and lights.drops are both off";
     // Halos need a medium and lit drops need drops: with neither rain nor fog there is nothing
     // for the lights to light.
-    const RainSettings rain = rainSettings(p);
     const FogSettings fog = fogSettings(p);
-    const bool raining = rain.enabled && rain.rateMmPerHour.maxValue() > 0.0;
     const bool foggy = fog.enabled && fog.densityPerMeter > 0.0;
-    if (!raining && !foggy) return "no rain and no fog: nothing scatters the lights";
+    if (!rainSettings(p).falls() && !foggy)
+      return "no rain and no fog: nothing scatters the lights";
     return "";
   };
   info.note = [](const Preset& p) -> std::string {

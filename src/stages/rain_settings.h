@@ -4,14 +4,12 @@
 #include <cstdint>
 #include <string>
 
-#include "preset/param_table.h"
 #include "preset/preset.h"
 #include "preset/ramp.h"
+#include "preset/settings_table.h"
 #include "rain/drop_physics.h"
 
 namespace pluvia {
-
-SectionSpec rainSection();
 
 struct RainSettings {
   bool enabled = true;
@@ -46,8 +44,15 @@ struct RainSettings {
     double peakDensity = 4.0;
     double sizeScale = 1.3;
   } cells;
+
+  // Whether any rain falls during the shot: the section on and its rate above 0 at some key (the
+  // stages that need drops to scatter, splash or light are no-ops otherwise).
+  bool falls() const { return enabled && rateMmPerHour.maxValue() > 0.0; }
 };
 
+// The section's table (`section()`: the StageInfo's spec) and its settings read from a
+// resolved preset.
+const SettingsTable<RainSettings>& rainTable();
 RainSettings rainSettings(const Preset& preset);
 
 }  // namespace pluvia

@@ -266,7 +266,7 @@ class RainStage : public Stage {
 
 StageInfo rainStageInfo() {
   StageInfo info;
-  info.spec = rainSection();
+  info.spec = rainTable().section();
   info.noOpReason = [](const Preset& p) -> std::string {
     const RainSettings rain = rainSettings(p);
     // A ramp is 0 throughout only when every key is (interpolation stays between keys).

@@ -4,12 +4,10 @@
 #include <array>
 #include <string>
 
-#include "preset/param_table.h"
 #include "preset/preset.h"
+#include "preset/settings_table.h"
 
 namespace pluvia {
-
-SectionSpec rainbowSection();
 
 struct RainbowSettings {
   bool enabled = true;
@@ -21,6 +19,9 @@ struct RainbowSettings {
   double strength = 1.0;               // artist scale on the physical radiance
 };
 
+// The section's table (`section()`: the StageInfo's spec) and its settings read from a
+// resolved preset.
+const SettingsTable<RainbowSettings>& rainbowTable();
 RainbowSettings rainbowSettings(const Preset& preset);
 
 }  // namespace pluvia

@@ -83,11 +83,10 @@ class RainbowStage : public Stage {
 
 StageInfo rainbowStageInfo() {
   StageInfo info;
-  info.spec = rainbowSection();
+  info.spec = rainbowTable().section();
   info.noOpReason = [](const Preset& p) -> std::string {
     const RainbowSettings bow = rainbowSettings(p);
-    const RainSettings rain = rainSettings(p);
-    if (!rain.enabled || rain.rateMmPerHour.maxValue() == 0.0) return "no rain to scatter";
+    if (!rainSettings(p).falls()) return "no rain to scatter";
     if (bow.strength == 0.0) return "strength is 0";
     if (bow.sunSource != "direction") return "";
     const CameraSettings camera = cameraSettings(p);

@@ -20,7 +20,7 @@ const StageInfo* findStage(const std::string& name) {
 }
 
 Schema presetSchema() {
-  Schema schema{cameraSection(), colorSection()};
+  Schema schema{cameraTable().section(), colorTable().section()};
   for (const auto& s : allStages()) schema.push_back(s.spec);
   return schema;
 }

@@ -1,12 +1,10 @@
 #pragma once
 // The preset's "splash" section: splashes where drops strike surfaces that face up
 // (rain/splashes.h), at the rate of the rain section's drop flux.
-#include "preset/param_table.h"
 #include "preset/preset.h"
+#include "preset/settings_table.h"
 
 namespace pluvia {
-
-SectionSpec splashSection();
 
 struct SplashSettings {
   bool enabled = true;
@@ -15,9 +13,12 @@ struct SplashSettings {
   double opacity = 1.0;
   double minSizePx = 2.0;  // nearest crown size drawn: sets the farthest surface that splashes
   bool splatter = false;   // splatter texture flashes at the impacts (rain/splatter.h)
-  double splatterSeconds = 0.04;
+  double splatterMs = 40.0;
 };
 
+// The section's table (`section()`: the StageInfo's spec) and its settings read from a
+// resolved preset.
+const SettingsTable<SplashSettings>& splashTable();
 SplashSettings splashSettings(const Preset& preset);
 
 }  // namespace pluvia

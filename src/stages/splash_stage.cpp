@@ -70,7 +70,7 @@ class SplashStage : public Stage {
     // Splashes born up to the longest life before the shutter opens are still alive.
     const double longest = rain::splashLifeSeconds(
         {{}, 0.0, kMaxDiameterMm, rain::terminalVelocity(rain_.velocity, kMaxDiameterMm), 0});
-    const double flash = splash_.splatter ? splash_.splatterSeconds : 0.0;
+    const double flash = splash_.splatter ? splash_.splatterMs * 1e-3 : 0.0;
     const int64_t firstBirth = frame.frame - int64_t(std::ceil(std::max(longest, flash) * fps_));
     const std::vector<const std::vector<rain::Impact>*> born =
         memo_.impacts(firstBirth, frame.frame, fps_, rain_.seed, diameters, rate, rain_.velocity);
@@ -125,10 +125,9 @@ class SplashStage : public Stage {
 
 StageInfo splashStageInfo() {
   StageInfo info;
-  info.spec = splashSection();
+  info.spec = splashTable().section();
   info.noOpReason = [](const Preset& p) -> std::string {
-    const RainSettings rain = rainSettings(p);
-    if (!rain.enabled || rain.rateMmPerHour.maxValue() == 0.0) return "no rain falls";
+    if (!rainSettings(p).falls()) return "no rain falls";
     if (splashSettings(p).opacity == 0.0) return "opacity is 0";
     return "";
   };

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
+#include <string>
 
 #include <OpenImageIO/imageio.h>
 
@@ -85,16 +87,24 @@ size_t countFiles(const stdfs::path& dir) {
   return n;
 }
 
+// The plate's depth from kLayers, written by `pluvia depth` as dir/depth/z.####.exr (its
+// pattern is returned), and dir/out/ made for the renders.
+std::string writeLayerDepth(const stdfs::path& dir, const std::string& plate) {
+  stdfs::create_directories(dir / "depth");
+  stdfs::create_directories(dir / "out");
+  const std::string depth = (dir / "depth" / "z.####.exr").string();
+  auto written = runPluvia({"depth", plate, "-o", depth, "-p", "moderate", "--set", kLayers});
+  // Thrown, the failure ends the test (gtest reports it with the message).
+  if (written.exitCode != 0) throw std::runtime_error("pluvia depth failed: " + written.output);
+  return depth;
+}
+
 }  // namespace
 
 TEST(CliDepthFile, RendersAsTheLayersItWasWrittenFrom) {
   const auto dir = freshTempDir("depth_file_same");
   const std::string plate = writePlate(dir);
-  stdfs::create_directories(dir / "depth");
-  stdfs::create_directories(dir / "out");
-  const std::string depth = (dir / "depth" / "z.####.exr").string();
-  auto written = runPluvia({"depth", plate, "-o", depth, "-p", "moderate", "--set", kLayers});
-  ASSERT_EQ(written.exitCode, 0) << written.output;
+  const std::string depth = writeLayerDepth(dir, plate);
 
   auto layers = runPluvia({"render", plate, "-p", "moderate", "-o",
                            (dir / "out" / "layers.####.exr").string(), "--aov", "depth", "--set",
@@ -158,11 +168,7 @@ TEST(CliDepthFile, MoviePlateFramesCountFromZeroAndSmallerFilesAreResampled) {
 TEST(CliDepthFile, MissingDepthFrameStopsBeforeAnyFrame) {
   const auto dir = freshTempDir("depth_file_missing");
   const std::string plate = writePlate(dir);
-  stdfs::create_directories(dir / "depth");
-  stdfs::create_directories(dir / "out");
-  const std::string depth = (dir / "depth" / "z.####.exr").string();
-  auto written = runPluvia({"depth", plate, "-o", depth, "-p", "moderate", "--set", kLayers});
-  ASSERT_EQ(written.exitCode, 0) << written.output;
+  const std::string depth = writeLayerDepth(dir, plate);
   const stdfs::path deleted = dir / "depth" / "z.0002.exr";
   ASSERT_TRUE(stdfs::remove(deleted));
 

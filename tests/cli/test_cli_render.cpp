@@ -15,12 +15,6 @@ namespace stdfs = std::filesystem;
 namespace {
 const std::string kExamplePreset = (sourceDir() / "examples/street/street.json").string();
 
-// A small textured plate sequence, frames first..last, written as PNG.
-std::string writePlateSequence(const stdfs::path& dir, int first, int last, int w = 64,
-                               int h = 48) {
-  return test::writeTexturedPlate(dir, first, last, w, h);
-}
-
 double meanAbsDifference(const Image& a, const Image& b) {
   double sum = 0;
   for (size_t i = 0; i < a.rgba.size(); ++i) sum += std::fabs(a.rgba[i] - b.rgba[i]);
@@ -62,7 +56,7 @@ TEST(CliRender, ExampleGetsVisibleRainAndTheStatsTable) {
 
 TEST(CliRender, NoOpPresetReproducesThePlateExactly) {
   auto dir = freshTempDir("render_identity");
-  auto plate = writePlateSequence(dir, 1001, 1002);
+  auto plate = writeTexturedPlate(dir, 1001, 1002);
   auto r = runPluvia({"render", plate, "-p", "moderate", "-o", (dir / "out.####.png").string(),
                       "--set", "rain.rate_mm_h=0", "--set", "fog.density=0", "--set",
                       "blur.sigma_px=0", "--set", "darken.amount=0"});
@@ -74,7 +68,7 @@ TEST(CliRender, NoOpPresetReproducesThePlateExactly) {
 
 TEST(CliRender, ChunksAndThreadCountsGiveIdenticalFrames) {
   auto dir = freshTempDir("render_determinism");
-  auto plate = writePlateSequence(dir, 1, 6, 96, 64);
+  auto plate = writeTexturedPlate(dir, 1, 6, 96, 64);
   // The whole rain model: a ramped gusty wind with a stable-fluids field, rain cells, spread,
   // and a camera walking forward while it turns.
   const std::vector<std::string> common{
@@ -121,7 +115,7 @@ TEST(CliRender, ChunksAndThreadCountsGiveIdenticalFrames) {
 
 TEST(CliRender, SkipExistingResumesWithoutRewriting) {
   auto dir = freshTempDir("render_skip");
-  auto plate = writePlateSequence(dir, 1, 3);
+  auto plate = writeTexturedPlate(dir, 1, 3);
   auto out = (dir / "out.####.png").string();
   ASSERT_EQ(runPluvia({"render", plate, "-p", "drizzle", "-o", out, "--frames", "1-2"}).exitCode,
             0);

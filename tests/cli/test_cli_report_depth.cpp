@@ -4,10 +4,8 @@
 // error under 10 %, and the metric scale from the camera height within 10 %.
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <string>
@@ -28,22 +26,12 @@ TEST(CliReportDepth, QuickReportPosesEveryFrameWithSmallErrors) {
   if (!colmapAvailable()) GTEST_SKIP() << "colmap is not installed";
   const auto dir = freshTempDir("report_depth");
   const stdfs::path csv = dir / "depth.csv", plot = dir / "depth.png";
-  const auto start = std::chrono::steady_clock::now();
-  const CommandResult r =
-      runPluvia({"report", "depth", "--quick", "--csv", csv.string(), "--plot", plot.string()});
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::cout << r.output << "report depth --quick took " << seconds << " s\n";
+  const CommandResult r = runPluviaTimed(
+      {"report", "depth", "--quick", "--csv", csv.string(), "--plot", plot.string()});
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("GL renderer:"), std::string::npos) << r.output;
 
-  ASSERT_TRUE(stdfs::exists(csv));
-  std::ifstream file(csv);
-  std::string header;
-  ASSERT_TRUE(std::getline(file, header));
-  const std::vector<std::string> names = splitCsv(header);
-  std::map<std::string, size_t> column;
-  for (size_t i = 0; i < names.size(); ++i) column[names[i]] = i;
+  const CsvTable table = readCsvTable(csv);
   const std::vector<std::string> measures = {"clip_frames",
                                              "frames_used",
                                              "registered_used",
@@ -62,17 +50,13 @@ TEST(CliReportDepth, QuickReportPosesEveryFrameWithSmallErrors) {
                                              "colmap_seconds",
                                              "densify_seconds_per_frame",
                                              "total_seconds"};
-  for (const std::string& name : measures)
-    ASSERT_TRUE(column.count(name)) << "no column '" << name << "' in: " << header;
-  ASSERT_TRUE(column.count("status")) << header;
-  ASSERT_TRUE(column.count("scene")) << header;
+  ASSERT_TRUE(hasColumns(table, measures));
+  ASSERT_TRUE(hasColumns(table, {"status", "scene"}));
+  std::map<std::string, size_t> column = table.column;
 
-  int rows = 0;
-  for (std::string line; std::getline(file, line);) {
-    if (line.empty()) continue;
-    ++rows;
-    const std::vector<std::string> fields = splitCsv(line);
-    ASSERT_EQ(fields.size(), names.size()) << line;
+  for (size_t row = 0; row < table.rows.size(); ++row) {
+    const std::vector<std::string>& fields = table.rows[row];
+    const std::string& line = table.lines[row];
     EXPECT_EQ(fields[column["scene"]], "synthetic") << "--quick has no real photos: " << line;
     EXPECT_EQ(fields[column["status"]], "ok") << line;
     for (const std::string& name : measures) {
@@ -93,12 +77,8 @@ TEST(CliReportDepth, QuickReportPosesEveryFrameWithSmallErrors) {
               << fields[column["position_max_m"]] << " m, scale " << fields[column["scale_ratio"]]
               << ", median depth error " << fields[column["depth_median_rel_error"]] << "\n";
   }
-  EXPECT_EQ(rows, 1);
-
-  ASSERT_TRUE(stdfs::exists(plot));
-  const Image image = readImageFile(plot);
-  EXPECT_GT(image.width, 0);
-  EXPECT_GT(image.height, 0);
+  EXPECT_EQ(table.rows.size(), 1u);
+  expectPlot(plot);
 }
 
 TEST(CliReportDepth, RejectsAMissingDataFolder) {
@@ -115,8 +95,7 @@ TEST(CliReportDepth, AFailedRowFailsTheCommand) {
   const ProcessResult r = runProcess(
       {"env", "PLUVIA_COLMAP=/bin/false", pluviaBinary().string(), "report", "depth", "--quick"});
   EXPECT_EQ(r.exitCode, 1) << r.output;
-  EXPECT_NE(r.output.find("failed"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("report depth: 1 of its rows failed"), std::string::npos) << r.output;
+  expectOutputHas(r.output, {"failed", "report depth: 1 of its rows failed"});
 }
 
 }  // namespace

@@ -2,10 +2,8 @@
 // with finite numbers; the solver's background better than the median's), its plot and previews.
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <string>
@@ -22,35 +20,21 @@ namespace {
 TEST(CliReportDerain, QuickReportWritesCsvPlotAndPreviews) {
   const auto dir = freshTempDir("report_derain");
   const stdfs::path csv = dir / "derain.csv", plot = dir / "derain.png", images = dir / "images";
-  const auto start = std::chrono::steady_clock::now();
-  const CommandResult r = runPluvia({"report", "derain", "--quick", "--csv", csv.string(), "--plot",
-                                     plot.string(), "--images", images.string()});
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::cout << r.output << "report derain --quick took " << seconds << " s\n";
+  const CommandResult r = runPluviaTimed({"report", "derain", "--quick", "--csv", csv.string(),
+                                          "--plot", plot.string(), "--images", images.string()});
   ASSERT_EQ(r.exitCode, 0) << r.output;
 
   // Printed rows: the lines that start with a section name.
   const int printedRows = countLinesStartingWith(r.output, {"synthetic", "iterations", "window"});
 
-  ASSERT_TRUE(stdfs::exists(csv));
-  std::ifstream file(csv);
-  std::string header;
-  ASSERT_TRUE(std::getline(file, header));
-  const std::vector<std::string> names = splitCsv(header);
-  std::map<std::string, size_t> column;
-  for (size_t i = 0; i < names.size(); ++i) column[names[i]] = i;
-  for (const char* name : {"section", "method", "frames", "psnr_db", "ssim", "alpha_mae",
-                           "angle_deg", "angle_error_deg", "seconds"}) {
-    ASSERT_TRUE(column.count(name)) << "no column '" << name << "' in: " << header;
-  }
-  int csvRows = 0;
+  const CsvTable table = readCsvTable(csv);
+  ASSERT_TRUE(hasColumns(table, {"section", "method", "frames", "psnr_db", "ssim", "alpha_mae",
+                                 "angle_deg", "angle_error_deg", "seconds"}));
+  std::map<std::string, size_t> column = table.column;
   double medianPsnr = NAN, solverPsnr = NAN;
-  for (std::string line; std::getline(file, line);) {
-    if (line.empty()) continue;
-    ++csvRows;
-    const std::vector<std::string> fields = splitCsv(line);
-    ASSERT_EQ(fields.size(), names.size()) << line;
+  for (size_t row = 0; row < table.rows.size(); ++row) {
+    const std::vector<std::string>& fields = table.rows[row];
+    const std::string& line = table.lines[row];
     const std::string& method = fields[column["method"]];
     // Real footage rows (none in --quick) have no ground truth, so no measures.
     if (fields[column["section"]] == "real") continue;
@@ -71,17 +55,14 @@ TEST(CliReportDerain, QuickReportWritesCsvPlotAndPreviews) {
       (method == "median" ? medianPsnr : solverPsnr) = parseNumber(fields[column["psnr_db"]], line);
     }
   }
-  EXPECT_EQ(csvRows, printedRows) << r.output;
+  EXPECT_EQ(int(table.rows.size()), printedRows) << r.output;
   ASSERT_TRUE(std::isfinite(medianPsnr)) << "no synthetic median row";
   ASSERT_TRUE(std::isfinite(solverPsnr)) << "no synthetic solver row";
   // Eq. (1) over 20 frames recovers the background at least 1 dB better than the per-pixel
   // median (the target).
   EXPECT_GE(solverPsnr, medianPsnr + 1.0) << "(the table is printed above)";
 
-  ASSERT_TRUE(stdfs::exists(plot));
-  const Image image = readImageFile(plot);
-  EXPECT_GT(image.width, 0);
-  EXPECT_GT(image.height, 0);
+  expectPlot(plot);
   for (const char* name : {"synthetic_truth.png", "synthetic_median.png", "synthetic_solver.png",
                            "synthetic_matte_solver_x4.png"}) {
     EXPECT_TRUE(stdfs::exists(images / name)) << name;

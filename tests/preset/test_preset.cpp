@@ -30,6 +30,12 @@ bool anyContains(const std::vector<std::string>& lines, const std::string& needl
     if (l.find(needle) != std::string::npos) return true;
   return false;
 }
+
+// Expects each of `needles` in some line of `problems`.
+void expectProblems(const std::vector<std::string>& problems,
+                    const std::vector<std::string>& needles) {
+  for (const auto& needle : needles) EXPECT_TRUE(anyContains(problems, needle)) << needle;
+}
 }  // namespace
 
 TEST(Preset, EveryShippedPresetIsValid) {
@@ -73,16 +79,15 @@ TEST(Preset, ReportsEveryProblemAtOnceWithPathsAndSuggestions) {
     "depth": {"layers": [{"type": "card", "distanse_m": 4}, {"type": "wall"}]}
   })");
   auto problems = problemsOf(path.string(), {"blur.sigma=2"});
-  EXPECT_TRUE(anyContains(
-      problems, "/rain/rate_mm_hr: unknown key 'rate_mm_hr' (did you mean 'rate_mm_h'?)"));
-  EXPECT_TRUE(anyContains(problems, "/rain/seed: expected an integer"));
-  EXPECT_TRUE(anyContains(problems, "/rain/wind/speed_m_s: must be between 0 and 60 m/s (got -3)"));
-  EXPECT_TRUE(anyContains(problems, "/fogg: unknown section 'fogg' (did you mean 'fog'?)"));
-  EXPECT_TRUE(anyContains(problems, "/fog/density: must be between 0 and 10"));
-  EXPECT_TRUE(anyContains(problems, "(did you mean 'horizon'?)"));
-  EXPECT_TRUE(anyContains(problems, "/depth/layers/0/distanse_m: unknown key"));
-  EXPECT_TRUE(anyContains(problems, "/depth/layers/1/type: unknown item type"));
-  EXPECT_TRUE(anyContains(problems, "/blur/sigma: unknown key 'sigma' (did you mean 'sigma_px'?)"));
+  expectProblems(
+      problems,
+      {"/rain/rate_mm_hr: unknown key 'rate_mm_hr' (did you mean 'rate_mm_h'?)",
+       "/rain/seed: expected an integer",
+       "/rain/wind/speed_m_s: must be between 0 and 60 m/s (got -3)",
+       "/fogg: unknown section 'fogg' (did you mean 'fog'?)",
+       "/fog/density: must be between 0 and 10", "(did you mean 'horizon'?)",
+       "/depth/layers/0/distanse_m: unknown key", "/depth/layers/1/type: unknown item type",
+       "/blur/sigma: unknown key 'sigma' (did you mean 'sigma_px'?)"});
   EXPECT_GE(problems.size(), 9u);
 }
 
@@ -212,23 +217,21 @@ TEST(Preset, KeyframeProblemsNameTheirPaths) {
     "fog": {"density": "thick"}})");
   auto problems = problemsOf(path.string(), {"blur.sigma_px=[[0,1],[0,2]]"});
   for (const auto& line : problems) std::cerr << line << "\n";
-  EXPECT_TRUE(anyContains(problems, "/rain/rate_mm_h/keys/1/1: must be between 0 and"));
-  EXPECT_TRUE(anyContains(problems, "/rain/rate_mm_h/keys/2/0: key frames must increase strictly"));
-  EXPECT_TRUE(anyContains(problems,
-                          "/rain/rate_mm_h/interpolation: expected one of: linear, smooth, hold"));
+  expectProblems(problems,
+                 {"/rain/rate_mm_h/keys/1/1: must be between 0 and",
+                  "/rain/rate_mm_h/keys/2/0: key frames must increase strictly",
+                  "/rain/rate_mm_h/interpolation: expected one of: linear, smooth, hold"});
   // Values the shot fixes once (the seed, a blur radius) say so rather than take keys.
-  EXPECT_TRUE(anyContains(problems, "/rain/seed: cannot be keyframed, it is fixed over the shot"));
-  EXPECT_TRUE(anyContains(
-      problems, "/rain/wind/speed_m_s/keys: expected a list of at least one [frame, value] key"));
-  EXPECT_TRUE(anyContains(
-      problems, "/rain/wind/dir_deg/key: unknown key 'key' in keyframes (did you mean 'keys'?)"));
-  EXPECT_TRUE(anyContains(problems, "/rain/wind/dir_deg/keys: missing"));
-  EXPECT_TRUE(
-      anyContains(problems, "/camera/exposure_s/keys/1/0: key frames must increase strictly"));
-  EXPECT_TRUE(anyContains(problems, "/camera/exposure_s/keys/2/0: expected a frame number"));
-  EXPECT_TRUE(anyContains(problems, "/camera/exposure_s/keys/3: expected [frame, value]"));
-  EXPECT_TRUE(anyContains(problems, "/blur/sigma_px: cannot be keyframed"));  // --set shorthand
-  EXPECT_TRUE(anyContains(problems, "/fog/density: expected a number"));
+  expectProblems(problems,
+                 {"/rain/seed: cannot be keyframed, it is fixed over the shot",
+                  "/rain/wind/speed_m_s/keys: expected a list of at least one [frame, value] key",
+                  "/rain/wind/dir_deg/key: unknown key 'key' in keyframes (did you mean 'keys'?)",
+                  "/rain/wind/dir_deg/keys: missing"});
+  expectProblems(problems, {"/camera/exposure_s/keys/1/0: key frames must increase strictly",
+                            "/camera/exposure_s/keys/2/0: expected a frame number",
+                            "/camera/exposure_s/keys/3: expected [frame, value]",
+                            "/blur/sigma_px: cannot be keyframed",  // --set shorthand
+                            "/fog/density: expected a number"});
   // List item fields not marked keyframable take plain numbers only.
   auto items = problemsOf(
       "moderate",
@@ -261,9 +264,9 @@ TEST(Preset, DepthLayerFieldsAcceptKeyframesAndPolygons) {
   EXPECT_TRUE(anyContains(problems, "/depth/layers/0/distance_m/keys/1/1: must be between 0.01"));
   EXPECT_TRUE(
       anyContains(problems, "/depth/layers/1/points: expected [[x, y], ...] with at least 3"));
-  EXPECT_TRUE(anyContains(problems, "/depth/layers/2/points: missing"));
-  EXPECT_TRUE(anyContains(problems, "/depth/layers/3/points/2: expected [x, y]"));
-  EXPECT_TRUE(anyContains(problems, "/depth/layers/4/points/1/frame: key frames must increase"));
+  expectProblems(problems,
+                 {"/depth/layers/2/points: missing", "/depth/layers/3/points/2: expected [x, y]",
+                  "/depth/layers/4/points/1/frame: key frames must increase"});
   EXPECT_TRUE(
       anyContains(problems, "/depth/layers/4/points/1/points: every key needs the same number"));
   EXPECT_TRUE(anyContains(problems, "/depth/layers/5/points/2: each must be between -1 and 2"));
@@ -311,13 +314,12 @@ TEST(Preset, CameraPathAndLensKeys) {
       {R"(camera.path=[{"frame": 5, "position_m": [0, 1, 0]}, {"frame": 5, "position_m": [0, 1]}, {"position_m": [0, 1, 0], "pitch_deg": 120}, {"type": "key", "frame": 9, "position_m": [0, 1, 0]}, 3])",
        "camera.shutter_angle_deg=400"});
   for (const auto& line : problems) std::cerr << line << "\n";
-  EXPECT_TRUE(anyContains(problems, "/camera/path/1/frame: must increase strictly"));
-  EXPECT_TRUE(anyContains(problems, "/camera/path/1/position_m: expected [x, y, z]"));
-  EXPECT_TRUE(anyContains(problems, "/camera/path/2/frame: missing"));
-  EXPECT_TRUE(anyContains(problems, "/camera/path/2/pitch_deg: must be between -90 and 90 deg"));
-  EXPECT_TRUE(anyContains(problems, "/camera/path/3/type: unknown key"));
-  EXPECT_TRUE(anyContains(problems, "/camera/path/4: expected an object"));
-  EXPECT_TRUE(anyContains(problems, "/camera/shutter_angle_deg: must be between 0 and 360 deg"));
+  expectProblems(problems,
+                 {"/camera/path/1/frame: must increase strictly",
+                  "/camera/path/1/position_m: expected [x, y, z]", "/camera/path/2/frame: missing",
+                  "/camera/path/2/pitch_deg: must be between -90 and 90 deg",
+                  "/camera/path/3/type: unknown key", "/camera/path/4: expected an object",
+                  "/camera/shutter_angle_deg: must be between 0 and 360 deg"});
 }
 
 TEST(Preset, DescribeMentionsKeyframes) {

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 #include <thread>
 
@@ -124,8 +125,11 @@ int countLinesStartingWith(const std::string& text, const std::set<std::string>&
 
 std::vector<std::string> splitCsv(const std::string& line) {
   std::vector<std::string> fields(1);
+  bool quoted = false;
   for (char ch : line) {
-    if (ch == ',') {
+    if (ch == '"') {
+      quoted = !quoted;
+    } else if (ch == ',' && !quoted) {
       fields.emplace_back();
     } else {
       fields.back() += ch;
@@ -143,6 +147,59 @@ double parseNumber(const std::string& text, const std::string& line) {
   }
   EXPECT_EQ(used, text.size()) << "'" << text << "' in: " << line;
   return value;
+}
+
+void expectOutputHas(const std::string& output, const std::vector<std::string>& needles) {
+  for (const std::string& needle : needles)
+    EXPECT_NE(output.find(needle), std::string::npos) << "no '" << needle << "' in:\n" << output;
+}
+
+CommandResult runPluviaTimed(const std::vector<std::string>& args) {
+  const auto start = std::chrono::steady_clock::now();
+  CommandResult result = runPluvia(args);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::string command;
+  for (const auto& arg : args) command += (command.empty() ? "" : " ") + arg;
+  std::cout << result.output << command << " took " << seconds << " s\n";
+  return result;
+}
+
+CsvTable readCsvTable(const stdfs::path& path) {
+  CsvTable table;
+  std::ifstream file(path);
+  if (!std::getline(file, table.header)) return table;
+  const std::vector<std::string> names = splitCsv(table.header);
+  for (size_t i = 0; i < names.size(); ++i) table.column[names[i]] = i;
+  for (std::string line; std::getline(file, line);) {
+    if (line.empty()) continue;
+    std::vector<std::string> fields = splitCsv(line);
+    if (fields.size() != names.size()) {
+      ADD_FAILURE() << path << ": " << fields.size() << " fields, the header has " << names.size()
+                    << ": " << line;
+      continue;
+    }
+    table.lines.push_back(line);
+    table.rows.push_back(std::move(fields));
+  }
+  return table;
+}
+
+bool hasColumns(const CsvTable& table, const std::vector<std::string>& names) {
+  bool all = true;
+  for (const std::string& name : names) {
+    if (table.column.count(name)) continue;
+    ADD_FAILURE() << "no column '" << name << "' in: " << table.header;
+    all = false;
+  }
+  return all;
+}
+
+void expectPlot(const stdfs::path& path) {
+  ASSERT_TRUE(stdfs::exists(path)) << path;
+  const Image image = readImageFile(path);
+  EXPECT_GT(image.width, 0) << path;
+  EXPECT_GT(image.height, 0) << path;
 }
 
 size_t residentBytes() {

@@ -2,6 +2,7 @@
 // Paths and small helpers shared by the tests.
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -39,13 +40,36 @@ int waitForExit(int pid);
 // Polls `ready` every 100 ms for up to `seconds`; whether it came to hold.
 bool waitUntil(const std::function<bool()>& ready, double seconds = 60);
 
-// A CSV line's fields (no quoting: the reports write none).
+// A CSV line's fields; a double-quoted field may hold commas (the optics and lights reports'
+// setting column), its quotes dropped.
 std::vector<std::string> splitCsv(const std::string& line);
 // A CSV field as a number; a field that is not wholly a number fails the test, naming `line`.
 double parseNumber(const std::string& text, const std::string& line);
 
 // How many lines of `text` start with one of `firstWords` (a report's table rows).
 int countLinesStartingWith(const std::string& text, const std::set<std::string>& firstWords);
+
+// Expects each of `needles` in a command's `output`, printing the output when one is missing.
+void expectOutputHas(const std::string& output, const std::vector<std::string>& needles);
+
+// Runs build/pluvia with the arguments like runPluvia, and prints its output and how long it took
+// (a report test's log).
+CommandResult runPluviaTimed(const std::vector<std::string>& args);
+
+// A CSV file read whole (a report's table): the header's columns by name and the non-empty rows,
+// split. A missing file leaves it empty; a row with another number of fields than the header
+// fails the test and is left out.
+struct CsvTable {
+  std::string header;
+  std::map<std::string, size_t> column;
+  std::vector<std::string> lines;  // each row as written, for messages
+  std::vector<std::vector<std::string>> rows;
+};
+CsvTable readCsvTable(const std::filesystem::path& path);
+// Whether the table has every column named; each missing one fails the test, naming the header.
+bool hasColumns(const CsvTable& table, const std::vector<std::string>& names);
+// Expects the plot a report wrote at `path`: a file that decodes to a non-empty image.
+void expectPlot(const std::filesystem::path& path);
 
 // Writes `text` to dir/name and returns the path.
 std::filesystem::path writeTextFile(const std::filesystem::path& dir, const std::string& name,
@@ -64,8 +88,8 @@ std::string writePlateSequence(const std::filesystem::path& dir, int first, int 
 // paintTexturedPlate on every frame: diagonal ramps that move with the frame number, so a frame
 // mix-up or a shifted frame shows.
 void paintTexturedPlate(Image& image, int frame);
-std::string writeTexturedPlate(const std::filesystem::path& dir, int first, int last, int width,
-                               int height);
+std::string writeTexturedPlate(const std::filesystem::path& dir, int first, int last,
+                               int width = 64, int height = 48);
 
 // Runs `action`, expecting a pluvia::Error whose message names `needle`; returns the error.
 template <typename Action>
