@@ -297,6 +297,18 @@ void runPassBench(const std::string& size, int frames) {
   std::cout << fmt::format("{:<12} {:>10.2f} {:>12.2f}\n", "all five", wallSum, cpuSum);
 }
 
+// ffmpeg's command with the encoder settings pluvia's movie writer uses (io/movie_writer.cpp),
+// threads included, writing `output`.
+std::vector<std::string> withX264(std::vector<std::string> command, const std::string& threads,
+                                  const stdfs::path& output) {
+  for (const char* arg :
+       {"-c:v", "libx264", "-preset", "medium", "-crf", "16", "-pix_fmt", "yuv420p", "-threads"})
+    command.emplace_back(arg);
+  command.push_back(threads);
+  command.push_back(output.string());
+  return command;
+}
+
 }  // namespace
 
 void addBenchCommand(CLI::App& app, Invocation& invocation) {
@@ -375,27 +387,10 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     const std::string threads = std::to_string(threadLimit());
     auto started = std::chrono::steady_clock::now();
     double cpuStarted = cpuSecondsWithChildren();
-    auto r = runProcess({"ffmpeg",
-                         "-y",
-                         "-v",
-                         "error",
-                         "-threads",
-                         threads,
-                         "-i",
-                         input,
-                         "-frames:v",
-                         std::to_string(args->frames),
-                         "-c:v",
-                         "libx264",
-                         "-preset",
-                         "medium",
-                         "-crf",
-                         "16",
-                         "-pix_fmt",
-                         "yuv420p",
-                         "-threads",
-                         threads,
-                         (folder / "ffmpeg_passthrough.mp4").string()});
+    std::vector<std::string> passthrough = {
+        "ffmpeg", "-y", "-v",  "error",     "-threads",
+        threads,  "-i", input, "-frames:v", std::to_string(args->frames)};
+    auto r = runProcess(withX264(passthrough, threads, folder / "ffmpeg_passthrough.mp4"));
     const double ffmpegSeconds = secondsSince(started);
     const double ffmpegCpuSeconds = cpuSecondsWithChildren() - cpuStarted;
     if (r.exitCode != 0) throw Error("ffmpeg passthrough failed: " + r.output);
@@ -449,31 +444,15 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     const ClipInfo rendered = openClip(request.output)->info();
     started = std::chrono::steady_clock::now();
     cpuStarted = cpuSecondsWithChildren();
-    auto encoded = runProcess({"ffmpeg",
-                               "-y",
-                               "-v",
-                               "error",
-                               "-f",
-                               "rawvideo",
-                               "-pix_fmt",
-                               "rgb48le",
-                               "-s",
-                               fmt::format("{}x{}", rendered.width, rendered.height),
-                               "-r",
-                               fmt::format("{}", rendered.fps),
-                               "-i",
-                               raw.string(),
-                               "-c:v",
-                               "libx264",
-                               "-preset",
-                               "medium",
-                               "-crf",
-                               "16",
-                               "-pix_fmt",
-                               "yuv420p",
-                               "-threads",
-                               threads,
-                               (folder / "ffmpeg_encode_only.mp4").string()});
+    std::vector<std::string> encodeOnly = {
+        "ffmpeg",   "-y",
+        "-v",       "error",
+        "-f",       "rawvideo",
+        "-pix_fmt", "rgb48le",
+        "-s",       fmt::format("{}x{}", rendered.width, rendered.height),
+        "-r",       fmt::format("{}", rendered.fps),
+        "-i",       raw.string()};
+    auto encoded = runProcess(withX264(encodeOnly, threads, folder / "ffmpeg_encode_only.mp4"));
     const double encodeSeconds = secondsSince(started);
     const double encodeCpuSeconds = cpuSecondsWithChildren() - cpuStarted;
     if (encoded.exitCode != 0) throw Error("ffmpeg could not encode the render: " + encoded.output);

@@ -19,37 +19,6 @@ namespace stdfs = std::filesystem;
 
 namespace {
 
-// Every channel of an EXR, interleaved as stored.
-struct ExrPixels {
-  std::vector<std::string> channels;
-  std::vector<float> samples;
-};
-
-ExrPixels readAllChannels(const stdfs::path& path) {
-  ExrPixels pixels;
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) {
-    ADD_FAILURE() << "cannot read " << path << ": " << OIIO::geterror();
-    return pixels;
-  }
-  const OIIO::ImageSpec& spec = in->spec();
-  pixels.channels = spec.channelnames;
-  pixels.samples.resize(spec.image_pixels() * size_t(spec.nchannels));
-  EXPECT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.samples.data()))
-      << in->geterror();
-  return pixels;
-}
-
-// Sum of one channel's samples.
-double channelSum(const ExrPixels& p, const std::string& name) {
-  const auto found = std::find(p.channels.begin(), p.channels.end(), name);
-  if (found == p.channels.end()) return -1.0;
-  const size_t c = size_t(found - p.channels.begin()), n = p.channels.size();
-  double sum = 0.0;
-  for (size_t i = c; i < p.samples.size(); i += n) sum += p.samples[i];
-  return sum;
-}
-
 // A day: a wide lens 1.6 m over the ground (depth by layers), a sun behind the camera 30 deg
 // up, heavy rain with splashes and splatters on the ground within 5.8 m (min_size_px 0.1 at this
 // small frame's focal length), skylight fog; the camera walks forward and turns.

@@ -39,27 +39,6 @@ std::string writePlate(const stdfs::path& dir) {
   });
 }
 
-// Every channel of an EXR, interleaved as stored.
-struct ExrPixels {
-  std::vector<std::string> channels;
-  std::vector<float> samples;
-};
-
-ExrPixels readAllChannels(const stdfs::path& path) {
-  ExrPixels pixels;
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) {
-    ADD_FAILURE() << "cannot read " << path << ": " << OIIO::geterror();
-    return pixels;
-  }
-  const OIIO::ImageSpec& spec = in->spec();
-  pixels.channels = spec.channelnames;
-  pixels.samples.resize(spec.image_pixels() * spec.nchannels);
-  EXPECT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.samples.data()))
-      << in->geterror();
-  return pixels;
-}
-
 // The largest difference between two files' samples (infinities equal to themselves).
 double maxDifference(const stdfs::path& a, const stdfs::path& b) {
   const ExrPixels pa = readAllChannels(a), pb = readAllChannels(b);

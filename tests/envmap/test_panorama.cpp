@@ -213,6 +213,24 @@ TEST(Panorama, PanWithBlankFramesIsPlacedByTheOthersAndInterpolated) {
     EXPECT_NEAR(wrapDeg(yawOf(placement.poses[k]) - yaws[k]), 0.0, 1.5) << "frame " << k;
 }
 
+// The panoramas of `env` seen by a level pan of eight 60-degree frames, filled by the sky model
+// and by the nearest colour.
+struct Fills {
+  PanoramaResult model, nearest;
+};
+Fills levelPanFills(const EquirectMap& env) {
+  const std::vector<double> yaws = {0, 45, 90, 135, 180, 225, 270, 315};
+  const auto frames = cutFrames(env, yaws, 0.0, 60.0, 320, 180, {1.0});
+  const Placement placement = knownPlacement(yaws, 0.0, 60.0, 320);
+  EquirectSettings settings;
+  settings.width = 256;
+  settings.fill = UnseenFill::SkyModel;
+  Fills fills{renderEquirect(frames, placement, settings), {}};
+  settings.fill = UnseenFill::Nearest;
+  fills.nearest = renderEquirect(frames, placement, settings);
+  return fills;
+}
+
 TEST(Panorama, SkyModelFillRecoversAnOvercastZenithTheNearestFillCannot) {
   // A CIE overcast sky (Lz = 0.8) over a grey ground, seen only by a level pan around the
   // horizon: the model fitted to the seen sky gives the unseen zenith; the nearest colour
@@ -224,18 +242,10 @@ TEST(Panorama, SkyModelFillRecoversAnOvercastZenithTheNearestFillCannot) {
       const float v = cosTheta > 0 ? float(0.8 * (1.0 + 2.0 * cosTheta) / 3.0) : 0.15f;
       for (int c = 0; c < 3; ++c) env.texel(x, y)[c] = v;
     }
-  const std::vector<double> yaws = {0, 45, 90, 135, 180, 225, 270, 315};
-  const auto frames = cutFrames(env, yaws, 0.0, 60.0, 320, 180, {1.0});
-  const Placement placement = knownPlacement(yaws, 0.0, 60.0, 320);
-  EquirectSettings settings;
-  settings.width = 256;
-  settings.fill = UnseenFill::SkyModel;
-  const PanoramaResult model = renderEquirect(frames, placement, settings);
+  const auto [model, nearest] = levelPanFills(env);
   EXPECT_EQ(model.fillModel.rfind("cie overcast", 0), 0u) << model.fillModel;
   EXPECT_NEAR(sampleEquirect(model.radiance, 0, 1, 0)[1], 0.8, 0.03);
   EXPECT_NEAR(sampleEquirect(model.radiance, 0, -1, 0)[1], 0.15, 0.01);
-  settings.fill = UnseenFill::Nearest;
-  const PanoramaResult nearest = renderEquirect(frames, placement, settings);
   EXPECT_LT(sampleEquirect(nearest.radiance, 0, 1, 0)[1], 0.7);
   EXPECT_TRUE(allFinite(model.radiance));
 }
@@ -254,16 +264,8 @@ TEST(Panorama, SkyModelFillIsAPreethamSkyWithoutASeamAtTheCoverage) {
       for (int c = 0; c < 3; ++c)
         env.texel(x, y)[c] = d[1] > 0 ? float(0.03 * sky[size_t(c)]) : 0.12f;
     }
-  const std::vector<double> yaws = {0, 45, 90, 135, 180, 225, 270, 315};
-  const auto frames = cutFrames(env, yaws, 0.0, 60.0, 320, 180, {1.0});
-  const Placement placement = knownPlacement(yaws, 0.0, 60.0, 320);
-  EquirectSettings settings;
-  settings.width = 256;
-  settings.fill = UnseenFill::SkyModel;
-  const PanoramaResult model = renderEquirect(frames, placement, settings);
+  const auto [model, nearest] = levelPanFills(env);
   EXPECT_EQ(model.fillModel.rfind("preetham", 0), 0u) << model.fillModel;
-  settings.fill = UnseenFill::Nearest;
-  const PanoramaResult nearest = renderEquirect(frames, placement, settings);
   const auto truth = sampleEquirect(env, 0, 1, 0);
   const auto zenith = sampleEquirect(model.radiance, 0, 1, 0);
   const auto repeated = sampleEquirect(nearest.radiance, 0, 1, 0);

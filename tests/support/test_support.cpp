@@ -6,6 +6,8 @@
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
+#include <OpenImageIO/imageio.h>
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
@@ -82,6 +84,30 @@ bool waitUntil(const std::function<bool()>& ready, double seconds) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   return ready();
+}
+
+ExrPixels readAllChannels(const stdfs::path& path) {
+  ExrPixels pixels;
+  auto in = OIIO::ImageInput::open(path.string());
+  if (!in) {
+    ADD_FAILURE() << "cannot read " << path << ": " << OIIO::geterror();
+    return pixels;
+  }
+  const OIIO::ImageSpec& spec = in->spec();
+  pixels.channels = spec.channelnames;
+  pixels.samples.resize(spec.image_pixels() * size_t(spec.nchannels));
+  EXPECT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.samples.data()))
+      << in->geterror();
+  return pixels;
+}
+
+double channelSum(const ExrPixels& pixels, const std::string& name) {
+  const auto found = std::find(pixels.channels.begin(), pixels.channels.end(), name);
+  if (found == pixels.channels.end()) return -1.0;
+  const size_t c = size_t(found - pixels.channels.begin()), n = pixels.channels.size();
+  double sum = 0.0;
+  for (size_t i = c; i < pixels.samples.size(); i += n) sum += pixels.samples[i];
+  return sum;
 }
 
 Image readImageFile(const stdfs::path& path) {

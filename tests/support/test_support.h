@@ -77,6 +77,15 @@ std::filesystem::path writeTextFile(const std::filesystem::path& dir, const std:
 
 // Reads an image file with OpenImageIO as float RGBA (no colour conversion).
 Image readImageFile(const std::filesystem::path& path);
+// Every channel of an image file (an EXR's AOVs too), interleaved as stored; a failure is
+// reported to gtest and gives no channels.
+struct ExrPixels {
+  std::vector<std::string> channels;
+  std::vector<float> samples;
+};
+ExrPixels readAllChannels(const std::filesystem::path& path);
+// Sum of one channel's samples; -1 when the file has no such channel.
+double channelSum(const ExrPixels& pixels, const std::string& name);
 // Writes float RGBA (alpha dropped when `channels` is 3) to any format OpenImageIO knows.
 void writeImageFile(const std::filesystem::path& path, const Image& image, int channels = 3);
 
