@@ -53,8 +53,6 @@ class GlarePyramid {
   Image convolve(const Image& source) const;
   // The same on CV_32FC3.
   cv::Mat convolve(const cv::Mat& rgb) const;
-  // The weight the fit leaves at the source's own pixel (1 minus the share it scatters).
-  double unscatteredWeight() const { return plainWeight_[0]; }
 
   int width() const { return width_; }
   int height() const { return height_; }

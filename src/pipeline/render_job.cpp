@@ -115,7 +115,7 @@ void refuseSingleFileForManyFrames(const std::string& output, const std::vector<
 
 void ensureAovPlanes(Image& image, const std::vector<std::string>& aovs) {
   for (const auto& aov : aovs) {
-    if (aov == "rain" || aov == "lights") {
+    if (aov == "rain" || aov == "lights" || aov == "glare") {
       for (const char* c : {"R", "G", "B", "A"}) image.plane(aov + "." + c);
     } else {
       image.plane(aov);

@@ -74,6 +74,11 @@ SectionSpec lightsSection() {
       numberParam("find_core_gain", 100.0, {1.0, 1e6}, "",
                   "a found lamp's radiance is find_level times this (its clipped core hides how "
                   "bright it is): intensity = gain * find_level * solid angle * distance^2"),
+      enumParam("glare", "auto", {"auto", "on", "off"},
+                "the veil bright sources spread as the eye sees them (CIE 2002 disability glare), "
+                "added after the rain: the lights' own and every pixel's light above 1.0; auto: "
+                "on a frame with local lights whose veil 1 deg away could reach "
+                "lights.halo_threshold; on: every frame; off: never"),
   };
   return s;
 }
@@ -107,6 +112,8 @@ LightsSettings lightsSettings(const Preset& p) {
   s.findClipLevel = p.number("lights.find_level");
   s.findMinAreaPx = int(p.number("lights.find_min_area_px"));
   s.findCoreGain = p.number("lights.find_core_gain");
+  const std::string glare = p.string("lights.glare");
+  s.glare = glare == "on" ? GlareMode::On : glare == "off" ? GlareMode::Off : GlareMode::Auto;
   s.resolved = p.at("lights");
   return s;
 }
