@@ -148,7 +148,7 @@ void addReportDepth(CLI::App& report, Invocation& invocation) {
 // `pluvia report lights`: halos, beams and lit drops against their brute-force references.
 void addReportLights(CLI::App& report, Invocation& invocation) {
   auto* lights = report.add_subcommand(
-      "lights", "local lights: halo, beam and lit-drop error against their references vs time");
+      "lights", "local lights: halo, beam, lit-drop and glare error against their references vs time");
   struct Args {
     std::string csv, plot;
     lab::LightsReportSettings settings;
