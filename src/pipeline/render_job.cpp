@@ -297,6 +297,11 @@ FrameContext RenderSession::readFrame(int64_t frameNumber) {
 }
 
 void RenderSession::processFrame(FrameContext& frame) {
+  // The lights' and the glare's AOV planes, when asked for, exist before the stages run: those
+  // stages write them only when they are there (making four planes of a 1080p frame costs more
+  // than ten lights). The others are made by their stages (the depth plane's absence means sky).
+  for (const std::string& aov : request_.aovs)
+    if (aov == "lights" || aov == "glare") ensureAovPlanes(frame.image, {aov});
   for (auto& [name, stage] : frameStages_) {
     ScopedTimer timer(&times_, name);
     try {

@@ -144,9 +144,13 @@ class GlareStage : public Stage {
     }
     // The glare AOV (--aov glare): what the glare changed, to add to a render without it
     // (negative where bright pixels gave their light away); alpha 0 (it covers nothing).
-    std::array<std::vector<float>*, 3> aov{&image.plane("glare.R"), &image.plane("glare.G"),
-                                           &image.plane("glare.B")};
-    image.plane("glare.A");
+    // Written when the frame has its planes (the render makes them when asked).
+    std::array<float*, 3> aov{nullptr, nullptr, nullptr};
+    if (image.findPlane("glare.R")) {
+      aov = {image.plane("glare.R").data(), image.plane("glare.G").data(),
+             image.plane("glare.B").data()};
+      image.plane("glare.A");
+    }
     for (int y = 0; y < height; ++y) {
       const cv::Vec3f* row = veil.ptr<cv::Vec3f>(y);
       float* pixel = image.pixel(0, y);
@@ -155,7 +159,7 @@ class GlareStage : public Stage {
           // Float rounding where a light's huge splat was taken back out: never below black.
           const float change = std::max(row[x][c], -pixel[c]);
           pixel[c] += change;
-          (*aov[size_t(c)])[size_t(y) * width + x] = change;
+          if (aov[0]) aov[size_t(c)][size_t(y) * width + x] = change;
         }
     }
   }

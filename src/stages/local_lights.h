@@ -28,15 +28,16 @@ struct HaloResult {
   size_t pixelsLit = 0;  // evaluations of the single-scattering integral done
 };
 
-// Adds every light's in-scattered radiance to image.rgba and to the planes "lights.R".."B"
-// (made here, with "lights.A" left 0): per pixel, the ray through its centre up to the scene there
-// (the "depth" plane's z-depth; none or +inf: the sky, an infinite ray). Each light is evaluated
-// on a grid of 16 px tiles' corner pixels, and a tile is then
+// Adds every light's in-scattered radiance to image.rgba and, when the image has the plane
+// "lights.R", to the planes "lights.R".."B" ("lights.A" made and left 0): per pixel, the ray
+// through its centre up to the scene there (the "depth" plane's z-depth; none or +inf: the sky, an
+// infinite ray). Each light is evaluated on a grid of 16 px tiles' corner pixels, and a tile is
+// then
 //  - skipped when its and its 8 neighbours' corners are all below `thresholdRadiance` (at a depth
 //    edge, the corners' unoccluded glow; a beam narrower than a tile passing between all the
 //    corners of three tiles in a row is missed), and a light with no corner above it is culled;
 //  - interpolated from its corners when the scene in it is one smooth surface (1/z bilinear to
-//    5 %) and its corners glow within 10 % of each other: the lights' corners are summed per
+//    5 %) and its corners glow within 25 % of each other: the lights' corners are summed per
 //    tile and interpolated once per frame;
 //  - at a depth edge where the glow turns slowly, interpolated from its corners' glow at a few
 //    ray lengths spanning its depths (5 % apart), in log depth per pixel;

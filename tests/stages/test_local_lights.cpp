@@ -237,7 +237,8 @@ TEST(LocalLights, TilesAreCloseToEveryPixel) {
   // A 480 x 270 frame: sky above the horizon, the ground below it (1.6 m under the camera), a
   // wall 12 m away over part of both (depth edges), five lights (one a spot) in rain and fog.
   // The tiled evaluation against evaluating every pixel, per channel: RMS under 0.1 % and every
-  // pixel within 1 % of the reference's peak (relative to the local value where it is visible).
+  // pixel within 1 % of the reference's peak (0.008 % and 0.1 % when written, at an eighth of
+  // the evaluations).
   constexpr int kW = 480, kH = 270;
   const Camera camera = Camera::fromFieldOfView(kW, kH, 60.0, 0.0, 1.6);
   Image open(kW, kH);
@@ -275,5 +276,5 @@ TEST(LocalLights, TilesAreCloseToEveryPixel) {
             << all.pixelsLit << "\n";
   EXPECT_LT(rms, 1e-3 * peak);
   EXPECT_LT(worst, 1e-2 * peak);
-  EXPECT_LT(tiled.pixelsLit, all.pixelsLit / 3);
+  EXPECT_LT(tiled.pixelsLit, all.pixelsLit / 5);
 }
