@@ -1,5 +1,6 @@
 #include "pipeline/render_job.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <limits>
 #include <set>
@@ -274,6 +275,17 @@ void RenderSession::prepareStages(bool analysisOnly) {
   for (auto& [info, stage] : stages_) {
     if (!info->perClip && plan_.runs(info->spec.name))
       frameStages_.emplace_back(info->spec.name, stage.get());
+  }
+}
+
+void RenderSession::prepareStagesNamed(const std::vector<std::string>& names) {
+  for (const auto& info : stageInfos_) {
+    if (!plan_.available(info.spec.name) ||
+        std::find(names.begin(), names.end(), info.spec.name) == names.end())
+      continue;
+    stages_.emplace_back(&info, info.create(preset_));
+    ScopedTimer timer(&times_, info.spec.name + " (prepare)");
+    stages_.back().second->prepare(context_);
   }
 }
 
