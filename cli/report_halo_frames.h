@@ -1,0 +1,13 @@
+#pragma once
+// `pluvia report lights`, the rows of whole frames: the lights stage's tiled halos
+// (stages/local_lights.h: addHalos) against evaluating every pixel, on a synthetic street (sky,
+// ground, a wall) with 10 and 100 lights. Here in cli, not lab: the tiling is the stage's.
+#include "lab/lights_report.h"
+
+namespace pluvia::cli {
+
+// Appends a "halo frame" row per light count (error: RMS and largest pixel difference as a share
+// of the frame's brightest pixel; time per pixel of a frame) and its every-pixel reference row.
+void addHaloFrameRows(lab::LightsReport& report, bool quick);
+
+}  // namespace pluvia::cli
