@@ -6,8 +6,9 @@
 
 namespace pluvia::cli {
 
-// Appends a "halo frame" row per light count (error: RMS and largest pixel difference as a share
-// of the frame's brightest pixel; time per pixel of a frame) and its every-pixel reference row.
+// Appends a "halo frame" row per light count (mean and largest relative error per pixel and
+// channel where the reference is at least a tenth of the threshold; time per pixel of a frame)
+// and its every-pixel reference row.
 void addHaloFrameRows(lab::LightsReport& report, bool quick);
 
 }  // namespace pluvia::cli

@@ -177,6 +177,7 @@ HaloResult addHalos(Image& image, const Camera& camera, const std::vector<FrameL
       for (int c = 0; c < 4; ++c) atEdge[gridIndex(tile % tilesX, tile / tilesX, c)] = 1;
   std::atomic<size_t> evaluations{0};
   std::vector<double> grid(gridCount), gridOpen(gridCount);
+  const double tileThreshold = thresholdRadiance / double(lights.size());
   for (const FrameLight& frameLight : lights) {
     const optics::LocalLight light = localLight(frameLight);
     const double scale = maxChannel(frameLight.rgbIntensity);
@@ -220,17 +221,19 @@ HaloResult addHalos(Image& image, const Camera& camera, const std::vector<FrameL
       const int tx = tile % tilesX, ty = tile / tilesX;
       const TileDepth& td = tileDepth[static_cast<size_t>(tile)];
       const bool nearLight = std::abs(tx - lightTileX) <= 1 && std::abs(ty - lightTileY) <= 1;
-      // Lit: a corner of this tile or of its 8 neighbours above the threshold (a beam narrower
-      // than a tile passing between all the corners of three tiles in a row would be missed).
+      // Lit: a corner of this tile or of its 8 neighbours above the threshold shared out among
+      // the lights, so that what all the lights leave out of a pixel adds up to under the
+      // threshold (many lights each too faint alone still glow together); a beam narrower than a
+      // tile passing between all the corners of three tiles in a row would be missed.
       bool lit = nearLight || everyPixel;
       for (int gy = std::max(0, ty - 1); gy <= std::min(tilesY, ty + 2) && !lit; ++gy)
         for (int gx = std::max(0, tx - 1); gx <= std::min(tilesX, tx + 2) && !lit; ++gx)
-          lit = scale * grid[static_cast<size_t>(gy) * gridW + gx] >= thresholdRadiance;
+          lit = scale * grid[static_cast<size_t>(gy) * gridW + gx] >= tileThreshold;
       if (!lit && !td.smooth) {
         // At a depth edge the corners may be hidden while pixels between see past: the
         // unoccluded glow at the corners bounds them.
         for (int c = 0; c < 4 && !lit; ++c)
-          lit = scale * gridOpen[gridIndex(tx, ty, c)] >= thresholdRadiance;
+          lit = scale * gridOpen[gridIndex(tx, ty, c)] >= tileThreshold;
       }
       if (!lit) return;
       const int x0 = tx * kTilePx, y0 = ty * kTilePx;

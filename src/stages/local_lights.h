@@ -33,9 +33,10 @@ struct HaloResult {
 // through its centre up to the scene there (the "depth" plane's z-depth; none or +inf: the sky, an
 // infinite ray). Each light is evaluated on a grid of 16 px tiles' corner pixels, and a tile is
 // then
-//  - skipped when its and its 8 neighbours' corners are all below `thresholdRadiance` (at a depth
-//    edge, the corners' unoccluded glow; a beam narrower than a tile passing between all the
-//    corners of three tiles in a row is missed), and a light with no corner above it is culled;
+//  - skipped for a light when its and its 8 neighbours' corners are all below `thresholdRadiance`
+//    divided by the number of lights (at a depth edge, the corners' unoccluded glow; a beam
+//    narrower than a tile passing between all the corners of three tiles in a row is missed),
+//    and a light with no corner above `thresholdRadiance` is culled;
 //  - interpolated from its corners when the scene in it is one smooth surface (1/z bilinear to
 //    5 %) and its corners glow within 25 % of each other: the lights' corners are summed per
 //    tile and interpolated once per frame;

@@ -236,9 +236,9 @@ TEST(LocalLights, PlanSkipsTheStageWithoutLights) {
 TEST(LocalLights, TilesAreCloseToEveryPixel) {
   // A 480 x 270 frame: sky above the horizon, the ground below it (1.6 m under the camera), a
   // wall 12 m away over part of both (depth edges), five lights (one a spot) in rain and fog.
-  // The tiled evaluation against evaluating every pixel, per channel: RMS under 0.1 % and every
-  // pixel within 1 % of the reference's peak (0.008 % and 0.1 % when written, at an eighth of
-  // the evaluations).
+  // The tiled evaluation against evaluating every pixel (no culling), per pixel and channel
+  // where the glow is at least a tenth of the threshold: mean relative error under 1 %, none over
+  // 5 % (0.11 % and 4.1 % when written, at an eighth of the evaluations).
   constexpr int kW = 480, kH = 270;
   const Camera camera = Camera::fromFieldOfView(kW, kH, 60.0, 0.0, 1.6);
   Image open(kW, kH);
@@ -262,19 +262,21 @@ TEST(LocalLights, TilesAreCloseToEveryPixel) {
   Image fast = open, every = open;
   const HaloResult tiled = addHalos(fast, camera, lights, 0.01, tables(), 1e-3);
   const HaloResult all = addHalos(every, camera, lights, 0.01, tables(), 1e-3, true);
-  double peak = 0.0, squares = 0.0, worst = 0.0;
-  for (float v : every.rgba) peak = std::max(peak, double(v));
+  // Relative to each pixel's own value where it is at least a tenth of the threshold.
+  double sum = 0.0, worst = 0.0;
+  int n = 0;
   for (size_t i = 0; i < fast.pixelCount(); ++i)
     for (int c = 0; c < 3; ++c) {
-      const double d = fast.rgba[i * 4 + c] - every.rgba[i * 4 + c];
-      squares += d * d;
-      worst = std::max(worst, std::abs(d));
+      const double reference = every.rgba[i * 4 + c];
+      if (!(reference >= 1e-4)) continue;
+      const double e = std::abs(fast.rgba[i * 4 + c] - reference) / reference;
+      sum += e;
+      worst = std::max(worst, e);
+      ++n;
     }
-  const double rms = std::sqrt(squares / (3.0 * fast.pixelCount()));
-  std::cout << "tiles against every pixel: RMS " << rms / peak * 100 << " % of the peak, max "
-            << worst / peak * 100 << " %; evaluations " << tiled.pixelsLit << " against "
-            << all.pixelsLit << "\n";
-  EXPECT_LT(rms, 1e-3 * peak);
-  EXPECT_LT(worst, 1e-2 * peak);
+  std::cout << "tiles against every pixel: mean " << 100 * sum / n << " %, max " << 100 * worst
+            << " %; evaluations " << tiled.pixelsLit << " against " << all.pixelsLit << "\n";
+  EXPECT_LT(sum / n, 0.01);
+  EXPECT_LT(worst, 0.05);
   EXPECT_LT(tiled.pixelsLit, all.pixelsLit / 5);
 }
