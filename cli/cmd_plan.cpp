@@ -5,9 +5,49 @@
 #include "commands.h"
 #include "common.h"
 #include "pipeline/render_job.h"
+#include "stages/lights_settings.h"
 #include "stages/registry.h"
+#include "util/log.h"
 
 namespace pluvia::cli {
+
+namespace {
+
+// lights.find: the lamps the plate gives, one line each, before the resolved preset (they are
+// found in the clip's still and placed at the depth the depth stage gives its first frame, as a
+// render does once per clip). Only the depth and lights stages are prepared.
+void printFoundLamps(const std::string& input, const Preset& preset, const std::string& cache) {
+  const LightsSettings lights = lightsSettings(preset);
+  if (!lights.find) return;
+  RenderRequest request;
+  request.input = input;
+  request.cacheDir = cache;
+  request.progress = false;
+  StageTimes times;
+  const log::Level level = log::level();
+  log::setLevel(log::Level::Warning);
+  RenderSession session(request, preset, allStages(), times);
+  if (!session.plan().runs("lights")) {
+    log::setLevel(level);
+    return;
+  }
+  session.prepareStagesNamed({"depth", "lights"});
+  log::setLevel(level);
+  const auto& found = session.clipContext().foundLamps;
+  std::cout << fmt::format("lamps found in the plate (lights.find): {}\n",
+                           found ? found->size() : 0);
+  if (!found) return;
+  for (size_t i = 0; i < found->size(); ++i) {
+    const FoundLamp& l = (*found)[i];
+    std::cout << fmt::format(
+        "  lamp {}: pixel ({:.1f}, {:.1f}), {} px, depth {:.2f} m, colour ({:.3f}, {:.3f}, "
+        "{:.3f}), intensity {:.4g}, world ({:.3f}, {:.3f}, {:.3f}) m, radius {:.3f} m\n",
+        i, l.xPx, l.yPx, l.areaPx, l.depthMeters, l.rgb[0], l.rgb[1], l.rgb[2], l.intensity,
+        l.worldMeters[0], l.worldMeters[1], l.worldMeters[2], l.radiusMeters);
+  }
+}
+
+}  // namespace
 
 void addPlanCommand(CLI::App& app, Invocation& invocation) {
   auto* cmd =
@@ -20,10 +60,13 @@ void addPlanCommand(CLI::App& app, Invocation& invocation) {
   auto args = std::make_shared<Args>();
   addClipPresetOptions(cmd, args->input, args->preset, args->sets);
   cmd->add_option("--cache", args->cache, "cache folder for per-clip analysis");
-  cmd->add_flag("--resolved", args->resolved, "print the fully resolved preset as JSON instead");
+  cmd->add_flag("--resolved", args->resolved,
+                "print the fully resolved preset as JSON instead, after the lamps found in the "
+                "plate (lights.find), one line each");
   cmd->callback([=] {
     Preset preset = loadPreset(args->preset, args->sets);
     if (args->resolved) {
+      printFoundLamps(args->input, preset, args->cache);
       std::cout << preset.json().dump(2) << "\n";
       return;
     }

@@ -49,7 +49,7 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
   cmd->add_flag("--skip-existing", args->skipExisting,
                 "leave frames that already exist (resume a job)");
   cmd->add_flag("--stats", args->stats, "print a per-stage timing summary");
-  cmd->add_option("--aov", args->aov, "extra outputs: rain,matte,depth,lights,splash");
+  cmd->add_option("--aov", args->aov, "extra outputs: rain,matte,depth,lights,splash,glare");
   cmd->add_option("--proxy", args->proxy,
                   "render at this fraction of the plate's size, in (0, 1], for quick looks");
   cmd->callback([=, &invocation] {
@@ -74,9 +74,10 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
     for (size_t start = 0; !args->aov.empty() && start <= args->aov.size();) {
       size_t comma = args->aov.find(',', start);
       std::string aov = args->aov.substr(start, comma - start);
-      if (aov != "rain" && aov != "matte" && aov != "depth" && aov != "lights" && aov != "splash") {
+      if (aov != "rain" && aov != "matte" && aov != "depth" && aov != "lights" && aov != "splash" &&
+          aov != "glare") {
         throw UsageError(fmt::format(
-            "--aov: unknown output '{}' (known: rain, matte, depth, lights, splash)", aov));
+            "--aov: unknown output '{}' (known: rain, matte, depth, lights, splash, glare)", aov));
       }
       request.aovs.push_back(aov);
       if (comma == std::string::npos) break;

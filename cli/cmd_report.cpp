@@ -10,6 +10,7 @@
 
 #include "commands.h"
 #include "common.h"
+#include "report_halo_frames.h"
 #include "lab/derain_report.h"
 #include "lab/envmap_report.h"
 #include "lab/fog_report.h"
@@ -19,6 +20,7 @@
 #include "lab/test_environment.h"
 #include "optics/environment_file.h"
 #include "optics/skylight_scattering.h"
+#include "report_halo_frames.h"
 #include "util/error.h"
 #include "util/log.h"
 
@@ -157,10 +159,12 @@ void addReportDepth(CLI::App& report, Invocation& invocation) {
     invocation.exitCode = failed > 0 ? 1 : 0;
   });
 }
-// `pluvia report lights`: halos, beams and lit drops against their brute-force references.
+// `pluvia report lights`: halos, beams, lit drops and glare against their brute-force
+// references, and the stage's tiled halos against every pixel.
 void addReportLights(CLI::App& report, Invocation& invocation) {
   auto* lights = report.add_subcommand(
-      "lights", "local lights: halo, beam and lit-drop error against their references vs time");
+      "lights",
+      "local lights: halo, beam, lit-drop and glare error against their references vs time");
   struct Args {
     TableFiles files;
     lab::LightsReportSettings settings;
@@ -173,7 +177,8 @@ void addReportLights(CLI::App& report, Invocation& invocation) {
       ->check(CLI::Range(1, 1 << 26));
   lights->add_flag("--quick", args->settings.quick, "fewer samples (a smoke run)");
   lights->callback([=, &invocation] {
-    const lab::LightsReport report = lab::runLightsReport(args->settings);
+    lab::LightsReport report = lab::runLightsReport(args->settings);
+    addHaloFrameRows(report, args->settings.quick);
     std::cout << lab::formatLightsReport(report);
     args->files.write(report, lab::writeLightsReportCsv, lab::writeLightsReportPlot);
     invocation.exitCode = 0;

@@ -7,7 +7,10 @@
 //  - "beam": the same for spotlights (the S and C tables, the lit intervals of the cone);
 //  - "drops": a drop lit by a small disc light through the binned transfer table D(theta) (what
 //    the rain stage uses per streak, per bin count) against the Monte-Carlo drop tracer
-//    (optics/drop_trace.h) lit by the same disc.
+//    (optics/drop_trace.h) lit by the same disc;
+//  - "glare": the CIE glare kernel as a pyramid of blurs (optics::GlarePyramid) against direct
+//    convolution with the true kernel (optics::glareReference), per frame size; its time is per
+//    pixel of a frame.
 // Relative error of one sample: |estimate - reference| / reference; a row's mean and max are
 // over its samples (random lights, rays, ray lengths and extinctions, fixed seed).
 #include <string>

@@ -212,6 +212,20 @@ double ScatteringTables::integral(ScatteringIntegral which, double u, double e0,
   return end(e0) - end(e1);
 }
 
+double ScatteringTables::integralFromSlopes(double u, double t0, double t1, double logScale) const {
+  if (!(t1 > t0)) return 0.0;
+  const double logNorm = logScale - std::log1p(u);
+  // exp(logScale - u tan e) G(u, e) / (1 + u) at the end of slope t; 0 at t = +inf (e = pi/2).
+  auto end = [&](double t) {
+    if (!std::isfinite(t)) return t > 0 ? 0.0 : NAN;
+    const double root = std::sqrt(1.0 + t * t);
+    // t + root loses its digits for t << 0: the same as 1 / (root - t).
+    const double tanE = t >= 0.0 ? t + root : 1.0 / (root - t);
+    return std::exp(logNorm - u * tanE) * lookup(f_, u, kPi / 4 + 0.5 * std::atan(t));
+  };
+  return end(t0) - end(t1);
+}
+
 std::vector<std::array<double, 2>> litIntervals(const LocalLight& light, const Vec3& ray,
                                                 double rayLengthMeters, double betaPerMeter) {
   // Beyond |s| + 60 / beta the light's path is attenuated below exp(-60): the ray ends there.
@@ -271,6 +285,15 @@ double inscatteredRadiance(const ScatteringTables& tables, const LocalLight& giv
     return kPi / 4 + 0.5 * std::atan((betaPerMeter * x - tCos) / h);
   };
   const double beta2 = betaPerMeter * betaPerMeter;
+  if (!light.spot && tCos >= 0) {
+    // A point light ahead: one interval, its ends as slopes (no interval list, no tangent).
+    const double far = std::min(rayLengthMeters, norm(s) + kMaxOpticalDepth / betaPerMeter);
+    if (!(far > 0)) return 0.0;
+    const double radiance =
+        beta2 / (2 * kPi * h) *
+        tables.integralFromSlopes(h, -tCos / h, (betaPerMeter * far - tCos) / h, -tCos);
+    return std::isfinite(radiance) ? std::max(radiance, 0.0) : 0.0;
+  }
   const double oneMinusCosA = 1.0 - light.cosHalfAngle;
   double radiance = 0.0;
   for (const auto& [x0, x1] : litIntervals(light, ray, rayLengthMeters, betaPerMeter)) {

@@ -49,6 +49,10 @@ class ScatteringTables {
   ScatteringTables(int aSamples = 128, int vSamples = 128);
   double integral(ScatteringIntegral which, double u, double e0, double e1,
                   double logScale = 0.0) const;
+  // F from e0 to e1 given as slopes t (e = pi/4 + atan(t) / 2, the substitution's own variable):
+  // the same as integral(F, ...) without a tangent, since tan(pi/4 + atan(t) / 2) = t +
+  // sqrt(1 + t^2). The halo of a point light, per pixel.
+  double integralFromSlopes(double u, double t0, double t1, double logScale) const;
   int aSamples() const { return aSamples_; }
   int vSamples() const { return vSamples_; }
 

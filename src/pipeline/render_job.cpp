@@ -1,5 +1,6 @@
 #include "pipeline/render_job.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <limits>
 #include <set>
@@ -115,7 +116,7 @@ void refuseSingleFileForManyFrames(const std::string& output, const std::vector<
 
 void ensureAovPlanes(Image& image, const std::vector<std::string>& aovs) {
   for (const auto& aov : aovs) {
-    if (aov == "rain" || aov == "lights") {
+    if (aov == "rain" || aov == "lights" || aov == "glare") {
       for (const char* c : {"R", "G", "B", "A"}) image.plane(aov + "." + c);
     } else {
       image.plane(aov);
@@ -277,6 +278,17 @@ void RenderSession::prepareStages(bool analysisOnly) {
   }
 }
 
+void RenderSession::prepareStagesNamed(const std::vector<std::string>& names) {
+  for (const auto& info : stageInfos_) {
+    if (!plan_.available(info.spec.name) ||
+        std::find(names.begin(), names.end(), info.spec.name) == names.end())
+      continue;
+    stages_.emplace_back(&info, info.create(preset_));
+    ScopedTimer timer(&times_, info.spec.name + " (prepare)");
+    stages_.back().second->prepare(context_);
+  }
+}
+
 FrameContext RenderSession::readFrame(int64_t frameNumber) {
   FrameContext frame;
   frame.frame = frameNumber;
@@ -297,6 +309,11 @@ FrameContext RenderSession::readFrame(int64_t frameNumber) {
 }
 
 void RenderSession::processFrame(FrameContext& frame) {
+  // The lights' and the glare's AOV planes, when asked for, exist before the stages run: those
+  // stages write them only when they are there (making four planes of a 1080p frame costs more
+  // than ten lights). The others are made by their stages (the depth plane's absence means sky).
+  for (const std::string& aov : request_.aovs)
+    if (aov == "lights" || aov == "glare") ensureAovPlanes(frame.image, {aov});
   for (auto& [name, stage] : frameStages_) {
     ScopedTimer timer(&times_, name);
     try {

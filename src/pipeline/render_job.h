@@ -80,6 +80,11 @@ class RenderSession {
   // process, the others waiting for it (pipeline/clip_analysis.h). `analysisOnly` (`pluvia
   // prepare`): only the stages whose analysis goes into the cache, and no frame after.
   void prepareStages(bool analysisOnly = false);
+  // Builds and prepares only the named stages the plan keeps, in pipeline order (`pluvia plan
+  // --resolved`: the depth and the lamps found in the plate, without the rest's analysis).
+  void prepareStagesNamed(const std::vector<std::string>& names);
+  // The per-clip state the prepared stages filled in.
+  const ClipContext& clipContext() const { return context_; }
   // The frame decoded, its NaN/Inf replaced (with a warning) and converted to the working space.
   FrameContext readFrame(int64_t frame);
   // Runs the per-frame stages (frames in increasing order); a frame no stage gave depth gets

@@ -42,6 +42,18 @@ struct Environment {
   std::vector<std::pair<int64_t, EquirectMap>> keys;
 };
 
+// A lamp found in the plate (lights.find, stages/plate_lights.h): a clipped blob of the clip's
+// still and the point light it became, placed once per clip.
+struct FoundLamp {
+  double xPx = 0.0, yPx = 0.0;  // the blob's centroid in the still
+  int areaPx = 0;
+  double depthMeters = 0.0;                    // z-depth it was placed at
+  std::array<double, 3> rgb{1, 1, 1};          // its rim's colour, max channel 1
+  double intensity = 0.0;                      // radiant intensity (lights.list units)
+  std::array<double, 3> worldMeters{0, 0, 0};  // position in the world (+Y up)
+  double radiusMeters = 0.0;
+};
+
 // Per-clip state, filled by per-clip stages in prepare() and read by per-frame stages.
 struct ClipContext {
   const ClipInfo* clip = nullptr;
@@ -60,6 +72,13 @@ struct ClipContext {
   // that guess from the plate (the default lighting and depth).
   std::optional<Image> still;
   std::optional<std::vector<uint8_t>> stillSky;  // width * height, 1 where sky
+  // The depth of the clip's first frame as the depth stage gives it (metres, +inf sky): where
+  // the lamps found in the still are placed. Set by the depth stage's prepare() (computed when
+  // called: COLMAP's densifies a frame), valid while that stage lives; empty without it.
+  std::function<std::vector<float>()> firstFrameDepth;
+  // The lamps found in the still (lights.find), set once by the lights stage's prepare(), so
+  // that every chunk of a farm render places them alike and `pluvia plan --resolved` lists them.
+  std::optional<std::vector<FoundLamp>> foundLamps;
 };
 
 // A local light of one frame in the frame's camera space (geometry/camera.h: +X right, +Y up,

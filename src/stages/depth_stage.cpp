@@ -66,6 +66,10 @@ class DepthStage : public Stage {
   }
 
   void prepare(ClipContext& clip) override {
+    prepareSource(clip);
+    clip.firstFrameDepth = [this, &clip] { return firstFrameDepth(clip); };
+  }
+  void prepareSource(ClipContext& clip) {
     if (file_) {
       prepareFile(clip);
       return;
@@ -88,6 +92,19 @@ class DepthStage : public Stage {
     if (!perFrame_)
       depthMeters_ = rasterizeDepthLayers(path_.cameraAt(0.0), layers, 0.0, rampValueAt);
   }
+
+  // What process() gives the clip's first frame (for the lamps found in the still).
+  std::vector<float> firstFrameDepth(ClipContext& clip) {
+    const int64_t first = clip.clip->frames.front();
+    if (file_ && !file_->singleFile())
+      return file_->read(first, clip.camera.width, clip.camera.height);
+    if (sfm_) return sfm::colmapFrameDepth(*sfm_, first, clip.readWorking(first), dense_);
+    if (perFrame_)
+      return rasterizeDepthLayers(path_.cameraAt(double(first)), depth_.layers, double(first),
+                                  rampValueAt);
+    return depthMeters_;
+  }
+
   void process(ClipContext&, FrameContext& frame) override {
     if (file_ && !file_->singleFile()) {
       frame.image.planes["depth"] = file_->read(frame.frame, frame.image.width, frame.image.height);

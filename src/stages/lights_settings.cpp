@@ -81,6 +81,13 @@ const SettingsTable<LightsSettings>& lightsTable() {
                            "a found lamp's radiance is find_level times this (its clipped core "
                            "hides how bright it is): intensity = gain * find_level * solid angle "
                            "* distance^2")),
+          // glare names a C++ enum: lightsSettings maps it.
+          unbound<S>(enumParam(
+              "glare", "auto", {"auto", "on", "off"},
+              "the veil bright sources spread as the eye sees them (CIE 2002 disability glare), "
+              "added after the rain: the lights' own and every pixel's light above 1.0; auto: on "
+              "a frame with local lights whose veil 1 deg away could reach "
+              "lights.halo_threshold; on: every frame; off: never")),
       });
   return table;
 }
@@ -107,6 +114,8 @@ LightsSettings lightsSettings(const Preset& p) {
   }
   s.find = s.enabled && p.string("lights.find") != "off";
   s.findOnDayPlates = p.string("lights.find") == "on";
+  const std::string glare = p.string("lights.glare");
+  s.glare = glare == "on" ? GlareMode::On : glare == "off" ? GlareMode::Off : GlareMode::Auto;
   return s;
 }
 

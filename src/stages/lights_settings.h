@@ -31,6 +31,9 @@ struct LightSpec {
   double falloffQ = 0.0;                      // spot: q of I(theta)
 };
 
+// lights.glare: the veil bright sources spread over the picture (optics/glare.h).
+enum class GlareMode { Auto, On, Off };
+
 struct LightsSettings {
   bool enabled = true;
   std::vector<LightSpec> lights;
@@ -44,6 +47,7 @@ struct LightsSettings {
   double findClipLevel = 0.95;
   int findMinAreaPx = 4;
   double findCoreGain = 100.0;
+  GlareMode glare = GlareMode::Auto;
   nlohmann::json resolved;
 };
 

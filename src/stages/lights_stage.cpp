@@ -5,7 +5,6 @@
 // (FrameContext::lights), which lights its drops with them.
 #include <fmt/format.h>
 
-#include <mutex>
 #include "optics/single_scattering.h"
 #include "pipeline/camera_settings.h"
 #include "rain/drop_physics.h"
@@ -22,15 +21,6 @@
 
 namespace pluvia {
 namespace {
-
-// A clipped blob larger than this share of the frame is a clipped sky or window, not a lamp.
-constexpr double kMaxLampShareOfFrame = 0.005;
-// lights.find auto looks for lamps on night plates only: a day plate's clipped blobs are sky,
-// clouds, white walls and glints, not sources. Night: the still's median luminance below this
-// (scene-linear; about 35 % grey in sRGB). And a lamp is a source in the dark: its rim's mean
-// luminance below this fraction of the clip level (a clipped patch of a lit wall has a bright rim).
-constexpr double kNightMedianLuminance = 0.08;
-constexpr double kLampRimOverClip = 0.4;
 
 // The medium between the lights and the camera: the rain's extinction at the frame's rate plus
 // the fog's density, per metre.
@@ -53,53 +43,26 @@ class LightsStage : public Stage {
 
   void prepare(ClipContext& clip) override {
     path_ = clip.trackedPath ? *clip.trackedPath : camera_.path(clip.camera);
-    if (lights_.find) {
-      const Image& still = clipStill(clip);
-      const double median = medianLuminance(still);
-      if (lights_.findOnDayPlates || median < kNightMedianLuminance) {
-        const double maxArea = kMaxLampShareOfFrame * still.width * still.height;
-        for (PlateBlob& blob :
-             findClippedBlobs(still, lights_.findClipLevel, lights_.findMinAreaPx))
-          if (blob.areaPx <= maxArea &&
-              blob.rimLuminance < kLampRimOverClip * lights_.findClipLevel)
-            blobs_.push_back(std::move(blob));
-        log::info(fmt::format(
-            "lights: {} lights found in the plate (clipped blobs in the dark, max channel >= "
-            "lights.find_level = {:g}){}",
-            blobs_.size(), lights_.findClipLevel,
-            blobs_.empty() && lights_.lights.empty()
-                ? ": nothing to light, the light work is skipped"
-                : ""));
-      } else {
-        log::info(fmt::format(
-            "lights: no lamps looked for: the plate is not a night plate (median luminance "
-            "{:.3f} >= {:g}; lights.find = on looks anyway)",
-            median, kNightMedianLuminance));
-      }
+    // The found lamps, once per clip: from the still, placed with the camera and the depth of
+    // the clip's first frame, fixed in the world (a moving camera passes them); every chunk of a
+    // farm render places them alike.
+    if (lights_.find && !clip.foundLamps) {
+      const std::vector<float> depth =
+          clip.firstFrameDepth ? clip.firstFrameDepth() : std::vector<float>{};
+      clip.foundLamps = findPlateLamps(clipStill(clip), lights_,
+                                       path_.cameraAt(double(clip.clip->frames.front())),
+                                       depth.empty() ? nullptr : &depth, backdropMeters_);
     }
+    if (clip.foundLamps)
+      for (const FoundLamp& lamp : *clip.foundLamps) lights_.lights.push_back(foundLampLight(lamp));
     if (lights_.halos) tables_ = std::make_unique<optics::ScatteringTables>();
-    log::info(fmt::format("lights: {} lights{}", lights_.lights.size() + blobs_.size(),
+    log::info(fmt::format("lights: {} lights{}", lights_.lights.size(),
                           clip.trackedPath ? ", following the tracked camera" : ""));
   }
 
   void process(ClipContext&, FrameContext& frame) override {
     const double at = double(frame.frame);
     const Camera camera = path_.cameraAt(at);
-    // The found lamps are placed once, with the first frame this stage sees (its camera and
-    // depth), in the world: a moving camera then passes them.
-    std::call_once(placed_, [&] {
-      for (const PlateBlob& blob : blobs_) {
-        lights_.lights.push_back(plateLight(blob, camera, frame.image.findPlane("depth"),
-                                            backdropMeters_, lights_.findClipLevel,
-                                            lights_.findCoreGain));
-        const LightSpec& l = lights_.lights.back();
-        log::info(fmt::format(
-            "lights: found at ({:.1f}, {:.1f}) px, {} px: world ({:.2f}, "
-            "{:.2f}, {:.2f}) m, colour ({:.2f}, {:.2f}, {:.2f}), intensity {:.3g}",
-            blob.xPx, blob.yPx, blob.areaPx, l.xMeters.valueAt(0), l.yMeters.valueAt(0),
-            l.zMeters.valueAt(0), l.rgb[0], l.rgb[1], l.rgb[2], l.intensity.valueAt(0)));
-      }
-    });
     if (lights_.lights.empty()) return;
     frame.lights = lightsAtFrame(lights_, camera, at);
     frame.lightsExtinctionPerMeter = extinctionPerMeter(rain_, fog_, at);
@@ -124,8 +87,6 @@ class LightsStage : public Stage {
   CameraSettings camera_;
   double backdropMeters_;
   CameraPath path_;
-  std::vector<PlateBlob> blobs_;
-  std::once_flag placed_;
   std::unique_ptr<optics::ScatteringTables> tables_;
   int lastCulled_ = 0;
 };

@@ -24,20 +24,29 @@ std::vector<FrameLight> lightsAtFrame(const LightsSettings& settings, const Came
 optics::LocalLight localLight(const FrameLight& light);
 
 struct HaloResult {
-  int culled = 0;        // lights whose brightest unoccluded halo sample is below the threshold
-  size_t pixelsLit = 0;  // pixel x light evaluations done (after the tile culling)
+  int culled = 0;        // lights with no tile above the threshold
+  size_t pixelsLit = 0;  // evaluations of the single-scattering integral done
 };
 
-// Adds every light's in-scattered radiance to image.rgba and to the planes "lights.R".."B"
-// (made here, with "lights.A" left 0): per pixel, the ray through its centre up to the scene there
-// (the "depth" plane's z-depth; none or +inf: the sky, an infinite ray). Culling: each light is
-// first evaluated unoccluded (an upper bound) at the corners of 16 px tiles; tiles whose own and
-// neighbours' corners are all below `thresholdRadiance` are skipped, and a light with no such
-// sample above it is culled. A beam narrower than a tile that passes between all the corners of
-// three tiles in a row would be missed.
+// Adds every light's in-scattered radiance to image.rgba and, when the image has the plane
+// "lights.R", to the planes "lights.R".."B" ("lights.A" made and left 0): per pixel, the ray
+// through its centre up to the scene there (the "depth" plane's z-depth; none or +inf: the sky, an
+// infinite ray). Each light is evaluated on a grid of 16 px tiles' corner pixels, and a tile is
+// then
+//  - skipped for a light when its and its 8 neighbours' corners are all below `thresholdRadiance`
+//    divided by the number of lights (at a depth edge, the corners' unoccluded glow; a beam
+//    narrower than a tile passing between all the corners of three tiles in a row is missed),
+//    and a light with no corner above `thresholdRadiance` is culled;
+//  - interpolated from its corners when the scene in it is one smooth surface (1/z bilinear to
+//    5 %) and its corners glow within 25 % of each other: the lights' corners are summed per
+//    tile and interpolated once per frame;
+//  - at a depth edge where the glow turns slowly, interpolated from its corners' glow at a few
+//    ray lengths spanning its depths (5 % apart), in log depth per pixel;
+//  - evaluated at every pixel around the light's own image and where the glow turns fast.
+// `everyPixel`: every lit pixel evaluated (the reference the interpolation is measured against).
 HaloResult addHalos(Image& image, const Camera& camera, const std::vector<FrameLight>& lights,
                     double betaPerMeter, const optics::ScatteringTables& tables,
-                    double thresholdRadiance);
+                    double thresholdRadiance, bool everyPixel = false);
 
 // The radiance the lights give a drop at `dropMeters` (camera space) seen along unit `view`
 // (camera -> drop): sum over lights of D(angle(view, drop -> light)) * I(theta) rgb / d^2 *

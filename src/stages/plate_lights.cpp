@@ -3,12 +3,24 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
+
+#include "util/log.h"
 
 namespace pluvia {
 namespace {
 
 constexpr int kRimInnerPx = 1, kRimOuterPx = 4;
+
+// A clipped blob larger than this share of the frame is a clipped sky or window, not a lamp.
+constexpr double kMaxLampShareOfFrame = 0.005;
+// lights.find auto looks for lamps on night plates only: a day plate's clipped blobs are sky,
+// clouds, white walls and glints, not sources. Night: the still's median luminance below this
+// (scene-linear; about 35 % grey in sRGB). And a lamp is a source in the dark: its rim's mean
+// luminance below this fraction of the clip level (a clipped patch of a lit wall has a bright rim).
+constexpr double kNightMedianLuminance = 0.08;
+constexpr double kLampRimOverClip = 0.4;
 
 }  // namespace
 
@@ -78,8 +90,8 @@ std::vector<PlateBlob> findClippedBlobs(const Image& still, double clipLevel, in
   return blobs;
 }
 
-LightSpec plateLight(const PlateBlob& blob, const Camera& camera, const std::vector<float>* depth,
-                     double backdropMeters, double clipLevel, double coreGain) {
+FoundLamp plateLamp(const PlateBlob& blob, const Camera& camera, const std::vector<float>* depth,
+                    double backdropMeters, double clipLevel, double coreGain) {
   std::vector<float> rimDepth;
   if (depth)
     for (int pixel : blob.rimPixels) {
@@ -100,15 +112,63 @@ LightSpec plateLight(const PlateBlob& blob, const Camera& camera, const std::vec
   // clipped pixel only says L >= the clip level: coreGain is the guess of how far above it the
   // bulb is (lights.find_core_gain).
   const double solidAngle = blob.areaPx / (camera.focalPx * camera.focalPx);
+  FoundLamp lamp;
+  lamp.xPx = blob.xPx;
+  lamp.yPx = blob.yPx;
+  lamp.areaPx = blob.areaPx;
+  lamp.depthMeters = zMeters;
+  lamp.rgb = blob.rgb;
+  lamp.intensity = coreGain * clipLevel * solidAngle * distance * distance;
+  lamp.worldMeters = {world.x(), world.y(), world.z()};
+  lamp.radiusMeters = std::max(1e-3, std::sqrt(blob.areaPx / M_PI) / camera.focalPx * distance);
+  return lamp;
+}
+
+LightSpec foundLampLight(const FoundLamp& lamp) {
   LightSpec light;
   light.worldFrame = true;
-  light.xMeters = Ramp(world.x());
-  light.yMeters = Ramp(world.y());
-  light.zMeters = Ramp(world.z());
-  light.rgb = blob.rgb;
-  light.intensity = Ramp(coreGain * clipLevel * solidAngle * distance * distance);
-  light.radiusMeters = std::max(1e-3, std::sqrt(blob.areaPx / M_PI) / camera.focalPx * distance);
+  light.xMeters = Ramp(lamp.worldMeters[0]);
+  light.yMeters = Ramp(lamp.worldMeters[1]);
+  light.zMeters = Ramp(lamp.worldMeters[2]);
+  light.rgb = lamp.rgb;
+  light.intensity = Ramp(lamp.intensity);
+  light.radiusMeters = lamp.radiusMeters;
   return light;
+}
+
+std::vector<FoundLamp> findPlateLamps(const Image& still, const LightsSettings& settings,
+                                      const Camera& camera, const std::vector<float>* depth,
+                                      double backdropMeters) {
+  const double median = medianLuminance(still);
+  if (!settings.findOnDayPlates && median >= kNightMedianLuminance) {
+    log::info(
+        fmt::format("lights: no lamps looked for: the plate is not a night plate (median luminance "
+                    "{:.3f} >= {:g}; lights.find = on looks anyway)",
+                    median, kNightMedianLuminance));
+    return {};
+  }
+  const double maxArea = kMaxLampShareOfFrame * still.width * still.height;
+  std::vector<FoundLamp> lamps;
+  for (const PlateBlob& blob :
+       findClippedBlobs(still, settings.findClipLevel, settings.findMinAreaPx)) {
+    if (blob.areaPx > maxArea || blob.rimLuminance >= kLampRimOverClip * settings.findClipLevel)
+      continue;
+    lamps.push_back(plateLamp(blob, camera, depth, backdropMeters, settings.findClipLevel,
+                              settings.findCoreGain));
+    const FoundLamp& l = lamps.back();
+    log::info(fmt::format(
+        "lights: found at ({:.1f}, {:.1f}) px, {} px, {:.2f} m deep: world ({:.2f}, {:.2f}, "
+        "{:.2f}) m, colour ({:.2f}, {:.2f}, {:.2f}), intensity {:.3g}",
+        l.xPx, l.yPx, l.areaPx, l.depthMeters, l.worldMeters[0], l.worldMeters[1], l.worldMeters[2],
+        l.rgb[0], l.rgb[1], l.rgb[2], l.intensity));
+  }
+  log::info(fmt::format(
+      "lights: {} lights found in the plate (clipped blobs in the dark, max channel >= "
+      "lights.find_level = {:g}){}",
+      lamps.size(), settings.findClipLevel,
+      lamps.empty() && settings.lights.empty() ? ": nothing to light, the light work is skipped"
+                                               : ""));
+  return lamps;
 }
 
 }  // namespace pluvia

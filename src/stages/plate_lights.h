@@ -6,6 +6,7 @@
 
 #include "geometry/camera.h"
 #include "image/image.h"
+#include "pipeline/stage.h"
 #include "stages/lights_settings.h"
 
 namespace pluvia {
@@ -33,7 +34,19 @@ std::vector<PlateBlob> findClippedBlobs(const Image& still, double clipLevel, in
 // z-depth in metres; +inf is sky), or backdropMeters when no rim pixel has a finite depth or
 // `depth` is null. Radiant intensity: coreGain * clipLevel * Omega * d^2, the blob's solid angle
 // Omega, its distance d, the clip level times coreGain its radiance; radius: the blob's.
-LightSpec plateLight(const PlateBlob& blob, const Camera& camera, const std::vector<float>* depth,
-                     double backdropMeters, double clipLevel, double coreGain);
+FoundLamp plateLamp(const PlateBlob& blob, const Camera& camera, const std::vector<float>* depth,
+                    double backdropMeters, double clipLevel, double coreGain);
+
+// The found lamp as lights.list would give it: a world-frame point light.
+LightSpec foundLampLight(const FoundLamp& lamp);
+
+// lights.find on the clip's still: nothing when the plate is not a night one (its median
+// luminance at or over kNightMedianLuminance) unless settings.findOnDayPlates; otherwise the
+// clipped blobs in the dark (at most kMaxLampShareOfFrame of the frame, their rim under
+// kLampRimOverClip of the clip level), placed by plateLamp with `camera` (the clip's first
+// frame's) and `depth` (its depth; null: backdropMeters). Logs what it looked for and found.
+std::vector<FoundLamp> findPlateLamps(const Image& still, const LightsSettings& settings,
+                                      const Camera& camera, const std::vector<float>* depth,
+                                      double backdropMeters);
 
 }  // namespace pluvia

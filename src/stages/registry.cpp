@@ -9,7 +9,7 @@ const std::vector<StageInfo>& allStages() {
   static const std::vector<StageInfo> stages{
       derainStageInfo(), environmentStageInfo(), depthStageInfo(),   darkenStageInfo(),
       blurStageInfo(),   fogStageInfo(),         rainbowStageInfo(), lightsStageInfo(),
-      rainStageInfo(),   splashStageInfo()};
+      rainStageInfo(),   splashStageInfo(),      glareStageInfo()};
   return stages;
 }
 

@@ -8,11 +8,11 @@
 
 namespace pluvia {
 
-// derain, lighting, depth, darken, blur, fog, rainbow, lights, rain, splash. Darken, blur and fog
-// act on the plate before the rain is composited: rain falls in front of the scene, so the scene's
-// fog must not cover the drops (fog reaches the drops per drop instead, through their own depth).
-// The rainbow and the lights' halos are light scattered by the whole rain volume along each ray,
-// added to the plate like the fog.
+// derain, lighting, depth, darken, blur, fog, rainbow, lights, rain, splash, glare. Darken, blur
+// and fog act on the plate before the rain is composited: rain falls in front of the scene, so the
+// scene's fog must not cover the drops (fog reaches the drops per drop instead, through their own
+// depth). The rainbow and the lights' halos are light scattered by the whole rain volume along each
+// ray, added to the plate like the fog. Glare comes last: the eye's veil covers everything in view.
 const std::vector<StageInfo>& allStages();
 const StageInfo* findStage(const std::string& name);
 
@@ -30,5 +30,6 @@ StageInfo lightsStageInfo();
 StageInfo rainbowStageInfo();
 StageInfo rainStageInfo();
 StageInfo splashStageInfo();
+StageInfo glareStageInfo();
 
 }  // namespace pluvia

@@ -5,8 +5,11 @@
 // plate without lamps finds none. Skipped when ../shared/data is absent.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <regex>
+
+#include <nlohmann/json.hpp>
 
 #include "test_support.h"
 #include "util/subprocess.h"
@@ -137,4 +140,40 @@ TEST(CliPlateLights, NothingClippedFindsNoLights) {
   ASSERT_EQ(plan.exitCode, 0) << plan.output;
   EXPECT_NE(plan.output.find("looked for in the plate at render time"), std::string::npos)
       << plan.output;
+}
+
+TEST(CliPlateLights, PlanResolvedListsTheFoundLamps) {
+  // `pluvia plan --resolved` finds the lamps as a render does (once per clip: the still, the
+  // depth of the first frame) and lists each: pixel within 2 px of its disc, the card's 8 m
+  // depth, the disc's hue, an intensity; the resolved preset still follows as JSON.
+  if (!stdfs::exists(sharedData() / "plate_static/opencv_vtest.avi"))
+    GTEST_SKIP() << "../shared/data is absent";
+  const stdfs::path dir = freshTempDir("plate_lights_plan");
+  const std::string plate = nightPlate(dir, true);
+  const auto planned = runPluvia({"plan", plate, "-p", preset(dir).string(), "--resolved"});
+  ASSERT_EQ(planned.exitCode, 0) << planned.output;
+  EXPECT_NE(planned.output.find("lamps found in the plate (lights.find): 2"), std::string::npos)
+      << planned.output;
+  const std::regex line(
+      R"(lamp \d: pixel \(([-0-9.]+), ([-0-9.]+)\), \d+ px, depth ([0-9.]+) m, colour \(([0-9.]+), ([0-9.]+), ([0-9.]+)\), intensity ([0-9.e+-]+))");
+  int matched = 0;
+  for (auto it = std::sregex_iterator(planned.output.begin(), planned.output.end(), line);
+       it != std::sregex_iterator(); ++it) {
+    const double x = std::stod((*it)[1]), y = std::stod((*it)[2]);
+    for (const Lamp& lamp : kLamps) {
+      if (std::hypot(x - lamp.x, y - lamp.y) > 2.0) continue;
+      ++matched;
+      EXPECT_NEAR(std::stod((*it)[3]), 8.0, 1e-6);
+      // The rim's colour after the sRGB decode: its channels' order is the disc's.
+      const std::array<double, 3> rgb{std::stod((*it)[4]), std::stod((*it)[5]),
+                                      std::stod((*it)[6])};
+      const size_t brightest = size_t(std::max_element(rgb.begin(), rgb.end()) - rgb.begin());
+      EXPECT_EQ(brightest,
+                size_t(std::max_element(lamp.rgb.begin(), lamp.rgb.end()) - lamp.rgb.begin()));
+      EXPECT_GT(std::stod((*it)[7]), 0.0);
+    }
+  }
+  EXPECT_EQ(matched, 2) << planned.output;
+  const auto json = nlohmann::json::parse(planned.output.substr(planned.output.find('{')));
+  EXPECT_EQ(json["lights"]["find"], "auto");
 }

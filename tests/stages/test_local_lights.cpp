@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 
 #include "geometry/camera.h"
 #include "image/image.h"
@@ -230,4 +231,52 @@ TEST(LocalLights, PlanSkipsTheStageWithoutLights) {
   EXPECT_EQ(info->noOpReason(looking), "");
   const Preset one = Preset::resolve("base", {R"(lights.list=[{"type":"point"}])"}, presetSchema());
   EXPECT_EQ(info->noOpReason(one), "");
+}
+
+TEST(LocalLights, TilesAreCloseToEveryPixel) {
+  // A 480 x 270 frame: sky above the horizon, the ground below it (1.6 m under the camera), a
+  // wall 12 m away over part of both (depth edges), five lights (one a spot) in rain and fog.
+  // The tiled evaluation against evaluating every pixel (no culling), per pixel and channel
+  // where the glow is at least a tenth of the threshold: mean relative error under 1 %, none over
+  // 5 % (0.11 % and 4.1 % when written, at an eighth of the evaluations).
+  constexpr int kW = 480, kH = 270;
+  const Camera camera = Camera::fromFieldOfView(kW, kH, 60.0, 0.0, 1.6);
+  Image open(kW, kH);
+  std::fill(open.rgba.begin(), open.rgba.end(), 0.0f);
+  std::vector<float>& depth = open.plane("depth");
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      const double below = (y + 0.5 - camera.cy) / camera.focalPx;  // tan of the angle down
+      double z = below > 0.0 ? 1.6 / below : HUGE_VAL;
+      if (x > 300 && x < 420 && y > 60) z = std::min(z, 12.0);
+      depth[static_cast<size_t>(y) * kW + x] = float(z);
+    }
+  std::vector<FrameLight> lights{pointLight(-3, 1, -8, 50), pointLight(2, 2.5, -20, 80),
+                                 pointLight(6, 0.5, -14, 30), pointLight(-8, 3, -30, 100)};
+  FrameLight spot = pointLight(1, 3, -10, 150);
+  spot.spot = true;
+  spot.axis = {0, -1, 0};
+  spot.cosHalfAngle = std::cos(25.0 * M_PI / 180.0);
+  spot.falloffQ = 0.3;
+  lights.push_back(spot);
+  Image fast = open, every = open;
+  const HaloResult tiled = addHalos(fast, camera, lights, 0.01, tables(), 1e-3);
+  const HaloResult all = addHalos(every, camera, lights, 0.01, tables(), 1e-3, true);
+  // Relative to each pixel's own value where it is at least a tenth of the threshold.
+  double sum = 0.0, worst = 0.0;
+  int n = 0;
+  for (size_t i = 0; i < fast.pixelCount(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double reference = every.rgba[i * 4 + c];
+      if (!(reference >= 1e-4)) continue;
+      const double e = std::abs(fast.rgba[i * 4 + c] - reference) / reference;
+      sum += e;
+      worst = std::max(worst, e);
+      ++n;
+    }
+  std::cout << "tiles against every pixel: mean " << 100 * sum / n << " %, max " << 100 * worst
+            << " %; evaluations " << tiled.pixelsLit << " against " << all.pixelsLit << "\n";
+  EXPECT_LT(sum / n, 0.01);
+  EXPECT_LT(worst, 0.05);
+  EXPECT_LT(tiled.pixelsLit, all.pixelsLit / 5);
 }
