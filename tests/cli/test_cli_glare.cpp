@@ -23,12 +23,7 @@ constexpr int kWidth = 256, kHeight = 192;
 
 // Frame 2 of the street movie at 256 x 192, its code values times `gain`.
 std::string streetPlate(const stdfs::path& dir, float gain) {
-  const stdfs::path still = dir / "still.png";
-  const auto r = runProcess({"ffmpeg", "-v", "error", "-i",
-                             (sharedData() / "plate_static/opencv_vtest.avi").string(), "-vf",
-                             "select=eq(n\\,2),scale=256:192", "-frames:v", "1", still.string()});
-  EXPECT_EQ(r.exitCode, 0) << r.output;
-  const Image street = readImageFile(still);
+  const Image street = streetStill(dir);
   return writePlateSequence(dir, 1, 1, kWidth, kHeight, [&](Image& image, int) {
     for (size_t i = 0; i < image.rgba.size(); ++i)
       image.rgba[i] = (i % 4 == 3) ? 1.0f : gain * street.rgba[i];

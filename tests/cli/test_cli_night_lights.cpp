@@ -43,12 +43,7 @@ TEST(CliNightLights, HalosBeamsAndLitStreaksOnADarkenedStreet) {
     GTEST_SKIP() << "../shared/data is absent";
   const stdfs::path dir = freshTempDir("night_lights");
   // Frame 2 of the street movie at 256 x 192, then a night of it: x 0.06 in code values.
-  const stdfs::path still = dir / "still.png";
-  auto r = runProcess({"ffmpeg", "-v", "error", "-i",
-                       (sharedData() / "plate_static/opencv_vtest.avi").string(), "-vf",
-                       "select=eq(n\\,2),scale=256:192", "-frames:v", "1", still.string()});
-  ASSERT_EQ(r.exitCode, 0) << r.output;
-  const Image street = readImageFile(still);
+  const Image street = streetStill(dir);
   const std::string plate = writePlateSequence(dir, 1, 1, kWidth, kHeight, [&](Image& image, int) {
     for (size_t i = 0; i < image.rgba.size(); ++i)
       image.rgba[i] = (i % 4 == 3) ? 1.0f : 0.06f * street.rgba[i];

@@ -33,12 +33,7 @@ struct Lamp {
 const std::vector<Lamp> kLamps{{60.5, 50.5, {1.0f, 0.6f, 0.2f}}, {190.5, 70.5, {0.3f, 0.6f, 1.0f}}};
 
 std::string nightPlate(const stdfs::path& dir, bool withLamps) {
-  const stdfs::path still = dir / "still.png";
-  auto r = runProcess({"ffmpeg", "-y", "-v", "error", "-i",
-                       (sharedData() / "plate_static/opencv_vtest.avi").string(), "-vf",
-                       "select=eq(n\\,2),scale=256:192", "-frames:v", "1", still.string()});
-  EXPECT_EQ(r.exitCode, 0) << r.output;
-  const Image street = readImageFile(still);
+  const Image street = streetStill(dir);
   return writePlateSequence(dir, 1, 1, kWidth, kHeight, [&](Image& image, int) {
     for (size_t i = 0; i < image.rgba.size(); ++i)
       image.rgba[i] = (i % 4 == 3) ? 1.0f : 0.06f * street.rgba[i];

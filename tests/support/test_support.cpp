@@ -86,6 +86,16 @@ bool waitUntil(const std::function<bool()>& ready, double seconds) {
   return ready();
 }
 
+Image streetStill(const stdfs::path& dir) {
+  const stdfs::path still = dir / "street_still.png";
+  const auto r = runProcess({"ffmpeg", "-y", "-v", "error", "-i",
+                             (sharedData() / "plate_static/opencv_vtest.avi").string(), "-vf",
+                             "select=eq(n\\,2),scale=256:192", "-frames:v", "1", still.string()});
+  if (r.exitCode != 0)
+    throw std::runtime_error("ffmpeg could not cut the street still: " + r.output);
+  return readImageFile(still);
+}
+
 ExrPixels readAllChannels(const stdfs::path& path) {
   ExrPixels pixels;
   auto in = OIIO::ImageInput::open(path.string());

@@ -77,6 +77,9 @@ std::filesystem::path writeTextFile(const std::filesystem::path& dir, const std:
 
 // Reads an image file with OpenImageIO as float RGBA (no colour conversion).
 Image readImageFile(const std::filesystem::path& path);
+// Frame 2 of the shared street movie (plate_static/opencv_vtest.avi) scaled to 256 x 192, read
+// as float RGBA; the night-plate tests darken it. Call only when sharedData() has the movie.
+Image streetStill(const std::filesystem::path& dir);
 // Every channel of an image file (an EXR's AOVs too), interleaved as stored; a failure is
 // reported to gtest and gives no channels.
 struct ExrPixels {
