@@ -20,6 +20,10 @@ constexpr int kTilePx = 16;
 // the evaluations).
 constexpr double kSmoothDepth = 0.05;
 constexpr double kSmoothGlow = 0.25;
+// A light's glow is interpolated too where its corners differ by less than this fraction of all
+// the lights' glow there (a beam's edge, where bilinear may err by half that difference, under
+// the glow of other lamps).
+constexpr double kSumGlow = 0.02;
 // At a depth edge, at most this many depth steps per corner (a tile spanning more than
 // 1.05^24 = 3.2 times in depth gets coarser steps).
 constexpr int kMaxDepthSteps = 24;
@@ -352,7 +356,16 @@ HaloResult addHalos(Image& image, const Camera& camera, const std::vector<FrameL
   const CornerGrid corners =
       cornerGrid(std::move(gridPx), std::move(gridPy), gridInverseDepth, atEdge);
   std::atomic<size_t> evaluations{0};
-  std::vector<double> grid(gridCount), gridOpen(gridCount);
+  // Pass 1, per light: its glow on the grid (culled when it is invisible everywhere); and all the
+  // lights' glow summed there, in each channel.
+  struct GridLight {
+    const FrameLight* frame;
+    optics::LocalLight light;
+    std::vector<double> grid, open;
+    double px, py;  // its image (-1e9: none)
+  };
+  std::vector<GridLight> gridLights;
+  std::vector<std::array<double, 3>> totalRgb(gridCount, {0.0, 0.0, 0.0});
   const double tileThreshold = thresholdRadiance / double(lights.size());
   for (const FrameLight& frameLight : lights) {
     const optics::LocalLight light = localLight(frameLight);
@@ -364,6 +377,7 @@ HaloResult addHalos(Image& image, const Camera& camera, const std::vector<FrameL
     auto glowAlong = [&](const optics::Vec3& ray, double length) {
       return optics::inscatteredRadiance(tables, light, ray, length, betaPerMeter);
     };
+    std::vector<double> grid(gridCount), gridOpen(gridCount);
     // Where the light's image is: its tiles are always evaluated (its peak is between corners).
     double lightPx = -1e9, lightPy = -1e9;
     if (frameLight.positionMeters[2] < 0.0) {
@@ -389,6 +403,28 @@ HaloResult addHalos(Image& image, const Camera& camera, const std::vector<FrameL
       ++result.culled;
       continue;
     }
+    for (size_t g = 0; g < gridCount; ++g)
+      for (size_t k = 0; k < 3; ++k) totalRgb[g][k] += grid[g] * frameLight.rgbIntensity[k];
+    gridLights.push_back(
+        {&frameLight, light, std::move(grid), std::move(gridOpen), lightPx, lightPy});
+  }
+  // The least of the channels' sums at each grid point: a light's interpolation error need only
+  // be small against all the lights' glow there, not against its own (the far, faint side of
+  // one lamp's halo under a hundred others).
+  std::vector<double> totalLeast(gridCount);
+  for (size_t g = 0; g < gridCount; ++g)
+    totalLeast[g] = std::min({totalRgb[g][0], totalRgb[g][1], totalRgb[g][2]});
+  // Pass 2, per light: its glow into the tiles.
+  for (const GridLight& gridLight : gridLights) {
+    const FrameLight& frameLight = *gridLight.frame;
+    const optics::LocalLight& light = gridLight.light;
+    const double scale = maxChannel(frameLight.rgbIntensity);
+    auto glowAlong = [&](const optics::Vec3& ray, double length) {
+      return optics::inscatteredRadiance(tables, light, ray, length, betaPerMeter);
+    };
+    const std::vector<double>& grid = gridLight.grid;
+    const std::vector<double>& gridOpen = gridLight.open;
+    const double lightPx = gridLight.px, lightPy = gridLight.py;
     int lightTileX = -10, lightTileY = -10;
     if (lightPx > -1e8) {
       lightTileX = int(std::floor(lightPx / kTilePx));
@@ -418,8 +454,15 @@ HaloResult addHalos(Image& image, const Camera& camera, const std::vector<FrameL
       std::array<double, 4> corner{};
       for (int c = 0; c < 4; ++c) corner[size_t(c)] = grid[gridIndex(tx, ty, c)];
       const auto [lo, hi] = std::minmax_element(corner.begin(), corner.end());
-      // The glow turns slowly across the tile: bilinear from its corners.
-      const bool gentle = *hi <= *lo * (1.0 + kSmoothGlow);
+      // The glow turns slowly across the tile against its own least value or all the lights'
+      // least glow there, in this light's units: bilinear from its corners.
+      double spread = kSmoothGlow * *lo;
+      if (!everyPixel) {
+        double least = HUGE_VAL;
+        for (int c = 0; c < 4; ++c) least = std::min(least, totalLeast[gridIndex(tx, ty, c)]);
+        spread = std::max(spread, kSumGlow * least / scale);
+      }
+      const bool gentle = *hi - *lo <= spread;
       if (!everyPixel && !nearLight && gentle && td.smooth) {
         std::array<float, 12>& sum = tileCorners[static_cast<size_t>(tile)];
         for (int c = 0; c < 4; ++c)
@@ -505,15 +548,16 @@ HaloResult addHalos(Image& image, const Camera& camera, const std::vector<FrameL
           }
         evaluations += size_t((xb - xa) * (yb - ya));
       };
-      if (everyPixel || nearLight || !td.smooth) {
-        // Near the light's own image (its peak lies between any samples) and at depth edges
-        // where the glow turns fast: every pixel.
+      if (everyPixel || !td.smooth) {
+        // At depth edges where the glow turns fast: every pixel.
         evaluate(x0, y0, x1, y1);
         return;
       }
-      // One smooth surface, the glow turning fast: the same again on 4 px sub-tiles, their
-      // corners evaluated (a 5 x 5 grid, the tile's own corners reused), each interpolated when
-      // its corners glow within kSmoothGlow of each other, else evaluated at every pixel.
+      // One smooth surface, the glow turning fast or the light's image near: the same again on
+      // 4 px sub-tiles, their corners evaluated (a 5 x 5 grid, the tile's own corners reused),
+      // each interpolated when its corners glow within kSmoothGlow of each other, else (and
+      // within a sub-tile of the light's image, where its peak lies between any samples)
+      // evaluated at every pixel.
       constexpr int kSub = kTilePx / kSubTilePx;
       std::array<double, (kSub + 1) * (kSub + 1)> sub{};
       std::array<int, kSub + 1> sx{}, sy{};
@@ -532,8 +576,8 @@ HaloResult addHalos(Image& image, const Camera& camera, const std::vector<FrameL
           const optics::Vec3 ray =
               unitRay(camera, sx[size_t(i)] + 0.5, sy[size_t(j)] + 0.5, lengthPerDepth);
           value = glowAlong(ray, lengthOf(zAt(sx[size_t(i)], sy[size_t(j)]), lengthPerDepth));
-          ++evaluations;
         }
+      evaluations += size_t((kSub + 1) * (kSub + 1) - 4);
       for (int j = 0; j < kSub; ++j)
         for (int i = 0; i < kSub; ++i) {
           const int xa = x0 + i * kSubTilePx, ya = y0 + j * kSubTilePx;
@@ -543,7 +587,9 @@ HaloResult addHalos(Image& image, const Camera& camera, const std::vector<FrameL
               sub[size_t(j * (kSub + 1) + i)], sub[size_t(j * (kSub + 1) + i + 1)],
               sub[size_t((j + 1) * (kSub + 1) + i)], sub[size_t((j + 1) * (kSub + 1) + i + 1)]};
           const auto [low, high] = std::minmax_element(c.begin(), c.end());
-          if (!(*high <= *low * (1.0 + kSmoothGlow))) {
+          const bool peak = nearLight && lightPx >= xa - kSubTilePx && lightPx < xb + kSubTilePx &&
+                            lightPy >= ya - kSubTilePx && lightPy < yb + kSubTilePx;
+          if (peak || !(*high - *low <= std::max(kSmoothGlow * *low, spread))) {
             evaluate(xa, ya, xb, yb);
             continue;
           }
@@ -564,19 +610,27 @@ HaloResult addHalos(Image& image, const Camera& camera, const std::vector<FrameL
     const int tx = tile % tilesX, ty = tile / tilesX;
     const int x0 = tx * kTilePx, y0 = ty * kTilePx;
     const int x1 = std::min(width, x0 + kTilePx), y1 = std::min(height, y0 + kTilePx);
-    const double ex = std::max(1, gridX(tx + 1) - x0), ey = std::max(1, gridY(ty + 1) - y0);
-    for (int y = y0; y < y1; ++y)
+    // Bilinear per row: its two ends from the corners, then steps along it (in float: what is
+    // added is float).
+    const float ex = float(std::max(1, gridX(tx + 1) - x0)),
+                ey = float(std::max(1, gridY(ty + 1) - y0));
+    for (int y = y0; y < y1; ++y) {
+      const float v = float(y - y0) / ey;
+      std::array<float, 3> left{}, step{};
+      for (size_t k = 0; k < 3; ++k) {
+        left[k] = (1 - v) * sum[k] + v * sum[6 + k];
+        step[k] = ((1 - v) * sum[3 + k] + v * sum[9 + k] - left[k]) / ex;
+      }
       for (int x = x0; x < x1; ++x) {
         const size_t pixel = static_cast<size_t>(y) * width + x;
-        const double u = (x - x0) / ex, v = (y - y0) / ey;
-        for (int k = 0; k < 3; ++k) {
-          const float value = float((1 - v) * ((1 - u) * sum[size_t(k)] + u * sum[size_t(3 + k)]) +
-                                    v * ((1 - u) * sum[size_t(6 + k)] + u * sum[size_t(9 + k)]));
-          if (!(value > 0.0f)) continue;
-          image.rgba[pixel * 4 + size_t(k)] += value;
-          if (aov[0]) aov[size_t(k)][pixel] += value;
+        const float u = float(x - x0);
+        for (size_t k = 0; k < 3; ++k) {
+          const float value = std::max(0.0f, left[k] + u * step[k]);
+          image.rgba[pixel * 4 + k] += value;
+          if (aov[0]) aov[k][pixel] += value;
         }
       }
+    }
   });
   result.pixelsLit = evaluations.load();
   return result;
