@@ -34,14 +34,14 @@ constexpr int kSubTilePx = 4;
 // samples): one sub-tile gave 8.4 % at the worst pixel of the 100-light halo frame, two 6.2 %,
 // the same as every pixel of the 3 x 3 tiles around it.
 constexpr int kPeakPx = 2 * kSubTilePx;
-// Each light's glow on the grid of tile corners is itself found coarse to fine: on cells of 4,
-// then 2 tiles a side, a cell whose scene is one smooth surface (every grid point's 1/z within
+// Each light's glow on the grid of tile corners is itself found coarse to fine: on cells of 8, 4
+// and 2 tiles a side, a cell whose scene is one smooth surface (every grid point's 1/z within
 // kSmoothDepth of bilinear, no depth edge), away from the light's image, whose corners glow
 // within kCoarseGlow of each other and whose centre is within kCoarseCentre of its corners'
 // bilinear value takes its grid points bilinearly; any other cell is split. Far from a light its
 // halo turns slowly, and most of its grid is never evaluated (100 lights over a 1080p frame:
 // 8.3k evaluations each before).
-constexpr std::array<int, 2> kCoarseCells{4, 2};  // grid cells a side, coarsest first
+constexpr std::array<int, 3> kCoarseCells{8, 4, 2};  // grid cells a side, coarsest first
 constexpr double kCoarseGlow = 0.25;
 constexpr double kCoarseCentre = 0.005;
 
