@@ -32,7 +32,8 @@ constexpr int kMaxDepthSteps = 24;
 constexpr int kSubTilePx = 4;
 // Around a light's image every pixel is evaluated this far from it (its peak lies between any
 // samples): one sub-tile gave 8.4 % at the worst pixel of the 100-light halo frame, two 6.2 %,
-// the same as every pixel of the 3 x 3 tiles around it.
+// the same as every pixel of the 3 x 3 tiles around it. Beyond the bulb's own image (its disc's
+// edge is sharp: a near lamp's disc 12 px across erred by 5 % at its rim with this alone).
 constexpr int kPeakPx = 2 * kSubTilePx;
 // Each light's glow on the grid of tile corners is itself found coarse to fine: on cells of 8, 4
 // and 2 tiles a side, a cell whose scene is one smooth surface (every grid point's 1/z within
@@ -430,6 +431,11 @@ HaloResult addHalos(Image& image, const Camera& camera, const std::vector<FrameL
     const std::vector<double>& grid = gridLight.grid;
     const std::vector<double>& gridOpen = gridLight.open;
     const double lightPx = gridLight.px, lightPy = gridLight.py;
+    // Every pixel within kPeakPx of the bulb's image (a disc of this radius).
+    const double peakPx =
+        kPeakPx + (frameLight.positionMeters[2] < 0.0
+                       ? camera.focalPx * frameLight.radiusMeters / -frameLight.positionMeters[2]
+                       : 0.0);
     int lightTileX = -10, lightTileY = -10;
     if (lightPx > -1e8) {
       lightTileX = int(std::floor(lightPx / kTilePx));
@@ -561,7 +567,7 @@ HaloResult addHalos(Image& image, const Camera& camera, const std::vector<FrameL
       // One smooth surface, the glow turning fast or the light's image near: the same again on
       // 4 px sub-tiles, their corners evaluated (a 5 x 5 grid, the tile's own corners reused),
       // each interpolated when its corners glow within kSmoothGlow of each other, else (and
-      // within kPeakPx of the light's image) evaluated at every pixel.
+      // within kPeakPx of the bulb's image) evaluated at every pixel.
       constexpr int kSub = kTilePx / kSubTilePx;
       std::array<double, (kSub + 1) * (kSub + 1)> sub{};
       std::array<int, kSub + 1> sx{}, sy{};
@@ -591,8 +597,8 @@ HaloResult addHalos(Image& image, const Camera& camera, const std::vector<FrameL
               sub[size_t(j * (kSub + 1) + i)], sub[size_t(j * (kSub + 1) + i + 1)],
               sub[size_t((j + 1) * (kSub + 1) + i)], sub[size_t((j + 1) * (kSub + 1) + i + 1)]};
           const auto [low, high] = std::minmax_element(c.begin(), c.end());
-          const bool peak = nearLight && lightPx >= xa - kPeakPx && lightPx < xb + kPeakPx &&
-                            lightPy >= ya - kPeakPx && lightPy < yb + kPeakPx;
+          const bool peak = nearLight && lightPx >= xa - peakPx && lightPx < xb + peakPx &&
+                            lightPy >= ya - peakPx && lightPy < yb + peakPx;
           if (peak || !(*high - *low <= std::max(kSmoothGlow * *low, spread))) {
             evaluate(xa, ya, xb, yb);
             continue;
