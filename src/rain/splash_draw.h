@@ -27,11 +27,27 @@ struct ShadedParticle {
   std::array<float, 3> radiance{0, 0, 0};
 };
 
-// The most a particle covers any pixel (opacity included): 0 behind the camera. The stage keeps
-// only particles with kMinParticleCoverage or more, as drawSplashParticles draws.
-float splashParticleCoverage(const Camera& camera, const SplashParticle& particle, float opacity);
+// A particle projected into the picture with its radiance: what drawProjectedParticles draws.
+struct ProjectedParticle {
+  float ax, ay, az, bx, by, bz;  // the segment's ends: pixels and z-depths (metres)
+  float radius, alpha;           // pixels; coverage with the opacity of motion blur
+  float inverseLengthSquared;    // 1 / (segment length in pixels)^2; 0 for a still particle
+  int x0, x1, y0, y1;            // the pixels whose centres lie within radius + 0.5 of the segment
+  std::array<float, 3> radiance;
+};
 
-// `depth`: width * height z-depths; `alpha`: width * height, the splash AOV (over-composited).
+// Projects `particle`. False (not drawn) when it is behind the camera, covers no pixel by
+// kMinParticleCoverage (opacity included), or lies outside the frame.
+bool projectSplashParticle(const Camera& camera, const SplashParticle& particle, float opacity,
+                           const std::array<float, 3>& radiance, ProjectedParticle& out);
+
+// Draws `groups` (each in its order, the groups in theirs) over the image. `depth`: width *
+// height z-depths; `alpha`: width * height, the splash AOV (over-composited).
+void drawProjectedParticles(Image& image, std::vector<float>& alpha,
+                            const std::vector<float>& depth, int width, int height,
+                            const std::vector<std::vector<ProjectedParticle>>& groups);
+
+// projectSplashParticle and drawProjectedParticles over one list.
 void drawSplashParticles(Image& image, std::vector<float>& alpha, const std::vector<float>& depth,
                          const Camera& camera, const std::vector<ShadedParticle>& particles,
                          float opacity);

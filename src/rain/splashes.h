@@ -84,5 +84,8 @@ struct SplashParticle {
 // kCrownPoints blobs: drawn under a pixel, it covers that pixel as much as they would together.
 std::vector<SplashParticle> splashParticles(const Impact& impact, double openSeconds,
                                             double closeSeconds, double pixelMeters = 0.0);
+// The same, appended to `out` (a frame's many impacts share one vector: no allocation each).
+void appendSplashParticles(const Impact& impact, double openSeconds, double closeSeconds,
+                           double pixelMeters, std::vector<SplashParticle>& out);
 
 }  // namespace pluvia::rain
