@@ -165,8 +165,18 @@ double splashLifeSeconds(const Impact& impact) {
   return std::max(crownLifeSeconds(impact), 2.0 * up / kGravity);
 }
 
+double dropletDiameterMeters(const Impact& impact) {
+  return kDropletDiameterFraction * impact.diameterMm * 1e-3;
+}
+
+double dropletReachMeters(const Impact& impact) {
+  // Range at most v^2 / g (at 45 deg), height at most v^2 / (2 g): within 1.12 v^2 / g.
+  const double v = kDropletSpeedFraction * impact.speedMetersPerSecond;
+  return 1.2 * v * v / kGravity;
+}
+
 void appendSplashParticles(const Impact& impact, double open, double close, double pixelMeters,
-                           std::vector<SplashParticle>& out) {
+                           std::vector<SplashParticle>& out, bool droplets) {
   const double d = impact.diameterMm * 1e-3;
   // Crown: a rim growing as sqrt(age), standing D tall.
   const double crownLife = crownLifeSeconds(impact);
@@ -182,6 +192,7 @@ void appendSplashParticles(const Impact& impact, double open, double close, doub
       out.push_back({centre + dir * r0, centre + dir * r1, d / 3.0});
   }
   // Droplets: ballistic until they are back at the surface.
+  if (!droplets) return;
   Stream rng{impact.key};
   const int n = dropletCount(impact);
   const double speed = kDropletSpeedFraction * impact.speedMetersPerSecond;

@@ -3,7 +3,9 @@
 // the CPU over the plate after the rain (rain/splash_draw.h), shaded like the drops (the
 // environment convolved with the drop's transfer function, looked up along each particle's view
 // direction), their coverage in the "splash" plane.
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include <fmt/format.h>
@@ -66,7 +68,9 @@ class SplashStage : public Stage {
                                 : std::numeric_limits<double>::infinity();
     inputs.impactsPerSquareMeterSecond = rain::impactsPerSquareMeterSecond(
         rain_.distribution, rain_.velocity, rate, splash_.minDiameterMm, kMaxDiameterMm);
+    auto T0 = std::chrono::steady_clock::now();
     memo_.setField(camera, *depth, inputs);
+    auto T1 = std::chrono::steady_clock::now();
     const rain::ImpactDiameters diameters(rain_.distribution, rain_.velocity, rate,
                                           splash_.minDiameterMm, kMaxDiameterMm);
     const double open = f / fps_, close = open + camera_.exposureSecondsAt(fps_, f);
@@ -77,6 +81,7 @@ class SplashStage : public Stage {
     const int64_t firstBirth = frame.frame - int64_t(std::ceil(std::max(longest, flash) * fps_));
     const std::vector<const std::vector<rain::Impact>*> born =
         memo_.impacts(firstBirth, frame.frame, fps_, rain_.seed, diameters, rate, rain_.velocity);
+    auto T2 = std::chrono::steady_clock::now();
     // The alive impacts in birth order, cut into fixed blocks made in parallel and drawn in
     // their order: the same picture whatever the thread count.
     std::vector<const rain::Impact*> alive;
@@ -88,6 +93,7 @@ class SplashStage : public Stage {
     projected_.resize(blocks);
     std::vector<std::vector<rain::ShadedImpact>> flashes(blocks);
     const float opacity = float(splash_.opacity);
+    const double minDropletPx = std::sqrt(double(rain::kMinParticleCoverage) / opacity);
     tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
       std::vector<rain::ProjectedParticle>& out = projected_[b];
       out.clear();  // kept between frames: its memory is reused
@@ -99,8 +105,15 @@ class SplashStage : public Stage {
                                                                          open, close) > 0.0;
         double px, py, z;
         if (!camera.project(impact.point, px, py, z)) continue;
+        // Level of detail per impact: droplets that stay under kMinParticleCoverage even at
+        // their nearest to the camera (a sub-pixel particle covers at most opacity * d_px^2)
+        // are not made.
+        const double nearest = z - rain::dropletReachMeters(impact);
+        const bool droplets =
+            nearest > 0.0 &&
+            camera.focalPx * rain::dropletDiameterMeters(impact) >= minDropletPx * nearest;
         particles.clear();
-        rain::appendSplashParticles(impact, open, close, z / camera.focalPx, particles);
+        rain::appendSplashParticles(impact, open, close, z / camera.focalPx, particles, droplets);
         if (particles.empty() && !flashing) continue;
         // One radiance per splash: its particles lie millimetres apart, the map varies over
         // degrees.
@@ -114,12 +127,17 @@ class SplashStage : public Stage {
             out.push_back(projected);
       }
     });
+    auto T3 = std::chrono::steady_clock::now();
     // The splatters lie on the surface, under the crowns and droplets.
     std::vector<rain::ShadedImpact> splatters;
     for (auto& some : flashes) splatters.insert(splatters.end(), some.begin(), some.end());
     rain::drawSplatters(frame.image, alpha, *depth, camera, splatters, flash, open, close, opacity);
     rain::drawProjectedParticles(frame.image, alpha, *depth, camera.width, camera.height,
                                  projected_);
+    auto T4 = std::chrono::steady_clock::now();
+    size_t np = 0; for (auto& g : projected_) np += g.size();
+    auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+    fprintf(stderr, "TIMING field %.1f impacts %.1f make %.1f draw %.1f alive %zu particles %zu\n", ms(T0,T1), ms(T1,T2), ms(T2,T3), ms(T3,T4), alive.size(), np);
   }
 
  private:
