@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rain/counter_stream.h"
+
 namespace pluvia::rain {
 namespace {
 
@@ -15,7 +17,8 @@ constexpr int kBandRows = 32;
 }  // namespace
 
 bool projectSplashParticle(const Camera& camera, const SplashParticle& p, float opacity,
-                           const std::array<float, 3>& radiance, ProjectedParticle& out) {
+                           const std::array<float, 3>& radiance, uint64_t key,
+                           ProjectedParticle& out) {
   double ax, ay, az, bx, by, bz;
   if (!camera.project(p.from, ax, ay, az) || !camera.project(p.to, bx, by, bz)) return false;
   const double diameterPx = camera.focalPx * p.diameterMeters / (0.5 * (az + bz));
@@ -26,6 +29,11 @@ bool projectSplashParticle(const Camera& camera, const SplashParticle& p, float 
   out.alpha =
       float(opacity * (diameterPx / drawn) * (diameterPx / drawn) * drawn / (length + drawn));
   if (!(out.alpha >= kMinParticleCoverage)) return false;
+  if (out.alpha < kThinnedCoverage) {
+    const float u = float(double(mix(key) >> 11) * 0x1.0p-53);
+    if (u * kThinnedCoverage >= out.alpha) return false;
+    out.alpha = kThinnedCoverage;
+  }
   // A pixel's rim weight is radius + 0.5 - distance: zero beyond radius + 0.5 of the segment.
   const double reach = radius + 0.5;
   out.x0 = std::max(0, int(std::ceil(std::min(ax, bx) - reach - 0.5)));
@@ -79,9 +87,9 @@ void drawSplashParticles(Image& image, std::vector<float>& alpha, const std::vec
                          const Camera& camera, const std::vector<ShadedParticle>& particles,
                          float opacity) {
   std::vector<std::vector<ProjectedParticle>> groups(1);
-  for (const ShadedParticle& shaded : particles) {
+  for (size_t k = 0; k < particles.size(); ++k) {
     ProjectedParticle p;
-    if (projectSplashParticle(camera, shaded.particle, opacity, shaded.radiance, p))
+    if (projectSplashParticle(camera, particles[k].particle, opacity, particles[k].radiance, k, p))
       groups[0].push_back(p);
   }
   drawProjectedParticles(image, alpha, depth, camera.width, camera.height, groups);

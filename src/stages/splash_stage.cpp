@@ -34,6 +34,7 @@ constexpr double kCrownAcrossMeters = 0.012;
 // Impacts made into particles by one task: enough to outweigh the task's cost, few enough that
 // two cores share a frame's 10k or so evenly.
 constexpr size_t kImpactsPerBlock = 512;
+constexpr uint64_t kThinningSalt = 0x7411ed0ULL;  // particle keys apart from the impact's streams
 
 class SplashStage : public Stage {
  public:
@@ -122,8 +123,9 @@ class SplashStage : public Stage {
             sampleEquirect(radiance_, float(view.x()), float(view.y()), float(view.z()));
         if (flashing) flashes[b].push_back({&impact, radiance});
         rain::ProjectedParticle projected;
-        for (const rain::SplashParticle& p : particles)
-          if (rain::projectSplashParticle(camera, p, opacity, radiance, projected))
+        for (size_t j = 0; j < particles.size(); ++j)
+          if (rain::projectSplashParticle(camera, particles[j], opacity, radiance,
+                                          impact.key ^ (kThinningSalt + j), projected))
             out.push_back(projected);
       }
     });
