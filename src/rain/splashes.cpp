@@ -121,9 +121,12 @@ SplashTiles splashTiles(const SplashField& field, int width, int height) {
 std::vector<Impact> impactsBorn(const SplashField& field, const SplashTiles& tiles,
                                 const Camera& camera, int64_t birthFrame, double fps, uint64_t seed,
                                 const ImpactDiameters& diameters, VelocityModel velocity) {
-  std::vector<Impact> impacts;
   const int w = camera.width, h = camera.height, t = field.tilePx;
-  for (int ty = 0; ty < tiles.tilesY; ++ty)
+  // Rows of tiles in parallel: each tile's impacts depend on its own generator alone, and the
+  // rows are joined in their order, so the list is the same whatever the thread count.
+  std::vector<std::vector<Impact>> rows(static_cast<size_t>(tiles.tilesY));
+  tbb::parallel_for(0, tiles.tilesY, [&](int ty) {
+    std::vector<Impact>& impacts = rows[size_t(ty)];
     for (int tx = 0; tx < tiles.tilesX; ++tx) {
       const uint64_t tile = uint64_t(ty) * uint64_t(tiles.tilesX) + uint64_t(tx);
       const std::vector<double>& cumulative = tiles.cumulativeArea[tile];
@@ -148,6 +151,9 @@ std::vector<Impact> impactsBorn(const SplashField& field, const SplashTiles& til
         impacts.push_back(impact);
       }
     }
+  });
+  std::vector<Impact> impacts;
+  for (const std::vector<Impact>& row : rows) impacts.insert(impacts.end(), row.begin(), row.end());
   return impacts;
 }
 

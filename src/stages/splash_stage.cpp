@@ -3,9 +3,7 @@
 // the CPU over the plate after the rain (rain/splash_draw.h), shaded like the drops (the
 // environment convolved with the drop's transfer function, looked up along each particle's view
 // direction), their coverage in the "splash" plane.
-#include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 #include <fmt/format.h>
@@ -69,9 +67,7 @@ class SplashStage : public Stage {
                                 : std::numeric_limits<double>::infinity();
     inputs.impactsPerSquareMeterSecond = rain::impactsPerSquareMeterSecond(
         rain_.distribution, rain_.velocity, rate, splash_.minDiameterMm, kMaxDiameterMm);
-    auto T0 = std::chrono::steady_clock::now();
     memo_.setField(camera, *depth, inputs);
-    auto T1 = std::chrono::steady_clock::now();
     const rain::ImpactDiameters diameters(rain_.distribution, rain_.velocity, rate,
                                           splash_.minDiameterMm, kMaxDiameterMm);
     const double open = f / fps_, close = open + camera_.exposureSecondsAt(fps_, f);
@@ -82,7 +78,6 @@ class SplashStage : public Stage {
     const int64_t firstBirth = frame.frame - int64_t(std::ceil(std::max(longest, flash) * fps_));
     const std::vector<const std::vector<rain::Impact>*> born =
         memo_.impacts(firstBirth, frame.frame, fps_, rain_.seed, diameters, rate, rain_.velocity);
-    auto T2 = std::chrono::steady_clock::now();
     // The alive impacts in birth order, cut into fixed blocks made in parallel and drawn in
     // their order: the same picture whatever the thread count.
     std::vector<const rain::Impact*> alive;
@@ -129,17 +124,12 @@ class SplashStage : public Stage {
             out.push_back(projected);
       }
     });
-    auto T3 = std::chrono::steady_clock::now();
     // The splatters lie on the surface, under the crowns and droplets.
     std::vector<rain::ShadedImpact> splatters;
     for (auto& some : flashes) splatters.insert(splatters.end(), some.begin(), some.end());
     rain::drawSplatters(frame.image, alpha, *depth, camera, splatters, flash, open, close, opacity);
     rain::drawProjectedParticles(frame.image, alpha, *depth, camera.width, camera.height,
                                  projected_);
-    auto T4 = std::chrono::steady_clock::now();
-    size_t np = 0; for (auto& g : projected_) np += g.size();
-    auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
-    fprintf(stderr, "TIMING field %.1f impacts %.1f make %.1f draw %.1f alive %zu particles %zu\n", ms(T0,T1), ms(T1,T2), ms(T2,T3), ms(T3,T4), alive.size(), np);
   }
 
  private:
