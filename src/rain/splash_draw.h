@@ -25,7 +25,8 @@ inline constexpr float kMinParticleCoverage = 1.0f / 1024.0f;
 // Faint particles are thinned (stochastic pruning, Cook et al. 2007): one that covers a pixel by
 // at most this is kept with probability coverage / kThinnedCoverage, chosen by its key, and
 // drawn with kThinnedCoverage, so the expected coverage is unchanged while far fewer are drawn
-// (at 1080p by day: half the particles). A kept one adds under an 8-bit code value.
+// (`pluvia bench --day`: 84k particles a frame down to 59k). A kept one adds under an 8-bit
+// code value.
 inline constexpr float kThinnedCoverage = 1.0f / 256.0f;
 
 struct ShadedParticle {
@@ -55,7 +56,8 @@ void drawProjectedParticles(Image& image, std::vector<float>& alpha,
                             const std::vector<float>& depth, int width, int height,
                             const std::vector<std::vector<ProjectedParticle>>& groups);
 
-// projectSplashParticle and drawProjectedParticles over one list.
+// projectSplashParticle (each particle's key: its index) and drawProjectedParticles over one
+// list.
 void drawSplashParticles(Image& image, std::vector<float>& alpha, const std::vector<float>& depth,
                          const Camera& camera, const std::vector<ShadedParticle>& particles,
                          float opacity);
