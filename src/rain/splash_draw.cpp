@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rain/counter_stream.h"
+
 namespace pluvia::rain {
 namespace {
 
@@ -12,86 +14,85 @@ namespace {
 // particles' order, so a pixel sees the same compositing order whatever the thread count.
 constexpr int kBandRows = 32;
 
-// A particle projected into the picture: its segment, radius, depths and opacity.
-struct Projected {
-  double ax, ay, az, bx, by, bz, radius, length;
-  float alpha;
-  int x0, x1, y0, y1;  // the pixels whose centres lie within radius + 0.5 of the segment
-  size_t index;        // into the particles, for the radiance
-};
+}  // namespace
 
-bool project(const Camera& camera, const SplashParticle& p, float opacity, Projected& out) {
-  if (!camera.project(p.from, out.ax, out.ay, out.az) ||
-      !camera.project(p.to, out.bx, out.by, out.bz))
-    return false;
-  const double diameterPx = camera.focalPx * p.diameterMeters / (0.5 * (out.az + out.bz));
-  out.radius = std::max(0.5 * diameterPx, 0.5);
-  out.length = std::hypot(out.bx - out.ax, out.by - out.ay);
+bool projectSplashParticle(const Camera& camera, const SplashParticle& p, float opacity,
+                           const std::array<float, 3>& radiance, uint64_t key,
+                           ProjectedParticle& out) {
+  double ax, ay, az, bx, by, bz;
+  if (!camera.project(p.from, ax, ay, az) || !camera.project(p.to, bx, by, bz)) return false;
+  const double diameterPx = camera.focalPx * p.diameterMeters / (0.5 * (az + bz));
+  const double radius = std::max(0.5 * diameterPx, 0.5);
+  const double length = std::hypot(bx - ax, by - ay);
   // Drawn at least a pixel wide: a thinner particle covers (d_px)^2 of that pixel's area.
   const double drawn = std::max(diameterPx, 1.0);
   out.alpha =
-      float(opacity * (diameterPx / drawn) * (diameterPx / drawn) * drawn / (out.length + drawn));
+      float(opacity * (diameterPx / drawn) * (diameterPx / drawn) * drawn / (length + drawn));
   if (!(out.alpha >= kMinParticleCoverage)) return false;
+  if (out.alpha < kThinnedCoverage) {
+    const float u = float(double(mix(key) >> 11) * 0x1.0p-53);
+    if (u * kThinnedCoverage >= out.alpha) return false;
+    out.alpha = kThinnedCoverage;
+  }
   // A pixel's rim weight is radius + 0.5 - distance: zero beyond radius + 0.5 of the segment.
-  const double reach = out.radius + 0.5;
-  out.x0 = std::max(0, int(std::ceil(std::min(out.ax, out.bx) - reach - 0.5)));
-  out.x1 = std::min(camera.width - 1, int(std::floor(std::max(out.ax, out.bx) + reach - 0.5)));
-  out.y0 = std::max(0, int(std::ceil(std::min(out.ay, out.by) - reach - 0.5)));
-  out.y1 = std::min(camera.height - 1, int(std::floor(std::max(out.ay, out.by) + reach - 0.5)));
-  return out.x0 <= out.x1 && out.y0 <= out.y1;
+  const double reach = radius + 0.5;
+  out.x0 = std::max(0, int(std::ceil(std::min(ax, bx) - reach - 0.5)));
+  out.x1 = std::min(camera.width - 1, int(std::floor(std::max(ax, bx) + reach - 0.5)));
+  out.y0 = std::max(0, int(std::ceil(std::min(ay, by) - reach - 0.5)));
+  out.y1 = std::min(camera.height - 1, int(std::floor(std::max(ay, by) + reach - 0.5)));
+  if (out.x0 > out.x1 || out.y0 > out.y1) return false;
+  out.ax = float(ax), out.ay = float(ay), out.az = float(az);
+  out.bx = float(bx), out.by = float(by), out.bz = float(bz);
+  out.radius = float(radius);
+  out.inverseLengthSquared = length > 0.0 ? float(1.0 / (length * length)) : 0.0f;
+  out.radiance = radiance;
+  return true;
 }
 
-}  // namespace
-
-float splashParticleCoverage(const Camera& camera, const SplashParticle& particle, float opacity) {
-  Projected p;
-  return project(camera, particle, opacity, p) ? p.alpha : 0.0f;
+void drawProjectedParticles(Image& image, std::vector<float>& alpha,
+                            const std::vector<float>& depth, int w, int h,
+                            const std::vector<std::vector<ProjectedParticle>>& groups) {
+  const int bands = (h + kBandRows - 1) / kBandRows;
+  std::vector<std::vector<const ProjectedParticle*>> inBand(static_cast<size_t>(bands));
+  for (const std::vector<ProjectedParticle>& group : groups)
+    for (const ProjectedParticle& p : group)
+      for (int b = p.y0 / kBandRows; b <= p.y1 / kBandRows; ++b) inBand[size_t(b)].push_back(&p);
+  tbb::parallel_for(0, bands, [&](int band) {
+    const int rowLo = band * kBandRows, rowHi = std::min(h - 1, rowLo + kBandRows - 1);
+    for (const ProjectedParticle* p : inBand[size_t(band)]) {
+      const float sx = p->bx - p->ax, sy = p->by - p->ay;
+      for (int y = std::max(p->y0, rowLo); y <= std::min(p->y1, rowHi); ++y)
+        for (int x = p->x0; x <= p->x1; ++x) {
+          // Distance from the pixel centre to the segment, with the depth there.
+          const float cx = float(x) + 0.5f - p->ax, cy = float(y) + 0.5f - p->ay;
+          const float s = std::clamp((cx * sx + cy * sy) * p->inverseLengthSquared, 0.0f, 1.0f);
+          const float ex = cx - s * sx, ey = cy - s * sy;
+          const float dist = std::sqrt(ex * ex + ey * ey);
+          const float edge = std::min(p->radius + 0.5f - dist, 1.0f);  // anti-aliased rim
+          if (!(edge > 0.0f)) continue;
+          const size_t i = size_t(y) * size_t(w) + size_t(x);
+          const float z = p->az + s * (p->bz - p->az);
+          const float surface = depth[i];
+          if (z > surface + std::max(float(kSurfaceToleranceMeters), 0.01f * surface)) continue;
+          const float k = p->alpha * edge;
+          float* rgba = image.rgba.data() + i * 4;
+          for (int c = 0; c < 3; ++c) rgba[c] = rgba[c] * (1.0f - k) + p->radiance[size_t(c)] * k;
+          alpha[i] = alpha[i] * (1.0f - k) + k;
+        }
+    }
+  });
 }
 
 void drawSplashParticles(Image& image, std::vector<float>& alpha, const std::vector<float>& depth,
                          const Camera& camera, const std::vector<ShadedParticle>& particles,
                          float opacity) {
-  const int w = camera.width, h = camera.height;
-  std::vector<Projected> projected(particles.size());
-  std::vector<char> shown(particles.size(), 0);
-  tbb::parallel_for(size_t(0), particles.size(), [&](size_t k) {
-    projected[k].index = k;
-    shown[k] = project(camera, particles[k].particle, opacity, projected[k]);
-  });
-  const int bands = (h + kBandRows - 1) / kBandRows;
-  std::vector<std::vector<const Projected*>> inBand(static_cast<size_t>(bands));
+  std::vector<std::vector<ProjectedParticle>> groups(1);
   for (size_t k = 0; k < particles.size(); ++k) {
-    if (!shown[k]) continue;
-    for (int b = projected[k].y0 / kBandRows; b <= projected[k].y1 / kBandRows; ++b)
-      inBand[size_t(b)].push_back(&projected[k]);
+    ProjectedParticle p;
+    if (projectSplashParticle(camera, particles[k].particle, opacity, particles[k].radiance, k, p))
+      groups[0].push_back(p);
   }
-  tbb::parallel_for(0, bands, [&](int band) {
-    const int rowLo = band * kBandRows, rowHi = std::min(h - 1, rowLo + kBandRows - 1);
-    for (const Projected* p : inBand[size_t(band)]) {
-      const std::array<float, 3>& radiance = particles[p->index].radiance;
-      const double sx = p->bx - p->ax, sy = p->by - p->ay;
-      for (int y = std::max(p->y0, rowLo); y <= std::min(p->y1, rowHi); ++y)
-        for (int x = p->x0; x <= p->x1; ++x) {
-          // Distance from the pixel centre to the segment, with the depth there.
-          const double cx = x + 0.5 - p->ax, cy = y + 0.5 - p->ay;
-          const double s = p->length > 0.0
-                               ? std::clamp((cx * sx + cy * sy) / (p->length * p->length), 0.0, 1.0)
-                               : 0.0;
-          const double ex = cx - s * sx, ey = cy - s * sy;
-          const double dist = std::sqrt(ex * ex + ey * ey);
-          const double edge = std::clamp(p->radius + 0.5 - dist, 0.0, 1.0);  // anti-aliased rim
-          if (edge <= 0.0) continue;
-          const size_t i = size_t(y) * size_t(w) + size_t(x);
-          const double z = p->az + s * (p->bz - p->az);
-          const double surface = depth[i];
-          if (z > surface + std::max(kSurfaceToleranceMeters, 0.01 * surface)) continue;
-          const float k = p->alpha * float(edge);
-          float* rgba = image.rgba.data() + i * 4;
-          for (int c = 0; c < 3; ++c) rgba[c] = rgba[c] * (1.0f - k) + radiance[size_t(c)] * k;
-          alpha[i] = alpha[i] * (1.0f - k) + k;
-        }
-    }
-  });
+  drawProjectedParticles(image, alpha, depth, camera.width, camera.height, groups);
 }
 
 }  // namespace pluvia::rain

@@ -1,6 +1,7 @@
 #include "rain/splashes.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -44,6 +45,19 @@ double surfaceDepth(const std::vector<float>& depth, int w, int h, double px, do
   const double inverse =
       (1.0 - fy) * ((1.0 - fx) / z00 + fx / z10) + fy * ((1.0 - fx) / z01 + fx / z11);
   return inverse > 0.0 ? 1.0 / inverse : nearest;
+}
+
+// The crown's blob directions on the horizontal, made once (no trigonometry per crown).
+const std::array<Eigen::Vector3d, kCrownPoints>& crownDirections() {
+  static const std::array<Eigen::Vector3d, kCrownPoints> directions = [] {
+    std::array<Eigen::Vector3d, kCrownPoints> d;
+    for (int k = 0; k < kCrownPoints; ++k) {
+      const double phi = 2.0 * M_PI * (k + 0.5) / kCrownPoints;
+      d[size_t(k)] = Eigen::Vector3d(std::cos(phi), 0.0, std::sin(phi));
+    }
+    return d;
+  }();
+  return directions;
 }
 
 int dropletCount(const Impact& impact) {
@@ -107,9 +121,12 @@ SplashTiles splashTiles(const SplashField& field, int width, int height) {
 std::vector<Impact> impactsBorn(const SplashField& field, const SplashTiles& tiles,
                                 const Camera& camera, int64_t birthFrame, double fps, uint64_t seed,
                                 const ImpactDiameters& diameters, VelocityModel velocity) {
-  std::vector<Impact> impacts;
   const int w = camera.width, h = camera.height, t = field.tilePx;
-  for (int ty = 0; ty < tiles.tilesY; ++ty)
+  // Rows of tiles in parallel: each tile's impacts depend on its own generator alone, and the
+  // rows are joined in their order, so the list is the same whatever the thread count.
+  std::vector<std::vector<Impact>> rows(static_cast<size_t>(tiles.tilesY));
+  tbb::parallel_for(0, tiles.tilesY, [&](int ty) {
+    std::vector<Impact>& impacts = rows[size_t(ty)];
     for (int tx = 0; tx < tiles.tilesX; ++tx) {
       const uint64_t tile = uint64_t(ty) * uint64_t(tiles.tilesX) + uint64_t(tx);
       const std::vector<double>& cumulative = tiles.cumulativeArea[tile];
@@ -134,6 +151,9 @@ std::vector<Impact> impactsBorn(const SplashField& field, const SplashTiles& til
         impacts.push_back(impact);
       }
     }
+  });
+  std::vector<Impact> impacts;
+  for (const std::vector<Impact>& row : rows) impacts.insert(impacts.end(), row.begin(), row.end());
   return impacts;
 }
 
@@ -151,48 +171,58 @@ double splashLifeSeconds(const Impact& impact) {
   return std::max(crownLifeSeconds(impact), 2.0 * up / kGravity);
 }
 
-std::vector<SplashParticle> splashParticles(const Impact& impact, double open, double close,
-                                            double pixelMeters) {
-  std::vector<SplashParticle> particles;
+double dropletDiameterMeters(const Impact& impact) {
+  return kDropletDiameterFraction * impact.diameterMm * 1e-3;
+}
+
+double dropletReachMeters(const Impact& impact) {
+  // Range at most v^2 / g (at 45 deg), height at most v^2 / (2 g): within 1.12 v^2 / g.
+  const double v = kDropletSpeedFraction * impact.speedMetersPerSecond;
+  return 1.2 * v * v / kGravity;
+}
+
+void appendSplashParticles(const Impact& impact, double open, double close, double pixelMeters,
+                           std::vector<SplashParticle>& out, bool droplets) {
   const double d = impact.diameterMm * 1e-3;
   // Crown: a rim growing as sqrt(age), standing D tall.
   const double crownLife = crownLifeSeconds(impact);
   const double a0 = std::max(open - impact.timeSeconds, 0.0);
   const double a1 = std::min(close - impact.timeSeconds, crownLife);
   const double rMax = kCrownRadiusPerDiameter * d;
+  const Eigen::Vector3d centre = impact.point + Eigen::Vector3d(0, 0.5 * d, 0);
   if (a1 > a0 && 2.0 * rMax < pixelMeters) {
-    const Eigen::Vector3d centre = impact.point + Eigen::Vector3d(0, 0.5 * d, 0);
-    particles.push_back({centre, centre, std::sqrt(double(kCrownPoints)) * d / 3.0});
+    out.push_back({centre, centre, std::sqrt(double(kCrownPoints)) * d / 3.0});
   } else if (a1 > a0) {
-    for (int k = 0; k < kCrownPoints; ++k) {
-      const double phi = 2.0 * M_PI * (k + 0.5) / kCrownPoints;
-      const Eigen::Vector3d dir(std::cos(phi), 0.0, std::sin(phi));
-      auto at = [&](double age) -> Eigen::Vector3d {
-        return impact.point + dir * rMax * std::sqrt(age / crownLife) +
-               Eigen::Vector3d(0, 0.5 * d, 0);
-      };
-      particles.push_back({at(a0), at(a1), d / 3.0});
-    }
+    const double r0 = rMax * std::sqrt(a0 / crownLife), r1 = rMax * std::sqrt(a1 / crownLife);
+    for (const Eigen::Vector3d& dir : crownDirections())
+      out.push_back({centre + dir * r0, centre + dir * r1, d / 3.0});
   }
   // Droplets: ballistic until they are back at the surface.
+  if (!droplets) return;
   Stream rng{impact.key};
   const int n = dropletCount(impact);
+  const double speed = kDropletSpeedFraction * impact.speedMetersPerSecond;
   for (int k = 0; k < n; ++k) {
     const double phi = 2.0 * M_PI * rng.uniform();
     const double elevation = (45.0 + 30.0 * rng.uniform()) * M_PI / 180.0;
-    const double speed = kDropletSpeedFraction * impact.speedMetersPerSecond;
-    const Eigen::Vector3d v0(speed * std::cos(elevation) * std::cos(phi),
-                             speed * std::sin(elevation),
-                             speed * std::cos(elevation) * std::sin(phi));
-    const double flight = 2.0 * v0.y() / kGravity;
+    const double up = speed * std::sin(elevation);
+    const double flight = 2.0 * up / kGravity;
     const double b0 = std::max(open - impact.timeSeconds, 0.0);
     const double b1 = std::min(close - impact.timeSeconds, flight);
-    if (!(b1 > b0)) continue;
+    if (!(b1 > b0)) continue;  // landed before the shutter opened: no azimuth needed
+    const double across = speed * std::cos(elevation);
+    const Eigen::Vector3d v0(across * std::cos(phi), up, across * std::sin(phi));
     auto at = [&](double age) -> Eigen::Vector3d {
       return impact.point + v0 * age + Eigen::Vector3d(0, -0.5 * kGravity * age * age, 0);
     };
-    particles.push_back({at(b0), at(b1), kDropletDiameterFraction * d});
+    out.push_back({at(b0), at(b1), kDropletDiameterFraction * d});
   }
+}
+
+std::vector<SplashParticle> splashParticles(const Impact& impact, double open, double close,
+                                            double pixelMeters) {
+  std::vector<SplashParticle> particles;
+  appendSplashParticles(impact, open, close, pixelMeters, particles);
   return particles;
 }
 

@@ -84,5 +84,15 @@ struct SplashParticle {
 // kCrownPoints blobs: drawn under a pixel, it covers that pixel as much as they would together.
 std::vector<SplashParticle> splashParticles(const Impact& impact, double openSeconds,
                                             double closeSeconds, double pixelMeters = 0.0);
+// The same, appended to `out` (a frame's many impacts share one vector: no allocation each);
+// without the droplets when `droplets` is false (the level of detail: dropletDiameterMeters).
+void appendSplashParticles(const Impact& impact, double openSeconds, double closeSeconds,
+                           double pixelMeters, std::vector<SplashParticle>& out,
+                           bool droplets = true);
+
+// A droplet's diameter, and the farthest it gets from the impact point (the steepest throw's
+// range and height bound it): together they bound the largest a droplet can look.
+double dropletDiameterMeters(const Impact& impact);
+double dropletReachMeters(const Impact& impact);
 
 }  // namespace pluvia::rain

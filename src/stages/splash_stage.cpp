@@ -29,6 +29,10 @@ namespace {
 constexpr double kMaxDiameterMm = 6.0;  // drops break up above (rain/drop_simulation.h)
 // A 3 mm drop's crown (rain/splashes.h: radius 2 D): what splash.min_size_px measures.
 constexpr double kCrownAcrossMeters = 0.012;
+// Impacts made into particles by one task: enough to outweigh the task's cost, few enough that
+// two cores share a frame's 10k or so evenly.
+constexpr size_t kImpactsPerBlock = 512;
+constexpr uint64_t kThinningSalt = 0x7411ed0ULL;  // particle keys apart from the impact's streams
 
 class SplashStage : public Stage {
  public:
@@ -74,18 +78,38 @@ class SplashStage : public Stage {
     const int64_t firstBirth = frame.frame - int64_t(std::ceil(std::max(longest, flash) * fps_));
     const std::vector<const std::vector<rain::Impact>*> born =
         memo_.impacts(firstBirth, frame.frame, fps_, rain_.seed, diameters, rate, rain_.velocity);
-    // Each birth frame on its own (its impacts depend on it alone), drawn in birth order.
-    std::vector<std::vector<rain::ShadedParticle>> shaded(born.size());
-    std::vector<std::vector<rain::ShadedImpact>> flashes(born.size());
-    tbb::parallel_for(size_t(0), born.size(), [&](size_t b) {
-      for (const rain::Impact& impact : *born[b]) {
+    // The alive impacts in birth order, cut into fixed blocks made in parallel and drawn in
+    // their order: the same picture whatever the thread count.
+    std::vector<const rain::Impact*> alive;
+    for (const std::vector<rain::Impact>* some : born)
+      for (const rain::Impact& impact : *some)
+        if (impact.timeSeconds + std::max(rain::splashLifeSeconds(impact), flash) > open)
+          alive.push_back(&impact);
+    const size_t blocks = (alive.size() + kImpactsPerBlock - 1) / kImpactsPerBlock;
+    projected_.resize(blocks);
+    std::vector<std::vector<rain::ShadedImpact>> flashes(blocks);
+    const float opacity = float(splash_.opacity);
+    const double minDropletPx = std::sqrt(double(rain::kMinParticleCoverage) / opacity);
+    tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
+      std::vector<rain::ProjectedParticle>& out = projected_[b];
+      out.clear();  // kept between frames: its memory is reused
+      std::vector<rain::SplashParticle> particles;
+      for (size_t k = b * kImpactsPerBlock; k < std::min(alive.size(), (b + 1) * kImpactsPerBlock);
+           ++k) {
+        const rain::Impact& impact = *alive[k];
         const bool flashing = flash > 0.0 && rain::splatterExposureShare(impact.timeSeconds, flash,
                                                                          open, close) > 0.0;
-        if (!flashing && impact.timeSeconds + rain::splashLifeSeconds(impact) <= open) continue;
         double px, py, z;
         if (!camera.project(impact.point, px, py, z)) continue;
-        const std::vector<rain::SplashParticle> particles =
-            rain::splashParticles(impact, open, close, z / camera.focalPx);
+        // Level of detail per impact: droplets that stay under kMinParticleCoverage even at
+        // their nearest to the camera (a sub-pixel particle covers at most opacity * d_px^2)
+        // are not made.
+        const double nearest = z - rain::dropletReachMeters(impact);
+        const bool droplets =
+            nearest > 0.0 &&
+            camera.focalPx * rain::dropletDiameterMeters(impact) >= minDropletPx * nearest;
+        particles.clear();
+        rain::appendSplashParticles(impact, open, close, z / camera.focalPx, particles, droplets);
         if (particles.empty() && !flashing) continue;
         // One radiance per splash: its particles lie millimetres apart, the map varies over
         // degrees.
@@ -93,21 +117,19 @@ class SplashStage : public Stage {
         const std::array<float, 3> radiance =
             sampleEquirect(radiance_, float(view.x()), float(view.y()), float(view.z()));
         if (flashing) flashes[b].push_back({&impact, radiance});
-        for (const rain::SplashParticle& p : particles)
-          if (rain::splashParticleCoverage(camera, p, float(splash_.opacity)) >=
-              rain::kMinParticleCoverage)
-            shaded[b].push_back({p, radiance});
+        rain::ProjectedParticle projected;
+        for (size_t j = 0; j < particles.size(); ++j)
+          if (rain::projectSplashParticle(camera, particles[j], opacity, radiance,
+                                          impact.key ^ (kThinningSalt + j), projected))
+            out.push_back(projected);
       }
     });
     // The splatters lie on the surface, under the crowns and droplets.
     std::vector<rain::ShadedImpact> splatters;
     for (auto& some : flashes) splatters.insert(splatters.end(), some.begin(), some.end());
-    rain::drawSplatters(frame.image, alpha, *depth, camera, splatters, flash, open, close,
-                        float(splash_.opacity));
-    particles_.clear();  // kept between frames: its memory is reused
-    for (auto& some : shaded) particles_.insert(particles_.end(), some.begin(), some.end());
-    rain::drawSplashParticles(frame.image, alpha, *depth, camera, particles_,
-                              float(splash_.opacity));
+    rain::drawSplatters(frame.image, alpha, *depth, camera, splatters, flash, open, close, opacity);
+    rain::drawProjectedParticles(frame.image, alpha, *depth, camera.width, camera.height,
+                                 projected_);
   }
 
  private:
@@ -118,7 +140,7 @@ class SplashStage : public Stage {
   double fps_ = 24.0;
   EquirectMap radiance_;
   rain::SplashMemo memo_;
-  std::vector<rain::ShadedParticle> particles_;
+  std::vector<std::vector<rain::ProjectedParticle>> projected_;  // per block of impacts
 };
 
 }  // namespace

@@ -183,3 +183,32 @@ TEST(Splashes, FiniteAtTheExtremes) {
     }
   }
 }
+
+TEST(Splashes, ThinningKeepsTheExpectedCoverageOfFaintParticles) {
+  // One still particle at every pixel centre, each covering its own pixel alone (a sub-pixel
+  // particle's rim reaches no neighbour's centre) by opacity * d_px^2 = 1/512: half the thinned
+  // level, so about half are drawn, at 1/256 each. The coverage summed over the frame is a
+  // binomial count: 30 000 particles, sd 0.6 % of the total; tolerance 3 %.
+  const Camera camera = Camera::fromFieldOfView(200, 150, 50.0, 0.0, 1.6);
+  const double z = 10.0, coverage = 1.0 / 512.0;
+  std::vector<ShadedParticle> particles;
+  for (int y = 0; y < camera.height; ++y)
+    for (int x = 0; x < camera.width; ++x) {
+      const Eigen::Vector3d p =
+          camera.positionMeters + camera.worldFromCamera * (camera.rayCamera(x + 0.5, y + 0.5) * z);
+      particles.push_back({{p, p, std::sqrt(coverage) * z / camera.focalPx}, {1.0f, 1.0f, 1.0f}});
+    }
+  Image image(camera.width, camera.height);
+  std::vector<float> alpha(image.pixelCount(), 0.0f);
+  const std::vector<float> depth(image.pixelCount(), float(kInf));
+  drawSplashParticles(image, alpha, depth, camera, particles, 1.0f);
+  double sum = 0.0;
+  size_t drawn = 0;
+  for (float a : alpha) {
+    ASSERT_TRUE(a == 0.0f || std::abs(a - kThinnedCoverage) < 1e-6f) << a;
+    sum += a, drawn += a > 0.0f;
+  }
+  EXPECT_NEAR(sum, coverage * double(particles.size()), 0.03 * coverage * double(particles.size()));
+  EXPECT_GT(drawn, particles.size() * 4 / 10);
+  EXPECT_LT(drawn, particles.size() * 6 / 10);
+}
