@@ -9,9 +9,11 @@
 namespace pluvia {
 
 struct ErrorContext {
-  std::string stage;                 // "fog", "read", "preset" ...
-  std::optional<int64_t> frame;      // frame number as in the clip (1001 stays 1001)
-  std::string file;                  // file the error is about
+  // Default member initialisers let a context name only its stage ({"rain"}) without
+  // -Wmissing-field-initializers.
+  std::string stage = {};             // "fog", "read", "preset" ...
+  std::optional<int64_t> frame = {};  // frame number as in the clip (1001 stays 1001)
+  std::string file = {};              // file the error is about
 };
 
 // A runtime failure (exit code 1): bad input file, failed write, GL failure.
