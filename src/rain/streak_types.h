@@ -20,8 +20,10 @@ struct StreakInstance {
   // streak with beadCycles periods over its length (v from 0 to 1), starting at beadPhase
   // (in periods). See localLightBead().
   float beadCycles;
-  float localR, localG, localB;  // radiance the local lights add to the drop (scene-linear)
-  float beadPhase;
+  // Radiance the local lights add to the drop (scene-linear); zero, and the bead's phase, for a
+  // population built without lights (benches, tests) that leaves them out of its initialiser.
+  float localR = 0.0f, localG = 0.0f, localB = 0.0f;
+  float beadPhase = 0.0f;
 };
 static_assert(sizeof(StreakInstance) == 16 * sizeof(float));
 
