@@ -13,11 +13,11 @@
 #include <chrono>
 #include <cmath>
 #include <iostream>
-#include <sstream>
 #include <vector>
 
 #include <fmt/format.h>
 
+#include "common.h"
 #include "geometry/camera.h"
 #include "gpu/rain_renderer.h"
 #include "lab/test_environment.h"
@@ -28,25 +28,6 @@
 
 namespace pluvia {
 namespace {
-
-std::vector<double> parseLods(const std::string& list) {
-  std::vector<double> lods;
-  std::stringstream in(list);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    try {
-      size_t used = 0;
-      const double lod = std::stod(item, &used);
-      if (used != item.size() || !(lod >= 0.0 && lod <= 10.0)) throw std::invalid_argument(item);
-      lods.push_back(lod);
-    } catch (const std::exception&) {
-      throw UsageError("--lod takes pixel sizes from 0 to 10 separated by commas, got '" + item +
-                       "'");
-    }
-  }
-  if (lods.empty()) throw UsageError("--lod needs at least one size");
-  return lods;
-}
 
 // Sky (infinitely far) over the top third, a level ground below seen from 1.6 m.
 Image streetDepth(int width, int height) {
@@ -92,14 +73,9 @@ double mean(const std::vector<float>& v) {
 
 void runLodBench(const std::string& lodList, const std::string& size, int frames,
                  double rateMmPerHour) {
-  const std::vector<double> lods = parseLods(lodList);
-  int width = 0, height = 0;
-  char x = 0;
-  std::stringstream in(size);
-  if (!(in >> width >> x >> height) || x != 'x' || width < 16 || height < 16 || width > 16384 ||
-      height > 16384) {
-    throw UsageError("--size takes WIDTHxHEIGHT, e.g. 1920x1080, got '" + size + "'");
-  }
+  const std::vector<double> lods =
+      cli::parseNumberList(lodList, "--lod", 0.0, 10.0, "pixel sizes", "size");
+  const auto [width, height] = cli::parseFrameSize(size, 16, "1920x1080");
   const rain::StrokeLibrary library = rain::loadStrokeLibrary(rain::builtinStrokeLibraryPath());
   rain::ShadingParams shading;  // pluvia's default: the map term alone, c = 0
   shading.radianceMap = lab::builtinTestEnvironment(128);

@@ -13,7 +13,6 @@
 #include <functional>
 #include <iostream>
 #include <random>
-#include <sstream>
 
 #include <fmt/format.h>
 
@@ -57,34 +56,6 @@ std::string makeBenchClip(const stdfs::path& folder, int frames) {
 }
 
 // ---- stroke benchmark -----------------------------------------------------------------------
-
-std::vector<int> parseCounts(const std::string& list) {
-  std::vector<int> counts;
-  std::stringstream in(list);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    try {
-      size_t used = 0;
-      const int n = std::stoi(item, &used);
-      if (used != item.size() || n < 1 || n > 10000000) throw std::invalid_argument(item);
-      counts.push_back(n);
-    } catch (const std::exception&) {
-      throw UsageError("--strokes takes counts from 1 to 10000000 separated by commas, got '" +
-                       item + "'");
-    }
-  }
-  if (counts.empty()) throw UsageError("--strokes needs at least one count");
-  return counts;
-}
-
-void parseSize(const std::string& size, int& width, int& height) {
-  char x = 0;
-  std::stringstream in(size);
-  if (!(in >> width >> x >> height) || x != 'x' || !in.eof() || width < 1 || height < 1 ||
-      width > 16384 || height > 16384) {
-    throw UsageError("--size takes WIDTHxHEIGHT, e.g. 720x480, got '" + size + "'");
-  }
-}
 
 double median(std::vector<double> values) {
   std::sort(values.begin(), values.end());
@@ -174,9 +145,9 @@ gpu::RainBackend parseBackend(const std::string& name) {
 // over EGL's.
 void runStrokeBench(const std::string& strokeList, const std::string& size, int frames,
                     bool depthPlane, const std::string& backends) {
-  const std::vector<int> counts = parseCounts(strokeList);
-  int width = 0, height = 0;
-  parseSize(size, width, height);
+  const std::vector<int> counts =
+      parseNumberList(strokeList, "--strokes", 1, 10000000, "counts", "count");
+  const auto [width, height] = parseFrameSize(size, 1, "720x480");
   const rain::StrokeLibrary library = rain::loadStrokeLibrary(rain::builtinStrokeLibraryPath());
   const int strokeCount = static_cast<int>(library.atlas.rects.size());
   rain::ShadingParams shading;  // pluvia's default: the map term alone, c = 0
@@ -242,8 +213,7 @@ void runStrokeBench(const std::string& strokeList, const std::string& size, int 
 // blur, fog, colour out (linear to sRGB) with the `moderate` preset's settings, each timed
 // `frames` times (median wall and process CPU time, after one warm-up), and their sum.
 void runPassBench(const std::string& size, int frames) {
-  int width = 0, height = 0;
-  parseSize(size, width, height);
+  const auto [width, height] = parseFrameSize(size, 1, "720x480");
   Image plate(width, height);
   std::mt19937 random(3);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);

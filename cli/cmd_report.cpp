@@ -10,7 +10,6 @@
 
 #include "commands.h"
 #include "common.h"
-#include "report_halo_frames.h"
 #include "lab/derain_report.h"
 #include "lab/envmap_report.h"
 #include "lab/fog_report.h"
@@ -65,26 +64,42 @@ void addDataOption(CLI::App* command, std::string& data, const std::string& with
                           withoutIt);
 }
 
+// The arguments of a report over the shared data with a table and preview images: --csv/--plot,
+// --images, --data and --quick, and the report's `Settings` (with sharedData, imagesDir, quick).
+template <class Settings>
+struct DataReportArgs {
+  TableFiles files;
+  std::string images, data;
+  Settings settings;
+
+  void addOptions(CLI::App* command, const std::string& plotted, const std::string& imagesHelp,
+                  const std::string& withoutData, const std::string& quickHelp) {
+    files.addOptions(command, plotted);
+    command->add_option("--images", images, imagesHelp);
+    addDataOption(command, data, withoutData);
+    command->add_flag("--quick", settings.quick, quickHelp);
+  }
+  // The settings with --data resolved (sharedDataFolder: a UsageError when it is no folder) and
+  // --images.
+  Settings resolved() const {
+    Settings resolved = settings;
+    resolved.sharedData = sharedDataFolder(data);
+    resolved.imagesDir = images;
+    return resolved;
+  }
+};
+
 void addReportDerain(CLI::App& report, Invocation& invocation) {
   auto* derain = report.add_subcommand(
       "derain", "rain extraction: error vs time against synthetic truth, and on real footage");
-  struct Args {
-    TableFiles files;
-    std::string images, data;
-    lab::DerainReportSettings settings;
-  };
-  auto args = std::make_shared<Args>();
-  args->files.addOptions(derain, "PSNR vs time");
-  derain->add_option("--images", args->images,
-                     "write previews here (PNG): clean plates, mattes x4, input frames");
-  addDataOption(derain, args->data, "without it only the example plate is used");
-  derain->add_flag("--quick", args->settings.quick,
+  auto args = std::make_shared<DataReportArgs<lab::DerainReportSettings>>();
+  args->addOptions(derain, "PSNR vs time",
+                   "write previews here (PNG): clean plates, mattes x4, input frames",
+                   "without it only the example plate is used",
                    "one 320x240 case, short sweeps, no real footage (for tests)");
   derain->callback([=, &invocation] {
-    lab::DerainReportSettings settings = args->settings;
+    lab::DerainReportSettings settings = args->resolved();
     settings.examplePlate = findBesideInstall("examples/street/street_plate.mp4");
-    settings.sharedData = sharedDataFolder(args->data);
-    settings.imagesDir = args->images;
     const lab::DerainReport result = lab::runDerainReport(settings);
     std::cout << lab::formatDerainReport(result);
     args->files.write(result, lab::writeDerainReportCsv, lab::writeDerainReportPlot);
@@ -95,30 +110,20 @@ void addReportDerain(CLI::App& report, Invocation& invocation) {
 void addReportEnvmap(CLI::App& report, Invocation& invocation) {
   auto* envmap = report.add_subcommand(
       "envmap", "environments stitched from a pan: SH and drop colour error vs frames and time");
-  struct Args {
-    TableFiles files;
-    std::string env, images, data;
-    lab::EnvmapReportSettings settings;
-  };
-  auto args = std::make_shared<Args>();
-  envmap->add_option("--env", args->env,
+  auto args = std::make_shared<DataReportArgs<lab::EnvmapReportSettings>>();
+  envmap->add_option("--env", args->settings.environment,
                      "equirect HDR (default: every HDR in the shared data's hdr/, else a "
                      "built-in test environment with a sun)");
-  args->files.addOptions(envmap, "drop colour error vs time");
-  envmap->add_option("--images", args->images,
-                     "write panoramas here (PNG; the real photos' also as EXR)");
-  addDataOption(envmap, args->data, "without it only the built-in environment is used");
-  envmap->add_flag("--quick", args->settings.quick,
+  args->addOptions(envmap, "drop colour error vs time",
+                   "write panoramas here (PNG; the real photos' also as EXR)",
+                   "without it only the built-in environment is used",
                    "the built-in environment, 640x360 frames, 3 and 12 frames, no photos (for "
                    "tests)");
   envmap->callback([=, &invocation] {
-    lab::EnvmapReportSettings settings = args->settings;
-    if (!args->env.empty() && !std::filesystem::is_regular_file(args->env))
-      throw UsageError("--env: no such file: " + args->env);
-    settings.environment = args->env;
-    settings.sharedData = sharedDataFolder(args->data);
-    settings.imagesDir = args->images;
-    const lab::EnvmapReport result = lab::runEnvmapReport(settings);
+    const std::string& env = args->settings.environment;
+    if (!env.empty() && !std::filesystem::is_regular_file(env))
+      throw UsageError("--env: no such file: " + env);
+    const lab::EnvmapReport result = lab::runEnvmapReport(args->resolved());
     std::cout << lab::formatEnvmapReport(result);
     args->files.write(result, lab::writeEnvmapReportCsv, lab::writeEnvmapReportPlot);
     invocation.exitCode = 0;
@@ -128,28 +133,17 @@ void addReportEnvmap(CLI::App& report, Invocation& invocation) {
 void addReportDepth(CLI::App& report, Invocation& invocation) {
   auto* depth = report.add_subcommand(
       "depth", "camera tracking and depth (COLMAP): pose and depth error vs frames, size, time");
-  struct Args {
-    TableFiles files;
-    std::string images, data, workspace;
-    lab::DepthReportSettings settings;
-  };
-  auto args = std::make_shared<Args>();
-  args->files.addOptions(depth, "rotation and depth error vs time");
-  depth->add_option("--images", args->images,
-                    "write depth vs truth previews here (PNG, the middle frame of each row)");
-  addDataOption(depth, args->data, "without it the real photos are skipped");
-  depth->add_option("--workspace", args->workspace,
+  auto args = std::make_shared<DataReportArgs<lab::DepthReportSettings>>();
+  args->addOptions(depth, "rotation and depth error vs time",
+                   "write depth vs truth previews here (PNG, the middle frame of each row)",
+                   "without it the real photos are skipped",
+                   "one row: every 4th of the 48 frames (13) at 1280x720, no real photos (for "
+                   "tests)");
+  depth->add_option("--workspace", args->settings.workspace,
                     "keep COLMAP's folders (frames, database, models, colmap.log) here, one per "
                     "row (default: a temporary folder, removed unless COLMAP failed)");
-  depth->add_flag(
-      "--quick", args->settings.quick,
-      "one row: every 4th of the 48 frames (13) at 1280x720, no real photos (for tests)");
   depth->callback([=, &invocation] {
-    lab::DepthReportSettings settings = args->settings;
-    settings.sharedData = sharedDataFolder(args->data);
-    settings.imagesDir = args->images;
-    settings.workspace = args->workspace;
-    const lab::DepthReport result = lab::runDepthReport(settings);
+    const lab::DepthReport result = lab::runDepthReport(args->resolved());
     std::cout << lab::formatDepthReport(result);
     args->files.write(result, lab::writeDepthReportCsv, lab::writeDepthReportPlot);
     // The table is printed either way; a row that failed makes the command fail.

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <sstream>
 
 #include <fmt/format.h>
 
@@ -12,21 +14,16 @@
 #include "util/error.h"
 #include "util/fs.h"
 #include "util/log.h"
+#include "util/parse_number.h"
 
 namespace pluvia::cli {
 
 std::pair<int64_t, int64_t> parseFrameRange(const std::string& text) {
   auto parseNumber = [&](const std::string& s) {
-    size_t used = 0;
-    int64_t value = 0;
-    try {
-      value = std::stoll(s, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != s.size())
+    const std::optional<int64_t> value = parseWholeNumber<int64_t>(s);
+    if (!value)
       throw UsageError(fmt::format("--frames '{}': expected FIRST-LAST, e.g. 1001-1048", text));
-    return value;
+    return *value;
   };
   size_t dash = text.find('-', 1);
   int64_t first = parseNumber(text.substr(0, dash));
@@ -34,6 +31,40 @@ std::pair<int64_t, int64_t> parseFrameRange(const std::string& text) {
   if (last < first)
     throw UsageError(fmt::format("--frames '{}': the last frame comes before the first", text));
   return {first, last};
+}
+
+template <class T>
+std::vector<T> parseNumberList(const std::string& list, const std::string& option, T min, T max,
+                               const std::string& items, const std::string& item) {
+  std::vector<T> values;
+  std::stringstream in(list);
+  std::string text;
+  while (std::getline(in, text, ',')) {
+    const std::optional<T> value = parseWholeNumber<T>(text);
+    if (!value || !(*value >= min && *value <= max)) {
+      throw UsageError(fmt::format("{} takes {} from {} to {} separated by commas, got '{}'",
+                                   option, items, min, max, text));
+    }
+    values.push_back(*value);
+  }
+  if (values.empty()) throw UsageError(fmt::format("{} needs at least one {}", option, item));
+  return values;
+}
+template std::vector<int> parseNumberList(const std::string&, const std::string&, int, int,
+                                          const std::string&, const std::string&);
+template std::vector<double> parseNumberList(const std::string&, const std::string&, double, double,
+                                             const std::string&, const std::string&);
+
+std::pair<int, int> parseFrameSize(const std::string& size, int minSidePx,
+                                   const std::string& example) {
+  int width = 0, height = 0;
+  char x = 0;
+  std::stringstream in(size);
+  if (!(in >> width >> x >> height) || x != 'x' || !in.eof() || width < minSidePx ||
+      height < minSidePx || width > 16384 || height > 16384) {
+    throw UsageError("--size takes WIDTHxHEIGHT, e.g. " + example + ", got '" + size + "'");
+  }
+  return {width, height};
 }
 
 void setFrames(RenderRequest& request, const std::string& text) {

@@ -70,21 +70,30 @@ std::string withDefines(const std::string& source, const std::string& defines) {
          source.substr(endOfVersion + 1);
 }
 
+// Throws naming `failure` and the object's info log unless its `status` (GL_COMPILE_STATUS of a
+// shader, GL_LINK_STATUS of a program) is true. getParameter and getInfoLog are the object kind's
+// query functions (glGetShaderiv and glGetShaderInfoLog, or the program's).
+template <class GetParameter, class GetInfoLog>
+void requireStatus(GLuint id, GLenum status, GetParameter getParameter, GetInfoLog getInfoLog,
+                   const std::string& failure) {
+  GLint ok = GL_FALSE;
+  getParameter(id, status, &ok);
+  if (ok) return;
+  GLint logLength = 0;
+  getParameter(id, GL_INFO_LOG_LENGTH, &logLength);
+  std::string log(static_cast<size_t>(std::max(logLength, 1)), '\0');
+  getInfoLog(id, logLength, nullptr, log.data());
+  throwRainError(fmt::format("{}: {}", failure, log.c_str()));
+}
+
 GlShader compileShader(GLenum stage, const std::string& name, const std::string& defines) {
   const std::string source = withDefines(shaderSourceWithIncludes(name), defines);
   GlShader shader(glCreateShader(stage));
   const char* text = source.c_str();
   glShaderSource(shader.id(), 1, &text, nullptr);
   glCompileShader(shader.id());
-  GLint compiled = GL_FALSE;
-  glGetShaderiv(shader.id(), GL_COMPILE_STATUS, &compiled);
-  if (!compiled) {
-    GLint logLength = 0;
-    glGetShaderiv(shader.id(), GL_INFO_LOG_LENGTH, &logLength);
-    std::string log(static_cast<size_t>(std::max(logLength, 1)), '\0');
-    glGetShaderInfoLog(shader.id(), logLength, nullptr, log.data());
-    throwRainError(fmt::format("shader {} does not compile: {}", name, log.c_str()));
-  }
+  requireStatus(shader.id(), GL_COMPILE_STATUS, glGetShaderiv, glGetShaderInfoLog,
+                fmt::format("shader {} does not compile", name));
   checkGl(fmt::format("compiling {}", name));
   return shader;
 }
@@ -99,16 +108,8 @@ GlProgram buildProgram(const std::string& vertexName, const std::string& fragmen
   glAttachShader(program.id(), vertex.id());
   glAttachShader(program.id(), fragment.id());
   glLinkProgram(program.id());
-  GLint linked = GL_FALSE;
-  glGetProgramiv(program.id(), GL_LINK_STATUS, &linked);
-  if (!linked) {
-    GLint logLength = 0;
-    glGetProgramiv(program.id(), GL_INFO_LOG_LENGTH, &logLength);
-    std::string log(static_cast<size_t>(std::max(logLength, 1)), '\0');
-    glGetProgramInfoLog(program.id(), logLength, nullptr, log.data());
-    throwRainError(
-        fmt::format("shaders {} + {} do not link: {}", vertexName, fragmentName, log.c_str()));
-  }
+  requireStatus(program.id(), GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog,
+                fmt::format("shaders {} + {} do not link", vertexName, fragmentName));
   glDetachShader(program.id(), vertex.id());
   glDetachShader(program.id(), fragment.id());
   checkGl(fmt::format("linking {} + {}", vertexName, fragmentName));

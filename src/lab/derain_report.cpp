@@ -381,16 +381,9 @@ DerainReport runDerainReport(const DerainReportSettings& settings) {
       }
     }
   }
-  if (plan.real) {
-    try {
-      runRealFootage(settings, report);
-    } catch (const Error& e) {
-      // The synthetic part stands on its own; the failure is reported, not hidden.
-      report.real.present = false;
-      report.notes.push_back("real footage FAILED: " + e.describe());
-      log::warning("report derain: real footage failed: " + e.describe());
-    }
-  }
+  if (plan.real && !runRealPart("report derain", "real footage", report.notes,
+                                [&] { runRealFootage(settings, report); }))
+    report.real.present = false;
   if (!settings.imagesDir.empty())
     report.notes.push_back("previews written to " + settings.imagesDir);
   return report;

@@ -582,15 +582,10 @@ EnvmapReport runEnvmapReport(const EnvmapReportSettings& in) {
     info.name = file.stem().string(), info.path = file.string();
     runEnvironment(optics::loadEnvironment(file.string()), info, settings, report);
   }
-  if (!settings.quick && settings.environment.empty() && !settings.sharedData.empty()) {
-    try {
-      runRealPhotos(settings, report);
-    } catch (const Error& e) {
-      report.real.present = false;
-      report.notes.push_back("real photos FAILED: " + e.describe());
-      log::warning("report envmap: real photos failed: " + e.describe());
-    }
-  }
+  if (!settings.quick && settings.environment.empty() && !settings.sharedData.empty() &&
+      !runRealPart("report envmap", "real photos", report.notes,
+                   [&] { runRealPhotos(settings, report); }))
+    report.real.present = false;
   if (!settings.imagesDir.empty())
     report.notes.push_back("images written to " + settings.imagesDir);
   return report;

@@ -58,21 +58,6 @@ float srgbEncode(float linear) {
   return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
 }
 
-CameraPath truthPath(int width, int height, int clipFrames) {
-  std::vector<std::pair<double, CameraPose>> keys;
-  for (const lab::SyntheticPathKey& key : lab::defaultSyntheticPath(clipFrames)) {
-    CameraPose pose;
-    pose.positionMeters =
-        Eigen::Vector3d(key.positionMeters[0], key.positionMeters[1], key.positionMeters[2]);
-    pose.yawDeg = key.yawDeg;
-    pose.pitchDeg = key.pitchDeg;
-    pose.rollDeg = key.rollDeg;
-    keys.push_back({key.frame, pose});
-  }
-  return CameraPath::fromKeys(lab::defaultSyntheticIntrinsics(width, height).toCamera<Camera>(),
-                              keys);
-}
-
 // What each pixel of a true depth map shows: 0 sky, 1 ground, 2 walls (side and back), 3 boxes.
 enum Region : uint8_t { kSky = 0, kGround = 1, kWalls = 2, kBoxes = 3 };
 
@@ -177,7 +162,8 @@ DepthReportRow runSyntheticRow(lab::SyntheticSceneRenderer& renderer, const RowS
   row.clipFrames = spec.clipFrames;
   row.width = spec.width;
   row.height = spec.height;
-  const CameraPath truth = truthPath(spec.width, spec.height, spec.clipFrames);
+  const CameraPath truth =
+      lab::defaultSyntheticCameraPath(spec.width, spec.height, spec.clipFrames);
   std::vector<int64_t> frames;
   for (int i = 0; i < spec.clipFrames; ++i) frames.push_back(i);
   row.frameStep = spec.frameStep;

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "util/error.h"
+#include "util/log.h"
 
 namespace pluvia::lab {
 
@@ -28,6 +29,18 @@ void writeReportCsv(const std::string& path, const std::string& header,
   file << header << "\n";
   writeRows(file);
   if (!file) throw Error("failed while writing the report", {"report", {}, path});
+}
+
+bool runRealPart(const std::string& report, const std::string& what,
+                 std::vector<std::string>& notes, const std::function<void()>& part) {
+  try {
+    part();
+    return true;
+  } catch (const Error& e) {
+    notes.push_back(what + " FAILED: " + e.describe());
+    log::warning(report + ": " + what + " failed: " + e.describe());
+    return false;
+  }
 }
 
 }  // namespace pluvia::lab

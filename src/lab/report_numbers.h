@@ -1,10 +1,11 @@
 #pragma once
 // How the reports (pluvia report ...) print numbers and write their CSVs: a missing value (NaN, a
-// failed row) is "-" in a table and empty in a CSV.
+// failed row) is "-" in a table and empty in a CSV. And how a part of a report on real data fails.
 #include <functional>
 #include <limits>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace pluvia::lab {
 
@@ -19,5 +20,11 @@ inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // pluvia::Error naming the file when it cannot be opened or written.
 void writeReportCsv(const std::string& path, const std::string& header,
                     const std::function<void(std::ostream&)>& writeRows);
+
+// Runs `part`, a report's part on real data, and returns true; a pluvia::Error it throws is
+// reported, not hidden, and does not stop the synthetic part that stands on its own: the note
+// "<what> FAILED: <error>", a warning "<report>: <what> failed: <error>", and false.
+bool runRealPart(const std::string& report, const std::string& what,
+                 std::vector<std::string>& notes, const std::function<void()>& part);
 
 }  // namespace pluvia::lab

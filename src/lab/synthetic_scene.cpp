@@ -12,6 +12,8 @@
 #include <epoxy/gl.h>
 #include <fmt/format.h>
 
+#include "geometry/camera.h"
+#include "geometry/camera_path.h"
 #include "gpu/egl_context.h"
 #include "gpu/gl_check.h"
 #include "gpu/gl_objects.h"
@@ -179,14 +181,8 @@ std::array<float, 3> syntheticSkyRgb(double unitUp) {
 }
 
 SyntheticView defaultSyntheticIntrinsics(int width, int height) {
-  SyntheticView view;
-  view.width = width;
-  view.height = height;
-  view.focalPx = 0.5 * width / std::tan(0.5 * kSyntheticHfovDeg * M_PI / 180.0);
-  view.cx = 0.5 * width;
-  view.cy = 0.5 * height;
-  view.positionMeters = {0.0, kSyntheticCameraHeightMeters, 0.0};
-  return view;
+  return SyntheticView::fromCamera(
+      Camera::fromFieldOfView(width, height, kSyntheticHfovDeg, 0.0, kSyntheticCameraHeightMeters));
 }
 
 std::vector<SyntheticPathKey> defaultSyntheticPath(int frameCount) {
@@ -230,6 +226,20 @@ SyntheticView syntheticViewAt(const SyntheticView& intrinsics, const SyntheticPa
   view.worldFromCamera = multiply(multiply(ry, rx), rz);
   view.positionMeters = key.positionMeters;
   return view;
+}
+
+CameraPath defaultSyntheticCameraPath(int width, int height, int frameCount) {
+  std::vector<std::pair<double, CameraPose>> keys;
+  for (const SyntheticPathKey& key : defaultSyntheticPath(frameCount)) {
+    CameraPose pose;
+    pose.positionMeters =
+        Eigen::Vector3d(key.positionMeters[0], key.positionMeters[1], key.positionMeters[2]);
+    pose.yawDeg = key.yawDeg;
+    pose.pitchDeg = key.pitchDeg;
+    pose.rollDeg = key.rollDeg;
+    keys.push_back({key.frame, pose});
+  }
+  return CameraPath::fromKeys(defaultSyntheticIntrinsics(width, height).toCamera<Camera>(), keys);
 }
 
 struct SyntheticSceneRenderer::Impl {

@@ -19,6 +19,10 @@
 
 #include "image/image.h"
 
+namespace pluvia {
+class CameraPath;  // geometry/camera_path.h
+}
+
 namespace pluvia::lab {
 
 // A box standing on the ground (y from 0 to heightMeters), axis-aligned.
@@ -114,6 +118,10 @@ std::vector<SyntheticPathKey> defaultSyntheticPath(int frameCount = 48);
 
 // `intrinsics` placed at `key` (its pose replaced).
 SyntheticView syntheticViewAt(const SyntheticView& intrinsics, const SyntheticPathKey& key);
+
+// The default path as a CameraPath (the caller includes geometry/camera_path.h): the keys of
+// defaultSyntheticPath(frameCount) on the camera of defaultSyntheticIntrinsics(width, height).
+CameraPath defaultSyntheticCameraPath(int width, int height, int frameCount = 48);
 
 class SyntheticSceneRenderer {
  public:

@@ -1,9 +1,11 @@
 #include "sfm/colmap_model.h"
 
+#include <optional>
 #include <sstream>
 
 #include "util/error.h"
 #include "util/fs.h"
+#include "util/parse_number.h"
 
 namespace pluvia::sfm {
 namespace {
@@ -44,15 +46,9 @@ std::vector<double> numbers(const std::string& text, const std::string& fileName
   std::vector<double> values;
   std::string field;
   while (in >> field) {
-    size_t used = 0;
-    double value = 0.0;
-    try {
-      value = std::stod(field, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != field.size()) fail(fileName, lineNumber, "'" + field + "' is not a number");
-    values.push_back(value);
+    const std::optional<double> value = parseWholeNumber<double>(field);
+    if (!value) fail(fileName, lineNumber, "'" + field + "' is not a number");
+    values.push_back(*value);
   }
   return values;
 }

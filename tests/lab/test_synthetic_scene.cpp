@@ -359,23 +359,8 @@ TEST(SyntheticScenePath, MatchesCameraPathConvention) {
   const SyntheticView intrinsics = defaultSyntheticIntrinsics(kWidth, kHeight);
   const std::vector<SyntheticPathKey> keys = defaultSyntheticPath(48);
   ASSERT_EQ(keys.size(), 48u);
-  Camera base;
-  base.width = intrinsics.width;
-  base.height = intrinsics.height;
-  base.focalPx = intrinsics.focalPx;
-  base.cx = intrinsics.cx;
-  base.cy = intrinsics.cy;
-  std::vector<std::pair<double, CameraPose>> poses;
-  for (const SyntheticPathKey& key : keys) {
-    CameraPose pose;
-    pose.positionMeters =
-        Eigen::Vector3d(key.positionMeters[0], key.positionMeters[1], key.positionMeters[2]);
-    pose.yawDeg = key.yawDeg;
-    pose.pitchDeg = key.pitchDeg;
-    pose.rollDeg = key.rollDeg;
-    poses.emplace_back(key.frame, pose);
-  }
-  const CameraPath path = CameraPath::fromKeys(base, poses);
+  // Built by geometry/camera_path.cpp's rotations, which syntheticViewAt writes out again.
+  const CameraPath path = defaultSyntheticCameraPath(kWidth, kHeight, 48);
   for (size_t i = 0; i < keys.size(); ++i) {
     const Camera expected = path.cameraAt(keys[i].frame);
     const SyntheticView view = syntheticViewAt(intrinsics, keys[i]);
