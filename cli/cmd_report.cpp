@@ -48,9 +48,12 @@ struct TableFiles {
     command->add_option("--csv", csv, "also write the table as CSV");
     command->add_option("--plot", plot, "also write " + plotted + " as a PNG");
   }
+  // Prints the table and writes the files asked for.
   template <class Report>
-  void write(const Report& report, void (*writeCsv)(const Report&, const std::string&),
-             void (*writePlot)(const Report&, const std::string&)) const {
+  void show(const Report& report, std::string (*format)(const Report&),
+            void (*writeCsv)(const Report&, const std::string&),
+            void (*writePlot)(const Report&, const std::string&)) const {
+    std::cout << format(report);
     if (!csv.empty()) writeCsv(report, csv);
     if (!plot.empty()) writePlot(report, plot);
   }
@@ -89,7 +92,7 @@ struct DataReportArgs {
   }
 };
 
-void addReportDerain(CLI::App& report, Invocation& invocation) {
+void addReportDerain(CLI::App& report) {
   auto* derain = report.add_subcommand(
       "derain", "rain extraction: error vs time against synthetic truth, and on real footage");
   auto args = std::make_shared<DataReportArgs<lab::DerainReportSettings>>();
@@ -97,17 +100,16 @@ void addReportDerain(CLI::App& report, Invocation& invocation) {
                    "write previews here (PNG): clean plates, mattes x4, input frames",
                    "without it only the example plate is used",
                    "one 320x240 case, short sweeps, no real footage (for tests)");
-  derain->callback([=, &invocation] {
+  derain->callback([=] {
     lab::DerainReportSettings settings = args->resolved();
     settings.examplePlate = findBesideInstall("examples/street/street_plate.mp4");
     const lab::DerainReport result = lab::runDerainReport(settings);
-    std::cout << lab::formatDerainReport(result);
-    args->files.write(result, lab::writeDerainReportCsv, lab::writeDerainReportPlot);
-    invocation.exitCode = 0;
+    args->files.show(result, lab::formatDerainReport, lab::writeDerainReportCsv,
+                     lab::writeDerainReportPlot);
   });
 }
 
-void addReportEnvmap(CLI::App& report, Invocation& invocation) {
+void addReportEnvmap(CLI::App& report) {
   auto* envmap = report.add_subcommand(
       "envmap", "environments stitched from a pan: SH and drop colour error vs frames and time");
   auto args = std::make_shared<DataReportArgs<lab::EnvmapReportSettings>>();
@@ -119,14 +121,13 @@ void addReportEnvmap(CLI::App& report, Invocation& invocation) {
                    "without it only the built-in environment is used",
                    "the built-in environment, 640x360 frames, 3 and 12 frames, no photos (for "
                    "tests)");
-  envmap->callback([=, &invocation] {
+  envmap->callback([=] {
     const std::string& env = args->settings.environment;
     if (!env.empty() && !std::filesystem::is_regular_file(env))
       throw UsageError("--env: no such file: " + env);
     const lab::EnvmapReport result = lab::runEnvmapReport(args->resolved());
-    std::cout << lab::formatEnvmapReport(result);
-    args->files.write(result, lab::writeEnvmapReportCsv, lab::writeEnvmapReportPlot);
-    invocation.exitCode = 0;
+    args->files.show(result, lab::formatEnvmapReport, lab::writeEnvmapReportCsv,
+                     lab::writeEnvmapReportPlot);
   });
 }
 
@@ -144,8 +145,8 @@ void addReportDepth(CLI::App& report, Invocation& invocation) {
                     "row (default: a temporary folder, removed unless COLMAP failed)");
   depth->callback([=, &invocation] {
     const lab::DepthReport result = lab::runDepthReport(args->resolved());
-    std::cout << lab::formatDepthReport(result);
-    args->files.write(result, lab::writeDepthReportCsv, lab::writeDepthReportPlot);
+    args->files.show(result, lab::formatDepthReport, lab::writeDepthReportCsv,
+                     lab::writeDepthReportPlot);
     // The table is printed either way; a row that failed makes the command fail.
     int failed = result.real.status == "failed" ? 1 : 0;
     for (const lab::DepthReportRow& row : result.rows) failed += row.status == "failed" ? 1 : 0;
@@ -155,7 +156,7 @@ void addReportDepth(CLI::App& report, Invocation& invocation) {
 }
 // `pluvia report lights`: halos, beams, lit drops and glare against their brute-force
 // references, and the stage's tiled halos against every pixel.
-void addReportLights(CLI::App& report, Invocation& invocation) {
+void addReportLights(CLI::App& report) {
   auto* lights = report.add_subcommand(
       "lights",
       "local lights: halo, beam, lit-drop and glare error against their references vs time");
@@ -170,19 +171,18 @@ void addReportLights(CLI::App& report, Invocation& invocation) {
   lights->add_option("--trace-rays", args->settings.traceRays, "drop tracer rays per angle")
       ->check(CLI::Range(1, 1 << 26));
   lights->add_flag("--quick", args->settings.quick, "fewer samples (a smoke run)");
-  lights->callback([=, &invocation] {
+  lights->callback([=] {
     lab::LightsReport report = lab::runLightsReport(args->settings);
     addHaloFrameRows(report, args->settings.quick);
-    std::cout << lab::formatLightsReport(report);
-    args->files.write(report, lab::writeLightsReportCsv, lab::writeLightsReportPlot);
-    invocation.exitCode = 0;
+    args->files.show(report, lab::formatLightsReport, lab::writeLightsReportCsv,
+                     lab::writeLightsReportPlot);
   });
 }
 
 // `pluvia report fog`: the skylight fog model per table size and the exponential model against
 // the ray-marched reference, on the CIE overcast sky and on --env (default: the shared data's
 // Venice sunset HDR when present).
-void addReportFog(CLI::App& report, Invocation& invocation) {
+void addReportFog(CLI::App& report) {
   auto* fog = report.add_subcommand(
       "fog", "skylight fog: error against the ray-marched reference vs table size and time");
   struct Args {
@@ -197,7 +197,7 @@ void addReportFog(CLI::App& report, Invocation& invocation) {
   fog->add_option("--rain-extinction", args->settings.rainExtinctionPerMeter, "1/m")
       ->check(CLI::Range(0.0, 10.0));
   fog->add_option("--fog-density", args->settings.fogPerMeter, "1/m")->check(CLI::Range(0.0, 10.0));
-  fog->callback([=, &invocation] {
+  fog->callback([=] {
     std::vector<std::pair<std::string, EquirectMap>> environments;
     environments.emplace_back("CIE overcast (256x128)",
                               optics::cieOvercastSky(256, {1.0f, 1.0f, 1.0f}));
@@ -213,7 +213,6 @@ void addReportFog(CLI::App& report, Invocation& invocation) {
     std::cout << fmt::format("medium: rain extinction {} /m (scattering half of it), fog {} /m\n",
                              args->settings.rainExtinctionPerMeter, args->settings.fogPerMeter)
               << lab::formatFogReport(lab::runFogReport(environments, args->settings));
-    invocation.exitCode = 0;
   });
 }
 
@@ -244,21 +243,20 @@ void addReportCommand(CLI::App& app, Invocation& invocation) {
       ->check(CLI::Range(1, 50));
   optics->add_option("--max-order", args->settings.maxOrder, "rows L = 1..this")
       ->check(CLI::Range(1, 8));
-  optics->callback([=, &invocation] {
+  optics->callback([=] {
     const EquirectMap env =
         args->env.empty() ? lab::builtinTestEnvironment() : optics::loadEnvironment(args->env);
     const lab::OpticsReport report = lab::runOpticsReport(env, args->settings);
     std::cout << "environment: " << (args->env.empty() ? "built-in test environment" : args->env)
-              << "\n"
-              << lab::formatOpticsReport(report);
-    args->files.write(report, lab::writeOpticsReportCsv, lab::writeOpticsReportPlot);
-    invocation.exitCode = 0;
+              << "\n";
+    args->files.show(report, lab::formatOpticsReport, lab::writeOpticsReportCsv,
+                     lab::writeOpticsReportPlot);
   });
-  addReportDerain(*cmd, invocation);
-  addReportEnvmap(*cmd, invocation);
+  addReportDerain(*cmd);
+  addReportEnvmap(*cmd);
   addReportDepth(*cmd, invocation);
-  addReportLights(*cmd, invocation);
-  addReportFog(*cmd, invocation);
+  addReportLights(*cmd);
+  addReportFog(*cmd);
 }
 
 }  // namespace pluvia::cli
