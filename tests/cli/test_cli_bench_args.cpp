@@ -1,0 +1,51 @@
+// `pluvia bench` refuses a malformed --strokes, --lod or --size before it measures anything: a
+// usage error (exit 2) that quotes the option and the bad item.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "test_support.h"
+
+using namespace pluvia::test;
+
+namespace {
+
+struct BadArgs {
+  std::vector<std::string> args;
+  std::string mentions;
+};
+
+class CliBenchArgs : public ::testing::TestWithParam<BadArgs> {};
+
+TEST_P(CliBenchArgs, RefusedWithUsageError) {
+  std::vector<std::string> args = {"bench"};
+  args.insert(args.end(), GetParam().args.begin(), GetParam().args.end());
+  const CommandResult r = runPluvia(args);
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find(GetParam().mentions), std::string::npos)
+      << "expected '" << GetParam().mentions << "' in:\n"
+      << r.output;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Lists, CliBenchArgs,
+    ::testing::Values(
+        // Not a whole number, out of range, or nothing at all.
+        BadArgs{{"--strokes", "1000,1e3"},
+                "--strokes takes counts from 1 to 10000000 separated by commas, got '1e3'"},
+        BadArgs{{"--strokes", "0"}, "got '0'"},
+        BadArgs{{"--strokes", "99999999999"}, "got '99999999999'"},
+        BadArgs{{"--strokes", ","}, "got ''"},
+        BadArgs{{"--lod", "0,0.5x"},
+                "--lod takes pixel sizes from 0 to 10 separated by commas, got '0.5x'"},
+        BadArgs{{"--lod", "0,11"}, "got '11'"},
+        // --size: a side under the command's smallest, trailing text.
+        BadArgs{{"--strokes", "10", "--size", "0x480"},
+                "--size takes WIDTHxHEIGHT, e.g. 720x480, got '0x480'"},
+        BadArgs{{"--lod", "0,1", "--size", "8x8"},
+                "--size takes WIDTHxHEIGHT, e.g. 1920x1080, got '8x8'"},
+        BadArgs{{"--lod", "0,1", "--size", "640x480px"}, "got '640x480px'"},
+        BadArgs{{"--passes", "--size", "640"}, "got '640'"}));
+
+}  // namespace
