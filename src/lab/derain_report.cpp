@@ -401,16 +401,16 @@ std::string formatDerainReport(const DerainReport& report) {
       "per "
       "pixel per frame, in the solver's units).\n\n",
       report.frames, report.size.width, report.size.height, report.noiseSigma);
-  out += fmt::format(
+  // The columns, for the header and each row.
+  static constexpr char kColumns[] =
       "{:<10} {:<6} {:>6} {:<7} {:>6} {:>5} {:>7} {:>7} {:>9} {:>7} {:>6} {:>8} {:>8} "
-      "{:>10} {:>8}\n",
-      "section", "scene", "true°", "method", "frames", "iters", "PSNR dB", "SSIM", "alpha MAE",
-      "angle°", "err°", "seconds", "s/frame", "objective", "data RMS");
+      "{:>10} {:>8}\n";
+  out += fmt::format(kColumns, "section", "scene", "true°", "method", "frames", "iters", "PSNR dB",
+                     "SSIM", "alpha MAE", "angle°", "err°", "seconds", "s/frame", "objective",
+                     "data RMS");
   for (const DerainReportRow& row : report.rows) {
     out += fmt::format(
-        "{:<10} {:<6} {:>6} {:<7} {:>6} {:>5} {:>7} {:>7} {:>9} {:>7} {:>6} {:>8} {:>8} "
-        "{:>10} {:>8}\n",
-        row.section, row.scene, fixedOrDash(row.trueAngleDeg, 1), row.method, row.frames,
+        kColumns, row.section, row.scene, fixedOrDash(row.trueAngleDeg, 1), row.method, row.frames,
         row.method != "median" && row.method != "input" ? std::to_string(row.iterations) : "-",
         fixedOrDash(row.psnrDb, 2), fixedOrDash(row.ssim, 4), fixedOrDash(row.alphaMae, 4),
         fixedOrDash(row.angleDeg, 2), fixedOrDash(row.angleErrorDeg, 2),

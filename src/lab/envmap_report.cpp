@@ -619,22 +619,21 @@ std::string formatEnvmapReport(const EnvmapReport& report) {
     }
     out += "\n";
   }
-  out += fmt::format(
-      "\n{:<28} {:>7} {:>6} {:>5} {:>6} {:>6} {:>7} {:>7} {:>9} {:>9} {:>5} {:>8} "
-      "{:>8} {:>8}\n",
-      "environment", "frames", "step°", "feat", "pose°", "focal%", "cover%", "SH err%",
-      "drop mean%", "drop max%", "dirs", "place s", "render s", "total s");
+  // The columns, for the header and each row.
+  static constexpr char kColumns[] =
+      "{:<28} {:>7} {:>6} {:>5} {:>6} {:>6} {:>7} {:>7} {:>9} {:>9} {:>5} {:>8} "
+      "{:>8} {:>8}\n";
+  out += "\n" + fmt::format(kColumns, "environment", "frames", "step°", "feat", "pose°", "focal%",
+                            "cover%", "SH err%", "drop mean%", "drop max%", "dirs", "place s",
+                            "render s", "total s");
   for (const EnvmapReportRow& row : report.rows) {
-    out += fmt::format(
-        "{:<28} {:>7} {:>6} {:>5} {:>6} {:>6} {:>7} {:>7} {:>9} {:>9} {:>5} {:>8} "
-        "{:>8} {:>8}\n",
-        row.environment, rowLabel(row), fixedOrDash(row.yawStepDeg, 1),
-        row.fromFeatures ? "yes" : "no", fixedOrDash(row.poseErrorDeg, 2),
-        percentOrDash(row.focalError), percentOrDash(row.coveredFraction),
-        percentOrDash(row.shError), percentOrDash(row.dropMeanError),
-        percentOrDash(row.dropMaxError), row.directions, fixedOrDash(row.placementSeconds, 2),
-        fixedOrDash(row.renderSeconds, 2),
-        fixedOrDash(row.placementSeconds + row.renderSeconds, 2));
+    out += fmt::format(kColumns, row.environment, rowLabel(row), fixedOrDash(row.yawStepDeg, 1),
+                       row.fromFeatures ? "yes" : "no", fixedOrDash(row.poseErrorDeg, 2),
+                       percentOrDash(row.focalError), percentOrDash(row.coveredFraction),
+                       percentOrDash(row.shError), percentOrDash(row.dropMeanError),
+                       percentOrDash(row.dropMaxError), row.directions,
+                       fixedOrDash(row.placementSeconds, 2), fixedOrDash(row.renderSeconds, 2),
+                       fixedOrDash(row.placementSeconds + row.renderSeconds, 2));
   }
 
   // The targets, at the most frames of each environment.

@@ -428,36 +428,36 @@ std::string formatDepthReport(const DepthReport& report) {
       "{:g} m, 4° of yaw, {:g}° hfov; frames to COLMAP as 8-bit sRGB PNG, the poses of the others "
       "interpolated; metric scale from the camera height. Depth compared on every {}th frame.\n",
       0.05 * 47, lab::kSyntheticCameraHeightMeters, lab::kSyntheticHfovDeg, 48 / kEvaluationFrames);
-  out += fmt::format(
-      "\n{:<26} {:<16} {:>7} {:>6} {:>8} {:>8} {:>8} {:>8} {:>6} {:>7} {:>8} "
-      "{:>7} {:>7}\n",
-      "used/clip size", "status", "reg", "posed", "rot°mean", "rot°max", "pos m", "pos max",
-      "scale", "level°", "height m", "focal%", "reproj");
+  // The columns of the two tables, for the header and each row.
+  static constexpr char kPoseColumns[] =
+      "{:<26} {:<16} {:>7} {:>6} {:>8} {:>8} {:>8} {:>8} {:>6} {:>7} {:>8} {:>7} {:>7}\n";
+  static constexpr char kDepthColumns[] =
+      "{:<26} {:>6} {:>7} {:>6} {:>7} {:>7} {:>7} {:>9} {:>11} {:>8} {:>8} {:>9} {:>9} {:>8}\n";
+  out += "\n" + fmt::format(kPoseColumns, "used/clip size", "status", "reg", "posed", "rot°mean",
+                            "rot°max", "pos m", "pos max", "scale", "level°", "height m", "focal%",
+                            "reproj");
   for (const DepthReportRow& row : report.rows) {
-    out += fmt::format(
-        "{:<26} {:<16} {:>7} {:>6} {:>8} {:>8} {:>8} {:>8} {:>6} {:>7} {:>8} {:>7} {:>7}\n",
-        rowLabel(row), row.status, fmt::format("{}/{}", row.registeredUsed, row.framesUsed),
-        fmt::format("{}/{}", row.framesWithPose, row.clipFrames),
-        fixedOrDash(row.rotationMeanDeg, 3), fixedOrDash(row.rotationMaxDeg, 3),
-        fixedOrDash(row.positionMeanMeters, 3), fixedOrDash(row.positionMaxMeters, 3),
-        fixedOrDash(row.scaleRatio, 3), fixedOrDash(row.levelErrorDeg, 2),
-        fixedOrDash(row.heightOffsetMeters, 3), percentOrDash(row.focalError),
-        fixedOrDash(row.reprojectionPx, 2));
+    out += fmt::format(kPoseColumns, rowLabel(row), row.status,
+                       fmt::format("{}/{}", row.registeredUsed, row.framesUsed),
+                       fmt::format("{}/{}", row.framesWithPose, row.clipFrames),
+                       fixedOrDash(row.rotationMeanDeg, 3), fixedOrDash(row.rotationMaxDeg, 3),
+                       fixedOrDash(row.positionMeanMeters, 3),
+                       fixedOrDash(row.positionMaxMeters, 3), fixedOrDash(row.scaleRatio, 3),
+                       fixedOrDash(row.levelErrorDeg, 2), fixedOrDash(row.heightOffsetMeters, 3),
+                       percentOrDash(row.focalError), fixedOrDash(row.reprojectionPx, 2));
   }
-  out += fmt::format(
-      "\n{:<26} {:>6} {:>7} {:>6} {:>7} {:>7} {:>7} {:>9} {:>11} {:>8} {:>8} "
-      "{:>9} {:>9} {:>8}\n",
-      "used/clip size", "frames", "depth%", "p90%", "ground%", "walls%", "boxes%", "sky->inf%",
-      "solid->inf%", "render s", "COLMAP s", "tracking s", "densify/f", "total s");
+  out += "\n" + fmt::format(kDepthColumns, "used/clip size", "frames", "depth%", "p90%", "ground%",
+                            "walls%", "boxes%", "sky->inf%", "solid->inf%", "render s", "COLMAP s",
+                            "tracking s", "densify/f", "total s");
   for (const DepthReportRow& row : report.rows) {
-    out += fmt::format(
-        "{:<26} {:>6} {:>7} {:>6} {:>7} {:>7} {:>7} {:>9} {:>11} {:>8} {:>8} {:>9} {:>9} {:>8}\n",
-        rowLabel(row), row.depthFrames, percentOrDash(row.depthMedian), percentOrDash(row.depthP90),
-        percentOrDash(row.depthMedianGround), percentOrDash(row.depthMedianWalls),
-        percentOrDash(row.depthMedianBoxes), percentOrDash(row.skyAsInfinity),
-        percentOrDash(row.nonSkyAsInfinity), fixedOrDash(row.renderSeconds, 1),
-        fixedOrDash(row.colmapSeconds, 1), fixedOrDash(row.trackingSeconds, 1),
-        fixedOrDash(row.densifySecondsPerFrame, 2), fixedOrDash(row.totalSeconds, 1));
+    out +=
+        fmt::format(kDepthColumns, rowLabel(row), row.depthFrames, percentOrDash(row.depthMedian),
+                    percentOrDash(row.depthP90), percentOrDash(row.depthMedianGround),
+                    percentOrDash(row.depthMedianWalls), percentOrDash(row.depthMedianBoxes),
+                    percentOrDash(row.skyAsInfinity), percentOrDash(row.nonSkyAsInfinity),
+                    fixedOrDash(row.renderSeconds, 1), fixedOrDash(row.colmapSeconds, 1),
+                    fixedOrDash(row.trackingSeconds, 1), fixedOrDash(row.densifySecondsPerFrame, 2),
+                    fixedOrDash(row.totalSeconds, 1));
   }
   out +=
       "(depth%: median |est - true| / true over pixels both call finite, p90 its 90th "
