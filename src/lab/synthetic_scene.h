@@ -10,8 +10,9 @@
 //
 // This header exposes no GL, EGL or Eigen type (it began in pluvia_gpu, which has no Eigen): the
 // Camera-taking entry points are templates, instantiated in the caller's translation unit, which
-// reads the Camera's members into a plain SyntheticView. The GL work uses pluvia_gpu's context
-// and object helpers (gpu/egl_context.h, gpu/gl_objects.h, gpu/shader_program.h).
+// reads the Camera's members into a plain SyntheticView (defaultSyntheticCameraPath's CameraPath
+// is only declared here). The GL work uses pluvia_gpu's context and object helpers
+// (gpu/egl_context.h, gpu/gl_objects.h, gpu/shader_program.h).
 #include <array>
 #include <memory>
 #include <string>
