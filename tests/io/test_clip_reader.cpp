@@ -8,6 +8,7 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include "oiio_files.h"
 #include "test_support.h"
 #include "util/error.h"
 #include "util/subprocess.h"
@@ -26,11 +27,7 @@ void writeSamples(const stdfs::path& path, int width, int height, int channels, 
   if (channels == 1) spec.channelnames = {"Y"};
   spec.alpha_channel = channels == 2 ? 1 : channels == 4 ? 3 : -1;
   spec.attribute("oiio:UnassociatedAlpha", 1);
-  auto out = OIIO::ImageOutput::create(path.string());
-  ASSERT_TRUE(out) << OIIO::geterror();
-  ASSERT_TRUE(out->open(path.string(), spec)) << out->geterror();
-  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, samples.data())) << out->geterror();
-  ASSERT_TRUE(out->close());
+  test::writeWithSpec(path, spec, samples.data());
 }
 
 // A ramp where every sample is a distinct multiple of 1/levels.
@@ -331,18 +328,8 @@ TEST(ClipReaderImages, OneByOneAndOddSizes) {
 
 TEST(ClipReaderImages, ExrDataWindowIsPlacedInTheDisplayWindow) {
   const stdfs::path path = test::freshTempDir("reader_data_window") / "crop.exr";
-  OIIO::ImageSpec spec(2, 1, 3, OIIO::TypeDesc::HALF);
-  spec.x = 1;
-  spec.y = 2;
-  spec.full_x = 0;
-  spec.full_y = 0;
-  spec.full_width = 4;
-  spec.full_height = 4;
   const float samples[6] = {0.25f, 0.5f, 0.75f, 1.0f, 2.0f, 4.0f};
-  auto out = OIIO::ImageOutput::create(path.string());
-  ASSERT_TRUE(out->open(path.string(), spec));
-  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, samples));
-  ASSERT_TRUE(out->close());
+  test::writeWithSpec(path, test::windowedSpec(2, 1, 3, OIIO::TypeDesc::HALF, 1, 2, 4, 4), samples);
   auto clip = openClip(path.string());
   EXPECT_EQ(clip->info().width, 4);
   EXPECT_EQ(clip->info().height, 4);
@@ -356,19 +343,11 @@ TEST(ClipReaderImages, ExrDataWindowIsPlacedInTheDisplayWindow) {
 
 TEST(ClipReaderImages, ExrOverscanIsCropped) {
   const stdfs::path path = test::freshTempDir("reader_overscan") / "overscan.exr";
-  OIIO::ImageSpec spec(4, 3, 4, OIIO::TypeDesc::FLOAT);  // data window -1..2 x -1..1
-  spec.x = -1;
-  spec.y = -1;
-  spec.full_x = 0;
-  spec.full_y = 0;
-  spec.full_width = 2;
-  spec.full_height = 2;
   std::vector<float> samples(4 * 3 * 4);
   for (size_t i = 0; i < samples.size(); ++i) samples[i] = static_cast<float>(i);
-  auto out = OIIO::ImageOutput::create(path.string());
-  ASSERT_TRUE(out->open(path.string(), spec));
-  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, samples.data()));
-  ASSERT_TRUE(out->close());
+  // Data window -1..2 x -1..1 in a 2 x 2 frame.
+  test::writeWithSpec(path, test::windowedSpec(4, 3, 4, OIIO::TypeDesc::FLOAT, -1, -1, 2, 2),
+                      samples.data());
   Image image = openClip(path.string())->read(0);
   ASSERT_EQ(image.width, 2);
   ASSERT_EQ(image.height, 2);
