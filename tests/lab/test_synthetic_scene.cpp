@@ -359,12 +359,7 @@ TEST(SyntheticScenePath, MatchesCameraPathConvention) {
   const SyntheticView intrinsics = defaultSyntheticIntrinsics(kWidth, kHeight);
   const std::vector<SyntheticPathKey> keys = defaultSyntheticPath(48);
   ASSERT_EQ(keys.size(), 48u);
-  Camera base;
-  base.width = intrinsics.width;
-  base.height = intrinsics.height;
-  base.focalPx = intrinsics.focalPx;
-  base.cx = intrinsics.cx;
-  base.cy = intrinsics.cy;
+  const Camera base = intrinsics.toCamera<Camera>();
   std::vector<std::pair<double, CameraPose>> poses;
   for (const SyntheticPathKey& key : keys) {
     CameraPose pose;

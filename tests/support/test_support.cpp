@@ -15,6 +15,7 @@
 #include <iostream>
 #include <sstream>
 #include <thread>
+#include <typeinfo>
 
 #include <gtest/gtest.h>
 #include "util/subprocess.h"
@@ -179,6 +180,17 @@ double parseNumber(const std::string& text, const std::string& line) {
 void expectOutputHas(const std::string& output, const std::vector<std::string>& needles) {
   for (const std::string& needle : needles)
     EXPECT_NE(output.find(needle), std::string::npos) << "no '" << needle << "' in:\n" << output;
+}
+
+void expectCleanOutcome(const std::function<void()>& action, const std::string& which) {
+  try {
+    action();
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << which << "\n" << e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << which << ": threw a " << typeid(e).name()
+                  << ", not a pluvia::Error: " << e.what();
+  }
 }
 
 CommandResult runPluviaTimed(const std::vector<std::string>& args) {

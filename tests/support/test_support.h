@@ -50,7 +50,8 @@ double parseNumber(const std::string& text, const std::string& line);
 // How many lines of `text` start with one of `firstWords` (a report's table rows).
 int countLinesStartingWith(const std::string& text, const std::set<std::string>& firstWords);
 
-// Expects each of `needles` in a command's `output`, printing the output when one is missing.
+// Expects each of `needles` in `output` (a command's output, an error's message), printing it
+// when one is missing.
 void expectOutputHas(const std::string& output, const std::vector<std::string>& needles);
 
 // Runs build/pluvia with the arguments like runPluvia, and prints its output and how long it took
@@ -128,6 +129,10 @@ std::string writePixelPlate(const std::filesystem::path& dir, int first, int las
 // shifted frame shows.
 std::string writeTexturedPlate(const std::filesystem::path& dir, int first, int last,
                                int width = 64, int height = 48);
+
+// Runs a fuzz case: it may succeed or throw a pluvia::Error with a one-line message; a message of
+// several lines or another exception fails the test, naming the case (`which`).
+void expectCleanOutcome(const std::function<void()>& action, const std::string& which);
 
 // Runs `action`, expecting a pluvia::Error whose message names `needle`; returns the error.
 template <typename Action>
