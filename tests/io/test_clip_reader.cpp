@@ -201,12 +201,25 @@ TEST(ClipReaderImages, ExrFloatIsBitExact) {
   }
 }
 
-// Integer files: every code comes back as code / max exactly.
-void expectIntegerRoundTrip(const stdfs::path& path, int channels, OIIO::TypeDesc type,
-                            int levels) {
-  const int width = 7, height = 5;
-  std::vector<float> samples = ramp(width, height, channels, levels);
-  writeSamples(path, width, height, channels, type, samples);
+// Integer files: every code comes back as code / max exactly; with alpha, colour under alpha 0.2
+// stays as stored (not premultiplied on the way in).
+struct IntegerFile {
+  const char* name;  // the test's, and its folder's
+  const char* extension;
+  int channels;
+  OIIO::TypeDesc type;
+  int levels;  // the largest code
+};
+
+class ClipReaderIntegerFiles : public ::testing::TestWithParam<IntegerFile> {};
+
+TEST_P(ClipReaderIntegerFiles, EveryCodeIsCodeOverMax) {
+  const IntegerFile& file = GetParam();
+  const stdfs::path path =
+      test::freshTempDir(std::string("reader_") + file.name) / (std::string("a.") + file.extension);
+  const int width = 7, height = 5, channels = file.channels;
+  std::vector<float> samples = ramp(width, height, channels, file.levels);
+  writeSamples(path, width, height, channels, file.type, samples);
   auto clip = openClip(path.string());
   EXPECT_FALSE(clip->info().isFloat);
   EXPECT_EQ(clip->info().channels, channels);
@@ -220,26 +233,14 @@ void expectIntegerRoundTrip(const stdfs::path& path, int channels, OIIO::TypeDes
   }
 }
 
-TEST(ClipReaderImages, Png8BitRgb) {
-  expectIntegerRoundTrip(test::freshTempDir("reader_png8") / "a.png", 3, OIIO::TypeDesc::UINT8,
-                         255);
-}
-
-TEST(ClipReaderImages, Png16BitRgb) {
-  expectIntegerRoundTrip(test::freshTempDir("reader_png16") / "a.png", 3, OIIO::TypeDesc::UINT16,
-                         65535);
-}
-
-TEST(ClipReaderImages, PngRgbaKeepsStraightAlpha) {
-  // Colour under alpha 0.2 stays as stored: not premultiplied on the way in.
-  expectIntegerRoundTrip(test::freshTempDir("reader_png_rgba") / "a.png", 4, OIIO::TypeDesc::UINT8,
-                         255);
-}
-
-TEST(ClipReaderImages, Tiff16Bit) {
-  expectIntegerRoundTrip(test::freshTempDir("reader_tiff16") / "a.tif", 4, OIIO::TypeDesc::UINT16,
-                         65535);
-}
+INSTANTIATE_TEST_SUITE_P(
+    Formats, ClipReaderIntegerFiles,
+    ::testing::Values(IntegerFile{"Png8BitRgb", "png", 3, OIIO::TypeDesc::UINT8, 255},
+                      IntegerFile{"Png16BitRgb", "png", 3, OIIO::TypeDesc::UINT16, 65535},
+                      IntegerFile{"PngRgbaKeepsStraightAlpha", "png", 4, OIIO::TypeDesc::UINT8,
+                                  255},
+                      IntegerFile{"Tiff16Bit", "tif", 4, OIIO::TypeDesc::UINT16, 65535}),
+    [](const ::testing::TestParamInfo<IntegerFile>& info) { return std::string(info.param.name); });
 
 TEST(ClipReaderImages, GrayscalePngIsExpandedToRgb) {
   const stdfs::path path = test::freshTempDir("reader_gray") / "g.png";
