@@ -247,7 +247,9 @@ void expectFiniteMeasures(const CsvTable& table, size_t row, const std::vector<s
   for (const std::string& name : names) {
     const double value = parseNumber(table.rows[row][table.column.at(name)], line);
     EXPECT_TRUE(std::isfinite(value)) << name << " in: " << line;
-    if (nonNegative) EXPECT_GE(value, 0.0) << name << " in: " << line;
+    if (nonNegative) {
+      EXPECT_GE(value, 0.0) << name << " in: " << line;
+    }
   }
 }
 

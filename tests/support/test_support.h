@@ -1,5 +1,6 @@
 #pragma once
 // Paths and small helpers shared by the tests.
+#include <array>
 #include <filesystem>
 #include <functional>
 #include <map>
