@@ -3,6 +3,8 @@
 
 #include <cmath>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include "sfm/colmap_model.h"
 #include "sfm/dense_import.h"
@@ -100,21 +102,33 @@ TEST(ColmapModel, ReadsPointsAndTracks) {
 }
 
 TEST(ColmapModel, MalformedInputNamesFileAndLine) {
+  // Each case: the reader, the file it stands for, its text and what the error must name.
+  struct Malformed {
+    void (*parse)(const std::string&, const std::string&, ColmapModel&);
+    const char* file;
+    const char* text;
+    std::vector<std::string> named;
+  };
+  const std::vector<Malformed> cases{
+      {parseColmapCameras,
+       "cameras.txt",
+       "# c\n1 PINHOLE 640 480 500 510 320\n",
+       {"cameras.txt line 2", "4 parameters"}},
+      {parseColmapCameras, "cameras.txt", "1 WEIRD 640 480 1\n", {"unknown camera model WEIRD"}},
+      {parseColmapImages,
+       "images.txt",
+       "1 1 0 0 0 0 0 0 1 a.jpg\n1 2 x\n",
+       {"images.txt line 2", "'x' is not a number"}},
+      {parseColmapImages, "images.txt", "1 1 0 0 0 0 0 1 a.jpg\n\n", {"images.txt line 1"}},
+      {parseColmapPoints3D,
+       "points3D.txt",
+       "# p\n\n5 1 2 3 0 0 0 0.5 1\n",
+       {"points3D.txt line 3"}}};
   ColmapModel model;
-  const Error fewParameters = expectError(
-      [&] { parseColmapCameras("# c\n1 PINHOLE 640 480 500 510 320\n", "cameras.txt", model); },
-      "cameras.txt line 2");
-  expectOutputHas(fewParameters.what(), {"4 parameters"});
-  expectError([&] { parseColmapCameras("1 WEIRD 640 480 1\n", "cameras.txt", model); },
-              "unknown camera model WEIRD");
-  const Error notANumber = expectError(
-      [&] { parseColmapImages("1 1 0 0 0 0 0 0 1 a.jpg\n1 2 x\n", "images.txt", model); },
-      "images.txt line 2");
-  expectOutputHas(notANumber.what(), {"'x' is not a number"});
-  expectError([&] { parseColmapImages("1 1 0 0 0 0 0 1 a.jpg\n\n", "images.txt", model); },
-              "images.txt line 1");
-  expectError([&] { parseColmapPoints3D("# p\n\n5 1 2 3 0 0 0 0.5 1\n", "points3D.txt", model); },
-              "points3D.txt line 3");
+  for (const Malformed& c : cases) {
+    const Error e = expectError([&] { c.parse(c.text, c.file, model); }, c.named[0]);
+    expectOutputHas(e.what(), c.named);
+  }
 }
 
 TEST(ColmapModel, MissingFileIsNamed) {
