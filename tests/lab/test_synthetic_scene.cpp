@@ -359,7 +359,12 @@ TEST(SyntheticScenePath, MatchesCameraPathConvention) {
   const SyntheticView intrinsics = defaultSyntheticIntrinsics(kWidth, kHeight);
   const std::vector<SyntheticPathKey> keys = defaultSyntheticPath(48);
   ASSERT_EQ(keys.size(), 48u);
-  const Camera base = intrinsics.toCamera<Camera>();
+  Camera base;
+  base.width = intrinsics.width;
+  base.height = intrinsics.height;
+  base.focalPx = intrinsics.focalPx;
+  base.cx = intrinsics.cx;
+  base.cy = intrinsics.cy;
   std::vector<std::pair<double, CameraPose>> poses;
   for (const SyntheticPathKey& key : keys) {
     CameraPose pose;
