@@ -28,14 +28,10 @@ const std::string kLayers =
 
 // A textured 96x64 plate, frames 1-3, as PNG.
 std::string writePlate(const stdfs::path& dir) {
-  return writePlateSequence(dir, 1, 3, 96, 64, [](Image& image, int f) {
-    for (int y = 0; y < image.height; ++y)
-      for (int x = 0; x < image.width; ++x) {
-        float* p = image.pixel(x, y);
-        p[0] = float((x * 5 + y * 3 + f) % 256) / 255.0f;
-        p[1] = float((x * 2 + y * 7) % 256) / 255.0f;
-        p[2] = float((x + y * 11) % 256) / 255.0f;
-      }
+  return writePixelPlate(dir, 1, 3, 96, 64, [](float* p, int x, int y, int f) {
+    p[0] = float((x * 5 + y * 3 + f) % 256) / 255.0f;
+    p[1] = float((x * 2 + y * 7) % 256) / 255.0f;
+    p[2] = float((x + y * 11) % 256) / 255.0f;
   });
 }
 

@@ -89,8 +89,7 @@ TEST(CliEnvmap, BadLightsNameTheItem) {
       runPluvia({"envmap", exampleClip().string(), "-o", (dir / "env.json").string(), "--lights",
                  (dir / "lights.json").string()});
   EXPECT_EQ(r.exitCode, 1) << r.output;
-  EXPECT_NE(r.output.find("light 0"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("lights.json"), std::string::npos) << r.output;
+  expectOutputHas(r.output, {"light 0", "lights.json"});
   EXPECT_FALSE(stdfs::exists(dir / "env.json"));
 }
 

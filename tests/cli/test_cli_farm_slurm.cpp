@@ -160,15 +160,12 @@ class ThrowAwayCluster {
 
 // 24 frames, 1001-1024, of a small plate with a bright sky over a darker, textured ground.
 std::string writePlate(const stdfs::path& dir) {
-  return writePlateSequence(dir, 1001, 1024, 96, 64, [](Image& image, int frame) {
-    for (int y = 0; y < image.height; ++y)
-      for (int x = 0; x < image.width; ++x) {
-        float* p = image.pixel(x, y);
-        const float ground = 0.15f + 0.1f * float((x * 3 + y * 5 + frame) % 11) / 10.0f;
-        p[0] = y < image.height / 3 ? 0.85f : ground;
-        p[1] = y < image.height / 3 ? 0.9f : ground;
-        p[2] = y < image.height / 3 ? 0.95f : ground * 0.8f;
-      }
+  constexpr int kWidth = 96, kHeight = 64, kSkyRows = kHeight / 3;
+  return writePixelPlate(dir, 1001, 1024, kWidth, kHeight, [](float* p, int x, int y, int frame) {
+    const float ground = 0.15f + 0.1f * float((x * 3 + y * 5 + frame) % 11) / 10.0f;
+    p[0] = y < kSkyRows ? 0.85f : ground;
+    p[1] = y < kSkyRows ? 0.9f : ground;
+    p[2] = y < kSkyRows ? 0.95f : ground * 0.8f;
   });
 }
 
@@ -214,6 +211,17 @@ class FarmSlurm : public ::testing::Test {
     plate_ = writePlate(dir_ / "plate");
   }
 
+  // `pluvia farm slurm` of the plate into dir_/farm/OUTPUT in chunks of 6 frames, submitted.
+  CommandResult submit(const std::string& output) const {
+    return runPluvia({"farm", "slurm", plate_, "-p", "drizzle", "-o",
+                      (dir_ / "farm" / output).string(), "--chunk", "6", "--submit"});
+  }
+  // `pluvia farm status` of dir_/farm/FARM, waiting for its jobs (up to 120 s).
+  CommandResult waitForFarm(const std::string& farm) const {
+    return runPluvia(
+        {"farm", "status", (dir_ / "farm" / farm).string(), "--wait", "--timeout", "120"});
+  }
+
   static inline stdfs::path clusterDir_;
   static inline ThrowAwayCluster* cluster_ = nullptr;
   static inline std::string whyNot_;
@@ -233,10 +241,8 @@ TEST_F(FarmSlurm, FourChunksGiveTheOneMachineFramesByteForByte) {
   CommandResult submitted, status;
   const stdfs::path farmDir = dir_ / "farm" / "o.farm";
   const double farmSeconds = secondsOf([&] {
-    submitted = runPluvia({"farm", "slurm", plate_, "-p", "drizzle", "-o",
-                           (dir_ / "farm" / "o.####.png").string(), "--chunk", "6", "--submit"});
-    if (submitted.exitCode == 0)
-      status = runPluvia({"farm", "status", farmDir.string(), "--wait", "--timeout", "120"});
+    submitted = submit("o.####.png");
+    if (submitted.exitCode == 0) status = waitForFarm("o.farm");
   });
   ASSERT_EQ(submitted.exitCode, 0) << submitted.output;
   const std::vector<std::string> ids = jobIds(submitted.output);
@@ -274,16 +280,13 @@ TEST_F(FarmSlurm, AMovieIsAssembledAfterItsChunksAsTheOneMachineMovie) {
   const auto one =
       runPluvia({"render", plate_, "-p", "drizzle", "-o", (dir_ / "one.mp4").string()});
   ASSERT_EQ(one.exitCode, 0) << one.output;
-  const auto submitted =
-      runPluvia({"farm", "slurm", plate_, "-p", "drizzle", "-o",
-                 (dir_ / "farm" / "rain.mp4").string(), "--chunk", "6", "--submit"});
+  const auto submitted = submit("rain.mp4");
   ASSERT_EQ(submitted.exitCode, 0) << submitted.output;
   const std::vector<std::string> ids = jobIds(submitted.output);
   ASSERT_EQ(ids.size(), 3u) << submitted.output;
   EXPECT_NE(submitted.output.find("assemble job " + ids[2] + " (after " + ids[1] + ")"),
             std::string::npos);
-  const auto status = runPluvia(
-      {"farm", "status", (dir_ / "farm" / "rain.farm").string(), "--wait", "--timeout", "120"});
+  const auto status = waitForFarm("rain.farm");
   ASSERT_EQ(status.exitCode, 0) << status.output << cluster_->logs();
   EXPECT_NE(status.output.find("assemble  " + ids[2]), std::string::npos) << status.output;
   // The chunks wrote 16-bit frames, which the movie writer takes as it takes a render's frames:
@@ -296,14 +299,11 @@ TEST_F(FarmSlurm, AMovieIsAssembledAfterItsChunksAsTheOneMachineMovie) {
 TEST_F(FarmSlurm, AFailedChunkIsListedWithItsFramesAndLog) {
   // Frame 1014's file cannot be written: a folder stands at its name.
   stdfs::create_directories(dir_ / "farm" / frameName(1014));
-  const auto submitted =
-      runPluvia({"farm", "slurm", plate_, "-p", "drizzle", "-o",
-                 (dir_ / "farm" / "o.####.png").string(), "--chunk", "6", "--submit"});
+  const auto submitted = submit("o.####.png");
   ASSERT_EQ(submitted.exitCode, 0) << submitted.output;
   const std::vector<std::string> ids = jobIds(submitted.output);
   ASSERT_EQ(ids.size(), 2u) << submitted.output;
-  const auto status = runPluvia(
-      {"farm", "status", (dir_ / "farm" / "o.farm").string(), "--wait", "--timeout", "120"});
+  const auto status = waitForFarm("o.farm");
   EXPECT_EQ(status.exitCode, 1) << status.output << cluster_->logs();
   const std::string log =
       (dir_ / "farm" / "o.farm" / "logs" / ("render-" + ids[1] + "_2.log")).string();

@@ -18,13 +18,9 @@ namespace {
 // A still plate (the same picture on every frame, as a locked-off shot), frames first..last:
 // a bright sky over a textured dark ground, so the rain shows.
 std::string writeStillPlate(const stdfs::path& dir, int first, int last) {
-  return writePlateSequence(dir, first, last, 160, 120, [](Image& image, int) {
-    for (int y = 0; y < image.height; ++y)
-      for (int x = 0; x < image.width; ++x) {
-        float* p = image.pixel(x, y);
-        const float texture = ((x / 8 + y / 8) % 2) ? 0.06f : 0.1f;
-        for (int c = 0; c < 3; ++c) p[c] = y < 40 ? 0.9f : texture;
-      }
+  return writePixelPlate(dir, first, last, 160, 120, [](float* p, int x, int y, int) {
+    const float texture = ((x / 8 + y / 8) % 2) ? 0.06f : 0.1f;
+    for (int c = 0; c < 3; ++c) p[c] = y < 40 ? 0.9f : texture;
   });
 }
 

@@ -12,6 +12,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include "oiio_files.h"
 #include "test_support.h"
 #include "util/subprocess.h"
 
@@ -160,23 +161,15 @@ TEST(CliIo, ProResAndDnxhrOutputCarryTheirColourTags) {
 TEST(CliIo, ExrDataWindowTimecodeAndCameraPassThrough) {
   auto dir = freshTempDir("cli_io_exr_window");
   for (int f = 1001; f <= 1002; ++f) {
-    OIIO::ImageSpec spec(40, 20, 3, OIIO::TypeDesc::HALF);
-    spec.x = 8;
-    spec.y = 6;
-    spec.full_x = 0;
-    spec.full_y = 0;
-    spec.full_width = 64;
-    spec.full_height = 36;
+    OIIO::ImageSpec spec = windowedSpec(40, 20, 3, OIIO::TypeDesc::HALF, 8, 6, 64, 36);
     spec.attribute("compression", "zip");
     const uint32_t timecode[2] = {0x01000010u + static_cast<uint32_t>(f - 1001), 0};  // 01:00:00:10
     spec.attribute("smpte:TimeCode", OIIO::TypeTimeCode, timecode);
     spec.attribute("Make", "ARRI");
     spec.attribute("Model", "ALEXA Mini");
     std::vector<float> pixels(40 * 20 * 3, 0.25f);
-    const std::string path = (dir / ("plate." + std::to_string(f) + ".exr")).string();
-    auto out = OIIO::ImageOutput::create(path);
-    ASSERT_TRUE(out && out->open(path, spec) &&
-                out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) && out->close());
+    ASSERT_NO_FATAL_FAILURE(
+        writeWithSpec(dir / ("plate." + std::to_string(f) + ".exr"), spec, pixels.data()));
   }
   auto r = runPluvia({"render", (dir / "plate.####.exr").string(), "-p", "drizzle", "-o",
                       (dir / "out.####.exr").string(), "--exr-type", "float", "--exr-compression",

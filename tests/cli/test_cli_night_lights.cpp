@@ -8,8 +8,8 @@
 #include <cmath>
 #include <iostream>
 
+#include "night_plate.h"
 #include "test_support.h"
-#include "util/subprocess.h"
 
 using namespace pluvia;
 using namespace pluvia::test;
@@ -26,28 +26,13 @@ std::pair<double, double> project(double x, double y, double z) {
   return {0.5 * kWidth + f * x / -z, 0.5 * kHeight - f * y / -z};
 }
 
-// The AOV's four channels of an EXR as an RGBA image (oiiotool picks them out).
-Image aovOf(const stdfs::path& exr, const std::string& aov, const stdfs::path& dir) {
-  const stdfs::path out = dir / (aov + "_only.exr");
-  const auto r =
-      runProcess({"oiiotool", exr.string(), "--ch",
-                  aov + ".R," + aov + ".G," + aov + ".B," + aov + ".A", "-o", out.string()});
-  EXPECT_EQ(r.exitCode, 0) << r.output;
-  return readImageFile(out);
-}
-
 }  // namespace
 
 TEST(CliNightLights, HalosBeamsAndLitStreaksOnADarkenedStreet) {
-  if (!stdfs::exists(sharedData() / "plate_static/opencv_vtest.avi"))
-    GTEST_SKIP() << "../shared/data is absent";
+  if (!haveStreetMovie()) GTEST_SKIP() << "../shared/data is absent";
   const stdfs::path dir = freshTempDir("night_lights");
   // Frame 2 of the street movie at 256 x 192, then a night of it: x 0.06 in code values.
-  const Image street = streetStill(dir);
-  const std::string plate = writePlateSequence(dir, 1, 1, kWidth, kHeight, [&](Image& image, int) {
-    for (size_t i = 0; i < image.rgba.size(); ++i)
-      image.rgba[i] = (i % 4 == 3) ? 1.0f : 0.06f * street.rgba[i];
-  });
+  const std::string plate = writeStreetPlate(dir, 0.06f);
   // Point lamp left of centre 6 m away; a spot 9 m away, right, pointing straight down.
   const auto lamp = project(-1.2, 0.6, -6.0);
   const auto spot = project(1.8, 1.2, -9.0);
@@ -68,8 +53,8 @@ TEST(CliNightLights, HalosBeamsAndLitStreaksOnADarkenedStreet) {
   const auto rendered = runPluvia({"-q", "render", plate, "-p", preset.string(), "-o", out.string(),
                                    "--frames", "1-1", "--aov", "rain,lights"});
   ASSERT_EQ(rendered.exitCode, 0) << rendered.output;
-  const Image lights = aovOf(dir / "night.0001.exr", "lights", dir);
-  const Image rain = aovOf(dir / "night.0001.exr", "rain", dir);
+  const Image lights = readAov(dir / "night.0001.exr", "lights", dir);
+  const Image rain = readAov(dir / "night.0001.exr", "rain", dir);
   ASSERT_EQ(lights.width, kWidth);
 
   // The halo: the brightest lights pixel within 30 px of the point lamp sits on it.
@@ -110,23 +95,14 @@ TEST(CliNightLights, HalosBeamsAndLitStreaksOnADarkenedStreet) {
 
   // The streaks: their radiance (rain.G / rain.A where a streak covers the pixel) near the
   // lamp against far from both lamps.
-  double nearSum = 0, farSum = 0;
-  int nearN = 0, farN = 0;
-  for (int y = 0; y < kHeight; ++y)
-    for (int x = 0; x < kWidth; ++x) {
-      const float* p = rain.pixel(x, y);
-      if (p[3] < 0.02f) continue;
-      const double radiance = p[1] / p[3];
-      const double toLamp = std::hypot(x + 0.5 - lamp.first, y + 0.5 - lamp.second);
-      const double toSpot = std::hypot(x + 0.5 - spot.first, y + 0.5 - spot.second);
-      if (toLamp < 25.0) nearSum += radiance, ++nearN;
-      if (toLamp > 90.0 && toSpot > 90.0) farSum += radiance, ++farN;
-    }
-  ASSERT_GT(nearN, 20);
-  ASSERT_GT(farN, 20);
-  std::cout << "streak radiance near " << nearSum / nearN << " far " << farSum / farN
+  const NearFarRadiance streaks = streakRadianceNearFar(
+      rain, [](const float* p) { return p[1] / p[3]; }, {{lamp.first, lamp.second}}, 25.0,
+      {{lamp.first, lamp.second}, {spot.first, spot.second}}, 90.0);
+  ASSERT_GT(streaks.nearCount, 20);
+  ASSERT_GT(streaks.farCount, 20);
+  std::cout << "streak radiance near " << streaks.nearMean << " far " << streaks.farMean
             << " beam below " << below << " above " << above << "\n";
-  EXPECT_GT(nearSum / nearN, 3.0 * farSum / farN)
-      << "near " << nearSum / nearN << " (" << nearN << ") far " << farSum / farN << " (" << farN
-      << ")";
+  EXPECT_GT(streaks.nearMean, 3.0 * streaks.farMean)
+      << "near " << streaks.nearMean << " (" << streaks.nearCount << ") far " << streaks.farMean
+      << " (" << streaks.farCount << ")";
 }

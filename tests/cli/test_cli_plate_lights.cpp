@@ -7,12 +7,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <regex>
 
 #include <nlohmann/json.hpp>
 
+#include "night_plate.h"
 #include "test_support.h"
-#include "util/subprocess.h"
 
 using namespace pluvia;
 using namespace pluvia::test;
@@ -33,10 +34,7 @@ struct Lamp {
 const std::vector<Lamp> kLamps{{60.5, 50.5, {1.0f, 0.6f, 0.2f}}, {190.5, 70.5, {0.3f, 0.6f, 1.0f}}};
 
 std::string nightPlate(const stdfs::path& dir, bool withLamps) {
-  const Image street = streetStill(dir);
-  return writePlateSequence(dir, 1, 1, kWidth, kHeight, [&](Image& image, int) {
-    for (size_t i = 0; i < image.rgba.size(); ++i)
-      image.rgba[i] = (i % 4 == 3) ? 1.0f : 0.06f * street.rgba[i];
+  return writeStreetPlate(dir, 0.06f, [&](Image& image) {
     if (!withLamps) return;
     for (const Lamp& lamp : kLamps)
       for (int y = 0; y < kHeight; ++y)
@@ -63,11 +61,27 @@ stdfs::path preset(const stdfs::path& dir) {
   })");
 }
 
+// Calls `check(match, lamp)` for each match of `line` in `output` whose first two groups are a
+// pixel within 2 px of one of the lamps; returns how many were.
+int forEachLampFound(const std::string& output, const std::regex& line,
+                     const std::function<void(const std::smatch&, const Lamp&)>& check) {
+  int matched = 0;
+  for (auto it = std::sregex_iterator(output.begin(), output.end(), line);
+       it != std::sregex_iterator(); ++it) {
+    const double x = std::stod((*it)[1]), y = std::stod((*it)[2]);
+    for (const Lamp& lamp : kLamps) {
+      if (std::hypot(x - lamp.x, y - lamp.y) > 2.0) continue;
+      ++matched;
+      check(*it, lamp);
+    }
+  }
+  return matched;
+}
+
 }  // namespace
 
 TEST(CliPlateLights, ClippedDiscsBecomeLightsThatLightTheRain) {
-  if (!stdfs::exists(sharedData() / "plate_static/opencv_vtest.avi"))
-    GTEST_SKIP() << "../shared/data is absent";
+  if (!haveStreetMovie()) GTEST_SKIP() << "../shared/data is absent";
   const stdfs::path dir = freshTempDir("plate_lights");
   const std::string plate = nightPlate(dir, true);
   const stdfs::path out = dir / "night.####.exr";
@@ -79,50 +93,30 @@ TEST(CliPlateLights, ClippedDiscsBecomeLightsThatLightTheRain) {
   // "found at (x, y) px, A px: world (..) m, colour (r, g, b)": one per disc.
   const std::regex line(
       R"(found at \(([-0-9.]+), ([-0-9.]+)\) px.*colour \(([0-9.]+), ([0-9.]+), ([0-9.]+)\))");
-  int matched = 0;
-  for (auto it = std::sregex_iterator(rendered.output.begin(), rendered.output.end(), line);
-       it != std::sregex_iterator(); ++it) {
-    const double x = std::stod((*it)[1]), y = std::stod((*it)[2]);
-    for (const Lamp& lamp : kLamps) {
-      if (std::hypot(x - lamp.x, y - lamp.y) > 2.0) continue;
-      ++matched;
-      // The hue: the rim's colour in the working space (the plate's PNG code values 0.5 * rgb
-      // decoded by the sRGB curve), each channel within 0.05.
-      for (int c = 0; c < 3; ++c)
-        EXPECT_NEAR(std::stod((*it)[size_t(3 + c)]),
-                    srgbToLinear(0.5 * lamp.rgb[size_t(c)]) / srgbToLinear(0.5), 0.05)
-            << c;
-    }
-  }
+  const int matched =
+      forEachLampFound(rendered.output, line, [](const std::smatch& found, const Lamp& lamp) {
+        // The hue: the rim's colour in the working space (the plate's PNG code values 0.5 * rgb
+        // decoded by the sRGB curve), each channel within 0.05.
+        for (int c = 0; c < 3; ++c)
+          EXPECT_NEAR(std::stod(found[size_t(3 + c)]),
+                      srgbToLinear(0.5 * lamp.rgb[size_t(c)]) / srgbToLinear(0.5), 0.05)
+              << c;
+      });
   EXPECT_EQ(matched, 2) << rendered.output;
 
-  const stdfs::path only = dir / "rain_only.exr";
-  auto r = runProcess({"oiiotool", (dir / "night.0001.exr").string(), "--ch",
-                       "rain.R,rain.G,rain.B,rain.A", "-o", only.string()});
-  ASSERT_EQ(r.exitCode, 0) << r.output;
-  const Image rain = readImageFile(only);
-  double nearSum = 0, farSum = 0;
-  int nearN = 0, farN = 0;
-  for (int y = 0; y < kHeight; ++y)
-    for (int x = 0; x < kWidth; ++x) {
-      const float* p = rain.pixel(x, y);
-      if (p[3] < 0.02f) continue;
-      const double radiance = (p[0] + p[1] + p[2]) / p[3];
-      double nearest = 1e9;
-      for (const Lamp& lamp : kLamps)
-        nearest = std::min(nearest, std::hypot(x + 0.5 - lamp.x, y + 0.5 - lamp.y));
-      if (nearest < 25.0) nearSum += radiance, ++nearN;
-      if (nearest > 80.0) farSum += radiance, ++farN;
-    }
-  ASSERT_GT(nearN, 10);
-  ASSERT_GT(farN, 10);
-  EXPECT_GT(nearSum / nearN, 3.0 * farSum / farN)
-      << "near " << nearSum / nearN << " far " << farSum / farN;
+  const Image rain = readAov(dir / "night.0001.exr", "rain", dir);
+  std::vector<PixelXY> lamps;
+  for (const Lamp& lamp : kLamps) lamps.push_back({lamp.x, lamp.y});
+  const NearFarRadiance streaks = streakRadianceNearFar(
+      rain, [](const float* p) { return (p[0] + p[1] + p[2]) / p[3]; }, lamps, 25.0, lamps, 80.0);
+  ASSERT_GT(streaks.nearCount, 10);
+  ASSERT_GT(streaks.farCount, 10);
+  EXPECT_GT(streaks.nearMean, 3.0 * streaks.farMean)
+      << "near " << streaks.nearMean << " far " << streaks.farMean;
 }
 
 TEST(CliPlateLights, NothingClippedFindsNoLights) {
-  if (!stdfs::exists(sharedData() / "plate_static/opencv_vtest.avi"))
-    GTEST_SKIP() << "../shared/data is absent";
+  if (!haveStreetMovie()) GTEST_SKIP() << "../shared/data is absent";
   const stdfs::path dir = freshTempDir("plate_lights_none");
   const std::string plate = nightPlate(dir, false);
   const auto rendered = runPluvia({"render", plate, "-p", preset(dir).string(), "-o",
@@ -141,8 +135,7 @@ TEST(CliPlateLights, PlanResolvedListsTheFoundLamps) {
   // `pluvia plan --resolved` finds the lamps as a render does (once per clip: the still, the
   // depth of the first frame) and lists each: pixel within 2 px of its disc, the card's 8 m
   // depth, the disc's hue, an intensity; the resolved preset still follows as JSON.
-  if (!stdfs::exists(sharedData() / "plate_static/opencv_vtest.avi"))
-    GTEST_SKIP() << "../shared/data is absent";
+  if (!haveStreetMovie()) GTEST_SKIP() << "../shared/data is absent";
   const stdfs::path dir = freshTempDir("plate_lights_plan");
   const std::string plate = nightPlate(dir, true);
   const auto planned = runPluvia({"plan", plate, "-p", preset(dir).string(), "--resolved"});
@@ -151,23 +144,17 @@ TEST(CliPlateLights, PlanResolvedListsTheFoundLamps) {
       << planned.output;
   const std::regex line(
       R"(lamp \d: pixel \(([-0-9.]+), ([-0-9.]+)\), \d+ px, depth ([0-9.]+) m, colour \(([0-9.]+), ([0-9.]+), ([0-9.]+)\), intensity ([0-9.e+-]+))");
-  int matched = 0;
-  for (auto it = std::sregex_iterator(planned.output.begin(), planned.output.end(), line);
-       it != std::sregex_iterator(); ++it) {
-    const double x = std::stod((*it)[1]), y = std::stod((*it)[2]);
-    for (const Lamp& lamp : kLamps) {
-      if (std::hypot(x - lamp.x, y - lamp.y) > 2.0) continue;
-      ++matched;
-      EXPECT_NEAR(std::stod((*it)[3]), 8.0, 1e-6);
-      // The rim's colour after the sRGB decode: its channels' order is the disc's.
-      const std::array<double, 3> rgb{std::stod((*it)[4]), std::stod((*it)[5]),
-                                      std::stod((*it)[6])};
-      const size_t brightest = size_t(std::max_element(rgb.begin(), rgb.end()) - rgb.begin());
-      EXPECT_EQ(brightest,
-                size_t(std::max_element(lamp.rgb.begin(), lamp.rgb.end()) - lamp.rgb.begin()));
-      EXPECT_GT(std::stod((*it)[7]), 0.0);
-    }
-  }
+  const int matched =
+      forEachLampFound(planned.output, line, [](const std::smatch& found, const Lamp& lamp) {
+        EXPECT_NEAR(std::stod(found[3]), 8.0, 1e-6);
+        // The rim's colour after the sRGB decode: its channels' order is the disc's.
+        const std::array<double, 3> rgb{std::stod(found[4]), std::stod(found[5]),
+                                        std::stod(found[6])};
+        const size_t brightest = size_t(std::max_element(rgb.begin(), rgb.end()) - rgb.begin());
+        EXPECT_EQ(brightest,
+                  size_t(std::max_element(lamp.rgb.begin(), lamp.rgb.end()) - lamp.rgb.begin()));
+        EXPECT_GT(std::stod(found[7]), 0.0);
+      });
   EXPECT_EQ(matched, 2) << planned.output;
   const auto json = nlohmann::json::parse(planned.output.substr(planned.output.find('{')));
   EXPECT_EQ(json["lights"]["find"], "auto");

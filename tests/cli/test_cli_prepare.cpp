@@ -19,13 +19,10 @@ namespace {
 
 std::string plate(const stdfs::path& dir) {
   // A bright sky over a dark ground, so that the plate's lighting has something to measure.
-  return writePlateSequence(dir, 1, 6, 64, 48, [](Image& image, int frame) {
-    for (int y = 0; y < image.height; ++y)
-      for (int x = 0; x < image.width; ++x) {
-        float* p = image.pixel(x, y);
-        const float v = y < image.height / 2 ? 0.9f : 0.1f + 0.01f * float((x + frame) % 7);
-        p[0] = p[1] = p[2] = v;
-      }
+  constexpr int kWidth = 64, kHeight = 48;
+  return writePixelPlate(dir, 1, 6, kWidth, kHeight, [](float* p, int x, int y, int frame) {
+    const float v = y < kHeight / 2 ? 0.9f : 0.1f + 0.01f * float((x + frame) % 7);
+    p[0] = p[1] = p[2] = v;
   });
 }
 

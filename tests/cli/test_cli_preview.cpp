@@ -25,16 +25,13 @@ const std::string kExamplePreset = (sourceDir() / "examples/street/street.json")
 // Frames first..last of a 160x120 plate: smooth gradients with a few hard-edged blocks, so a
 // resize has edges to get wrong, written as 8-bit sRGB PNG.
 std::string writePlate(const stdfs::path& dir, int first, int last) {
-  return writePlateSequence(dir, first, last, kPlateWidth, kPlateHeight, [](Image& image, int f) {
-    for (int y = 0; y < kPlateHeight; ++y)
-      for (int x = 0; x < kPlateWidth; ++x) {
-        float* p = image.pixel(x, y);
-        const bool block = ((x + 2 * f) / 20 + y / 20) % 3 == 0;
-        p[0] = 0.2f + 0.6f * float(x) / kPlateWidth;
-        p[1] = block ? 0.8f : 0.3f;
-        p[2] = 0.2f + 0.5f * float(y) / kPlateHeight;
-      }
-  });
+  return writePixelPlate(dir, first, last, kPlateWidth, kPlateHeight,
+                         [](float* p, int x, int y, int f) {
+                           const bool block = ((x + 2 * f) / 20 + y / 20) % 3 == 0;
+                           p[0] = 0.2f + 0.6f * float(x) / kPlateWidth;
+                           p[1] = block ? 0.8f : 0.3f;
+                           p[2] = 0.2f + 0.5f * float(y) / kPlateHeight;
+                         });
 }
 
 // An 8-bit sRGB picture shrunk to `size` the way a proxy render does it: in linear light, with

@@ -24,14 +24,12 @@ namespace {
 
 TEST(CliReportDepth, QuickReportPosesEveryFrameWithSmallErrors) {
   if (!colmapAvailable()) GTEST_SKIP() << "colmap is not installed";
-  const auto dir = freshTempDir("report_depth");
-  const stdfs::path csv = dir / "depth.csv", plot = dir / "depth.png";
-  const CommandResult r = runPluviaTimed(
-      {"report", "depth", "--quick", "--csv", csv.string(), "--plot", plot.string()});
+  const QuickReport report = runQuickReport(freshTempDir("report_depth"), "depth");
+  const CommandResult& r = report.result;
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("GL renderer:"), std::string::npos) << r.output;
 
-  const CsvTable table = readCsvTable(csv);
+  const CsvTable& table = report.table;
   const std::vector<std::string> measures = {"clip_frames",
                                              "frames_used",
                                              "registered_used",
@@ -59,11 +57,7 @@ TEST(CliReportDepth, QuickReportPosesEveryFrameWithSmallErrors) {
     const std::string& line = table.lines[row];
     EXPECT_EQ(fields[column["scene"]], "synthetic") << "--quick has no real photos: " << line;
     EXPECT_EQ(fields[column["status"]], "ok") << line;
-    for (const std::string& name : measures) {
-      const double value = parseNumber(fields[column[name]], line);
-      EXPECT_TRUE(std::isfinite(value)) << name << " in: " << line;
-      EXPECT_GE(value, 0.0) << name << " in: " << line;
-    }
+    expectFiniteMeasures(table, row, measures, true);
     const int clipFrames = int(parseNumber(fields[column["clip_frames"]], line));
     EXPECT_EQ(clipFrames, 48) << line;
     EXPECT_EQ(int(parseNumber(fields[column["frames_used"]], line)), 13) << line;
@@ -78,15 +72,11 @@ TEST(CliReportDepth, QuickReportPosesEveryFrameWithSmallErrors) {
               << ", median depth error " << fields[column["depth_median_rel_error"]] << "\n";
   }
   EXPECT_EQ(table.rows.size(), 1u);
-  expectPlot(plot);
+  expectPlot(report.plot);
 }
 
 TEST(CliReportDepth, RejectsAMissingDataFolder) {
-  const auto dir = freshTempDir("report_depth_errors");
-  const CommandResult r =
-      runPluvia({"report", "depth", "--quick", "--data", (dir / "missing").string()});
-  EXPECT_EQ(r.exitCode, 2) << r.output;
-  EXPECT_NE(r.output.find("--data"), std::string::npos) << r.output;
+  expectReportRejectsMissing("depth", "--data", freshTempDir("report_depth_errors") / "missing");
 }
 
 // A row that fails (here every COLMAP step: the program is `false`) fails the command, after

@@ -19,15 +19,15 @@ namespace {
 
 TEST(CliReportDerain, QuickReportWritesCsvPlotAndPreviews) {
   const auto dir = freshTempDir("report_derain");
-  const stdfs::path csv = dir / "derain.csv", plot = dir / "derain.png", images = dir / "images";
-  const CommandResult r = runPluviaTimed({"report", "derain", "--quick", "--csv", csv.string(),
-                                          "--plot", plot.string(), "--images", images.string()});
+  const stdfs::path images = dir / "images";
+  const QuickReport report = runQuickReport(dir, "derain", {"--images", images.string()});
+  const CommandResult& r = report.result;
   ASSERT_EQ(r.exitCode, 0) << r.output;
 
   // Printed rows: the lines that start with a section name.
   const int printedRows = countLinesStartingWith(r.output, {"synthetic", "iterations", "window"});
 
-  const CsvTable table = readCsvTable(csv);
+  const CsvTable& table = report.table;
   ASSERT_TRUE(hasColumns(table, {"section", "method", "frames", "psnr_db", "ssim", "alpha_mae",
                                  "angle_deg", "angle_error_deg", "seconds"}));
   std::map<std::string, size_t> column = table.column;
@@ -40,11 +40,10 @@ TEST(CliReportDerain, QuickReportWritesCsvPlotAndPreviews) {
     if (fields[column["section"]] == "real") continue;
     if (method != "median" && method != "solver") continue;
     // Every measure of a median or solver row is a finite number.
-    for (const char* name :
-         {"frames", "psnr_db", "ssim", "alpha_mae", "angle_deg", "angle_error_deg", "seconds"}) {
-      const double value = parseNumber(fields[column[name]], line);
-      EXPECT_TRUE(std::isfinite(value)) << name << " in: " << line;
-    }
+    expectFiniteMeasures(
+        table, row,
+        {"frames", "psnr_db", "ssim", "alpha_mae", "angle_deg", "angle_error_deg", "seconds"},
+        false);
     const double ssim = parseNumber(fields[column["ssim"]], line);
     EXPECT_GT(ssim, 0.0) << line;
     EXPECT_LE(ssim, 1.0) << line;
@@ -62,7 +61,7 @@ TEST(CliReportDerain, QuickReportWritesCsvPlotAndPreviews) {
   // median (the target).
   EXPECT_GE(solverPsnr, medianPsnr + 1.0) << "(the table is printed above)";
 
-  expectPlot(plot);
+  expectPlot(report.plot);
   for (const char* name : {"synthetic_truth.png", "synthetic_median.png", "synthetic_solver.png",
                            "synthetic_matte_solver_x4.png"}) {
     EXPECT_TRUE(stdfs::exists(images / name)) << name;
@@ -70,11 +69,7 @@ TEST(CliReportDerain, QuickReportWritesCsvPlotAndPreviews) {
 }
 
 TEST(CliReportDerain, RejectsAMissingDataFolder) {
-  const auto dir = freshTempDir("report_derain_errors");
-  const CommandResult r =
-      runPluvia({"report", "derain", "--quick", "--data", (dir / "missing").string()});
-  EXPECT_EQ(r.exitCode, 2) << r.output;
-  EXPECT_NE(r.output.find("--data"), std::string::npos) << r.output;
+  expectReportRejectsMissing("derain", "--data", freshTempDir("report_derain_errors") / "missing");
 }
 
 }  // namespace

@@ -20,15 +20,13 @@ namespace stdfs = std::filesystem;
 namespace {
 
 TEST(CliReportEnvmap, QuickReportWritesCsvAndPlotAndMeetsTheDropColourTarget) {
-  const auto dir = freshTempDir("report_envmap");
-  const stdfs::path csv = dir / "envmap.csv", plot = dir / "envmap.png";
-  const CommandResult r = runPluviaTimed(
-      {"report", "envmap", "--quick", "--csv", csv.string(), "--plot", plot.string()});
+  const QuickReport report = runQuickReport(freshTempDir("report_envmap"), "envmap");
+  const CommandResult& r = report.result;
   ASSERT_EQ(r.exitCode, 0) << r.output;
   // --quick runs on the built-in environment only.
   const int printedRows = countLinesStartingWith(r.output, {"builtin"});
 
-  const CsvTable table = readCsvTable(csv);
+  const CsvTable& table = report.table;
   const std::vector<std::string> measures = {
       "frames",           "yaw_step_deg",      "pose_error_deg",  "focal_error",
       "covered_fraction", "sh_error",          "drop_mean_error", "drop_max_error",
@@ -42,11 +40,7 @@ TEST(CliReportEnvmap, QuickReportWritesCsvAndPlotAndMeetsTheDropColourTarget) {
   for (size_t row = 0; row < table.rows.size(); ++row) {
     const std::vector<std::string>& fields = table.rows[row];
     const std::string& line = table.lines[row];
-    for (const std::string& name : measures) {
-      const double value = parseNumber(fields[column[name]], line);
-      EXPECT_TRUE(std::isfinite(value)) << name << " in: " << line;
-      EXPECT_GE(value, 0.0) << name << " in: " << line;
-    }
+    expectFiniteMeasures(table, row, measures, true);
     const int frames = int(parseNumber(fields[column["frames"]], line));
     const double covered = parseNumber(fields[column["covered_fraction"]], line);
     EXPECT_GT(covered, 0.0) << line;
@@ -76,18 +70,13 @@ TEST(CliReportEnvmap, QuickReportWritesCsvAndPlotAndMeetsTheDropColourTarget) {
   EXPECT_LT(lightsMeanError, 0.10) << "(the table is printed above)";
   std::cout << "worst direction with the lights restored: " << 100.0 * lightsMaxError << " %\n";
 
-  expectPlot(plot);
+  expectPlot(report.plot);
 }
 
 TEST(CliReportEnvmap, RejectsAMissingEnvironmentOrDataFolder) {
   const auto dir = freshTempDir("report_envmap_errors");
-  CommandResult r =
-      runPluvia({"report", "envmap", "--quick", "--data", (dir / "missing").string()});
-  EXPECT_EQ(r.exitCode, 2) << r.output;
-  EXPECT_NE(r.output.find("--data"), std::string::npos) << r.output;
-  r = runPluvia({"report", "envmap", "--quick", "--env", (dir / "missing.exr").string()});
-  EXPECT_EQ(r.exitCode, 2) << r.output;
-  EXPECT_NE(r.output.find("--env"), std::string::npos) << r.output;
+  expectReportRejectsMissing("envmap", "--data", dir / "missing");
+  expectReportRejectsMissing("envmap", "--env", dir / "missing.exr");
 }
 
 }  // namespace

@@ -131,16 +131,16 @@ TEST(StrokeExtraction, StreaksClippedByTheFrameEdgeAreRejected) {
     return collector.finish().strokes.size();
   };
   const cv::Size size(320, 240);
-  // Vertical rain: a streak running off the top, one off the left side, one inside.
-  cv::Mat top = noiseMatte(size, 0.01, 5);
-  drawStreak(top, {100, 10, 40, 0.8, 0.5}, 0.0);
-  EXPECT_EQ(strokesIn(top, 0.0), 0u);
-  cv::Mat side = noiseMatte(size, 0.01, 6);
-  drawStreak(side, {0.5, 120, 40, 0.8, 0.5}, 0.0);
-  EXPECT_EQ(strokesIn(side, 0.0), 0u);
-  cv::Mat inside = noiseMatte(size, 0.01, 7);
-  drawStreak(inside, {100, 120, 40, 0.8, 0.5}, 0.0);
-  EXPECT_EQ(strokesIn(inside, 0.0), 1u);
+  // Vertical rain: a streak running off the top, one off the left side, one inside, each alone
+  // on a matte of its own noise.
+  auto strokesOfOne = [&](int noiseSeed, const Streak& streak, const cv::Mat& valid = cv::Mat()) {
+    cv::Mat matte = noiseMatte(size, 0.01, noiseSeed);
+    drawStreak(matte, streak, 0.0);
+    return strokesIn(matte, 0.0, valid);
+  };
+  EXPECT_EQ(strokesOfOne(5, {100, 10, 40, 0.8, 0.5}), 0u);
+  EXPECT_EQ(strokesOfOne(6, {0.5, 120, 40, 0.8, 0.5}), 0u);
+  EXPECT_EQ(strokesOfOne(7, {100, 120, 40, 0.8, 0.5}), 1u);
 
   // Slanted rain: the rotated frame's border is the edge. A streak whose lower end runs into
   // the bottom edge at 30 degrees.
@@ -158,10 +158,8 @@ TEST(StrokeExtraction, StreaksClippedByTheFrameEdgeAreRejected) {
   drawStreak(clipped, {100, 120, 40, 0.8, 0.5}, 0.0);
   clipped(cv::Rect(0, 0, 100, 240)).setTo(0.0f);
   EXPECT_EQ(strokesIn(clipped, 0.0, valid), 0u);
-  EXPECT_EQ(strokesIn(inside, 0.0, valid), 0u);  // x = 100 lies on that edge too
-  cv::Mat away = noiseMatte(size, 0.01, 10);
-  drawStreak(away, {200, 120, 40, 0.8, 0.5}, 0.0);
-  EXPECT_EQ(strokesIn(away, 0.0, valid), 1u);
+  EXPECT_EQ(strokesOfOne(7, {100, 120, 40, 0.8, 0.5}, valid), 0u);  // x = 100 is on that edge too
+  EXPECT_EQ(strokesOfOne(10, {200, 120, 40, 0.8, 0.5}, valid), 1u);
 }
 
 TEST(StrokeExtraction, ShortAndRoundComponentsAreNoStrokes) {

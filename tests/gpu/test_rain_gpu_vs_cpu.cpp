@@ -16,6 +16,7 @@
 
 #include "gpu/rain_renderer.h"
 #include "image/equirect.h"
+#include "test_support.h"
 
 namespace pluvia::gpu {
 namespace {
@@ -151,16 +152,11 @@ std::vector<std::pair<int, int>> brightTexels(int width, int height) {
 // is quantised (1e-5 texel at width 128), and such a step times the contrast must stay well
 // within the 1e-3 agreement.
 EquirectMap testRadianceMap(int width, int height) {
-  EquirectMap map(width, height);
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      const auto d = equirectTexelDirection(width, height, x, y);
-      float* t = map.texel(x, y);
-      t[0] = static_cast<float>(0.9 + 0.4 * d[0] + 0.1 * d[1]);
-      t[1] = static_cast<float>(0.8 + 0.3 * d[1] * d[2] + 0.2 * d[2]);
-      t[2] = static_cast<float>(1.0 - 0.3 * d[1] + 0.2 * d[0] * d[0]);
-    }
-  }
+  EquirectMap map = test::equirectOf(width, height, [](const std::array<double, 3>& d) {
+    return std::array<double, 3>{0.9 + 0.4 * d[0] + 0.1 * d[1],
+                                 0.8 + 0.3 * d[1] * d[2] + 0.2 * d[2],
+                                 1.0 - 0.3 * d[1] + 0.2 * d[0] * d[0]};
+  });
   for (const auto& [x, y] : brightTexels(width, height)) {
     float* t = map.texel(x, y);
     t[0] = 6.0f, t[1] = 5.0f, t[2] = 7.0f;

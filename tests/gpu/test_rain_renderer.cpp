@@ -145,17 +145,10 @@ TEST_P(RainRendererTest, ConstantEnvironmentIsAWhiteFurnace) {
 
 // Radiance that varies smoothly with direction, differently per channel, and stays > 0.2.
 EquirectMap smoothRadianceMap(int width, int height) {
-  EquirectMap map(width, height);
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      const auto d = equirectTexelDirection(width, height, x, y);
-      float* t = map.texel(x, y);
-      t[0] = static_cast<float>(1.0 + 0.6 * d[0]);
-      t[1] = static_cast<float>(0.8 + 0.5 * d[1] * d[1] - 0.3 * d[2]);
-      t[2] = static_cast<float>(2.0 + d[1] + 0.5 * d[0] * d[2]);
-    }
-  }
-  return map;
+  return test::equirectOf(width, height, [](const std::array<double, 3>& d) {
+    return std::array<double, 3>{1.0 + 0.6 * d[0], 0.8 + 0.5 * d[1] * d[1] - 0.3 * d[2],
+                                 2.0 + d[1] + 0.5 * d[0] * d[2]};
+  });
 }
 
 TEST_P(RainRendererTest, OpaqueStreakShowsTheRadianceMap) {

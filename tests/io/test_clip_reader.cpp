@@ -8,6 +8,7 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include "oiio_files.h"
 #include "test_support.h"
 #include "util/error.h"
 #include "util/subprocess.h"
@@ -26,11 +27,7 @@ void writeSamples(const stdfs::path& path, int width, int height, int channels, 
   if (channels == 1) spec.channelnames = {"Y"};
   spec.alpha_channel = channels == 2 ? 1 : channels == 4 ? 3 : -1;
   spec.attribute("oiio:UnassociatedAlpha", 1);
-  auto out = OIIO::ImageOutput::create(path.string());
-  ASSERT_TRUE(out) << OIIO::geterror();
-  ASSERT_TRUE(out->open(path.string(), spec)) << out->geterror();
-  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, samples.data())) << out->geterror();
-  ASSERT_TRUE(out->close());
+  test::writeWithSpec(path, spec, samples.data());
 }
 
 // A ramp where every sample is a distinct multiple of 1/levels.
@@ -204,12 +201,25 @@ TEST(ClipReaderImages, ExrFloatIsBitExact) {
   }
 }
 
-// Integer files: every code comes back as code / max exactly.
-void expectIntegerRoundTrip(const stdfs::path& path, int channels, OIIO::TypeDesc type,
-                            int levels) {
-  const int width = 7, height = 5;
-  std::vector<float> samples = ramp(width, height, channels, levels);
-  writeSamples(path, width, height, channels, type, samples);
+// Integer files: every code comes back as code / max exactly; with alpha, colour under alpha 0.2
+// stays as stored (not premultiplied on the way in).
+struct IntegerFile {
+  const char* name;  // the test's, and its folder's
+  const char* extension;
+  int channels;
+  OIIO::TypeDesc type;
+  int levels;  // the largest code
+};
+
+class ClipReaderIntegerFiles : public ::testing::TestWithParam<IntegerFile> {};
+
+TEST_P(ClipReaderIntegerFiles, EveryCodeIsCodeOverMax) {
+  const IntegerFile& file = GetParam();
+  const stdfs::path path =
+      test::freshTempDir(std::string("reader_") + file.name) / (std::string("a.") + file.extension);
+  const int width = 7, height = 5, channels = file.channels;
+  std::vector<float> samples = ramp(width, height, channels, file.levels);
+  writeSamples(path, width, height, channels, file.type, samples);
   auto clip = openClip(path.string());
   EXPECT_FALSE(clip->info().isFloat);
   EXPECT_EQ(clip->info().channels, channels);
@@ -223,26 +233,14 @@ void expectIntegerRoundTrip(const stdfs::path& path, int channels, OIIO::TypeDes
   }
 }
 
-TEST(ClipReaderImages, Png8BitRgb) {
-  expectIntegerRoundTrip(test::freshTempDir("reader_png8") / "a.png", 3, OIIO::TypeDesc::UINT8,
-                         255);
-}
-
-TEST(ClipReaderImages, Png16BitRgb) {
-  expectIntegerRoundTrip(test::freshTempDir("reader_png16") / "a.png", 3, OIIO::TypeDesc::UINT16,
-                         65535);
-}
-
-TEST(ClipReaderImages, PngRgbaKeepsStraightAlpha) {
-  // Colour under alpha 0.2 stays as stored: not premultiplied on the way in.
-  expectIntegerRoundTrip(test::freshTempDir("reader_png_rgba") / "a.png", 4, OIIO::TypeDesc::UINT8,
-                         255);
-}
-
-TEST(ClipReaderImages, Tiff16Bit) {
-  expectIntegerRoundTrip(test::freshTempDir("reader_tiff16") / "a.tif", 4, OIIO::TypeDesc::UINT16,
-                         65535);
-}
+INSTANTIATE_TEST_SUITE_P(
+    Formats, ClipReaderIntegerFiles,
+    ::testing::Values(IntegerFile{"Png8BitRgb", "png", 3, OIIO::TypeDesc::UINT8, 255},
+                      IntegerFile{"Png16BitRgb", "png", 3, OIIO::TypeDesc::UINT16, 65535},
+                      IntegerFile{"PngRgbaKeepsStraightAlpha", "png", 4, OIIO::TypeDesc::UINT8,
+                                  255},
+                      IntegerFile{"Tiff16Bit", "tif", 4, OIIO::TypeDesc::UINT16, 65535}),
+    [](const ::testing::TestParamInfo<IntegerFile>& info) { return std::string(info.param.name); });
 
 TEST(ClipReaderImages, GrayscalePngIsExpandedToRgb) {
   const stdfs::path path = test::freshTempDir("reader_gray") / "g.png";
@@ -331,18 +329,8 @@ TEST(ClipReaderImages, OneByOneAndOddSizes) {
 
 TEST(ClipReaderImages, ExrDataWindowIsPlacedInTheDisplayWindow) {
   const stdfs::path path = test::freshTempDir("reader_data_window") / "crop.exr";
-  OIIO::ImageSpec spec(2, 1, 3, OIIO::TypeDesc::HALF);
-  spec.x = 1;
-  spec.y = 2;
-  spec.full_x = 0;
-  spec.full_y = 0;
-  spec.full_width = 4;
-  spec.full_height = 4;
   const float samples[6] = {0.25f, 0.5f, 0.75f, 1.0f, 2.0f, 4.0f};
-  auto out = OIIO::ImageOutput::create(path.string());
-  ASSERT_TRUE(out->open(path.string(), spec));
-  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, samples));
-  ASSERT_TRUE(out->close());
+  test::writeWithSpec(path, test::windowedSpec(2, 1, 3, OIIO::TypeDesc::HALF, 1, 2, 4, 4), samples);
   auto clip = openClip(path.string());
   EXPECT_EQ(clip->info().width, 4);
   EXPECT_EQ(clip->info().height, 4);
@@ -356,19 +344,11 @@ TEST(ClipReaderImages, ExrDataWindowIsPlacedInTheDisplayWindow) {
 
 TEST(ClipReaderImages, ExrOverscanIsCropped) {
   const stdfs::path path = test::freshTempDir("reader_overscan") / "overscan.exr";
-  OIIO::ImageSpec spec(4, 3, 4, OIIO::TypeDesc::FLOAT);  // data window -1..2 x -1..1
-  spec.x = -1;
-  spec.y = -1;
-  spec.full_x = 0;
-  spec.full_y = 0;
-  spec.full_width = 2;
-  spec.full_height = 2;
   std::vector<float> samples(4 * 3 * 4);
   for (size_t i = 0; i < samples.size(); ++i) samples[i] = static_cast<float>(i);
-  auto out = OIIO::ImageOutput::create(path.string());
-  ASSERT_TRUE(out->open(path.string(), spec));
-  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, samples.data()));
-  ASSERT_TRUE(out->close());
+  // Data window -1..2 x -1..1 in a 2 x 2 frame.
+  test::writeWithSpec(path, test::windowedSpec(4, 3, 4, OIIO::TypeDesc::FLOAT, -1, -1, 2, 2),
+                      samples.data());
   Image image = openClip(path.string())->read(0);
   ASSERT_EQ(image.width, 2);
   ASSERT_EQ(image.height, 2);

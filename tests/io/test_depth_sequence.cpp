@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "oiio_files.h"
 #include "test_support.h"
 #include "util/error.h"
 
@@ -33,17 +34,11 @@ void writeFile(const stdfs::path& path, int width, int height,
                const std::vector<std::string>& names, OIIO::TypeDesc fileType,
                OIIO::TypeDesc dataType, const std::vector<Sample>& samples, int dataX = 0,
                int dataY = 0, int displayWidth = 0, int displayHeight = 0) {
-  OIIO::ImageSpec spec(width, height, static_cast<int>(names.size()), fileType);
+  OIIO::ImageSpec spec = test::windowedSpec(width, height, static_cast<int>(names.size()), fileType,
+                                            dataX, dataY, displayWidth > 0 ? displayWidth : width,
+                                            displayHeight > 0 ? displayHeight : height);
   spec.channelnames = names;
-  spec.x = dataX;
-  spec.y = dataY;
-  spec.full_width = displayWidth > 0 ? displayWidth : width;
-  spec.full_height = displayHeight > 0 ? displayHeight : height;
-  auto out = OIIO::ImageOutput::create(path.string());
-  ASSERT_TRUE(out) << OIIO::geterror();
-  ASSERT_TRUE(out->open(path.string(), spec)) << out->geterror();
-  ASSERT_TRUE(out->write_image(dataType, samples.data())) << out->geterror();
-  ASSERT_TRUE(out->close());
+  test::writeWithSpec(path, spec, samples.data(), dataType);
 }
 
 void writeExrZ(const stdfs::path& path, int width, int height, const std::vector<float>& z) {

@@ -11,6 +11,7 @@
 #include "image/equirect.h"
 #include "independent_fresnel.h"
 #include "optics/drop_trace.h"
+#include "test_support.h"
 
 using namespace pluvia;
 using namespace pluvia::optics;
@@ -27,26 +28,13 @@ Vec unit(const Vec& a) {
   return {a[0] / n, a[1] / n, a[2] / n};
 }
 
-// A map whose texel centres hold radiance(direction).
-EquirectMap mapOf(int width, int height, const std::function<Vec(const Vec&)>& radiance) {
-  EquirectMap map(width, height);
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      const Vec l = radiance(equirectTexelDirection(width, height, x, y));
-      for (int c = 0; c < 3; ++c) map.texel(x, y)[c] = float(l[c]);
-    }
-  }
-  return map;
-}
-
 // A grey map that depends only on the cosine between a direction and the view.
 EquirectMap mapAroundView(const Vec& view, const std::function<double(double)>& f) {
-  return mapOf(1024, 512, [&](const Vec& d) {
+  return test::equirectOf(1024, 512, [&](const Vec& d) {
     const double l = f(dot(d, view));
     return Vec{l, l, l};
   });
 }
-
 
 // Disc-averaged radiance of a drop in an environment L(w) = f(w . view), by the midpoint rule in
 // b^2 = sin^2 i: the external reflection leaves at deviation pi - 2i from the view direction,
@@ -81,7 +69,7 @@ const Vec kPlainView = unit({0.37, -0.52, 0.77});
 
 // Each channel a different linear gradient, so swapping axes or looking back along -view shows.
 EquirectMap gradientMap(int width, int height) {
-  return mapOf(width, height, [](const Vec& d) {
+  return test::equirectOf(width, height, [](const Vec& d) {
     return Vec{1 + 0.5 * d[1], 1 + 0.5 * d[0], 1 + 0.5 * d[2]};
   });
 }

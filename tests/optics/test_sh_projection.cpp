@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <functional>
 #include <iostream>
 #include <random>
 #include <vector>
@@ -19,6 +18,7 @@
 #include "optics/paper_transfer_table.h"
 #include "optics/sh.h"
 #include "rain/streak_types.h"
+#include "test_support.h"
 
 namespace pluvia::optics {
 namespace {
@@ -45,18 +45,6 @@ std::vector<Vec> randomDirections(int count, unsigned seed) {
     out.push_back({v[0] / n, v[1] / n, v[2] / n});
   }
   return out;
-}
-
-// A map whose texel centres hold radiance(direction).
-EquirectMap mapOf(int width, int height, const std::function<Vec(const Vec&)>& radiance) {
-  EquirectMap map(width, height);
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      const Vec l = radiance(equirectTexelDirection(width, height, x, y));
-      for (int c = 0; c < 3; ++c) map.texel(x, y)[c] = float(l[size_t(c)]);
-    }
-  }
-  return map;
 }
 
 // Legendre polynomial P_l(x) by Bonnet's recurrence, independent of sh.cpp.
@@ -88,7 +76,7 @@ TEST(ShProjection, BasisIsOrthonormalUnderTheEquirectProjection) {
   };
   std::vector<double> basis;
   for (const auto& three : cases) {
-    const EquirectMap map = mapOf(kWidth, kHeight, [&](const Vec& d) {
+    const EquirectMap map = test::equirectOf(kWidth, kHeight, [&](const Vec& d) {
       shBasis(kOrder, d, basis);
       Vec v;
       for (size_t c = 0; c < 3; ++c) v[c] = basis[size_t(shIndex(three[c][0], three[c][1]))];
@@ -217,7 +205,7 @@ TEST(ShProjection, PaperTransferTableAgreesWithTheClosedFormRotation) {
   EXPECT_EQ(table.bytes(), size_t(98304) * 3 * 16 * 4);
 
   // A smooth environment with every band up to 3 present and different per channel.
-  const EquirectMap smooth = mapOf(256, 128, [](const Vec& d) {
+  const EquirectMap smooth = test::equirectOf(256, 128, [](const Vec& d) {
     return Vec{1.0 + 0.6 * d[1] + 0.3 * d[0] * d[2], 1.2 - 0.4 * d[2] + 0.2 * d[0] * d[1],
                0.9 + 0.5 * d[0] + 0.25 * d[1] * d[1] * d[2]};
   });

@@ -2,7 +2,6 @@
 // waits for the lock and then reads what the first stored (pipeline/cache_lock.h).
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -36,12 +35,6 @@ int prepareEntry(const stdfs::path& cacheDir, const stdfs::path& computations) {
   return lock.waited() ? 2 : 0;
 }
 
-int exitCodeOf(pid_t pid) {
-  int status = 0;
-  waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 1000 + WTERMSIG(status);
-}
-
 }  // namespace
 
 TEST(CacheLock, TwoProcessesComputeAMissingEntryOnce) {
@@ -55,7 +48,7 @@ TEST(CacheLock, TwoProcessesComputeAMissingEntryOnce) {
     children.push_back(pid);
   }
   std::vector<int> codes;
-  for (pid_t pid : children) codes.push_back(exitCodeOf(pid));
+  for (pid_t pid : children) codes.push_back(test::waitForExit(pid));
   std::sort(codes.begin(), codes.end());
   // One computed (0), the other waited for it (2) and read its value: the computation takes
   // 400 ms, far longer than the two forks take to start.

@@ -9,11 +9,13 @@
 #include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 #include <thread>
+#include <typeinfo>
 
 #include <gtest/gtest.h>
 #include "util/subprocess.h"
@@ -84,16 +86,6 @@ bool waitUntil(const std::function<bool()>& ready, double seconds) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   return ready();
-}
-
-Image streetStill(const stdfs::path& dir) {
-  const stdfs::path still = dir / "street_still.png";
-  const auto r = runProcess({"ffmpeg", "-y", "-v", "error", "-i",
-                             (sharedData() / "plate_static/opencv_vtest.avi").string(), "-vf",
-                             "select=eq(n\\,2),scale=256:192", "-frames:v", "1", still.string()});
-  if (r.exitCode != 0)
-    throw std::runtime_error("ffmpeg could not cut the street still: " + r.output);
-  return readImageFile(still);
 }
 
 ExrPixels readAllChannels(const stdfs::path& path) {
@@ -190,6 +182,17 @@ void expectOutputHas(const std::string& output, const std::vector<std::string>& 
     EXPECT_NE(output.find(needle), std::string::npos) << "no '" << needle << "' in:\n" << output;
 }
 
+void expectCleanOutcome(const std::function<void()>& action, const std::string& which) {
+  try {
+    action();
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << which << "\n" << e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << which << ": threw a " << typeid(e).name()
+                  << ", not a pluvia::Error: " << e.what();
+  }
+}
+
 CommandResult runPluviaTimed(const std::vector<std::string>& args) {
   const auto start = std::chrono::steady_clock::now();
   CommandResult result = runPluvia(args);
@@ -238,6 +241,38 @@ void expectPlot(const stdfs::path& path) {
   EXPECT_GT(image.height, 0) << path;
 }
 
+void expectFiniteMeasures(const CsvTable& table, size_t row, const std::vector<std::string>& names,
+                          bool nonNegative) {
+  const std::string& line = table.lines[row];
+  for (const std::string& name : names) {
+    const double value = parseNumber(table.rows[row][table.column.at(name)], line);
+    EXPECT_TRUE(std::isfinite(value)) << name << " in: " << line;
+    if (nonNegative) {
+      EXPECT_GE(value, 0.0) << name << " in: " << line;
+    }
+  }
+}
+
+QuickReport runQuickReport(const stdfs::path& dir, const std::string& name,
+                           const std::vector<std::string>& extraArgs) {
+  QuickReport report;
+  report.csv = dir / (name + ".csv");
+  report.plot = dir / (name + ".png");
+  std::vector<std::string> args{
+      "report", name, "--quick", "--csv", report.csv.string(), "--plot", report.plot.string()};
+  args.insert(args.end(), extraArgs.begin(), extraArgs.end());
+  report.result = runPluviaTimed(args);
+  report.table = readCsvTable(report.csv);
+  return report;
+}
+
+void expectReportRejectsMissing(const std::string& name, const std::string& flag,
+                                const stdfs::path& missing) {
+  const CommandResult r = runPluvia({"report", name, "--quick", flag, missing.string()});
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find(flag), std::string::npos) << r.output;
+}
+
 size_t residentBytes() {
   std::ifstream statm("/proc/self/statm");
   size_t pages = 0, resident = 0;
@@ -257,18 +292,33 @@ std::string writePlateSequence(const stdfs::path& dir, int first, int last, int 
   return (dir / "plate.####.png").string();
 }
 
-void paintTexturedPlate(Image& image, int frame) {
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x) {
-      float* p = image.pixel(x, y);
-      p[0] = float((x * 7 + y * 3 + frame) % 256) / 255.0f;
-      p[1] = float((x * 2 + y * 5) % 256) / 255.0f;
-      p[2] = float((x + y * 11) % 256) / 255.0f;
-    }
+std::string writePixelPlate(const stdfs::path& dir, int first, int last, int width, int height,
+                            const PixelPaint& paint) {
+  return writePlateSequence(dir, first, last, width, height, [&](Image& image, int frame) {
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x) paint(image.pixel(x, y), x, y, frame);
+  });
 }
 
 std::string writeTexturedPlate(const stdfs::path& dir, int first, int last, int width, int height) {
-  return writePlateSequence(dir, first, last, width, height, paintTexturedPlate);
+  return writePixelPlate(dir, first, last, width, height, [](float* p, int x, int y, int frame) {
+    p[0] = float((x * 7 + y * 3 + frame) % 256) / 255.0f;
+    p[1] = float((x * 2 + y * 5) % 256) / 255.0f;
+    p[2] = float((x + y * 11) % 256) / 255.0f;
+  });
+}
+
+EquirectMap equirectOf(
+    int width, int height,
+    const std::function<std::array<double, 3>(const std::array<double, 3>&)>& radiance) {
+  EquirectMap map(width, height);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const std::array<double, 3> l = radiance(equirectTexelDirection(width, height, x, y));
+      for (int c = 0; c < 3; ++c) map.texel(x, y)[c] = float(l[size_t(c)]);
+    }
+  }
+  return map;
 }
 
 stdfs::path writeTextFile(const stdfs::path& dir, const std::string& name,

@@ -1,5 +1,6 @@
 #pragma once
 // Paths and small helpers shared by the tests.
+#include <array>
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -9,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "image/equirect.h"
 #include "image/image.h"
 #include "util/error.h"
 
@@ -49,7 +51,8 @@ double parseNumber(const std::string& text, const std::string& line);
 // How many lines of `text` start with one of `firstWords` (a report's table rows).
 int countLinesStartingWith(const std::string& text, const std::set<std::string>& firstWords);
 
-// Expects each of `needles` in a command's `output`, printing the output when one is missing.
+// Expects each of `needles` in `output` (a command's output, an error's message), printing it
+// when one is missing.
 void expectOutputHas(const std::string& output, const std::vector<std::string>& needles);
 
 // Runs build/pluvia with the arguments like runPluvia, and prints its output and how long it took
@@ -70,6 +73,29 @@ CsvTable readCsvTable(const std::filesystem::path& path);
 bool hasColumns(const CsvTable& table, const std::vector<std::string>& names);
 // Expects the plot a report wrote at `path`: a file that decodes to a non-empty image.
 void expectPlot(const std::filesystem::path& path);
+// Expects each of `names` in row `row` of the table to be a finite number, and not negative
+// where `nonNegative`; a failure names the measure and the row.
+void expectFiniteMeasures(const CsvTable& table, size_t row, const std::vector<std::string>& names,
+                          bool nonNegative);
+
+// `pluvia report NAME --quick --csv DIR/NAME.csv --plot DIR/NAME.png` and `extraArgs`, timed
+// (runPluviaTimed), with its table read back (empty when the command wrote none).
+struct QuickReport {
+  std::filesystem::path csv, plot;
+  CommandResult result;
+  CsvTable table;
+};
+QuickReport runQuickReport(const std::filesystem::path& dir, const std::string& name,
+                           const std::vector<std::string>& extraArgs = {});
+// `pluvia report NAME --quick FLAG MISSING` with a path that does not exist: a usage error
+// (exit 2) whose message names FLAG.
+void expectReportRejectsMissing(const std::string& name, const std::string& flag,
+                                const std::filesystem::path& missing);
+
+// A width x height equirectangular map whose texel centres hold radiance(direction) (RGB).
+EquirectMap equirectOf(
+    int width, int height,
+    const std::function<std::array<double, 3>(const std::array<double, 3>&)>& radiance);
 
 // Writes `text` to dir/name and returns the path.
 std::filesystem::path writeTextFile(const std::filesystem::path& dir, const std::string& name,
@@ -77,9 +103,6 @@ std::filesystem::path writeTextFile(const std::filesystem::path& dir, const std:
 
 // Reads an image file with OpenImageIO as float RGBA (no colour conversion).
 Image readImageFile(const std::filesystem::path& path);
-// Frame 2 of the shared street movie (plate_static/opencv_vtest.avi) scaled to 256 x 192, read
-// as float RGBA; the night-plate tests darken it. Call only when sharedData() has the movie.
-Image streetStill(const std::filesystem::path& dir);
 // Every channel of an image file (an EXR's AOVs too), interleaved as stored; a failure is
 // reported to gtest and gives no channels.
 struct ExrPixels {
@@ -97,11 +120,20 @@ void writeImageFile(const std::filesystem::path& path, const Image& image, int c
 std::string writePlateSequence(const std::filesystem::path& dir, int first, int last, int width,
                                int height, const std::function<void(Image&, int)>& paint);
 
-// paintTexturedPlate on every frame: diagonal ramps that move with the frame number, so a frame
-// mix-up or a shifted frame shows.
-void paintTexturedPlate(Image& image, int frame);
+// writePlateSequence painted pixel by pixel: `paint(rgba, x, y, frame)` sets pixel (x, y)'s
+// samples (alpha starts at 1).
+using PixelPaint = std::function<void(float* rgba, int x, int y, int frame)>;
+std::string writePixelPlate(const std::filesystem::path& dir, int first, int last, int width,
+                            int height, const PixelPaint& paint);
+
+// A writePixelPlate of diagonal ramps that move with the frame number, so a frame mix-up or a
+// shifted frame shows.
 std::string writeTexturedPlate(const std::filesystem::path& dir, int first, int last,
                                int width = 64, int height = 48);
+
+// Runs a fuzz case: it may succeed or throw a pluvia::Error with a one-line message; a message of
+// several lines or another exception fails the test, naming the case (`which`).
+void expectCleanOutcome(const std::function<void()>& action, const std::string& which);
 
 // Runs `action`, expecting a pluvia::Error whose message names `needle`; returns the error.
 template <typename Action>

@@ -3,7 +3,6 @@
 // holder removes the file.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -41,12 +40,6 @@ bool waitUntilHeld(const std::string& path, off_t start, off_t length) {
   return false;
 }
 
-int exitCodeOf(pid_t pid) {
-  int status = 0;
-  waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 1000 + WTERMSIG(status);
-}
-
 }  // namespace
 
 TEST(FileLock, DisjointRangesAreHeldTogetherAndAnOverlapIsRefusedNamingTheHolder) {
@@ -69,7 +62,7 @@ TEST(FileLock, DisjointRangesAreHeldTogetherAndAnOverlapIsRefusedNamingTheHolder
   // This process's locks are gone, the child's is held: the file stays for it.
   EXPECT_TRUE(stdfs::exists(path));
   std::ofstream(dir / "release").put('x');
-  EXPECT_EQ(exitCodeOf(child), 0);
+  EXPECT_EQ(test::waitForExit(child), 0);
 }
 
 TEST(FileLock, ADeadHoldersRangeIsFreeAndTheLastHolderRemovesTheFile) {
@@ -83,7 +76,7 @@ TEST(FileLock, ADeadHoldersRangeIsFreeAndTheLastHolderRemovesTheFile) {
   }
   ASSERT_TRUE(waitUntilHeld(path, 0, 0));
   kill(child, SIGKILL);
-  EXPECT_EQ(exitCodeOf(child), 1000 + SIGKILL);
+  EXPECT_EQ(test::waitForExit(child), 1000 + SIGKILL);
   // The killed holder left its file, holding nothing.
   ASSERT_TRUE(stdfs::exists(path));
   {
