@@ -14,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "geometry/camera.h"
@@ -131,6 +132,54 @@ struct StageInfo {
   // the preset here, once.
   std::function<std::unique_ptr<Stage>(const Preset&)> create;
 };
+
+// StageInfo's callbacks written against the stage's own section: each gets the section's
+// settings, read from the preset by the section's settings function, and the preset (for the
+// other sections it reads, through their settings functions).
+template <class Settings>
+struct StageCallbacks {
+  bool perClip = false;
+  std::function<std::string(const Settings&, const Preset&)> noOpReason = {};
+  std::function<std::string(const Settings&, const Preset&)> note = {};
+  std::function<std::vector<std::string>(const Settings&, const Preset&)> reads = {};
+  std::function<std::string(const Settings&, const Preset&, const ClipInfo&)> cacheKey = {};
+  std::function<std::map<std::string, std::string>(const Settings&, const Preset&)> frameMetadata =
+      {};
+  std::function<std::unique_ptr<Stage>(const Settings&, const Preset&)> create = {};
+};
+
+namespace stage_info_detail {
+
+// `typed` as a StageInfo callback: the settings read from the preset first; empty stays empty.
+template <class Settings, class Result, class... Rest>
+std::function<Result(const Preset&, Rest...)> withSettings(
+    Settings (*read)(const Preset&),
+    std::function<Result(const Settings&, const Preset&, Rest...)> typed) {
+  if (!typed) return {};
+  return [read, typed = std::move(typed)](const Preset& preset, Rest... rest) {
+    return typed(read(preset), preset, rest...);
+  };
+}
+
+}  // namespace stage_info_detail
+
+// The StageInfo of the stage that owns the section `spec`, whose settings `read` gives:
+//   makeStageInfo(blurTable().section(), blurSettings, {.noOpReason = ..., .create = ...})
+template <class Settings>
+StageInfo makeStageInfo(SectionSpec spec, Settings (*read)(const Preset&),
+                        StageCallbacks<Settings> callbacks) {
+  using stage_info_detail::withSettings;
+  StageInfo info;
+  info.spec = std::move(spec);
+  info.perClip = callbacks.perClip;
+  info.noOpReason = withSettings(read, std::move(callbacks.noOpReason));
+  info.note = withSettings(read, std::move(callbacks.note));
+  info.reads = withSettings(read, std::move(callbacks.reads));
+  info.cacheKey = withSettings(read, std::move(callbacks.cacheKey));
+  info.frameMetadata = withSettings(read, std::move(callbacks.frameMetadata));
+  info.create = withSettings(read, std::move(callbacks.create));
+  return info;
+}
 
 // Hash of a clip's identity for cache keys: file paths, sizes and modification times.
 std::string clipIdentity(const ClipInfo& clip);

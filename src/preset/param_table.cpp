@@ -174,6 +174,10 @@ ParamSpec integerParam(std::string key, int64_t defaultValue, NumberRange range,
                    std::move(help));
 }
 
+ParamSpec fractionParam(std::string key, double defaultValue, std::string help) {
+  return numberParam(std::move(key), defaultValue, {0.0, 1.0}, "", std::move(help));
+}
+
 ParamSpec booleanParam(std::string key, bool defaultValue, std::string help) {
   return row(std::move(key), ParamType::Boolean, defaultValue, std::move(help));
 }

@@ -54,6 +54,8 @@ ParamSpec numberParam(std::string key, double defaultValue, NumberRange range, s
                       std::string help);
 ParamSpec integerParam(std::string key, int64_t defaultValue, NumberRange range, std::string units,
                        std::string help);
+// A Number in [0, 1] without units: a fraction, a blend, a weight.
+ParamSpec fractionParam(std::string key, double defaultValue, std::string help);
 ParamSpec booleanParam(std::string key, bool defaultValue, std::string help);
 // Every stage section's first row: "enabled", default true.
 ParamSpec enabledParam(std::string help = "run this stage");

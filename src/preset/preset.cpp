@@ -211,14 +211,13 @@ void checkKeys(const ParamSpec& spec, const json& value, const std::string& wher
       const json& interpolation = value["interpolation"];
       if (!interpolation.is_string() ||
           !parseRampInterpolation(interpolation.get<std::string>(), unused)) {
+        const std::vector<std::string> names = rampInterpolationNames();
         std::string nearest =
-            interpolation.is_string()
-                ? nearestWord(interpolation.get<std::string>(), {"linear", "smooth", "hold"})
-                : "";
-        problems.push_back(
-            fmt::format("{}/interpolation: expected one of: linear, smooth, hold{} (got {})", where,
-                        nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest),
-                        interpolation.dump()));
+            interpolation.is_string() ? nearestWord(interpolation.get<std::string>(), names) : "";
+        problems.push_back(fmt::format(
+            "{}/interpolation: expected one of: {}{} (got {})", where, fmt::join(names, ", "),
+            nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest),
+            interpolation.dump()));
       }
     }
     if (!value.contains("keys")) {

@@ -1,7 +1,9 @@
 #include "preset/ramp.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -9,27 +11,38 @@
 
 namespace pluvia {
 
+namespace {
+
+// Each interpolation with its name in a preset: the one list that naming, parsing and the
+// validator's messages read.
+constexpr std::array<std::pair<RampInterpolation, const char*>, 3> kInterpolationNames{{
+    {RampInterpolation::Linear, "linear"},
+    {RampInterpolation::Smooth, "smooth"},
+    {RampInterpolation::Hold, "hold"},
+}};
+
+}  // namespace
+
 const char* rampInterpolationName(RampInterpolation interpolation) {
-  switch (interpolation) {
-    case RampInterpolation::Linear:
-      return "linear";
-    case RampInterpolation::Smooth:
-      return "smooth";
-    case RampInterpolation::Hold:
-      return "hold";
-  }
+  for (const auto& [value, name] : kInterpolationNames)
+    if (value == interpolation) return name;
   return "linear";
 }
 
 bool parseRampInterpolation(const std::string& name, RampInterpolation& interpolation) {
-  for (auto candidate :
-       {RampInterpolation::Linear, RampInterpolation::Smooth, RampInterpolation::Hold}) {
-    if (name == rampInterpolationName(candidate)) {
-      interpolation = candidate;
+  for (const auto& [value, candidate] : kInterpolationNames) {
+    if (name == candidate) {
+      interpolation = value;
       return true;
     }
   }
   return false;
+}
+
+std::vector<std::string> rampInterpolationNames() {
+  std::vector<std::string> names;
+  for (const auto& [value, name] : kInterpolationNames) names.emplace_back(name);
+  return names;
 }
 
 Ramp::Ramp(double constant) : keys_{RampKey{0.0, constant}} {}

@@ -20,6 +20,8 @@ enum class RampInterpolation { Linear, Smooth, Hold };
 const char* rampInterpolationName(RampInterpolation interpolation);
 // "linear" | "smooth" | "hold" -> the value; false when the name is none of them.
 bool parseRampInterpolation(const std::string& name, RampInterpolation& interpolation);
+// Every interpolation's name, "linear" (the default) first.
+std::vector<std::string> rampInterpolationNames();
 
 struct RampKey {
   double frame = 0.0;

@@ -5,7 +5,7 @@
 //   const SettingsTable<SplashSettings> table(
 //       {.name = "splash", .help = "...", .inputs = {"image"}, .outputs = {"image"}},
 //       {bind(&SplashSettings::enabled, enabledParam()),
-//        bind(&SplashSettings::opacity, numberParam("opacity", 1.0, {0, 1}, "", "..."))});
+//        bind(&SplashSettings::opacity, fractionParam("opacity", 1.0, "..."))});
 //   SplashSettings s = table.read(preset);
 //
 // A row's member type says how its value is read: double (Number), a whole-number type (Integer,

@@ -8,17 +8,16 @@
 namespace pluvia {
 
 StageInfo blurStageInfo() {
-  StageInfo info;
-  info.spec = blurTable().section();
-  info.noOpReason = [](const Preset& p) {
-    return blurSettings(p).sigmaPx == 0.0 ? std::string("sigma_px is 0") : "";
-  };
-  info.create = [](const Preset& p) {
-    const BlurSettings blur = blurSettings(p);
-    return std::make_unique<ImageOpStage>(
-        [blur](Image& image) { ops::gaussianBlur(image, float(blur.sigmaPx)); });
-  };
-  return info;
+  return makeStageInfo(blurTable().section(), blurSettings,
+                       {.noOpReason = [](const BlurSettings& blur, const Preset&) -> std::string {
+                          return blur.sigmaPx == 0.0 ? "sigma_px is 0" : "";
+                        },
+                        .create =
+                            [](const BlurSettings& blur, const Preset&) {
+                              return std::make_unique<ImageOpStage>([blur](Image& image) {
+                                ops::gaussianBlur(image, float(blur.sigmaPx));
+                              });
+                            }});
 }
 
 }  // namespace pluvia

@@ -11,11 +11,10 @@ const SettingsTable<DarkenSettings>& darkenTable() {
       {
           bind(&DarkenSettings::enabled, enabledParam()),
           bind(&DarkenSettings::amount,
-               numberParam("amount", 0.0, {0.0, 1.0}, "",
-                           "blend toward luminance; 0 leaves the plate as it is")),
+               fractionParam("amount", 0.0, "blend toward luminance; 0 leaves the plate as it is")),
           bind(&DarkenSettings::darkening,
-               numberParam("darkening", 0.5, {0.0, 1.0}, "",
-                           "brightness lost at amount 1: out *= 1 - amount*darkening")),
+               fractionParam("darkening", 0.5,
+                             "brightness lost at amount 1: out *= 1 - amount*darkening")),
       });
   return table;
 }

@@ -7,18 +7,17 @@
 namespace pluvia {
 
 StageInfo darkenStageInfo() {
-  StageInfo info;
-  info.spec = darkenTable().section();
-  info.noOpReason = [](const Preset& p) {
-    return darkenSettings(p).amount == 0.0 ? std::string("amount is 0") : "";
-  };
-  info.create = [](const Preset& p) {
-    const DarkenSettings darken = darkenSettings(p);
-    return std::make_unique<ImageOpStage>([darken](Image& image) {
-      ops::darken(image, float(darken.amount), float(darken.darkening));
-    });
-  };
-  return info;
+  return makeStageInfo(
+      darkenTable().section(), darkenSettings,
+      {.noOpReason = [](const DarkenSettings& darken, const Preset&) -> std::string {
+         return darken.amount == 0.0 ? "amount is 0" : "";
+       },
+       .create =
+           [](const DarkenSettings& darken, const Preset&) {
+             return std::make_unique<ImageOpStage>([darken](Image& image) {
+               ops::darken(image, float(darken.amount), float(darken.darkening));
+             });
+           }});
 }
 
 }  // namespace pluvia

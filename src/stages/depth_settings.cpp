@@ -6,13 +6,10 @@ namespace {
 
 // The depth.layers list: the fields of each layer type.
 ParamSpec layersParam() {
-  auto fraction = [](const char* key, double defaultValue, const char* help) {
-    return numberParam(key, defaultValue, {0, 1}, "", help);
-  };
-  std::vector<ParamSpec> rect{fraction("x0", 0, "left edge, fraction of the width"),
-                              fraction("x1", 1, "right edge, fraction of the width"),
-                              fraction("y0", 0, "top edge, fraction of the height"),
-                              fraction("y1", 1, "bottom edge, fraction of the height")};
+  std::vector<ParamSpec> rect{fractionParam("x0", 0, "left edge, fraction of the width"),
+                              fractionParam("x1", 1, "right edge, fraction of the width"),
+                              fractionParam("y0", 0, "top edge, fraction of the height"),
+                              fractionParam("y1", 1, "bottom edge, fraction of the height")};
   allowKeyframes(rect, {"x0", "x1", "y0", "y1"});
   std::vector<ParamSpec> card = rect;
   card.push_back(numberParam("distance_m", 10, {0.01, 1e6}, "m", "z-depth of the card"));

@@ -183,26 +183,26 @@ class DepthStage : public Stage {
 }  // namespace
 
 StageInfo depthStageInfo() {
-  StageInfo info;
-  info.spec = depthTable().section();
-  info.note = [](const Preset& p) -> std::string {
-    const DepthSettings depth = depthSettings(p);
-    if (depth.source == "file")
-      return fmt::format("depth from depth.file = {} ({})", depth.file, depth.fileEncoding);
-    if (depth.source != "auto") return "";
-    return fmt::format(
-        "depth is a guess (sky found in the plate, ground under the camera, the rest at {:g} m): "
-        "for a better one give depth.layers (source layers), a depth sequence (source file) or "
-        "COLMAP tracking (source colmap)",
-        depth.backdropMeters);
-  };
-  info.cacheKey = [](const Preset& p, const ClipInfo& clip) {
-    return depthTrackingCacheKey(depthSettings(p), cameraSettings(p), clip);
-  };
-  info.create = [](const Preset& p) {
-    return std::make_unique<DepthStage>(depthSettings(p), cameraSettings(p), p.source());
-  };
-  return info;
+  return makeStageInfo(
+      depthTable().section(), depthSettings,
+      {.note = [](const DepthSettings& depth, const Preset&) -> std::string {
+         if (depth.source == "file")
+           return fmt::format("depth from depth.file = {} ({})", depth.file, depth.fileEncoding);
+         if (depth.source != "auto") return "";
+         return fmt::format(
+             "depth is a guess (sky found in the plate, ground under the camera, the rest at {:g} "
+             "m): for a better one give depth.layers (source layers), a depth sequence (source "
+             "file) or COLMAP tracking (source colmap)",
+             depth.backdropMeters);
+       },
+       .cacheKey =
+           [](const DepthSettings& depth, const Preset& p, const ClipInfo& clip) {
+             return depthTrackingCacheKey(depth, cameraSettings(p), clip);
+           },
+       .create =
+           [](const DepthSettings& depth, const Preset& p) {
+             return std::make_unique<DepthStage>(depth, cameraSettings(p), p.source());
+           }});
 }
 
 }  // namespace pluvia

@@ -88,14 +88,13 @@ class DerainStage : public Stage {
 }  // namespace
 
 StageInfo derainStageInfo() {
-  StageInfo info;
-  info.spec = derainTable().section();
-  info.perClip = true;
-  info.cacheKey = [](const Preset& p, const ClipInfo& clip) {
-    return derainCacheKey(derainSettings(p), clip);
-  };
-  info.create = [](const Preset& p) { return std::make_unique<DerainStage>(derainSettings(p)); };
-  return info;
+  return makeStageInfo(
+      derainTable().section(), derainSettings,
+      {.perClip = true,
+       .cacheKey = [](const DerainSettings& derain, const Preset&,
+                      const ClipInfo& clip) { return derainCacheKey(derain, clip); },
+       .create = [](const DerainSettings& derain,
+                    const Preset&) { return std::make_unique<DerainStage>(derain); }});
 }
 
 }  // namespace pluvia

@@ -238,20 +238,21 @@ class EnvironmentStage : public Stage {
 }  // namespace
 
 StageInfo environmentStageInfo() {
-  StageInfo info;
-  info.spec = lightingTable().section();
-  info.perClip = true;
-  info.cacheKey = [](const Preset& p, const ClipInfo& clip) {
-    LightingSettings lighting = lightingSettings(p);
-    // An HDR is read, not computed: nothing to cache (`--require-cache` must not ask for it).
-    if (lighting.source == "hdr") return std::string();
-    return environmentCacheKey(lighting, colorSettings(p), cameraSettings(p), clip);
-  };
-  info.create = [](const Preset& p) {
-    return std::make_unique<EnvironmentStage>(lightingSettings(p), colorSettings(p),
-                                              cameraSettings(p));
-  };
-  return info;
+  return makeStageInfo(
+      lightingTable().section(), lightingSettings,
+      {.perClip = true,
+       .cacheKey =
+           [](const LightingSettings& lighting, const Preset& p, const ClipInfo& clip) {
+             // An HDR is read, not computed: nothing to cache (`--require-cache` must not ask
+             // for it).
+             if (lighting.source == "hdr") return std::string();
+             return environmentCacheKey(lighting, colorSettings(p), cameraSettings(p), clip);
+           },
+       .create =
+           [](const LightingSettings& lighting, const Preset& p) {
+             return std::make_unique<EnvironmentStage>(lighting, colorSettings(p),
+                                                       cameraSettings(p));
+           }});
 }
 
 }  // namespace pluvia

@@ -83,28 +83,28 @@ class FogStage : public Stage {
 }  // namespace
 
 StageInfo fogStageInfo() {
-  StageInfo info;
-  info.spec = fogTable().section();
-  info.noOpReason = [](const Preset& p) {
-    const FogSettings fog = fogSettings(p);
-    // Skylight fog scatters through the rain as well: no-op only without fog and rain.
-    if (fog.model == "skylight") {
-      const RainSettings rain = rainSettings(p);
-      const bool raining = rain.enabled && rain.rateMmPerHour.valueAt(0.0) > 0.0;
-      return fog.densityPerMeter == 0.0 && !raining ? std::string("density is 0 and no rain") : "";
-    }
-    return fog.densityPerMeter == 0.0 ? std::string("density is 0") : "";
-  };
-  info.reads = [](const Preset& p) {
-    std::vector<std::string> reads{"image", "depth"};
-    const FogSettings fog = fogSettings(p);
-    if (fog.model == "skylight" || fog.colorSource != "constant") reads.push_back("environment");
-    return reads;
-  };
-  info.create = [](const Preset& p) {
-    return std::make_unique<FogStage>(fogSettings(p), rainSettings(p), cameraSettings(p));
-  };
-  return info;
+  return makeStageInfo(
+      fogTable().section(), fogSettings,
+      {.noOpReason = [](const FogSettings& fog, const Preset& p) -> std::string {
+         // Skylight fog scatters through the rain as well: no-op only without fog and rain.
+         if (fog.model == "skylight") {
+           const RainSettings rain = rainSettings(p);
+           const bool raining = rain.enabled && rain.rateMmPerHour.valueAt(0.0) > 0.0;
+           return fog.densityPerMeter == 0.0 && !raining ? "density is 0 and no rain" : "";
+         }
+         return fog.densityPerMeter == 0.0 ? "density is 0" : "";
+       },
+       .reads =
+           [](const FogSettings& fog, const Preset&) {
+             std::vector<std::string> reads{"image", "depth"};
+             if (fog.model == "skylight" || fog.colorSource != "constant")
+               reads.push_back("environment");
+             return reads;
+           },
+       .create =
+           [](const FogSettings& fog, const Preset& p) {
+             return std::make_unique<FogStage>(fog, rainSettings(p), cameraSettings(p));
+           }});
 }
 
 }  // namespace pluvia

@@ -174,37 +174,37 @@ class GlareStage : public Stage {
 
 }  // namespace
 
+// Glare has no section of its own: the lights section sets it (lights.glare).
 StageInfo glareStageInfo() {
-  StageInfo info;
-  info.spec.name = "glare";
-  info.spec.help =
-      "The veil bright sources spread as the eye sees them (CIE 2002 disability glare), after "
-      "the rain; set in the lights section (lights.glare).";
   // Depth hides a light behind a surface when the frame has it (the lights stage, which places
   // the lights, reads it); the glare does not ask for it.
-  info.spec.inputs = {"image"};
-  info.spec.outputs = {"image"};
-  info.noOpReason = [](const Preset& p) -> std::string {
-    const LightsSettings lights = lightsSettings(p);
-    if (lights.glare == GlareMode::Off) return "lights.glare = off";
-    if (lights.glare == GlareMode::Auto) {
-      // Auto glares only with local lights: none when the lights stage has none.
-      const std::string why = lightsStageInfo().noOpReason(p);
-      if (!lights.enabled) return "lights.glare auto and the lights are disabled";
-      if (!why.empty()) return "lights.glare auto and no lights (" + why + ")";
-    }
-    return "";
-  };
-  info.note = [](const Preset& p) -> std::string {
-    return lightsSettings(p).glare == GlareMode::On
-               ? "lights.glare on: every frame"
-               : "lights.glare auto: on the frames whose lights' veil 1 deg away could reach "
-                 "lights.halo_threshold";
-  };
-  info.create = [](const Preset& p) {
-    return std::make_unique<GlareStage>(lightsSettings(p), cameraSettings(p));
-  };
-  return info;
+  return makeStageInfo(
+      {.name = "glare",
+       .help = "The veil bright sources spread as the eye sees them (CIE 2002 disability glare), "
+               "after the rain; set in the lights section (lights.glare).",
+       .inputs = {"image"},
+       .outputs = {"image"}},
+      lightsSettings,
+      {.noOpReason = [](const LightsSettings& lights, const Preset& p) -> std::string {
+         if (lights.glare == GlareMode::Off) return "lights.glare = off";
+         if (lights.glare == GlareMode::Auto) {
+           // Auto glares only with local lights: none when the lights stage has none.
+           const std::string why = lightsStageInfo().noOpReason(p);
+           if (!lights.enabled) return "lights.glare auto and the lights are disabled";
+           if (!why.empty()) return "lights.glare auto and no lights (" + why + ")";
+         }
+         return "";
+       },
+       .note = [](const LightsSettings& lights, const Preset&) -> std::string {
+         return lights.glare == GlareMode::On
+                    ? "lights.glare on: every frame"
+                    : "lights.glare auto: on the frames whose lights' veil 1 deg away could reach "
+                      "lights.halo_threshold";
+       },
+       .create =
+           [](const LightsSettings& lights, const Preset& p) {
+             return std::make_unique<GlareStage>(lights, cameraSettings(p));
+           }});
 }
 
 }  // namespace pluvia

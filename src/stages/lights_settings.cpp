@@ -25,7 +25,7 @@ ParamSpec listOfLights() {
   spot.push_back(numberParam("half_angle_deg", 30.0, {0.01, 90.0}, "deg",
                              "cone half-angle A of I(theta) = I0 ((1 - q)(cos theta - cos A) / "
                              "(1 - cos A) + q) inside the cone (Huang et al.)"));
-  spot.push_back(numberParam("falloff_q", 0.0, {0.0, 1.0}, "", "q of I(theta): 1 is a hard cone"));
+  spot.push_back(fractionParam("falloff_q", 0.0, "q of I(theta): 1 is a hard cone"));
   allowKeyframes(spot, {"x_m", "y_m", "z_m", "intensity", "half_angle_deg"});
   return listParam("list", nlohmann::json::array(), {{"point", point}, {"spot", spot}},
                    "local lights: point lights and spotlights");

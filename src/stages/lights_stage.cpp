@@ -93,40 +93,40 @@ class LightsStage : public Stage {
 
 }  // namespace
 
+// It reads what its section declares (image, depth) whatever the settings.
 StageInfo lightsStageInfo() {
-  StageInfo info;
-  info.spec = lightsTable().section();
-  info.noOpReason = [](const Preset& p) -> std::string {
-    const LightsSettings lights = lightsSettings(p);
-    if (lights.lights.empty() && !lights.find)
-      return "no lights (lights.list is empty, lights.find off): the light work is skipped";
-    if (!lights.halos && !lights.drops) return "lights.halos and lights.drops are both off";
-    // Halos need a medium and lit drops need drops: with neither rain nor fog there is nothing
-    // for the lights to light.
-    const FogSettings fog = fogSettings(p);
-    const bool foggy = fog.enabled && fog.densityPerMeter > 0.0;
-    if (!rainSettings(p).falls() && !foggy)
-      return "no rain and no fog: nothing scatters the lights";
-    return "";
-  };
-  info.note = [](const Preset& p) -> std::string {
-    const LightsSettings lights = lightsSettings(p);
-    int spots = 0;
-    for (const auto& l : lights.lights) spots += l.spot ? 1 : 0;
-    return fmt::format(
-        "{} point lights, {} spotlights{}; halos {}, drops {}", int(lights.lights.size()) - spots,
-        spots,
-        lights.find ? ", and lamps looked for in the plate at render time (lights.find auto: "
-                      "clipped blobs; none clipped, no light work)"
-                    : "",
-        lights.halos ? "on" : "off", lights.drops ? "on" : "off");
-  };
-  info.reads = [](const Preset&) { return std::vector<std::string>{"image", "depth"}; };
-  info.create = [](const Preset& p) {
-    return std::make_unique<LightsStage>(lightsSettings(p), rainSettings(p), fogSettings(p),
-                                         cameraSettings(p), depthSettings(p).backdropMeters);
-  };
-  return info;
+  return makeStageInfo(
+      lightsTable().section(), lightsSettings,
+      {.noOpReason = [](const LightsSettings& lights, const Preset& p) -> std::string {
+         if (lights.lights.empty() && !lights.find)
+           return "no lights (lights.list is empty, lights.find off): the light work is skipped";
+         if (!lights.halos && !lights.drops) return "lights.halos and lights.drops are both off";
+         // Halos need a medium and lit drops need drops: with neither rain nor fog there is
+         // nothing for the lights to light.
+         const FogSettings fog = fogSettings(p);
+         const bool foggy = fog.enabled && fog.densityPerMeter > 0.0;
+         if (!rainSettings(p).falls() && !foggy)
+           return "no rain and no fog: nothing scatters the lights";
+         return "";
+       },
+       .note =
+           [](const LightsSettings& lights, const Preset&) {
+             int spots = 0;
+             for (const auto& l : lights.lights) spots += l.spot ? 1 : 0;
+             return fmt::format(
+                 "{} point lights, {} spotlights{}; halos {}, drops {}",
+                 int(lights.lights.size()) - spots, spots,
+                 lights.find ? ", and lamps looked for in the plate at render time (lights.find "
+                               "auto: clipped blobs; none clipped, no light work)"
+                             : "",
+                 lights.halos ? "on" : "off", lights.drops ? "on" : "off");
+           },
+       .create =
+           [](const LightsSettings& lights, const Preset& p) {
+             return std::make_unique<LightsStage>(lights, rainSettings(p), fogSettings(p),
+                                                  cameraSettings(p),
+                                                  depthSettings(p).backdropMeters);
+           }});
 }
 
 }  // namespace pluvia

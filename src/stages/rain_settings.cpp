@@ -62,8 +62,8 @@ const SettingsTable<RainSettings>& rainTable() {
           bind(&S::dispersion, booleanParam("dispersion", false,
                                             "per-channel refractive index 1.331 / 1.333 / 1.338")),
           bind(&S::backgroundWeight,
-               numberParam("background_weight", 0.7, {0.0, 1.0}, "",
-                           "c in C' = C + c B (Wang et al. Eq. 2); used by shading paper only")),
+               fractionParam("background_weight", 0.7,
+                             "c in C' = C + c B (Wang et al. Eq. 2); used by shading paper only")),
           // distribution and velocity name C++ enums: rainSettings maps them.
           unbound<S>(enumParam("distribution", "marshall_palmer", {"marshall_palmer", "gamma"},
                                "drop size distribution for the rate: Marshall-Palmer (1948) or a "
@@ -77,18 +77,20 @@ const SettingsTable<RainSettings>& rainTable() {
                            "the wind")),
           bind(&S::wind, &Wind::speedMetersPerSecond,
                numberParam("wind.speed_m_s", 0.0, {0.0, 60.0}, "m/s", "horizontal wind speed")),
-          bind(&S::wind, &Wind::eddies,
-               numberParam("wind.eddies", 0.2, {0.0, 1.0}, "",
-                           "small eddies: each drop's own horizontal speed, std dev as a fraction "
-                           "of the wind speed (turbulence intensity), so driven rain is not a "
-                           "parallel hatch")),
+          bind(
+              &S::wind, &Wind::eddies,
+              fractionParam("wind.eddies", 0.2,
+                            "small eddies: each drop's own horizontal speed, std dev as a fraction "
+                            "of the wind speed (turbulence intensity), so driven rain is not a "
+                            "parallel hatch")),
           bind(&S::wind, &Wind::gustiness,
-               numberParam("wind.gustiness", 0.0, {0.0, 1.0}, "",
-                           "relative amplitude of gusts (a few seconds long) on the wind speed")),
-          bind(&S::wind, &Wind::turbulence,
-               numberParam("wind.turbulence", 0.0, {0.0, 1.0}, "",
-                           "unsteady 2-D wind field (stable fluids) over the ground: RMS over the "
-                           "wind speed")),
+               fractionParam("wind.gustiness", 0.0,
+                             "relative amplitude of gusts (a few seconds long) on the wind speed")),
+          bind(
+              &S::wind, &Wind::turbulence,
+              fractionParam("wind.turbulence", 0.0,
+                            "unsteady 2-D wind field (stable fluids) over the ground: RMS over the "
+                            "wind speed")),
           bind(&S::cells, &Cells::count,
                integerParam("cells.count", 0, {0, 64}, "",
                             "local high-density rain cells carried by the wind (Mizukami)")),

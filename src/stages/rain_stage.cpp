@@ -265,33 +265,34 @@ class RainStage : public Stage {
 }  // namespace
 
 StageInfo rainStageInfo() {
-  StageInfo info;
-  info.spec = rainTable().section();
-  info.noOpReason = [](const Preset& p) -> std::string {
-    const RainSettings rain = rainSettings(p);
-    // A ramp is 0 throughout only when every key is (interpolation stays between keys).
-    if (rain.rateMmPerHour.maxValue() == 0.0) return "rate_mm_h is 0";
-    if (rain.densityScale.maxValue() == 0.0) return "density_scale is 0";
-    if (rain.opacity.maxValue() == 0.0) return "opacity is 0";
-    if (rain.maxDrops == 0) return "max_drops is 0";
-    return "";
-  };
-  info.reads = [](const Preset& p) {
-    std::vector<std::string> reads{"image", "depth", "environment"};
-    if (rainSettings(p).strokes == "derain") reads.push_back("footage_strokes");
-    return reads;
-  };
-  // Every frame names the seed of its rain.
-  info.frameMetadata = [](const Preset& p) -> std::map<std::string, std::string> {
-    return {{"pluvia:seed", std::to_string(int64_t(rainSettings(p).seed))}};
-  };
-  info.create = [](const Preset& p) {
-    const LightsSettings lights = lightsSettings(p);
-    return std::make_unique<RainStage>(
-        rainSettings(p), cameraSettings(p), fogSettings(p),
-        lights.enabled && lights.drops && (!lights.lights.empty() || lights.find));
-  };
-  return info;
+  return makeStageInfo(
+      rainTable().section(), rainSettings,
+      {.noOpReason = [](const RainSettings& rain, const Preset&) -> std::string {
+         // A ramp is 0 throughout only when every key is (interpolation stays between keys).
+         if (rain.rateMmPerHour.maxValue() == 0.0) return "rate_mm_h is 0";
+         if (rain.densityScale.maxValue() == 0.0) return "density_scale is 0";
+         if (rain.opacity.maxValue() == 0.0) return "opacity is 0";
+         if (rain.maxDrops == 0) return "max_drops is 0";
+         return "";
+       },
+       .reads =
+           [](const RainSettings& rain, const Preset&) {
+             std::vector<std::string> reads{"image", "depth", "environment"};
+             if (rain.strokes == "derain") reads.push_back("footage_strokes");
+             return reads;
+           },
+       // Every frame names the seed of its rain.
+       .frameMetadata = [](const RainSettings& rain,
+                           const Preset&) -> std::map<std::string, std::string> {
+         return {{"pluvia:seed", std::to_string(int64_t(rain.seed))}};
+       },
+       .create =
+           [](const RainSettings& rain, const Preset& p) {
+             const LightsSettings lights = lightsSettings(p);
+             return std::make_unique<RainStage>(
+                 rain, cameraSettings(p), fogSettings(p),
+                 lights.enabled && lights.drops && (!lights.lights.empty() || lights.find));
+           }});
 }
 
 }  // namespace pluvia

@@ -82,27 +82,27 @@ class RainbowStage : public Stage {
 }  // namespace
 
 StageInfo rainbowStageInfo() {
-  StageInfo info;
-  info.spec = rainbowTable().section();
-  info.noOpReason = [](const Preset& p) -> std::string {
-    const RainbowSettings bow = rainbowSettings(p);
-    if (!rainSettings(p).falls()) return "no rain to scatter";
-    if (bow.strength == 0.0) return "strength is 0";
-    if (bow.sunSource != "direction") return "";
-    const CameraSettings camera = cameraSettings(p);
-    return rainbowHiddenReason(camera.path(camera.base(kPlanWidth, kPlanHeight)).cameraAt(0.0),
-                               sunDirection(bow.sunElevationDeg, bow.sunAzimuthDeg));
-  };
-  info.reads = [](const Preset& p) {
-    std::vector<std::string> reads{"image", "depth"};
-    if (rainbowSettings(p).sunSource == "environment") reads.push_back("environment");
-    return reads;
-  };
-  info.create = [](const Preset& p) {
-    return std::make_unique<RainbowStage>(rainbowSettings(p), rainSettings(p), fogSettings(p),
-                                          cameraSettings(p));
-  };
-  return info;
+  return makeStageInfo(
+      rainbowTable().section(), rainbowSettings,
+      {.noOpReason = [](const RainbowSettings& bow, const Preset& p) -> std::string {
+         if (!rainSettings(p).falls()) return "no rain to scatter";
+         if (bow.strength == 0.0) return "strength is 0";
+         if (bow.sunSource != "direction") return "";
+         const CameraSettings camera = cameraSettings(p);
+         return rainbowHiddenReason(camera.path(camera.base(kPlanWidth, kPlanHeight)).cameraAt(0.0),
+                                    sunDirection(bow.sunElevationDeg, bow.sunAzimuthDeg));
+       },
+       .reads =
+           [](const RainbowSettings& bow, const Preset&) {
+             std::vector<std::string> reads{"image", "depth"};
+             if (bow.sunSource == "environment") reads.push_back("environment");
+             return reads;
+           },
+       .create =
+           [](const RainbowSettings& bow, const Preset& p) {
+             return std::make_unique<RainbowStage>(bow, rainSettings(p), fogSettings(p),
+                                                   cameraSettings(p));
+           }});
 }
 
 }  // namespace pluvia

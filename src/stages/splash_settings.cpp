@@ -18,8 +18,7 @@ const SettingsTable<SplashSettings>& splashTable() {
           bind(&S::maxTiltDeg,
                numberParam("max_tilt_deg", 30.0, {0.0, 89.0}, "deg",
                            "surfaces tilted more than this from horizontal take no splashes")),
-          bind(&S::opacity,
-               numberParam("opacity", 1.0, {0.0, 1.0}, "", "scale on the splashes' coverage")),
+          bind(&S::opacity, fractionParam("opacity", 1.0, "scale on the splashes' coverage")),
           bind(&S::minSizePx,
                numberParam("min_size_px", 2.0, {0.0, 100.0}, "px",
                            "surfaces so far that a 3 mm drop's crown (12 mm across) spans fewer "

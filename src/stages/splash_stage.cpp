@@ -145,21 +145,19 @@ class SplashStage : public Stage {
 
 }  // namespace
 
+// It reads what its section declares (image, depth, environment) whatever the settings.
 StageInfo splashStageInfo() {
-  StageInfo info;
-  info.spec = splashTable().section();
-  info.noOpReason = [](const Preset& p) -> std::string {
-    if (!rainSettings(p).falls()) return "no rain falls";
-    if (splashSettings(p).opacity == 0.0) return "opacity is 0";
-    return "";
-  };
-  info.reads = [](const Preset&) {
-    return std::vector<std::string>{"image", "depth", "environment"};
-  };
-  info.create = [](const Preset& p) {
-    return std::make_unique<SplashStage>(splashSettings(p), rainSettings(p), cameraSettings(p));
-  };
-  return info;
+  return makeStageInfo(
+      splashTable().section(), splashSettings,
+      {.noOpReason = [](const SplashSettings& splash, const Preset& p) -> std::string {
+         if (!rainSettings(p).falls()) return "no rain falls";
+         if (splash.opacity == 0.0) return "opacity is 0";
+         return "";
+       },
+       .create =
+           [](const SplashSettings& splash, const Preset& p) {
+             return std::make_unique<SplashStage>(splash, rainSettings(p), cameraSettings(p));
+           }});
 }
 
 }  // namespace pluvia

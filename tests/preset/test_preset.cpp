@@ -158,6 +158,21 @@ TEST(Ramp, InterpolatesHoldsAndSmooths) {
   EXPECT_THROW(Ramp(std::vector<RampKey>{}), Error);
 }
 
+// The names a preset gives: each parses to the interpolation that is named by it, "linear" (the
+// default) first; any other word is refused.
+TEST(Ramp, InterpolationNamesParseAndNameAlike) {
+  EXPECT_EQ(rampInterpolationNames(), (std::vector<std::string>{"linear", "smooth", "hold"}));
+  for (const std::string& name : rampInterpolationNames()) {
+    RampInterpolation parsed = RampInterpolation::Linear;
+    ASSERT_TRUE(parseRampInterpolation(name, parsed)) << name;
+    EXPECT_EQ(rampInterpolationName(parsed), name);
+  }
+  RampInterpolation untouched = RampInterpolation::Hold;
+  EXPECT_FALSE(parseRampInterpolation("cubic", untouched));
+  EXPECT_EQ(untouched, RampInterpolation::Hold);
+  EXPECT_STREQ(rampInterpolationName(RampInterpolation::Smooth), "smooth");
+}
+
 TEST(Preset, NumbersAcceptKeyframes) {
   auto dir = test::freshTempDir("preset_keys");
   auto path = test::writeTextFile(dir, "ramp.json", R"({"pluvia": 1, "extends": "moderate",

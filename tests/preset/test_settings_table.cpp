@@ -110,3 +110,16 @@ TEST(SettingsTable, MismatchedMemberThrows) {
   EXPECT_THROW(bind(&S::speed, stringParam("x", "", "")), std::logic_error);
   EXPECT_NO_THROW(bind(&S::count, numberParam("x", 1.0, {}, "", "")));
 }
+
+// A fraction is the Number row of [0, 1] without units, its default written as a float.
+TEST(SettingsTable, FractionIsAUnitlessNumberFromZeroToOne) {
+  const ParamSpec f = fractionParam("blend", 0, "how much");
+  EXPECT_EQ(f.key, "blend");
+  EXPECT_EQ(f.type, ParamType::Number);
+  EXPECT_EQ(f.minValue, 0.0);
+  EXPECT_EQ(f.maxValue, 1.0);
+  EXPECT_EQ(f.units, "");
+  EXPECT_EQ(f.help, "how much");
+  EXPECT_TRUE(f.defaultValue.is_number_float());
+  EXPECT_EQ(f.defaultValue.dump(), "0.0");
+}
