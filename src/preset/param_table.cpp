@@ -71,6 +71,11 @@ std::string nearestWord(const std::string& word, const std::vector<std::string>&
   return "";
 }
 
+std::string didYouMean(const std::string& word, const std::vector<std::string>& candidates) {
+  const std::string nearest = nearestWord(word, candidates);
+  return nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest);
+}
+
 namespace {
 std::string rangeText(const ParamSpec& p) {
   if (p.type == ParamType::Enum) {

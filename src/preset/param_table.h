@@ -98,6 +98,8 @@ using Schema = std::vector<SectionSpec>;
 size_t editDistance(const std::string& a, const std::string& b);
 // The candidate nearest to `word`, or "" when none is reasonably close.
 std::string nearestWord(const std::string& word, const std::vector<std::string>& candidates);
+// " (did you mean 'x'?)" for the candidate nearest to `word`, or "" when none is close.
+std::string didYouMean(const std::string& word, const std::vector<std::string>& candidates);
 
 // One line per parameter: key, type, default, range or choices, units, help. A keyframable
 // parameter's type reads "number|keys" / "integer|keys".

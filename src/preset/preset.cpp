@@ -184,11 +184,20 @@ void checkObjectFields(const std::vector<ParamSpec>& params, const json& object,
         checkObjectFields(params, it.value(), path, key, problems, keyMode);
       }
     } else {
-      std::string nearest = nearestWord(it.key(), siblings);
       problems.push_back(
-          fmt::format("{}: unknown key '{}'{}", path, it.key(),
-                      nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest)));
+          fmt::format("{}: unknown key '{}'{}", path, it.key(), didYouMean(it.key(), siblings)));
     }
+  }
+}
+
+// "<where>/<key>: unknown key '<key>' in <what>" for each key of `object` not in `allowed`.
+void reportUnknownKeys(const json& object, const std::vector<std::string>& allowed,
+                       const std::string& where, const std::string& what,
+                       std::vector<std::string>& problems) {
+  for (auto it = object.begin(); it != object.end(); ++it) {
+    if (std::find(allowed.begin(), allowed.end(), it.key()) != allowed.end()) continue;
+    problems.push_back(fmt::format("{}/{}: unknown key '{}' in {}{}", where, it.key(), it.key(),
+                                   what, didYouMean(it.key(), allowed)));
   }
 }
 
@@ -199,13 +208,7 @@ void checkKeys(const ParamSpec& spec, const json& value, const std::string& wher
   const json* keys = &value;
   std::string keysWhere = where;
   if (value.is_object()) {
-    for (auto it = value.begin(); it != value.end(); ++it) {
-      if (it.key() == "keys" || it.key() == "interpolation") continue;
-      std::string nearest = nearestWord(it.key(), {"keys", "interpolation"});
-      problems.push_back(
-          fmt::format("{}/{}: unknown key '{}' in keyframes{}", where, it.key(), it.key(),
-                      nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest)));
-    }
+    reportUnknownKeys(value, {"keys", "interpolation"}, where, "keyframes", problems);
     if (value.contains("interpolation")) {
       RampInterpolation unused;
       const json& interpolation = value["interpolation"];
@@ -306,13 +309,7 @@ void checkPoints(const ParamSpec& spec, const json& value, const std::string& wh
                       key.dump()));
       continue;
     }
-    for (auto it = key.begin(); it != key.end(); ++it) {
-      if (it.key() == "frame" || it.key() == "points") continue;
-      std::string nearest = nearestWord(it.key(), {"frame", "points"});
-      problems.push_back(
-          fmt::format("{}/{}: unknown key '{}' in points keys{}", keyWhere, it.key(), it.key(),
-                      nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest)));
-    }
+    reportUnknownKeys(key, {"frame", "points"}, keyWhere, "points keys", problems);
     if (!key.contains("frame") || !key["frame"].is_number() ||
         !std::isfinite(key["frame"].get<double>())) {
       problems.push_back(fmt::format("{}/frame: expected a frame number (got {})", keyWhere,
@@ -383,9 +380,7 @@ void checkValue(const ParamSpec& spec, const json& value, const std::string& whe
       if (!value.is_string()) return bad("expected one of: " + allowed);
       std::string v = value.get<std::string>();
       if (std::find(spec.choices.begin(), spec.choices.end(), v) == spec.choices.end()) {
-        std::string nearest = nearestWord(v, spec.choices);
-        bad("expected one of: " + allowed +
-            (nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest)));
+        bad("expected one of: " + allowed + didYouMean(v, spec.choices));
       }
       return;
     }
@@ -455,11 +450,9 @@ void checkValue(const ParamSpec& spec, const json& value, const std::string& whe
         }
         auto found = spec.itemTypes.find(item["type"].get<std::string>());
         if (found == spec.itemTypes.end()) {
-          std::string nearest = nearestWord(item["type"].get<std::string>(), types);
-          problems.push_back(
-              fmt::format("{}/type: unknown item type {} (one of: {}){}", itemWhere,
-                          item["type"].dump(), fmt::join(types, ", "),
-                          nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest)));
+          problems.push_back(fmt::format("{}/type: unknown item type {} (one of: {}){}", itemWhere,
+                                         item["type"].dump(), fmt::join(types, ", "),
+                                         didYouMean(item["type"].get<std::string>(), types)));
           continue;
         }
         checkObjectFields(found->second, item, itemWhere, "", problems, KeyMode::Item, {"type"});
@@ -660,10 +653,8 @@ std::vector<std::string> validatePreset(const json& document, const Schema& sche
     auto section = std::find_if(schema.begin(), schema.end(),
                                 [&](const SectionSpec& s) { return s.name == key; });
     if (section == schema.end()) {
-      std::string nearest = nearestWord(key, topKeys);
       problems.push_back(
-          fmt::format("/{}: unknown section '{}'{}", key, key,
-                      nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest)));
+          fmt::format("/{}: unknown section '{}'{}", key, key, didYouMean(key, topKeys)));
       continue;
     }
     if (!it.value().is_object()) {
