@@ -10,14 +10,48 @@
 namespace pluvia {
 namespace {
 
-// NaN -> 0.
+// Clamped to [0, 1], NaN -> 0 (std::min passes NaN on, std::max(0, NaN) is 0).
 inline float clamped(float v) {
-  return v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
+  return std::max(0.0f, std::min(v, 1.0f));
 }
 
 // A code in [0, 255] rounded to the nearest integer.
 inline uint8_t rounded(float code) {
-  return static_cast<uint8_t>(code + 0.5f);
+  return static_cast<uint8_t>(static_cast<int>(code + 0.5f));
+}
+
+struct Weights {
+  float kr, kg, kb;
+};
+
+// Y' codes of one row of `width` RGBA pixels.
+void lumaRow(const float* rgba, int width, const Weights& k, uint8_t* luma) {
+  for (int x = 0; x < width; ++x) {
+    const float* p = rgba + static_cast<size_t>(x) * 4;
+    luma[x] = rounded(
+        16.0f + 219.0f * (k.kr * clamped(p[0]) + k.kg * clamped(p[1]) + k.kb * clamped(p[2])));
+  }
+}
+
+// Adds the R', G', B' of each pixel pair of one row to sums[c][cx] (c = 0, 1, 2 planes of
+// `pairs` values); an odd last pixel counts twice, as the repeated column it stands for.
+void addPairSums(const float* rgba, int width, int pairs, float* sums) {
+  float* r = sums;
+  float* g = sums + pairs;
+  float* b = sums + 2 * static_cast<size_t>(pairs);
+  const int fullPairs = width / 2;
+  for (int cx = 0; cx < fullPairs; ++cx) {
+    const float* p = rgba + static_cast<size_t>(cx) * 8;
+    r[cx] += clamped(p[0]) + clamped(p[4]);
+    g[cx] += clamped(p[1]) + clamped(p[5]);
+    b[cx] += clamped(p[2]) + clamped(p[6]);
+  }
+  if (fullPairs < pairs) {
+    const float* p = rgba + static_cast<size_t>(width - 1) * 4;
+    r[fullPairs] += 2.0f * clamped(p[0]);
+    g[fullPairs] += 2.0f * clamped(p[1]);
+    b[fullPairs] += 2.0f * clamped(p[2]);
+  }
 }
 
 }  // namespace
@@ -38,40 +72,35 @@ void packYcbcr8(const Image& image, int encodedWidth, int encodedHeight, bool ha
   const size_t lumaSize = static_cast<size_t>(encodedWidth) * encodedHeight;
   const size_t chromaSize = static_cast<size_t>(chromaWidth) * chromaHeight;
   planes.resize(lumaSize + 2 * chromaSize);
-  const float kr = matrix.kr, kb = matrix.kb, kg = 1.0f - kr - kb;
-  // Codes from E'y and from the colour differences B' - E'y, R' - E'y (BT.709 section 3).
-  const float lumaScale = 219.0f, blueScale = 224.0f / (2.0f * (1.0f - kb)),
-              redScale = 224.0f / (2.0f * (1.0f - kr));
-  const float chromaMean = 1.0f / static_cast<float>(2 * rowsPerChroma);
+  const Weights k{matrix.kr, 1.0f - matrix.kr - matrix.kb, matrix.kb};
+  // Codes from the colour differences B' - E'y and R' - E'y (ITU-R BT.709 section 3), of the
+  // mean of the pixels a chroma sample covers.
+  const float blueScale = 224.0f / (2.0f * (1.0f - k.kb)),
+              redScale = 224.0f / (2.0f * (1.0f - k.kr));
+  const float meanOfSums = 1.0f / static_cast<float>(2 * rowsPerChroma);
   uint8_t* luma = planes.data();
   uint8_t* cb = luma + lumaSize;
   uint8_t* cr = cb + chromaSize;
   cv::parallel_for_(cv::Range(0, chromaHeight), [&](const cv::Range& rows) {
-    std::vector<float> sums(static_cast<size_t>(chromaWidth) * 3);  // R', G', B' per chroma column
+    std::vector<float> sums(static_cast<size_t>(chromaWidth) * 3);  // R', G', B' planes
+    const float* r = sums.data();
+    const float* g = r + chromaWidth;
+    const float* b = g + chromaWidth;
     for (int cy = rows.start; cy < rows.end; ++cy) {
       std::fill(sums.begin(), sums.end(), 0.0f);
-      for (int k = 0; k < rowsPerChroma; ++k) {
-        const int y = cy * rowsPerChroma + k;
+      for (int y = cy * rowsPerChroma; y < (cy + 1) * rowsPerChroma; ++y) {
         const float* row = image.pixel(0, std::min(y, image.height - 1));
-        uint8_t* lumaRow = luma + static_cast<size_t>(y) * encodedWidth;
-        for (int cx = 0; cx < chromaWidth; ++cx) {
-          float* sum = sums.data() + static_cast<size_t>(cx) * 3;
-          for (int x = 2 * cx; x < 2 * cx + 2; ++x) {
-            const float* p = row + static_cast<size_t>(std::min(x, image.width - 1)) * 4;
-            const float r = clamped(p[0]), g = clamped(p[1]), b = clamped(p[2]);
-            lumaRow[x] = rounded(16.0f + lumaScale * (kr * r + kg * g + kb * b));
-            sum[0] += r, sum[1] += g, sum[2] += b;
-          }
-        }
+        uint8_t* lumaOut = luma + static_cast<size_t>(y) * encodedWidth;
+        lumaRow(row, image.width, k, lumaOut);
+        if (encodedWidth > image.width) lumaOut[image.width] = lumaOut[image.width - 1];
+        addPairSums(row, image.width, chromaWidth, sums.data());
       }
       uint8_t* cbRow = cb + static_cast<size_t>(cy) * chromaWidth;
       uint8_t* crRow = cr + static_cast<size_t>(cy) * chromaWidth;
       for (int cx = 0; cx < chromaWidth; ++cx) {
-        const float* sum = sums.data() + static_cast<size_t>(cx) * 3;
-        const float r = sum[0] * chromaMean, g = sum[1] * chromaMean, b = sum[2] * chromaMean;
-        const float ey = kr * r + kg * g + kb * b;
-        cbRow[cx] = rounded(128.0f + blueScale * (b - ey));
-        crRow[cx] = rounded(128.0f + redScale * (r - ey));
+        const float ey = (k.kr * r[cx] + k.kg * g[cx] + k.kb * b[cx]) * meanOfSums;
+        cbRow[cx] = rounded(128.0f + blueScale * (b[cx] * meanOfSums - ey));
+        crRow[cx] = rounded(128.0f + redScale * (r[cx] * meanOfSums - ey));
       }
     }
   });
