@@ -10,9 +10,17 @@
 namespace pluvia {
 namespace {
 
-// Clamped to [0, 1], NaN -> 0 (std::min passes NaN on, std::max(0, NaN) is 0).
-inline float clamped(float v) {
-  return std::max(0.0f, std::min(v, 1.0f));
+// One row's samples (RGBA, alpha too: a stride-1 loop, which the compiler vectorises) clamped to
+// [0, 1] (NaN -> 0: std::min passes NaN on, std::max(0, NaN) is 0) and rounded to the nearest
+// 16-bit code, ties up, as the 16-bit TIFF frames a farm chunk writes hold them: a movie
+// assembled from those gets the very Y'CbCr of a one-machine render (the farm test compares
+// the files).
+void quantizeRow(const float* rgba, int width, float* out) {
+  const size_t samples = static_cast<size_t>(width) * 4;
+  for (size_t i = 0; i < samples; ++i) {
+    const float unit = std::max(0.0f, std::min(rgba[i], 1.0f));
+    out[i] = static_cast<float>(static_cast<int>(unit * 65535.0f + 0.5f)) * (1.0f / 65535.0f);
+  }
 }
 
 // A code in [0, 255] rounded to the nearest integer.
@@ -24,12 +32,11 @@ struct Weights {
   float kr, kg, kb;
 };
 
-// Y' codes of one row of `width` RGBA pixels.
+// Y' codes of one row of `width` RGBA pixels, quantised.
 void lumaRow(const float* rgba, int width, const Weights& k, uint8_t* luma) {
   for (int x = 0; x < width; ++x) {
     const float* p = rgba + static_cast<size_t>(x) * 4;
-    luma[x] = rounded(
-        16.0f + 219.0f * (k.kr * clamped(p[0]) + k.kg * clamped(p[1]) + k.kb * clamped(p[2])));
+    luma[x] = rounded(16.0f + 219.0f * (k.kr * p[0] + k.kg * p[1] + k.kb * p[2]));
   }
 }
 
@@ -42,15 +49,15 @@ void addPairSums(const float* rgba, int width, int pairs, float* sums) {
   const int fullPairs = width / 2;
   for (int cx = 0; cx < fullPairs; ++cx) {
     const float* p = rgba + static_cast<size_t>(cx) * 8;
-    r[cx] += clamped(p[0]) + clamped(p[4]);
-    g[cx] += clamped(p[1]) + clamped(p[5]);
-    b[cx] += clamped(p[2]) + clamped(p[6]);
+    r[cx] += p[0] + p[4];
+    g[cx] += p[1] + p[5];
+    b[cx] += p[2] + p[6];
   }
   if (fullPairs < pairs) {
     const float* p = rgba + static_cast<size_t>(width - 1) * 4;
-    r[fullPairs] += 2.0f * clamped(p[0]);
-    g[fullPairs] += 2.0f * clamped(p[1]);
-    b[fullPairs] += 2.0f * clamped(p[2]);
+    r[fullPairs] += 2.0f * p[0];
+    g[fullPairs] += 2.0f * p[1];
+    b[fullPairs] += 2.0f * p[2];
   }
 }
 
@@ -83,17 +90,18 @@ void packYcbcr8(const Image& image, int encodedWidth, int encodedHeight, bool ha
   uint8_t* cr = cb + chromaSize;
   cv::parallel_for_(cv::Range(0, chromaHeight), [&](const cv::Range& rows) {
     std::vector<float> sums(static_cast<size_t>(chromaWidth) * 3);  // R', G', B' planes
+    std::vector<float> row(static_cast<size_t>(image.width) * 4);   // quantised
     const float* r = sums.data();
     const float* g = r + chromaWidth;
     const float* b = g + chromaWidth;
     for (int cy = rows.start; cy < rows.end; ++cy) {
       std::fill(sums.begin(), sums.end(), 0.0f);
       for (int y = cy * rowsPerChroma; y < (cy + 1) * rowsPerChroma; ++y) {
-        const float* row = image.pixel(0, std::min(y, image.height - 1));
+        quantizeRow(image.pixel(0, std::min(y, image.height - 1)), image.width, row.data());
         uint8_t* lumaOut = luma + static_cast<size_t>(y) * encodedWidth;
-        lumaRow(row, image.width, k, lumaOut);
+        lumaRow(row.data(), image.width, k, lumaOut);
         if (encodedWidth > image.width) lumaOut[image.width] = lumaOut[image.width - 1];
-        addPairSums(row, image.width, chromaWidth, sums.data());
+        addPairSums(row.data(), image.width, chromaWidth, sums.data());
       }
       uint8_t* cbRow = cb + static_cast<size_t>(cy) * chromaWidth;
       uint8_t* crRow = cr + static_cast<size_t>(cy) * chromaWidth;
