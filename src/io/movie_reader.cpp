@@ -26,9 +26,10 @@ constexpr int64_t kMaxForwardSkipFrames = 16;
 constexpr double kFrameCountSlack = 0.01;
 
 // Frame counts this process has already checked, by the file's path, size and modification
-// time (a file written again is counted again). A render opens its input twice, to plan and to
-// render, and a count decodes up to a keyframe interval: 0.29 s of CPU for the 24-frame 1080p
-// bench clip, whose one keyframe makes that the whole clip.
+// time (a file written again is counted again). Commands open their input more than once (the
+// bench plans, then renders; the derain stage, preview and derain open it again), and a count
+// decodes up to a keyframe interval: 0.29 s of CPU for the 24-frame 1080p bench clip, whose one
+// keyframe makes that the whole clip.
 class CheckedFrameCounts {
  public:
   std::optional<int64_t> find(const std::string& path) {
