@@ -404,12 +404,13 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
       std::cout << fmt::format("{:<22} {:>10.2f} {:>10.1f}\n", stage, ms,
                                ms > 0 ? 1000.0 / ms : 0.0);
     }
-    // The encoder's own share: ffmpeg encoding pluvia's rained frames from the 16-bit RGB that
-    // pluvia's writer pipes it, with the same settings. Rain is fine, temporally incoherent
-    // detail: it costs libx264 more than the plate, and no renderer can beat this rate.
-    const stdfs::path raw = folder / "pluvia_render.rgb48";
+    // The encoder's own share: ffmpeg encoding pluvia's rained frames from the 8-bit 4:2:0
+    // Y'CbCr that pluvia's writer pipes it for H.264 (io/movie_writer.cpp), with the same
+    // settings. Rain is fine, temporally incoherent detail: it costs libx264 more than the plate,
+    // and no renderer can beat this rate.
+    const stdfs::path raw = folder / "pluvia_render.yuv";
     auto decoded = runProcess({"ffmpeg", "-y", "-v", "error", "-i", request.output, "-f",
-                               "rawvideo", "-pix_fmt", "rgb48le", raw.string()});
+                               "rawvideo", "-pix_fmt", "yuv420p", raw.string()});
     if (decoded.exitCode != 0) throw Error("ffmpeg could not decode the render: " + decoded.output);
     const ClipInfo rendered = openClip(request.output)->info();
     started = std::chrono::steady_clock::now();
@@ -418,7 +419,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
         "ffmpeg",   "-y",
         "-v",       "error",
         "-f",       "rawvideo",
-        "-pix_fmt", "rgb48le",
+        "-pix_fmt", "yuv420p",
         "-s",       fmt::format("{}x{}", rendered.width, rendered.height),
         "-r",       fmt::format("{}", rendered.fps),
         "-i",       raw.string()};
@@ -439,7 +440,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     std::cout << fmt::format("ffmpeg decode+encode:   {:.2f} frames/s ({:.1f} s; the plate)\n",
                              ffmpegFps, ffmpegSeconds);
     std::cout << fmt::format(
-        "ffmpeg encode only:     {:.2f} frames/s ({:.1f} s; pluvia's output, from rgb48le)\n",
+        "ffmpeg encode only:     {:.2f} frames/s ({:.1f} s; pluvia's output, from yuv420p)\n",
         encodeFps, encodeSeconds);
     std::cout << fmt::format("ratio pluvia / ffmpeg:  {:.3f}\n", pluviaFps / ffmpegFps);
     std::cout << fmt::format("ratio pluvia / encode only: {:.3f}\n", pluviaFps / encodeFps);

@@ -13,6 +13,7 @@
 #include <opencv2/core/utility.hpp>
 
 #include "io/sequence_pattern.h"
+#include "io/ycbcr_frame.h"
 
 #include "util/error.h"
 #include "util/fs.h"
@@ -60,6 +61,9 @@ struct MovieCodec {
   bool chromaSubsampled = false;    // 4:2:x: chroma shared by 2 columns (an even width)
   bool yuv420 = false;              // 4:2:0: and by 2 rows (an even height)
   int minWidth = 1, minHeight = 1;  // DNxHR's smallest frame is 256x120
+  // 8-bit codecs get pluvia's own 8-bit Y'CbCr in the codec's layout (io/ycbcr_frame.h);
+  // deeper ones 16-bit RGB, which ffmpeg converts keeping every bit the codec holds.
+  bool ycbcr8 = false;
 };
 
 // The codecs, with what each needs: libx264 at 4:2:0 (every player), ProRes 4444 (12-bit
@@ -71,6 +75,9 @@ const std::vector<MovieCodec>& codecs() {
        {"-c:v", "libx264", "-preset", "medium", "-crf", "16", "-pix_fmt", "yuv420p"},
        {"mp4", "mov", "mkv", "m4v"},
        true,
+       true,
+       1,
+       1,
        true},
       {"prores_4444",
        {"-c:v", "prores_ks", "-profile:v", "4444", "-pix_fmt", "yuv444p12le", "-vendor", "apl0"},
@@ -85,7 +92,8 @@ const std::vector<MovieCodec>& codecs() {
        true,
        false,
        256,
-       120},
+       120,
+       true},
       {"dnxhr_hqx",
        {"-c:v", "dnxhd", "-profile:v", "dnxhr_hqx", "-pix_fmt", "yuv422p10le"},
        {"mov", "mkv"},
@@ -123,15 +131,19 @@ const MovieCodec& movieCodec(const std::string& name, const std::string& path) {
   return *found;
 }
 
-// The matrix ffmpeg converts our RGB to YUV with, and the colour tags, set on the frames so
-// that the encoder and the container both carry them (ffmpeg 5.1 takes the stream's tags from
-// the frames: its -color_* options alone leave ProRes untagged). The matrix is the tagged
-// one, so a player decoding by the tag gets our RGB back; ffmpeg's own default is BT.601's.
-std::vector<std::string> colorArguments(const ColorTags& tags) {
+// The matrix ffmpeg converts our RGB to YUV with (when we pipe RGB), and the colour tags, set
+// on the frames so that the encoder and the container both carry them (ffmpeg 5.1 takes the
+// stream's tags from the frames: its -color_* options alone leave ProRes untagged). The matrix
+// is the tagged one, so a player decoding by the tag gets our RGB back; ffmpeg's own default is
+// BT.601's. Y'CbCr we made ourselves with that matrix is only tagged.
+std::vector<std::string> colorArguments(const ColorTags& tags, bool pipedYcbcr) {
   const std::string matrix = tags.movieMatrix.empty() ? "bt709" : tags.movieMatrix;
-  std::string filter =
-      fmt::format("scale=out_color_matrix={}:out_range=tv,setparams=range=tv:colorspace={}",
-                  matrix == "bt2020nc" ? "bt2020" : matrix, matrix);
+  std::string filter = fmt::format("setparams=range=tv:colorspace={}", matrix);
+  if (!pipedYcbcr) {
+    filter = fmt::format("scale=out_color_matrix={}:out_range=tv,",
+                         matrix == "bt2020nc" ? "bt2020" : matrix) +
+             filter;
+  }
   if (!tags.moviePrimaries.empty()) filter += ":color_primaries=" + tags.moviePrimaries;
   if (!tags.movieTransfer.empty()) filter += ":color_trc=" + tags.movieTransfer;
   return {"-vf", filter};
@@ -148,6 +160,7 @@ class MovieWriter final : public ClipWriter {
         encodedHeight_(codec_.yuv420 ? height + height % 2 : height),
         tmp_(fs::temporaryPathFor(path)),
         log_(tmp_.string() + ".log") {
+    if (codec_.ycbcr8) matrix_ = ycbcrMatrix(options.color.movieMatrix, path);
     if (!(options.fps > 0) || !std::isfinite(options.fps)) {
       throw Error(
           fmt::format("cannot write the movie {} at {} frames per second", path, options.fps),
@@ -166,13 +179,13 @@ class MovieWriter final : public ClipWriter {
     std::vector<std::string> argv{"ffmpeg",   "-y",
                                   "-v",       "error",
                                   "-f",       "rawvideo",
-                                  "-pix_fmt", "rgb48le",
+                                  "-pix_fmt", pipeFormat(),
                                   "-s",       fmt::format("{}x{}", encodedWidth_, encodedHeight_),
                                   "-r",       frameRateArgument(options.fps),
                                   "-i",       "-"};
     argv.insert(argv.end(), codec.arguments.begin(), codec.arguments.end());
     argv.insert(argv.end(), {"-threads", std::to_string(threadLimit())});
-    const std::vector<std::string> color = colorArguments(options.color);
+    const std::vector<std::string> color = colorArguments(options.color, codec.ycbcr8);
     argv.insert(argv.end(), color.begin(), color.end());
     if (options.timecode) {
       argv.insert(argv.end(), {"-timecode", options.timecode->text()});
@@ -204,9 +217,17 @@ class MovieWriter final : public ClipWriter {
                               image.height, path_, width_, height_),
                   context);
     }
-    pack(image);
+    const void* bytes = nullptr;
+    size_t byteCount = 0;
+    if (codec_.ycbcr8) {
+      packYcbcr8(image, encodedWidth_, encodedHeight_, codec_.yuv420, matrix_, packedYcbcr_);
+      bytes = packedYcbcr_.data(), byteCount = packedYcbcr_.size();
+    } else {
+      packRgb48(image);
+      bytes = packed_.data(), byteCount = packed_.size() * sizeof(uint16_t);
+    }
     try {
-      encoder_->write(packed_.data(), packed_.size() * sizeof(uint16_t));
+      encoder_->write(bytes, byteCount);
     } catch (const Error&) {
       int code = encoder_->close();
       encoder_.reset();
@@ -240,11 +261,17 @@ class MovieWriter final : public ClipWriter {
   std::string pathFor(int64_t) const override { return path_; }
 
  private:
+  // What the pipe carries: the codec's own 8-bit layout, or 16-bit RGB (on a little-endian host).
+  const char* pipeFormat() const {
+    if (!codec_.ycbcr8) return "rgb48le";
+    return codec_.yuv420 ? "yuv420p" : "yuv422p";
+  }
+
   // To rgb48le (on a little-endian host), clamped and rounded. 4:2:0 and 4:2:2 cannot be
   // encoded at odd sizes, so odd frames get their last column/row repeated to reach an even size
   // (rather than ffmpeg's pad filter: black there would bleed into the edge through the shared
   // chroma). Rows in parallel (OpenCV's TBB backend): a 1080p frame is 6 million values.
-  void pack(const Image& image) {
+  void packRgb48(const Image& image) {
     packed_.resize(static_cast<size_t>(encodedWidth_) * encodedHeight_ * 3);
     cv::parallel_for_(cv::Range(0, encodedHeight_), [&](const cv::Range& rows) {
       for (int y = rows.start; y < rows.end; ++y) {
@@ -279,6 +306,8 @@ class MovieWriter final : public ClipWriter {
   std::optional<PipeProcess> encoder_;
   std::optional<int64_t> lastFrame_;
   std::vector<uint16_t> packed_;
+  YcbcrMatrix matrix_;                // for codecs fed 8-bit Y'CbCr
+  std::vector<uint8_t> packedYcbcr_;  // planar Y', Cb, Cr
   std::mutex mutex_;
 };
 

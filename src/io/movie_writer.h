@@ -1,6 +1,7 @@
 #pragma once
-// A movie encoded by an ffmpeg process fed 16-bit RGB frames through a pipe: H.264, ProRes or
-// DNxHR (WriterOptions::codec), with colour tags, converted to YUV with the tagged matrix.
+// A movie encoded by an ffmpeg process fed frames through a pipe: H.264, ProRes or DNxHR
+// (WriterOptions::codec), with colour tags, converted to YUV with the tagged matrix. 8-bit codecs
+// (H.264, DNxHR HQ) get 8-bit Y'CbCr made by pluvia, deeper ones 16-bit RGB.
 #include <memory>
 #include <string>
 #include <vector>

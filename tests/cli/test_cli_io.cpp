@@ -114,8 +114,11 @@ TEST(CliIo, ProResAndDnxhrOutputCarryTheirColourTags) {
   };
   for (const Case& c : {Case{"prores_4444", "prores", "4444", "yuv444p12le"},
                         Case{"prores_422hq", "prores", "HQ", "yuv422p10le"},
-                        Case{"dnxhr_hqx", "dnxhd", "DNXHR HQX", "yuv422p10le"}}) {
-    const stdfs::path movie = dir / (c.codec + ".mov");
+                        Case{"dnxhr_hqx", "dnxhd", "DNXHR HQX", "yuv422p10le"},
+                        // 8-bit: Y'CbCr made by pluvia, only tagged by ffmpeg.
+                        Case{"dnxhr_hq", "dnxhd", "DNXHR HQ", "yuv422p"},
+                        Case{"h264", "h264", "High", "yuv420p"}}) {
+    const stdfs::path movie = dir / (c.codec + (c.codec == "h264" ? ".mp4" : ".mov"));
     auto r = runPluvia({"render", c.name == "dnxhd" ? largePlate : plate, "-p", "drizzle", "-o",
                         movie.string(), "--codec", c.codec});
     ASSERT_EQ(r.exitCode, 0) << r.output;

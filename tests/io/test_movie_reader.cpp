@@ -117,6 +117,28 @@ TEST(MovieReader, SeekingLandsOnTheFrameAskedFor) {
     EXPECT_EQ(seeking->read(f).rgba, sequential[f].rgba) << f;
 }
 
+// A process remembers the frame counts it has checked (a render opens its input twice), by
+// path, size and modification time: a movie written again under the same name is counted again.
+TEST(MovieReader, AMovieWrittenAgainIsCountedAgain) {
+  if (!programAvailable("ffmpeg")) GTEST_SKIP() << "ffmpeg not on PATH";
+  auto dir = test::freshTempDir("movie_count_again");
+  const stdfs::path path = dir / "clip.mp4";
+  auto make = [&](int frames) {
+    ffmpeg({"-f", "lavfi", "-i", "testsrc2=s=64x48:r=10", "-frames:v", std::to_string(frames),
+            "-c:v", "libx264", "-pix_fmt", "yuv420p", path.string()});
+  };
+  make(12);
+  EXPECT_EQ(openClip(path.string())->info().frames.size(), 12u);
+  EXPECT_EQ(openClip(path.string())->info().frames.size(), 12u);
+  make(5);
+  EXPECT_EQ(openClip(path.string())->info().frames.size(), 5u);
+  // And one cut short after it was counted is found out, not read by its old count.
+  make(40);
+  EXPECT_EQ(openClip(path.string())->info().frames.size(), 40u);
+  stdfs::resize_file(path, stdfs::file_size(path) / 2);
+  EXPECT_THROW(openClip(path.string())->read(39), Error);
+}
+
 TEST(MovieReader, NotAMovieNamesTheFile) {
   auto dir = test::freshTempDir("movie_not_a_movie");
   const stdfs::path fake = dir / "fake.mov";

@@ -1,0 +1,109 @@
+// 8-bit video-range Y'CbCr made from float RGB for 8-bit movie codecs (io/ycbcr_frame.h),
+// against the codes ITU-R BT.709 and BT.2020 give for known colours, worked out by hand.
+#include "io/ycbcr_frame.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "test_support.h"
+#include "util/error.h"
+
+namespace pluvia {
+namespace {
+
+Image flat(int width, int height, float r, float g, float b) {
+  Image image(width, height);
+  for (size_t i = 0; i < image.pixelCount(); ++i) {
+    image.rgba[i * 4 + 0] = r;
+    image.rgba[i * 4 + 1] = g;
+    image.rgba[i * 4 + 2] = b;
+  }
+  return image;
+}
+
+struct Codes {
+  int y, cb, cr;
+};
+
+// The codes of a flat 2x2 image, 4:2:0.
+Codes codesOf(float r, float g, float b, const char* matrix) {
+  std::vector<uint8_t> planes;
+  packYcbcr8(flat(2, 2, r, g, b), 2, 2, true, ycbcrMatrix(matrix, "test.mp4"), planes);
+  EXPECT_EQ(planes.size(), 6u);
+  for (int i = 1; i < 4; ++i) EXPECT_EQ(planes[i], planes[0]) << "flat luma";
+  return {planes[0], planes[4], planes[5]};
+}
+
+void expectCodes(const Codes& got, const Codes& want, const char* what) {
+  EXPECT_EQ(got.y, want.y) << what;
+  EXPECT_EQ(got.cb, want.cb) << what;
+  EXPECT_EQ(got.cr, want.cr) << what;
+}
+
+TEST(YcbcrFrame, KnownColoursGiveTheStandardsCodes) {
+  // Y' = 16 + 219 E'y, C = 128 + 224 E'c: black and white at the ends of video range.
+  expectCodes(codesOf(0, 0, 0, "bt709"), {16, 128, 128}, "black");
+  expectCodes(codesOf(1, 1, 1, "bt709"), {235, 128, 128}, "white");
+  // BT.709 red: E'y = 0.2126 -> 62.56; E'cb = -0.2126 / 1.8556 -> 102.33; E'cr = 0.5 -> 240.
+  expectCodes(codesOf(1, 0, 0, "bt709"), {63, 102, 240}, "709 red");
+  // BT.709 blue: E'y = 0.0722 -> 31.81; E'cb = 0.5 -> 240; E'cr = -0.0722 / 1.5748 -> 117.73.
+  expectCodes(codesOf(0, 0, 1, "bt709"), {32, 240, 118}, "709 blue");
+  // The same red by BT.2020: E'y = 0.2627 -> 73.53; E'cb = -0.2627 / 1.8814 -> 96.72.
+  expectCodes(codesOf(1, 0, 0, "bt2020nc"), {74, 97, 240}, "2020 red");
+  // "" is BT.709 (no tag names a matrix); out-of-range and NaN samples clamp to [0, 1].
+  expectCodes(codesOf(1, 0, 0, ""), {63, 102, 240}, "default");
+  expectCodes(codesOf(2.0f, -1.0f, std::numeric_limits<float>::quiet_NaN(), "bt709"),
+              {63, 102, 240}, "clamped");
+  // Mid grey 0.5: 16 + 109.5 = 125.5 rounds up.
+  expectCodes(codesOf(0.5f, 0.5f, 0.5f, "bt709"), {126, 128, 128}, "grey");
+}
+
+TEST(YcbcrFrame, ChromaIsTheMeanOfThePixelsItCovers) {
+  // Left column white, right column black: luma per pixel, chroma of the pair's mean (grey).
+  Image image = flat(2, 2, 1, 1, 1);
+  for (int y = 0; y < 2; ++y) {
+    float* p = image.pixel(1, y);
+    p[0] = p[1] = p[2] = 0.0f;
+  }
+  std::vector<uint8_t> planes;
+  packYcbcr8(image, 2, 2, true, ycbcrMatrix("bt709", "t.mp4"), planes);
+  EXPECT_EQ(planes, (std::vector<uint8_t>{235, 16, 235, 16, 128, 128}));
+  // Red over blue, 4:2:0: chroma of (0.5, 0, 0.5): E'y = 0.1424, Cb = 128 + 120.72 * 0.3576
+  // = 171.17, Cr = 128 + 142.25 * 0.3576 = 178.87.
+  image = flat(2, 2, 1, 0, 0);
+  for (int x = 0; x < 2; ++x) {
+    float* p = image.pixel(x, 1);
+    p[0] = 0.0f, p[2] = 1.0f;
+  }
+  packYcbcr8(image, 2, 2, true, ycbcrMatrix("bt709", "t.mp4"), planes);
+  EXPECT_EQ(planes, (std::vector<uint8_t>{63, 63, 32, 32, 171, 179}));
+  // The same at 4:2:2: a chroma row per luma row, each the colour of its own row.
+  packYcbcr8(image, 2, 2, false, ycbcrMatrix("bt709", "t.mp4"), planes);
+  EXPECT_EQ(planes, (std::vector<uint8_t>{63, 63, 32, 32, 102, 240, 240, 118}));
+}
+
+TEST(YcbcrFrame, OddFramesRepeatTheirLastColumnAndRow) {
+  // 3x3, black but for a white last column and a white last row, encoded 4x4.
+  Image image = flat(3, 3, 0, 0, 0);
+  for (int i = 0; i < 3; ++i) {
+    for (float* p : {image.pixel(2, i), image.pixel(i, 2)}) p[0] = p[1] = p[2] = 1.0f;
+  }
+  std::vector<uint8_t> planes;
+  packYcbcr8(image, 4, 4, true, ycbcrMatrix("bt709", "t.mp4"), planes);
+  ASSERT_EQ(planes.size(), 16u + 2u * 4u);
+  const std::vector<uint8_t> luma(planes.begin(), planes.begin() + 16);
+  EXPECT_EQ(luma, (std::vector<uint8_t>{16, 16, 235, 235,  //
+                                        16, 16, 235, 235,  //
+                                        235, 235, 235, 235, 235, 235, 235, 235}));
+  for (size_t i = 16; i < planes.size(); ++i) EXPECT_EQ(planes[i], 128) << i;
+}
+
+TEST(YcbcrFrame, UnknownMatrixNamesItAndTheFile) {
+  test::expectError([] { ycbcrMatrix("smpte240m", "out/rain.mp4"); }, "smpte240m");
+  test::expectError([] { ycbcrMatrix("smpte240m", "out/rain.mp4"); }, "out/rain.mp4");
+}
+
+}  // namespace
+}  // namespace pluvia
