@@ -17,13 +17,6 @@ namespace stdfs = std::filesystem;
 
 namespace {
 
-Image flat(int w, int h, float value) {
-  Image image(w, h);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) std::fill(image.pixel(x, y), image.pixel(x, y) + 3, value);
-  return image;
-}
-
 std::string hashOfFile(const stdfs::path& path) {
   return fs::readTextFile(path);
 }
@@ -61,7 +54,9 @@ TEST(CliDerain, RealPanningFootageGivesCleanPlateMattesAndReport) {
 
 TEST(CliDerain, FewerThanThreeFramesIsAClearErrorAndWritesNothing) {
   const auto dir = freshTempDir("cli_derain_two");
-  for (int f : {1, 2}) writeImageFile(dir / fmt::format("rain.{:04d}.png", f), flat(32, 24, 0.4f));
+  for (int f : {1, 2})
+    writeImageFile(dir / fmt::format("rain.{:04d}.png", f),
+                   test::flatImage(32, 24, 0.4f, 0.4f, 0.4f));
   const CommandResult r = runPluvia(
       {"derain", (dir / "rain.####.png").string(), "-o", (dir / "clean.####.png").string()});
   EXPECT_EQ(r.exitCode, 1) << r.output;
@@ -71,8 +66,11 @@ TEST(CliDerain, FewerThanThreeFramesIsAClearErrorAndWritesNothing) {
 
 TEST(CliDerain, RefusesToOverwriteTheFootage) {
   const auto dir = freshTempDir("cli_derain_overwrite");
-  for (int f : {1, 2, 3})
-    writeImageFile(dir / fmt::format("rain.{:04d}.png", f), flat(32, 24, 0.2f + 0.1f * f));
+  for (int f : {1, 2, 3}) {
+    const float grey = 0.2f + 0.1f * f;
+    writeImageFile(dir / fmt::format("rain.{:04d}.png", f),
+                   test::flatImage(32, 24, grey, grey, grey));
+  }
   const std::string before = hashOfFile(dir / "rain.0002.png");
   const CommandResult r = runPluvia(
       {"derain", (dir / "rain.####.png").string(), "-o", (dir / "rain.%04d.png").string()});

@@ -266,7 +266,9 @@ TEST(CliIo, OcioEnvironmentConfigSetsTheSpacesAndTags) {
   auto dir = freshTempDir("cli_io_ocio");
   const stdfs::path config = writeTextFile(dir, "aces.ocio", acesStyleConfig());
   const ProcessResult check = runProcess({"ociocheck", "--iconfig", config.string()});
-  if (check.exitCode != 127) ASSERT_EQ(check.exitCode, 0) << check.output;
+  if (check.exitCode != 127) {
+    ASSERT_EQ(check.exitCode, 0) << check.output;
+  }
   const std::string plate = writePlate(dir, 1, 1);
   auto run = [&](std::vector<std::string> args) {
     std::vector<std::string> argv{"env", "OCIO=" + config.string(), pluviaBinary().string()};

@@ -13,16 +13,6 @@
 namespace pluvia {
 namespace {
 
-Image flat(int width, int height, float r, float g, float b) {
-  Image image(width, height);
-  for (size_t i = 0; i < image.pixelCount(); ++i) {
-    image.rgba[i * 4 + 0] = r;
-    image.rgba[i * 4 + 1] = g;
-    image.rgba[i * 4 + 2] = b;
-  }
-  return image;
-}
-
 struct Codes {
   int y, cb, cr;
 };
@@ -30,7 +20,7 @@ struct Codes {
 // The codes of a flat 2x2 image, 4:2:0.
 Codes codesOf(float r, float g, float b, const char* matrix) {
   std::vector<uint8_t> planes;
-  packYcbcr8(flat(2, 2, r, g, b), 2, 2, true, ycbcrMatrix(matrix, "test.mp4"), planes);
+  packYcbcr8(test::flatImage(2, 2, r, g, b), 2, 2, true, ycbcrMatrix(matrix, "test.mp4"), planes);
   EXPECT_EQ(planes.size(), 6u);
   for (int i = 1; i < 4; ++i) EXPECT_EQ(planes[i], planes[0]) << "flat luma";
   return {planes[0], planes[4], planes[5]};
@@ -62,7 +52,7 @@ TEST(YcbcrFrame, KnownColoursGiveTheStandardsCodes) {
 
 TEST(YcbcrFrame, ChromaIsTheMeanOfThePixelsItCovers) {
   // Left column white, right column black: luma per pixel, chroma of the pair's mean (grey).
-  Image image = flat(2, 2, 1, 1, 1);
+  Image image = test::flatImage(2, 2, 1, 1, 1);
   for (int y = 0; y < 2; ++y) {
     float* p = image.pixel(1, y);
     p[0] = p[1] = p[2] = 0.0f;
@@ -72,7 +62,7 @@ TEST(YcbcrFrame, ChromaIsTheMeanOfThePixelsItCovers) {
   EXPECT_EQ(planes, (std::vector<uint8_t>{235, 16, 235, 16, 128, 128}));
   // Red over blue, 4:2:0: chroma of (0.5, 0, 0.5): E'y = 0.1424, Cb = 128 + 120.72 * 0.3576
   // = 171.17, Cr = 128 + 142.25 * 0.3576 = 178.87.
-  image = flat(2, 2, 1, 0, 0);
+  image = test::flatImage(2, 2, 1, 0, 0);
   for (int x = 0; x < 2; ++x) {
     float* p = image.pixel(x, 1);
     p[0] = 0.0f, p[2] = 1.0f;
@@ -86,7 +76,7 @@ TEST(YcbcrFrame, ChromaIsTheMeanOfThePixelsItCovers) {
 
 TEST(YcbcrFrame, OddFramesRepeatTheirLastColumnAndRow) {
   // 3x3, black but for a white last column and a white last row, encoded 4x4.
-  Image image = flat(3, 3, 0, 0, 0);
+  Image image = test::flatImage(3, 3, 0, 0, 0);
   for (int i = 0; i < 3; ++i) {
     for (float* p : {image.pixel(2, i), image.pixel(i, 2)}) p[0] = p[1] = p[2] = 1.0f;
   }

@@ -226,7 +226,9 @@ TEST(DropSimulation, DefocusWidensStreaksAndKeepsTheirCoverage) {
       const double length = std::hypot(k.tailX - k.headX, k.tailY - k.headY);
       return double(k.alpha) * k.widthPx * (length + k.widthPx);
     };
-    if (a.alpha < 1.0f && b.alpha < 1.0f) EXPECT_NEAR(carried(a), carried(b), 1e-3 * carried(a));
+    if (a.alpha < 1.0f && b.alpha < 1.0f) {
+      EXPECT_NEAR(carried(a), carried(b), 1e-3 * carried(a));
+    }
   }
   EXPECT_GT(matched, 200);
   EXPECT_GT(wider, matched / 4);
@@ -277,7 +279,9 @@ TEST(DropSimulation, ExtremeSettingsStayFiniteAndBounded) {
           streak.exposureSeconds = exposure;
           const auto streaks = sim.buildStreaks(streak);
           EXPECT_TRUE(allFinite(streaks)) << rate << " " << wind << " " << fps << " " << exposure;
-          if (rate == 0.0) EXPECT_TRUE(streaks.empty());
+          if (rate == 0.0) {
+            EXPECT_TRUE(streaks.empty());
+          }
           for (size_t i = 0; i < sim.poolSize(); i += 101)
             ASSERT_TRUE(sim.positionOf(i).allFinite());
         }

@@ -236,6 +236,8 @@ TEST(StrokeLibrary, BuiltinHoldsUprightElongatedStrokes) {
     EXPECT_GT(s.height, s.width) << "stroke " << i;
     EXPECT_GE(s.lengthPx, 9.0) << "stroke " << i;  // StrokeExtractionSettings::minLengthPx
     EXPECT_GT(s.contrast, 0.0) << "stroke " << i;
-    if (i > 0) EXPECT_LE(s.score, library.strokes[i - 1].score) << "stroke " << i;
+    if (i > 0) {
+      EXPECT_LE(s.score, library.strokes[i - 1].score) << "stroke " << i;
+    }
   }
 }

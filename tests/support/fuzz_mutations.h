@@ -86,8 +86,10 @@ class Mutator {
           const size_t colon = text.find(':', at);
           if (colon == std::string::npos) break;
           const size_t end = text.find_first_of(",}\n", colon + 1);
-          text.replace(colon + 1, end == std::string::npos ? 0 : end - colon - 1,
-                       " " + hostileValue());
+          // Appended, not " " + value: GCC 12 warns falsely on that (-Wrestrict, its bug 105651).
+          std::string value(1, ' ');
+          value += hostileValue();
+          text.replace(colon + 1, end == std::string::npos ? 0 : end - colon - 1, value);
           break;
         }
         default:

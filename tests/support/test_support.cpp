@@ -112,6 +112,16 @@ double channelSum(const ExrPixels& pixels, const std::string& name) {
   return sum;
 }
 
+Image flatImage(int width, int height, float r, float g, float b) {
+  Image image(width, height);
+  for (size_t i = 0; i < image.pixelCount(); ++i) {
+    image.rgba[i * 4 + 0] = r;
+    image.rgba[i * 4 + 1] = g;
+    image.rgba[i * 4 + 2] = b;
+  }
+  return image;
+}
+
 Image readImageFile(const stdfs::path& path) {
   OIIO::ImageBuf buf(path.string());
   if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT))

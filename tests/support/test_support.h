@@ -101,6 +101,9 @@ EquirectMap equirectOf(
 std::filesystem::path writeTextFile(const std::filesystem::path& dir, const std::string& name,
                                     const std::string& text);
 
+// A width x height image of one colour (alpha as Image makes it).
+Image flatImage(int width, int height, float r, float g, float b);
+
 // Reads an image file with OpenImageIO as float RGBA (no colour conversion).
 Image readImageFile(const std::filesystem::path& path);
 // Every channel of an image file (an EXR's AOVs too), interleaved as stored; a failure is
