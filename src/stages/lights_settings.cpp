@@ -63,7 +63,8 @@ const SettingsTable<LightsSettings>& lightsTable() {
                            "in the log)")),
           unbound<S>(enumParam(
               "find", "auto", {"auto", "on", "off"},
-              "auto: on a night plate (median luminance under 0.08), the clipped blobs in the "
+              "auto: on a night plate (luminance median under 0.08, 90th percentile under 0.3: "
+              "not a day plate in shade with a sunlit tenth), the clipped blobs in the "
               "dark (lamps) become point lights at the depth the depth stage gives around "
               "them, coloured like their unclipped rim, fixed in the world of the clip's "
               "camera; nothing clipped, none; on: on any plate; off: only lights.list")),

@@ -16,23 +16,35 @@ constexpr int kRimInnerPx = 1, kRimOuterPx = 4;
 // A clipped blob larger than this share of the frame is a clipped sky or window, not a lamp.
 constexpr double kMaxLampShareOfFrame = 0.005;
 // lights.find auto looks for lamps on night plates only: a day plate's clipped blobs are sky,
-// clouds, white walls and glints, not sources. Night: the still's median luminance below this
-// (scene-linear; about 35 % grey in sRGB). And a lamp is a source in the dark: its rim's mean
-// luminance below this fraction of the clip level (a clipped patch of a lit wall has a bright rim).
+// clouds, white walls and glints, not sources. Night: the still's median luminance below
+// kNightMedianLuminance (scene-linear; about 31 % grey in sRGB) and its 90th percentile below
+// kNightUpperLuminance (about 58 % grey): a day plate mostly in shade (the weir photo of
+// ../shared/data: median 0.058) still has a sunlit tenth (its 90th percentile 0.67); a night
+// street's lamp-lit pools cover far less than a tenth. And a lamp is a source in the dark: its
+// rim's mean luminance below kLampRimOverClip of the clip level (a clipped patch of a lit wall
+// has a bright rim).
 constexpr double kNightMedianLuminance = 0.08;
+constexpr double kNightUpperLuminance = 0.3;
 constexpr double kLampRimOverClip = 0.4;
 
 }  // namespace
 
-double medianLuminance(const Image& still) {
+double luminanceQuantile(const Image& still, double fraction) {
   std::vector<float> luminance(static_cast<size_t>(still.width) * still.height);
   for (size_t i = 0; i < luminance.size(); ++i) {
     const float* p = &still.rgba[i * 4];
     luminance[i] = 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];
   }
   if (luminance.empty()) return 0.0;
-  std::nth_element(luminance.begin(), luminance.begin() + luminance.size() / 2, luminance.end());
-  return luminance[luminance.size() / 2];
+  const auto at = luminance.begin() +
+                  static_cast<ptrdiff_t>(std::clamp(fraction, 0.0, 1.0) * (luminance.size() - 1));
+  std::nth_element(luminance.begin(), at, luminance.end());
+  return *at;
+}
+
+bool isNightPlate(const Image& still) {
+  return luminanceQuantile(still, 0.5) < kNightMedianLuminance &&
+         luminanceQuantile(still, 0.9) < kNightUpperLuminance;
 }
 
 std::vector<PlateBlob> findClippedBlobs(const Image& still, double clipLevel, int minAreaPx) {
@@ -139,12 +151,12 @@ LightSpec foundLampLight(const FoundLamp& lamp) {
 std::vector<FoundLamp> findPlateLamps(const Image& still, const LightsSettings& settings,
                                       const Camera& camera, const std::vector<float>* depth,
                                       double backdropMeters) {
-  const double median = medianLuminance(still);
-  if (!settings.findOnDayPlates && median >= kNightMedianLuminance) {
-    log::info(
-        fmt::format("lights: no lamps looked for: the plate is not a night plate (median luminance "
-                    "{:.3f} >= {:g}; lights.find = on looks anyway)",
-                    median, kNightMedianLuminance));
+  if (!settings.findOnDayPlates && !isNightPlate(still)) {
+    log::info(fmt::format(
+        "lights: no lamps looked for: the plate is not a night plate (luminance median {:.3f}, "
+        "90th percentile {:.3f}; night: under {:g} and {:g}; lights.find = on looks anyway)",
+        luminanceQuantile(still, 0.5), luminanceQuantile(still, 0.9), kNightMedianLuminance,
+        kNightUpperLuminance));
     return {};
   }
   const double maxArea = kMaxLampShareOfFrame * still.width * still.height;

@@ -20,8 +20,13 @@ struct PlateBlob {
   double rimLuminance = 0.0;           // the ring's mean luminance (Rec. 709 weights)
 };
 
-// The median luminance of the still (Rec. 709 weights, working space): how dark the plate is.
-double medianLuminance(const Image& still);
+// The still's luminance (Rec. 709 weights, working space) at the `fraction` quantile: 0.5 is
+// the median, how dark the plate is; 0.9, how bright its brightest tenth is.
+double luminanceQuantile(const Image& still, double fraction);
+
+// A night plate: its median luminance under kNightMedianLuminance and nine tenths of it under
+// kNightUpperLuminance (a shaded day plate is as dark at its median, but its sunlit tenth is not).
+bool isNightPlate(const Image& still);
 
 // The blobs of `still` whose max channel is >= clipLevel (working-space units; the white of a
 // display-referred file is 1.0) with at least minAreaPx pixels. The rim is the ring 1..4 px
@@ -40,8 +45,8 @@ FoundLamp plateLamp(const PlateBlob& blob, const Camera& camera, const std::vect
 // The found lamp as lights.list would give it: a world-frame point light.
 LightSpec foundLampLight(const FoundLamp& lamp);
 
-// lights.find on the clip's still: nothing when the plate is not a night one (its median
-// luminance at or over kNightMedianLuminance) unless settings.findOnDayPlates; otherwise the
+// lights.find on the clip's still: nothing when the plate is not a night one (isNightPlate)
+// unless settings.findOnDayPlates; otherwise the
 // clipped blobs in the dark (at most kMaxLampShareOfFrame of the frame, their rim under
 // kLampRimOverClip of the clip level), placed by plateLamp with `camera` (the clip's first
 // frame's) and `depth` (its depth; null: backdropMeters). Logs what it looked for and found.
