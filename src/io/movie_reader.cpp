@@ -146,8 +146,8 @@ class MovieReader final : public ClipReader {
     } else {
       argv.insert(argv.end(), {"-fps_mode", "passthrough"});
     }
-    argv.insert(argv.end(),
-                {"-f", "rawvideo", "-pix_fmt", sampleBytes_ == 2 ? "rgb48le" : "rgb24", "pipe:1"});
+    argv.insert(argv.end(), {"-sws_flags", "accurate_rnd+full_chroma_int", "-f", "rawvideo",
+                             "-pix_fmt", sampleBytes_ == 2 ? "rgb48le" : "rgb24", "pipe:1"});
     std::string command;
     for (const std::string& arg : argv) command += (command.empty() ? "" : " ") + arg;
     log::debug("decoding: " + command);
