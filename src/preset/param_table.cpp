@@ -89,7 +89,7 @@ std::string rangeText(const ParamSpec& p) {
   auto num = [](double v) {
     return std::isinf(v) ? std::string(v < 0 ? "-inf" : "inf") : fmt::format("{:g}", v);
   };
-  return "[" + num(p.minValue) + ", " + num(p.maxValue) + "]";
+  return fmt::format("[{}, {}]", num(p.minValue), num(p.maxValue));
 }
 
 // Item fields count too, so that a section whose list items take keys (depth layers) explains

@@ -31,8 +31,8 @@ void Progress::step(int64_t frame) {
       fmt::format("frame {} ({}/{}, {} %, {})", frame, done_, total_, percent, etaText(remaining));
   constexpr int kBarWidth = 30;
   const int filled = total_ > 0 ? kBarWidth * done_ / total_ : kBarWidth;
-  const std::string bar = "[" + std::string(static_cast<size_t>(filled), '#') +
-                          std::string(static_cast<size_t>(kBarWidth - filled), '.') + "] ";
+  const std::string bar = fmt::format("[{}{}] ", std::string(static_cast<size_t>(filled), '#'),
+                                      std::string(static_cast<size_t>(kBarWidth - filled), '.'));
   log::progress("progress: " + text, bar + text, done_ == total_);
 }
 

@@ -6,6 +6,7 @@
 // edge of some streak's quad. There the inside test (u, v in [0, 1]) can flip on one
 // rounding difference between the two float evaluations, and a flip adds or drops a whole
 // streak. The test asserts that this rule leaves out only a few pixels.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -283,7 +284,7 @@ Comparison compare(const Image& gpu, const Image& cpu,
       }
       if (!bad.empty()) {
         if (result.mismatches++ == 0) {
-          result.firstMismatch = "(" + std::to_string(x) + "," + std::to_string(y) + "):" + bad;
+          result.firstMismatch = fmt::format("({},{}):{}", x, y, bad);
         }
       }
     }

@@ -133,7 +133,9 @@ TEST(DropPhysics, GunnKinzerTableAndAtlasAgree) {
     const double v = gunnKinzerVelocityMetersPerSecond(d);
     EXPECT_GE(v, previous);  // monotone
     previous = v;
-    if (d >= 1.0 && d <= 5.0) EXPECT_NEAR(terminalVelocityMetersPerSecond(d), v, 0.3) << d;
+    if (d >= 1.0 && d <= 5.0) {
+      EXPECT_NEAR(terminalVelocityMetersPerSecond(d), v, 0.3) << d;
+    }
   }
   EXPECT_EQ(terminalVelocity(VelocityModel::GunnKinzer, 2.0), 6.49);
   EXPECT_EQ(terminalVelocity(VelocityModel::Atlas, 2.0), terminalVelocityMetersPerSecond(2.0));

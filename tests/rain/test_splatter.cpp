@@ -143,8 +143,12 @@ TEST(Splatter, TextureSizedByTheDropAndBoundedByItsReach) {
       const double r = std::hypot(u, v);
       const double os = splatterOpacity(small, u, v, 1e-6), ob = splatterOpacity(big, u, v, 1e-6);
       ASSERT_LE(os, kSplatterPeakOpacity);
-      if (r > kSplatterReachPerDiameter * 2e-3) ASSERT_EQ(os, 0.0) << u << " " << v;
-      if (r > kSplatterReachPerDiameter * 4e-3) ASSERT_EQ(ob, 0.0) << u << " " << v;
+      if (r > kSplatterReachPerDiameter * 2e-3) {
+        ASSERT_EQ(os, 0.0) << u << " " << v;
+      }
+      if (r > kSplatterReachPerDiameter * 4e-3) {
+        ASSERT_EQ(ob, 0.0) << u << " " << v;
+      }
       areaSmall += os > 0.0, areaBig += ob > 0.0;
     }
   EXPECT_DOUBLE_EQ(splatterOpacity(small, 0.0, 0.0, 1e-6), kSplatterPeakOpacity);

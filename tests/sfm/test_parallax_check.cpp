@@ -42,9 +42,10 @@ TEST(ParallaxCheck, WalkHasParallaxAndKeyframesAreSpacedByIt) {
     EXPECT_GE(probe.parallaxFraction(keys[k], keys[k + 1]), settings.keyframeParallaxFraction)
         << "keys " << keys[k] << " and " << keys[k + 1];
     // ... and the frame before the next key did not yet (the first frame that does is taken).
-    if (keys[k + 1] > keys[k] + 1)
+    if (keys[k + 1] > keys[k] + 1) {
       EXPECT_LT(probe.parallaxFraction(keys[k], keys[k + 1] - 1),
                 settings.keyframeParallaxFraction);
+    }
   }
 }
 
