@@ -1,6 +1,7 @@
 #include "io/movie_writer.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <deque>
 #include <filesystem>
@@ -10,7 +11,6 @@
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
-#include <opencv2/core/utility.hpp>
 
 #include "io/sequence_pattern.h"
 #include "io/ycbcr_frame.h"
@@ -56,14 +56,12 @@ std::string lastLines(const stdfs::path& path, int count) {
 
 struct MovieCodec {
   std::string name;
-  std::vector<std::string> arguments;  // -c:v ... -pix_fmt ...
+  std::vector<std::string> arguments;  // -c:v ...
   std::vector<std::string> containers;
-  bool chromaSubsampled = false;    // 4:2:x: chroma shared by 2 columns (an even width)
-  bool yuv420 = false;              // 4:2:0: and by 2 rows (an even height)
+  // The Y'CbCr pluvia makes for it (io/ycbcr_frame.h) and ffmpeg's name for that layout.
+  YcbcrLayout layout;
+  std::string pixelFormat;
   int minWidth = 1, minHeight = 1;  // DNxHR's smallest frame is 256x120
-  // 8-bit codecs get pluvia's own 8-bit Y'CbCr in the codec's layout (io/ycbcr_frame.h);
-  // deeper ones 16-bit RGB, which ffmpeg converts keeping every bit the codec holds.
-  bool ycbcr8 = false;
 };
 
 // The codecs, with what each needs: libx264 at 4:2:0 (every player), ProRes 4444 (12-bit
@@ -71,43 +69,42 @@ struct MovieCodec {
 // 4:2:2) and 444 (10-bit 4:4:4) through dnxhd.
 const std::vector<MovieCodec>& codecs() {
   static const std::vector<MovieCodec> kCodecs{
-      {"h264",
-       {"-c:v", "libx264", "-preset", "medium", "-crf", "16", "-pix_fmt", "yuv420p"},
-       {"mp4", "mov", "mkv", "m4v"},
-       true,
-       true,
-       1,
-       1,
-       true},
-      {"prores_4444",
-       {"-c:v", "prores_ks", "-profile:v", "4444", "-pix_fmt", "yuv444p12le", "-vendor", "apl0"},
-       {"mov", "mkv"}},
-      {"prores_422hq",
-       {"-c:v", "prores_ks", "-profile:v", "hq", "-pix_fmt", "yuv422p10le", "-vendor", "apl0"},
-       {"mov", "mkv"},
-       true},
-      {"dnxhr_hq",
-       {"-c:v", "dnxhd", "-profile:v", "dnxhr_hq", "-pix_fmt", "yuv422p"},
-       {"mov", "mkv"},
-       true,
-       false,
-       256,
-       120,
-       true},
-      {"dnxhr_hqx",
-       {"-c:v", "dnxhd", "-profile:v", "dnxhr_hqx", "-pix_fmt", "yuv422p10le"},
-       {"mov", "mkv"},
-       true,
-       false,
-       256,
-       120},
-      {"dnxhr_444",
-       {"-c:v", "dnxhd", "-profile:v", "dnxhr_444", "-pix_fmt", "yuv444p10le"},
-       {"mov", "mkv"},
-       false,
-       false,
-       256,
-       120},
+      {.name = "h264",
+       .arguments = {"-c:v", "libx264", "-preset", "medium", "-crf", "16"},
+       .containers = {"mp4", "mov", "mkv", "m4v"},
+       .layout = {.bits = 8, .chromaColumns = 2, .chromaRows = 2},
+       .pixelFormat = "yuv420p"},
+      {.name = "prores_4444",
+       .arguments = {"-c:v", "prores_ks", "-profile:v", "4444", "-vendor", "apl0"},
+       .containers = {"mov", "mkv"},
+       .layout = {.bits = 12, .chromaColumns = 1, .chromaRows = 1},
+       .pixelFormat = "yuv444p12le"},
+      {.name = "prores_422hq",
+       .arguments = {"-c:v", "prores_ks", "-profile:v", "hq", "-vendor", "apl0"},
+       .containers = {"mov", "mkv"},
+       .layout = {.bits = 10, .chromaColumns = 2, .chromaRows = 1},
+       .pixelFormat = "yuv422p10le"},
+      {.name = "dnxhr_hq",
+       .arguments = {"-c:v", "dnxhd", "-profile:v", "dnxhr_hq"},
+       .containers = {"mov", "mkv"},
+       .layout = {.bits = 8, .chromaColumns = 2, .chromaRows = 1},
+       .pixelFormat = "yuv422p",
+       .minWidth = 256,
+       .minHeight = 120},
+      {.name = "dnxhr_hqx",
+       .arguments = {"-c:v", "dnxhd", "-profile:v", "dnxhr_hqx"},
+       .containers = {"mov", "mkv"},
+       .layout = {.bits = 10, .chromaColumns = 2, .chromaRows = 1},
+       .pixelFormat = "yuv422p10le",
+       .minWidth = 256,
+       .minHeight = 120},
+      {.name = "dnxhr_444",
+       .arguments = {"-c:v", "dnxhd", "-profile:v", "dnxhr_444"},
+       .containers = {"mov", "mkv"},
+       .layout = {.bits = 10, .chromaColumns = 1, .chromaRows = 1},
+       .pixelFormat = "yuv444p10le",
+       .minWidth = 256,
+       .minHeight = 120},
   };
   return kCodecs;
 }
@@ -131,19 +128,13 @@ const MovieCodec& movieCodec(const std::string& name, const std::string& path) {
   return *found;
 }
 
-// The matrix ffmpeg converts our RGB to YUV with (when we pipe RGB), and the colour tags, set
+// The colour tags of the Y'CbCr we made (its range and matrix, the primaries and transfer), set
 // on the frames so that the encoder and the container both carry them (ffmpeg 5.1 takes the
-// stream's tags from the frames: its -color_* options alone leave ProRes untagged). The matrix
-// is the tagged one, so a player decoding by the tag gets our RGB back; ffmpeg's own default is
-// BT.601's. Y'CbCr we made ourselves with that matrix is only tagged.
-std::vector<std::string> colorArguments(const ColorTags& tags, bool pipedYcbcr) {
+// stream's tags from the frames: its -color_* options alone leave ProRes untagged). A player
+// decoding by the tags gets our RGB back.
+std::vector<std::string> colorArguments(const ColorTags& tags) {
   const std::string matrix = tags.movieMatrix.empty() ? "bt709" : tags.movieMatrix;
   std::string filter = fmt::format("setparams=range=tv:colorspace={}", matrix);
-  if (!pipedYcbcr) {
-    filter = fmt::format("scale=out_color_matrix={}:out_range=tv,",
-                         matrix == "bt2020nc" ? "bt2020" : matrix) +
-             filter;
-  }
   if (!tags.moviePrimaries.empty()) filter += ":color_primaries=" + tags.moviePrimaries;
   if (!tags.movieTransfer.empty()) filter += ":color_trc=" + tags.movieTransfer;
   return {"-vf", filter};
@@ -156,11 +147,11 @@ class MovieWriter final : public ClipWriter {
         width_(width),
         height_(height),
         codec_(movieCodec(options.codec, path)),
-        encodedWidth_(codec_.chromaSubsampled ? width + width % 2 : width),
-        encodedHeight_(codec_.yuv420 ? height + height % 2 : height),
+        encodedWidth_(codec_.layout.chromaColumns == 2 ? width + width % 2 : width),
+        encodedHeight_(codec_.layout.chromaRows == 2 ? height + height % 2 : height),
         tmp_(fs::temporaryPathFor(path)),
         log_(tmp_.string() + ".log") {
-    if (codec_.ycbcr8) matrix_ = ycbcrMatrix(options.color.movieMatrix, path);
+    matrix_ = ycbcrMatrix(options.color.movieMatrix, path);
     if (!(options.fps > 0) || !std::isfinite(options.fps)) {
       throw Error(
           fmt::format("cannot write the movie {} at {} frames per second", path, options.fps),
@@ -179,13 +170,14 @@ class MovieWriter final : public ClipWriter {
     std::vector<std::string> argv{"ffmpeg",   "-y",
                                   "-v",       "error",
                                   "-f",       "rawvideo",
-                                  "-pix_fmt", pipeFormat(),
+                                  "-pix_fmt", codec_.pixelFormat,
                                   "-s",       fmt::format("{}x{}", encodedWidth_, encodedHeight_),
                                   "-r",       frameRateArgument(options.fps),
                                   "-i",       "-"};
     argv.insert(argv.end(), codec.arguments.begin(), codec.arguments.end());
+    argv.insert(argv.end(), {"-pix_fmt", codec.pixelFormat});  // encoded as piped
     argv.insert(argv.end(), {"-threads", std::to_string(threadLimit())});
-    const std::vector<std::string> color = colorArguments(options.color, codec.ycbcr8);
+    const std::vector<std::string> color = colorArguments(options.color);
     argv.insert(argv.end(), color.begin(), color.end());
     if (options.timecode) {
       argv.insert(argv.end(), {"-timecode", options.timecode->text()});
@@ -219,12 +211,12 @@ class MovieWriter final : public ClipWriter {
     }
     const void* bytes = nullptr;
     size_t byteCount = 0;
-    if (codec_.ycbcr8) {
-      packYcbcr8(image, encodedWidth_, encodedHeight_, codec_.yuv420, matrix_, packedYcbcr_);
-      bytes = packedYcbcr_.data(), byteCount = packedYcbcr_.size();
+    if (codec_.layout.bits == 8) {
+      packYcbcr(image, encodedWidth_, encodedHeight_, codec_.layout, matrix_, packed8_);
+      bytes = packed8_.data(), byteCount = packed8_.size();
     } else {
-      packRgb48(image);
-      bytes = packed_.data(), byteCount = packed_.size() * sizeof(uint16_t);
+      packYcbcr(image, encodedWidth_, encodedHeight_, codec_.layout, matrix_, packed16_);
+      bytes = packed16_.data(), byteCount = packed16_.size() * sizeof(uint16_t);
     }
     try {
       encoder_->write(bytes, byteCount);
@@ -261,34 +253,6 @@ class MovieWriter final : public ClipWriter {
   std::string pathFor(int64_t) const override { return path_; }
 
  private:
-  // What the pipe carries: the codec's own 8-bit layout, or 16-bit RGB (on a little-endian host).
-  const char* pipeFormat() const {
-    if (!codec_.ycbcr8) return "rgb48le";
-    return codec_.yuv420 ? "yuv420p" : "yuv422p";
-  }
-
-  // To rgb48le (on a little-endian host), clamped and rounded. 4:2:0 and 4:2:2 cannot be
-  // encoded at odd sizes, so odd frames get their last column/row repeated to reach an even size
-  // (rather than ffmpeg's pad filter: black there would bleed into the edge through the shared
-  // chroma). Rows in parallel (OpenCV's TBB backend): a 1080p frame is 6 million values.
-  void packRgb48(const Image& image) {
-    packed_.resize(static_cast<size_t>(encodedWidth_) * encodedHeight_ * 3);
-    cv::parallel_for_(cv::Range(0, encodedHeight_), [&](const cv::Range& rows) {
-      for (int y = rows.start; y < rows.end; ++y) {
-        const float* row = image.pixel(0, std::min(y, height_ - 1));
-        uint16_t* dst = packed_.data() + static_cast<size_t>(y) * encodedWidth_ * 3;
-        for (int x = 0; x < encodedWidth_; ++x) {
-          const float* src = row + std::min(x, width_ - 1) * 4;
-          for (int c = 0; c < 3; ++c) {
-            const float clamped =
-                src[c] > 0.0f ? (src[c] < 1.0f ? src[c] : 1.0f) : 0.0f;  // NaN -> 0
-            *dst++ = static_cast<uint16_t>(clamped * 65535.0f + 0.5f);
-          }
-        }
-      }
-    });
-  }
-
   void removeTemporaries() {
     std::error_code ec;
     stdfs::remove(tmp_, ec);
@@ -305,9 +269,10 @@ class MovieWriter final : public ClipWriter {
   stdfs::path log_;  // ffmpeg's output, quoted in errors
   std::optional<PipeProcess> encoder_;
   std::optional<int64_t> lastFrame_;
-  std::vector<uint16_t> packed_;
-  YcbcrMatrix matrix_;                // for codecs fed 8-bit Y'CbCr
-  std::vector<uint8_t> packedYcbcr_;  // planar Y', Cb, Cr
+  YcbcrMatrix matrix_;
+  std::vector<uint8_t> packed8_;    // planar Y', Cb, Cr of 8-bit codecs
+  std::vector<uint16_t> packed16_;  // and of 10- and 12-bit ones (ffmpeg's ...le formats)
+  static_assert(std::endian::native == std::endian::little, "16-bit samples are piped as ...le");
   std::mutex mutex_;
 };
 

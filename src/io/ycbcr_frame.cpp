@@ -23,29 +23,41 @@ void quantizeRow(const float* rgba, int width, float* out) {
   }
 }
 
-// A code in [0, 255] rounded to the nearest integer.
-inline uint8_t rounded(float code) {
-  return static_cast<uint8_t>(static_cast<int>(code + 0.5f));
+// A code rounded to the nearest integer (codes are never negative).
+template <class Sample>
+inline Sample rounded(float code) {
+  return static_cast<Sample>(static_cast<int>(code + 0.5f));
 }
 
 struct Weights {
   float kr, kg, kb;
 };
 
-// Y' codes of one row of `width` RGBA pixels, quantised.
-void lumaRow(const float* rgba, int width, const Weights& k, uint8_t* luma) {
+// Y' codes of one row of `width` RGBA pixels, quantised; `scale` is 2^(bits - 8).
+template <class Sample>
+void lumaRow(const float* rgba, int width, const Weights& k, float scale, Sample* luma) {
   for (int x = 0; x < width; ++x) {
     const float* p = rgba + static_cast<size_t>(x) * 4;
-    luma[x] = rounded(16.0f + 219.0f * (k.kr * p[0] + k.kg * p[1] + k.kb * p[2]));
+    luma[x] = rounded<Sample>((16.0f + 219.0f * (k.kr * p[0] + k.kg * p[1] + k.kb * p[2])) * scale);
   }
 }
 
-// Adds the R', G', B' of each pixel pair of one row to sums[c][cx] (c = 0, 1, 2 planes of
-// `pairs` values); an odd last pixel counts twice, as the repeated column it stands for.
-void addPairSums(const float* rgba, int width, int pairs, float* sums) {
+// Adds the R', G', B' of the pixels each chroma sample of one row covers (`columns` of them, 1
+// or 2) to sums[c][cx] (c = 0, 1, 2 planes of `samples` values); an odd last pixel of a pair
+// counts twice, as the repeated column it stands for.
+void addChromaSums(const float* rgba, int width, int columns, int samples, float* sums) {
   float* r = sums;
-  float* g = sums + pairs;
-  float* b = sums + 2 * static_cast<size_t>(pairs);
+  float* g = sums + samples;
+  float* b = sums + 2 * static_cast<size_t>(samples);
+  if (columns == 1) {
+    for (int cx = 0; cx < width; ++cx) {
+      const float* p = rgba + static_cast<size_t>(cx) * 4;
+      r[cx] += p[0];
+      g[cx] += p[1];
+      b[cx] += p[2];
+    }
+    return;
+  }
   const int fullPairs = width / 2;
   for (int cx = 0; cx < fullPairs; ++cx) {
     const float* p = rgba + static_cast<size_t>(cx) * 8;
@@ -53,7 +65,7 @@ void addPairSums(const float* rgba, int width, int pairs, float* sums) {
     g[cx] += p[1] + p[5];
     b[cx] += p[2] + p[6];
   }
-  if (fullPairs < pairs) {
+  if (fullPairs < samples) {
     const float* p = rgba + static_cast<size_t>(width - 1) * 4;
     r[fullPairs] += 2.0f * p[0];
     g[fullPairs] += 2.0f * p[1];
@@ -71,23 +83,24 @@ YcbcrMatrix ycbcrMatrix(const std::string& ffmpegName, const std::string& path) 
               {"write", {}, path});
 }
 
-void packYcbcr8(const Image& image, int encodedWidth, int encodedHeight, bool halfHeightChroma,
-                const YcbcrMatrix& matrix, std::vector<uint8_t>& planes) {
-  const int chromaWidth = encodedWidth / 2;
-  const int rowsPerChroma = halfHeightChroma ? 2 : 1;
-  const int chromaHeight = encodedHeight / rowsPerChroma;
+template <class Sample>
+void packYcbcr(const Image& image, int encodedWidth, int encodedHeight, const YcbcrLayout& layout,
+               const YcbcrMatrix& matrix, std::vector<Sample>& planes) {
+  const int chromaWidth = encodedWidth / layout.chromaColumns;
+  const int chromaHeight = encodedHeight / layout.chromaRows;
   const size_t lumaSize = static_cast<size_t>(encodedWidth) * encodedHeight;
   const size_t chromaSize = static_cast<size_t>(chromaWidth) * chromaHeight;
   planes.resize(lumaSize + 2 * chromaSize);
   const Weights k{matrix.kr, 1.0f - matrix.kr - matrix.kb, matrix.kb};
+  const float scale = static_cast<float>(1 << (layout.bits - 8));
   // Codes from the colour differences B' - E'y and R' - E'y (ITU-R BT.709 section 3), of the
   // mean of the pixels a chroma sample covers.
   const float blueScale = 224.0f / (2.0f * (1.0f - k.kb)),
               redScale = 224.0f / (2.0f * (1.0f - k.kr));
-  const float meanOfSums = 1.0f / static_cast<float>(2 * rowsPerChroma);
-  uint8_t* luma = planes.data();
-  uint8_t* cb = luma + lumaSize;
-  uint8_t* cr = cb + chromaSize;
+  const float meanOfSums = 1.0f / static_cast<float>(layout.chromaColumns * layout.chromaRows);
+  Sample* luma = planes.data();
+  Sample* cb = luma + lumaSize;
+  Sample* cr = cb + chromaSize;
   cv::parallel_for_(cv::Range(0, chromaHeight), [&](const cv::Range& rows) {
     std::vector<float> sums(static_cast<size_t>(chromaWidth) * 3);  // R', G', B' planes
     std::vector<float> row(static_cast<size_t>(image.width) * 4);   // quantised
@@ -96,22 +109,27 @@ void packYcbcr8(const Image& image, int encodedWidth, int encodedHeight, bool ha
     const float* b = g + chromaWidth;
     for (int cy = rows.start; cy < rows.end; ++cy) {
       std::fill(sums.begin(), sums.end(), 0.0f);
-      for (int y = cy * rowsPerChroma; y < (cy + 1) * rowsPerChroma; ++y) {
+      for (int y = cy * layout.chromaRows; y < (cy + 1) * layout.chromaRows; ++y) {
         quantizeRow(image.pixel(0, std::min(y, image.height - 1)), image.width, row.data());
-        uint8_t* lumaOut = luma + static_cast<size_t>(y) * encodedWidth;
-        lumaRow(row.data(), image.width, k, lumaOut);
+        Sample* lumaOut = luma + static_cast<size_t>(y) * encodedWidth;
+        lumaRow(row.data(), image.width, k, scale, lumaOut);
         if (encodedWidth > image.width) lumaOut[image.width] = lumaOut[image.width - 1];
-        addPairSums(row.data(), image.width, chromaWidth, sums.data());
+        addChromaSums(row.data(), image.width, layout.chromaColumns, chromaWidth, sums.data());
       }
-      uint8_t* cbRow = cb + static_cast<size_t>(cy) * chromaWidth;
-      uint8_t* crRow = cr + static_cast<size_t>(cy) * chromaWidth;
+      Sample* cbRow = cb + static_cast<size_t>(cy) * chromaWidth;
+      Sample* crRow = cr + static_cast<size_t>(cy) * chromaWidth;
       for (int cx = 0; cx < chromaWidth; ++cx) {
         const float ey = (k.kr * r[cx] + k.kg * g[cx] + k.kb * b[cx]) * meanOfSums;
-        cbRow[cx] = rounded(128.0f + blueScale * (b[cx] * meanOfSums - ey));
-        crRow[cx] = rounded(128.0f + redScale * (r[cx] * meanOfSums - ey));
+        cbRow[cx] = rounded<Sample>((128.0f + blueScale * (b[cx] * meanOfSums - ey)) * scale);
+        crRow[cx] = rounded<Sample>((128.0f + redScale * (r[cx] * meanOfSums - ey)) * scale);
       }
     }
   });
 }
+
+template void packYcbcr<uint8_t>(const Image&, int, int, const YcbcrLayout&, const YcbcrMatrix&,
+                                 std::vector<uint8_t>&);
+template void packYcbcr<uint16_t>(const Image&, int, int, const YcbcrLayout&, const YcbcrMatrix&,
+                                  std::vector<uint16_t>&);
 
 }  // namespace pluvia

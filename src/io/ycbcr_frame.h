@@ -1,8 +1,9 @@
 #pragma once
-// A display-encoded RGB frame as 8-bit planar Y'CbCr, the layout ffmpeg's yuv420p and yuv422p
-// hold, for 8-bit movie codecs: converted here from float rather than by ffmpeg's swscale from
-// 16-bit RGB (its rgb48 -> yuv420p path costs ~20 ms a 1080p frame on one core, and the pipe
-// carries a quarter of the bytes).
+// A display-encoded RGB frame as planar Y'CbCr in a movie codec's own layout (ffmpeg's yuv420p,
+// yuv422p, yuv422p10le, yuv444p12le, ...): converted here from float rather than by ffmpeg's
+// swscale from 16-bit RGB. Its rgb48 -> yuv420p path costs ~20 ms a 1080p frame on one core, the
+// pipe carries a quarter of the bytes, and its RGB48 input scales by 256/255 (white above video
+// white at every depth: Y' 235.8 of 235, 943 of 940, 3774 of 3760).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -21,15 +22,24 @@ struct YcbcrMatrix {
 // Another name is an error naming it and `path`.
 YcbcrMatrix ycbcrMatrix(const std::string& ffmpegName, const std::string& path);
 
+// A codec's Y'CbCr: its bit depth and how many columns and rows share a chroma sample.
+struct YcbcrLayout {
+  int bits = 8;           // 8 (codes in uint8_t), 10 or 12 (in the low bits of uint16_t)
+  int chromaColumns = 2;  // 2: 4:2:2 and 4:2:0 (an even width); 1: 4:4:4
+  int chromaRows = 2;     // 2: 4:2:0 (an even height); 1: 4:2:2 and 4:4:4
+};
+
 // Writes `image` (RGB in [0, 1], clamped, NaN as 0, and rounded to 16 bits) into `planes` as
-// video-range 8-bit Y'CbCr: Y' plane of encodedWidth x encodedHeight, then Cb and Cr at half the
-// width, and at half the height too when `halfHeightChroma` (4:2:0; else 4:2:2). Codes round to
-// nearest: Y' = 16 + 219 E'y, Cb/Cr = 128 + 224 E'c (ITU-R BT.709/BT.2020). A chroma sample is the
-// mean of the 2 (4:2:2) or 2x2 (4:2:0) pixels it covers, as swscale's RGB input averages pixel
-// pairs. An encoded size beyond the image's (odd frames made even) repeats its last column and row.
+// video-range Y'CbCr of layout.bits: the Y' plane of encodedWidth x encodedHeight, then Cb and
+// Cr of encodedWidth / chromaColumns x encodedHeight / chromaRows. Codes round to nearest:
+// Y' = (16 + 219 E'y) 2^(bits-8), Cb/Cr = (128 + 224 E'c) 2^(bits-8) (ITU-R BT.709/BT.2020). A
+// chroma sample is the mean of the pixels it covers, as swscale's RGB input averages them. An
+// encoded size beyond the image's (odd frames made even) repeats its last column and row.
 // Chroma rows in parallel (OpenCV's TBB backend), loops the compiler vectorises (5.3 ms of CPU
-// a 1080p frame, against 9.7 for a loop per pixel).
-void packYcbcr8(const Image& image, int encodedWidth, int encodedHeight, bool halfHeightChroma,
-                const YcbcrMatrix& matrix, std::vector<uint8_t>& planes);
+// a 1080p 4:2:0 frame, against 9.7 for a loop per pixel). Sample: uint8_t for 8 bits, uint16_t
+// for 10 and 12 (ffmpeg's ...le formats on a little-endian host).
+template <class Sample>
+void packYcbcr(const Image& image, int encodedWidth, int encodedHeight, const YcbcrLayout& layout,
+               const YcbcrMatrix& matrix, std::vector<Sample>& planes);
 
 }  // namespace pluvia

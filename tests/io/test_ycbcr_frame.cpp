@@ -1,4 +1,4 @@
-// 8-bit video-range Y'CbCr made from float RGB for 8-bit movie codecs (io/ycbcr_frame.h),
+// Video-range Y'CbCr made from float RGB for the movie codecs (io/ycbcr_frame.h),
 // against the codes ITU-R BT.709 and BT.2020 give for known colours, worked out by hand.
 #include "io/ycbcr_frame.h"
 
@@ -13,6 +13,9 @@
 namespace pluvia {
 namespace {
 
+const YcbcrLayout k420{.bits = 8, .chromaColumns = 2, .chromaRows = 2};
+const YcbcrLayout k422{.bits = 8, .chromaColumns = 2, .chromaRows = 1};
+
 struct Codes {
   int y, cb, cr;
 };
@@ -20,7 +23,7 @@ struct Codes {
 // The codes of a flat 2x2 image, 4:2:0.
 Codes codesOf(float r, float g, float b, const char* matrix) {
   std::vector<uint8_t> planes;
-  packYcbcr8(test::flatImage(2, 2, r, g, b), 2, 2, true, ycbcrMatrix(matrix, "test.mp4"), planes);
+  packYcbcr(test::flatImage(2, 2, r, g, b), 2, 2, k420, ycbcrMatrix(matrix, "test.mp4"), planes);
   EXPECT_EQ(planes.size(), 6u);
   for (int i = 1; i < 4; ++i) EXPECT_EQ(planes[i], planes[0]) << "flat luma";
   return {planes[0], planes[4], planes[5]};
@@ -58,7 +61,7 @@ TEST(YcbcrFrame, ChromaIsTheMeanOfThePixelsItCovers) {
     p[0] = p[1] = p[2] = 0.0f;
   }
   std::vector<uint8_t> planes;
-  packYcbcr8(image, 2, 2, true, ycbcrMatrix("bt709", "t.mp4"), planes);
+  packYcbcr(image, 2, 2, k420, ycbcrMatrix("bt709", "t.mp4"), planes);
   EXPECT_EQ(planes, (std::vector<uint8_t>{235, 16, 235, 16, 128, 128}));
   // Red over blue, 4:2:0: chroma of (0.5, 0, 0.5): E'y = 0.1424, Cb = 128 + 120.72 * 0.3576
   // = 171.17, Cr = 128 + 142.25 * 0.3576 = 178.87.
@@ -67,10 +70,10 @@ TEST(YcbcrFrame, ChromaIsTheMeanOfThePixelsItCovers) {
     float* p = image.pixel(x, 1);
     p[0] = 0.0f, p[2] = 1.0f;
   }
-  packYcbcr8(image, 2, 2, true, ycbcrMatrix("bt709", "t.mp4"), planes);
+  packYcbcr(image, 2, 2, k420, ycbcrMatrix("bt709", "t.mp4"), planes);
   EXPECT_EQ(planes, (std::vector<uint8_t>{63, 63, 32, 32, 171, 179}));
   // The same at 4:2:2: a chroma row per luma row, each the colour of its own row.
-  packYcbcr8(image, 2, 2, false, ycbcrMatrix("bt709", "t.mp4"), planes);
+  packYcbcr(image, 2, 2, k422, ycbcrMatrix("bt709", "t.mp4"), planes);
   EXPECT_EQ(planes, (std::vector<uint8_t>{63, 63, 32, 32, 102, 240, 240, 118}));
 }
 
@@ -81,13 +84,38 @@ TEST(YcbcrFrame, OddFramesRepeatTheirLastColumnAndRow) {
     for (float* p : {image.pixel(2, i), image.pixel(i, 2)}) p[0] = p[1] = p[2] = 1.0f;
   }
   std::vector<uint8_t> planes;
-  packYcbcr8(image, 4, 4, true, ycbcrMatrix("bt709", "t.mp4"), planes);
+  packYcbcr(image, 4, 4, k420, ycbcrMatrix("bt709", "t.mp4"), planes);
   ASSERT_EQ(planes.size(), 16u + 2u * 4u);
   const std::vector<uint8_t> luma(planes.begin(), planes.begin() + 16);
   EXPECT_EQ(luma, (std::vector<uint8_t>{16, 16, 235, 235,  //
                                         16, 16, 235, 235,  //
                                         235, 235, 235, 235, 235, 235, 235, 235}));
   for (size_t i = 16; i < planes.size(); ++i) EXPECT_EQ(planes[i], 128) << i;
+}
+
+TEST(YcbcrFrame, DeepCodecsScaleTheCodesByTwoToTheBitsOverEight) {
+  // 12-bit 4:4:4 (ProRes 4444): per pixel chroma, codes (16 + 219 E'y) 16 and (128 + 224 E'c) 16.
+  // White 3760 and black 256 exactly (swscale's RGB48 input gave white 3774); BT.709 red:
+  // 62.56 * 16 = 1000.9 -> 1001, Cb 102.33 * 16 = 1637.3 -> 1637, Cr 240 * 16 = 3840.
+  Image image = test::flatImage(2, 1, 1, 1, 1);
+  float* second = image.pixel(1, 0);
+  second[0] = 1.0f, second[1] = second[2] = 0.0f;
+  std::vector<uint16_t> planes;
+  const YcbcrLayout prores4444{.bits = 12, .chromaColumns = 1, .chromaRows = 1};
+  packYcbcr(image, 2, 1, prores4444, ycbcrMatrix("bt709", "t.mov"), planes);
+  EXPECT_EQ(planes, (std::vector<uint16_t>{3760, 1001, 2048, 1637, 2048, 3840}));
+  // 10-bit 4:2:2 (ProRes 422 HQ, DNxHR HQX): white 940, black 64, the pair's chroma its mean.
+  image = test::flatImage(2, 1, 1, 1, 1);
+  second = image.pixel(1, 0);
+  second[0] = second[1] = second[2] = 0.0f;
+  const YcbcrLayout tenBit422{.bits = 10, .chromaColumns = 2, .chromaRows = 1};
+  packYcbcr(image, 2, 1, tenBit422, ycbcrMatrix("bt709", "t.mov"), planes);
+  EXPECT_EQ(planes, (std::vector<uint16_t>{940, 64, 512, 512}));
+  // A 16-bit step of the input (1/65535) moves a 12-bit code by 219 * 16 / 65535 = 0.05:
+  // mid grey 0.5, 125.5 in 8 bits (halfway between two codes), is 2008.03 at 12.
+  packYcbcr(test::flatImage(1, 1, 0.5f, 0.5f, 0.5f), 1, 1, prores4444,
+            ycbcrMatrix("bt709", "t.mov"), planes);
+  EXPECT_EQ(planes[0], 2008);
 }
 
 TEST(YcbcrFrame, UnknownMatrixNamesItAndTheFile) {
