@@ -68,43 +68,40 @@ struct MovieCodec {
 // 4:4:4) and 422 HQ (10-bit 4:2:2) through prores_ks, DNxHR HQ (8-bit 4:2:2), HQX (10-bit
 // 4:2:2) and 444 (10-bit 4:4:4) through dnxhd.
 const std::vector<MovieCodec>& codecs() {
+  const std::vector<std::string> movContainers{"mov", "mkv"};
+  auto prores = [&](const char* name, const char* profile, YcbcrLayout layout,
+                    const char* pixelFormat) {
+    return MovieCodec{.name = name,
+                      .arguments = {"-c:v", "prores_ks", "-profile:v", profile, "-vendor", "apl0"},
+                      .containers = movContainers,
+                      .layout = layout,
+                      .pixelFormat = pixelFormat};
+  };
+  auto dnxhr = [&](const std::string& profile, YcbcrLayout layout, const char* pixelFormat) {
+    return MovieCodec{.name = "dnxhr_" + profile,
+                      .arguments = {"-c:v", "dnxhd", "-profile:v", "dnxhr_" + profile},
+                      .containers = movContainers,
+                      .layout = layout,
+                      .pixelFormat = pixelFormat,
+                      .minWidth = 256,
+                      .minHeight = 120};
+  };
+  const YcbcrLayout eightBit420{.bits = 8, .chromaColumns = 2, .chromaRows = 2},
+      eightBit422{.bits = 8, .chromaColumns = 2, .chromaRows = 1},
+      tenBit422{.bits = 10, .chromaColumns = 2, .chromaRows = 1},
+      tenBit444{.bits = 10, .chromaColumns = 1, .chromaRows = 1},
+      twelveBit444{.bits = 12, .chromaColumns = 1, .chromaRows = 1};
   static const std::vector<MovieCodec> kCodecs{
       {.name = "h264",
        .arguments = {"-c:v", "libx264", "-preset", "medium", "-crf", "16"},
        .containers = {"mp4", "mov", "mkv", "m4v"},
-       .layout = {.bits = 8, .chromaColumns = 2, .chromaRows = 2},
+       .layout = eightBit420,
        .pixelFormat = "yuv420p"},
-      {.name = "prores_4444",
-       .arguments = {"-c:v", "prores_ks", "-profile:v", "4444", "-vendor", "apl0"},
-       .containers = {"mov", "mkv"},
-       .layout = {.bits = 12, .chromaColumns = 1, .chromaRows = 1},
-       .pixelFormat = "yuv444p12le"},
-      {.name = "prores_422hq",
-       .arguments = {"-c:v", "prores_ks", "-profile:v", "hq", "-vendor", "apl0"},
-       .containers = {"mov", "mkv"},
-       .layout = {.bits = 10, .chromaColumns = 2, .chromaRows = 1},
-       .pixelFormat = "yuv422p10le"},
-      {.name = "dnxhr_hq",
-       .arguments = {"-c:v", "dnxhd", "-profile:v", "dnxhr_hq"},
-       .containers = {"mov", "mkv"},
-       .layout = {.bits = 8, .chromaColumns = 2, .chromaRows = 1},
-       .pixelFormat = "yuv422p",
-       .minWidth = 256,
-       .minHeight = 120},
-      {.name = "dnxhr_hqx",
-       .arguments = {"-c:v", "dnxhd", "-profile:v", "dnxhr_hqx"},
-       .containers = {"mov", "mkv"},
-       .layout = {.bits = 10, .chromaColumns = 2, .chromaRows = 1},
-       .pixelFormat = "yuv422p10le",
-       .minWidth = 256,
-       .minHeight = 120},
-      {.name = "dnxhr_444",
-       .arguments = {"-c:v", "dnxhd", "-profile:v", "dnxhr_444"},
-       .containers = {"mov", "mkv"},
-       .layout = {.bits = 10, .chromaColumns = 1, .chromaRows = 1},
-       .pixelFormat = "yuv444p10le",
-       .minWidth = 256,
-       .minHeight = 120},
+      prores("prores_4444", "4444", twelveBit444, "yuv444p12le"),
+      prores("prores_422hq", "hq", tenBit422, "yuv422p10le"),
+      dnxhr("hq", eightBit422, "yuv422p"),
+      dnxhr("hqx", tenBit422, "yuv422p10le"),
+      dnxhr("444", tenBit444, "yuv444p10le"),
   };
   return kCodecs;
 }
