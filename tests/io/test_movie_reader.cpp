@@ -139,6 +139,29 @@ TEST(MovieReader, AMovieWrittenAgainIsCountedAgain) {
   EXPECT_THROW(openClip(path.string())->read(39), Error);
 }
 
+// The real vtest AVI of ../shared/data cut to its first 20 kB: its header still lists 795 frames
+// but its duration is 0.2 s and one frame is coded. That is a truncated file, not an AVI holding
+// frames at a variable rate: it was read as one frame (and the render exited 0, the other 794
+// frames lost in silence); now reading it fails naming the file.
+TEST(MovieReader, AnAviCutShortIsTruncatedNotVariableRate) {
+  const stdfs::path data = test::sharedData();
+  if (data.empty()) GTEST_SKIP() << "../shared/data is absent";
+  auto dir = test::freshTempDir("movie_cut_avi");
+  const stdfs::path cut = dir / "cut.avi";
+  {
+    std::ifstream in(data / "plate_static/opencv_vtest.avi", std::ios::binary);
+    std::vector<char> head(20000);
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    std::ofstream(cut, std::ios::binary).write(head.data(), in.gcount());
+  }
+  test::expectError(
+      [&] {
+        auto clip = openClip(cut.string());
+        for (int64_t frame : clip->info().frames) clip->read(frame);
+      },
+      "cut.avi is truncated or corrupt");
+}
+
 TEST(MovieReader, NotAMovieNamesTheFile) {
   auto dir = test::freshTempDir("movie_not_a_movie");
   const stdfs::path fake = dir / "fake.mov";
