@@ -67,7 +67,7 @@ struct MovieCodec {
 // The codecs, with what each needs: libx264 at 4:2:0 (every player), ProRes 4444 (12-bit
 // 4:4:4) and 422 HQ (10-bit 4:2:2) through prores_ks, DNxHR HQ (8-bit 4:2:2), HQX (10-bit
 // 4:2:2) and 444 (10-bit 4:4:4) through dnxhd.
-const std::vector<MovieCodec>& codecs() {
+std::vector<MovieCodec> makeCodecs() {
   const std::vector<std::string> movContainers{"mov", "mkv"};
   auto prores = [&](const char* name, const char* profile, YcbcrLayout layout,
                     const char* pixelFormat) {
@@ -91,7 +91,7 @@ const std::vector<MovieCodec>& codecs() {
       tenBit422{.bits = 10, .chromaColumns = 2, .chromaRows = 1},
       tenBit444{.bits = 10, .chromaColumns = 1, .chromaRows = 1},
       twelveBit444{.bits = 12, .chromaColumns = 1, .chromaRows = 1};
-  static const std::vector<MovieCodec> kCodecs{
+  return {
       {.name = "h264",
        .arguments = {"-c:v", "libx264", "-preset", "medium", "-crf", "16"},
        .containers = {"mp4", "mov", "mkv", "m4v"},
@@ -103,6 +103,10 @@ const std::vector<MovieCodec>& codecs() {
       dnxhr("hqx", tenBit422, "yuv422p10le"),
       dnxhr("444", tenBit444, "yuv444p10le"),
   };
+}
+
+const std::vector<MovieCodec>& codecs() {
+  static const std::vector<MovieCodec> kCodecs = makeCodecs();
   return kCodecs;
 }
 

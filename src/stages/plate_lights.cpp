@@ -29,22 +29,27 @@ constexpr double kLampRimOverClip = 0.4;
 
 }  // namespace
 
-double luminanceQuantile(const Image& still, double fraction) {
+PlateLuminance plateLuminance(const Image& still) {
   std::vector<float> luminance(static_cast<size_t>(still.width) * still.height);
   for (size_t i = 0; i < luminance.size(); ++i) {
     const float* p = &still.rgba[i * 4];
     luminance[i] = 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];
   }
-  if (luminance.empty()) return 0.0;
-  const auto at = luminance.begin() +
-                  static_cast<ptrdiff_t>(std::clamp(fraction, 0.0, 1.0) * (luminance.size() - 1));
-  std::nth_element(luminance.begin(), at, luminance.end());
-  return *at;
+  if (luminance.empty()) return {};
+  auto quantile = [&](double fraction) {
+    const auto at = luminance.begin() +
+                    static_cast<ptrdiff_t>(fraction * static_cast<double>(luminance.size() - 1));
+    std::nth_element(luminance.begin(), at, luminance.end());
+    return static_cast<double>(*at);
+  };
+  PlateLuminance result;
+  result.median = quantile(0.5);
+  result.upperTenth = quantile(0.9);
+  return result;
 }
 
-bool isNightPlate(const Image& still) {
-  return luminanceQuantile(still, 0.5) < kNightMedianLuminance &&
-         luminanceQuantile(still, 0.9) < kNightUpperLuminance;
+bool isNightPlate(const PlateLuminance& luminance) {
+  return luminance.median < kNightMedianLuminance && luminance.upperTenth < kNightUpperLuminance;
 }
 
 std::vector<PlateBlob> findClippedBlobs(const Image& still, double clipLevel, int minAreaPx) {
@@ -151,12 +156,12 @@ LightSpec foundLampLight(const FoundLamp& lamp) {
 std::vector<FoundLamp> findPlateLamps(const Image& still, const LightsSettings& settings,
                                       const Camera& camera, const std::vector<float>* depth,
                                       double backdropMeters) {
-  if (!settings.findOnDayPlates && !isNightPlate(still)) {
+  const PlateLuminance luminance = plateLuminance(still);
+  if (!settings.findOnDayPlates && !isNightPlate(luminance)) {
     log::info(fmt::format(
         "lights: no lamps looked for: the plate is not a night plate (luminance median {:.3f}, "
         "90th percentile {:.3f}; night: under {:g} and {:g}; lights.find = on looks anyway)",
-        luminanceQuantile(still, 0.5), luminanceQuantile(still, 0.9), kNightMedianLuminance,
-        kNightUpperLuminance));
+        luminance.median, luminance.upperTenth, kNightMedianLuminance, kNightUpperLuminance));
     return {};
   }
   const double maxArea = kMaxLampShareOfFrame * still.width * still.height;

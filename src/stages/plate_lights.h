@@ -20,13 +20,16 @@ struct PlateBlob {
   double rimLuminance = 0.0;           // the ring's mean luminance (Rec. 709 weights)
 };
 
-// The still's luminance (Rec. 709 weights, working space) at the `fraction` quantile: 0.5 is
-// the median, how dark the plate is; 0.9, how bright its brightest tenth is.
-double luminanceQuantile(const Image& still, double fraction);
+// How bright a plate is: its luminance (Rec. 709 weights, working space) at two quantiles.
+struct PlateLuminance {
+  double median = 0.0;      // how dark the plate is
+  double upperTenth = 0.0;  // the 90th percentile: how bright its brightest tenth is
+};
+PlateLuminance plateLuminance(const Image& still);
 
 // A night plate: its median luminance under kNightMedianLuminance and nine tenths of it under
 // kNightUpperLuminance (a shaded day plate is as dark at its median, but its sunlit tenth is not).
-bool isNightPlate(const Image& still);
+bool isNightPlate(const PlateLuminance& luminance);
 
 // The blobs of `still` whose max channel is >= clipLevel (working-space units; the white of a
 // display-referred file is 1.0) with at least minAreaPx pixels. The rim is the ring 1..4 px
