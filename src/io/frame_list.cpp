@@ -1,24 +1,13 @@
 #include "io/frame_list.h"
 
 #include <algorithm>
-#include <charconv>
 
 #include <fmt/format.h>
 
 #include "util/error.h"
+#include "util/parse_number.h"
 
 namespace pluvia {
-namespace {
-
-// A whole string as an integer (an optional leading '-', then digits); false otherwise.
-bool parseInteger(std::string_view text, int64_t& value) {
-  if (text.empty()) return false;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  return ec == std::errc() && end == text.data() + text.size();
-}
-
-}  // namespace
-
 std::vector<int64_t> parseFrameList(const std::string& text, size_t maxFrames) {
   auto fail = [&](std::string_view item, const std::string& why) {
     return UsageError(fmt::format(
@@ -36,16 +25,20 @@ std::vector<int64_t> parseFrameList(const std::string& text, size_t maxFrames) {
     const size_t x = item.find('x');
     const std::string_view range = item.substr(0, x);
     const size_t dash = range.size() > 1 ? range.find('-', 1) : std::string_view::npos;
-    int64_t first = 0, last = 0, step = 1;
-    if (!parseInteger(range.substr(0, dash), first)) throw fail(item, "no frame number");
-    last = first;
-    if (dash != std::string_view::npos && !parseInteger(range.substr(dash + 1), last))
-      throw fail(item, "no last frame number");
+    const std::optional<int64_t> firstNumber = parseWholeNumber<int64_t>(range.substr(0, dash));
+    if (!firstNumber) throw fail(item, "no frame number");
+    const std::optional<int64_t> lastNumber =
+        dash == std::string_view::npos ? firstNumber
+                                       : parseWholeNumber<int64_t>(range.substr(dash + 1));
+    if (!lastNumber) throw fail(item, "no last frame number");
+    std::optional<int64_t> stepNumber = 1;
     if (x != std::string_view::npos) {
       if (dash == std::string_view::npos) throw fail(item, "a step without a range");
-      if (!parseInteger(item.substr(x + 1), step) || step <= 0)
+      stepNumber = parseWholeNumber<int64_t>(item.substr(x + 1));
+      if (!stepNumber || *stepNumber <= 0)
         throw fail(item, "the step is not a whole number above 0");
     }
+    const int64_t first = *firstNumber, last = *lastNumber, step = *stepNumber;
     if (last < first) throw fail(item, "the last frame comes before the first");
     if (static_cast<uint64_t>(last - first) / static_cast<uint64_t>(step) >= maxFrames)
       throw fail(item, fmt::format("more than {} frames", maxFrames));
