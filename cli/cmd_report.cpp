@@ -2,6 +2,7 @@
 // `pluvia report derain`: rain extraction against synthetic ground truth and on real footage.
 // `pluvia report envmap`: environments stitched from a pan against the full HDR.
 // `pluvia report depth`: SfM poses and depth against a synthetic scene's truth, and real photos.
+// `pluvia report realism`: rendered rain against real rain footage on the same clean plates.
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -15,10 +16,12 @@
 #include "lab/fog_report.h"
 #include "lab/lights_report.h"
 #include "lab/optics_report.h"
+#include "lab/realism_report.h"
 #include "lab/report_depth.h"
 #include "lab/test_environment.h"
 #include "optics/environment_file.h"
 #include "optics/skylight_scattering.h"
+#include "realism_render.h"
 #include "report_halo_frames.h"
 #include "util/error.h"
 #include "util/log.h"
@@ -216,6 +219,45 @@ void addReportFog(CLI::App& report) {
   });
 }
 
+// `pluvia report realism [CLIP ...] [-p PRESET ...]`: each preset rendered on the clean plates of
+// real rain footage (cli/realism_render.h) and measured against the footage's own rain.
+void addReportRealism(CLI::App& report) {
+  auto* realism = report.add_subcommand(
+      "realism", "rain streaks against real rain footage: coverage, brightness, size, direction");
+  struct Args {
+    std::vector<std::string> clips, presets, sets;
+    DataReportArgs<lab::RealismReportSettings> data;
+  };
+  auto args = std::make_shared<Args>();
+  realism->add_option("clips", args->clips,
+                      "real rain clips (movie or sequence; default: NTURain ra1 from the shared "
+                      "data)");
+  realism->add_option("-p,--preset", args->presets,
+                      "presets to render and measure (repeatable; default: every shipped one)");
+  realism->add_option("--set", args->sets, "KEY=VALUE applied to every preset (repeatable)");
+  realism->add_option("--frames", args->data.settings.frames, "frames measured per clip (24)")
+      ->check(CLI::Range(3, 10000));
+  args->data.addOptions(realism, "the ratios to real per statistic",
+                        "write the contact sheets here (PNG: real | presets, frame and layer)",
+                        "without it only the clips given are measured",
+                        "8 frames at 320 px wide (for tests)");
+  realism->callback([=] {
+    lab::RealismReportSettings settings = args->data.resolved();
+    settings.clips = args->clips;
+    settings.presets = args->presets;
+    if (settings.presets.empty())
+      for (const std::string& name : shippedPresetNames())
+        if (name != "base") settings.presets.push_back(name);
+    for (const std::string& preset : settings.presets) loadPreset(preset, args->sets);
+    const lab::RealismReport result = lab::runRealismReport(
+        settings, [&](const std::vector<cv::Mat3f>& plates, double fps, const std::string& preset) {
+          return renderOnPlates(plates, fps, preset, args->sets);
+        });
+    args->data.files.show(result, lab::formatRealismReport, lab::writeRealismReportCsv,
+                          lab::writeRealismReportPlot);
+  });
+}
+
 }  // namespace
 
 void addReportCommand(CLI::App& app, Invocation& invocation) {
@@ -257,6 +299,7 @@ void addReportCommand(CLI::App& app, Invocation& invocation) {
   addReportDepth(*cmd, invocation);
   addReportLights(*cmd);
   addReportFog(*cmd);
+  addReportRealism(*cmd);
 }
 
 }  // namespace pluvia::cli

@@ -1,0 +1,20 @@
+#pragma once
+// `pluvia report realism`'s renders: a preset over the clean plates of real rain footage, by the
+// render's own session (the same stages and preset resolution as `pluvia render`), with darken,
+// blur and fog off so that the streaks alone are compared. Here in cli, not lab: rendering is the
+// stages' work.
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace pluvia::cli {
+
+// `plates`: RGB, 8-bit display codes as float 0-255, frames 0.. of a clip at `fps`. Returns the
+// rained frames in the same encoding, rounded to codes. The plates go through a temporary PNG
+// sequence (removed afterwards), read as sRGB as any 8-bit plate is.
+std::vector<cv::Mat3f> renderOnPlates(const std::vector<cv::Mat3f>& plates, double fps,
+                                      const std::string& preset,
+                                      const std::vector<std::string>& sets);
+
+}  // namespace pluvia::cli

@@ -1,0 +1,213 @@
+// Clean plates of real rain footage: registered temporal medians (clean_plate.h says how).
+#include "lab/clean_plate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+
+#include "util/error.h"
+
+namespace pluvia::lab {
+namespace {
+
+// Rain-suppressed greys of one frame: float for residuals and the stack, 8-bit for DIS.
+struct Grey {
+  cv::Mat1f codes;
+  cv::Mat1b bytes;
+};
+
+// One frame of the stack on frame t's grid.
+struct Registered {
+  cv::Mat3f colour;
+  cv::Mat1f grey;    // rain-suppressed
+  cv::Mat1b covers;  // 255 where it may join the median
+};
+
+Grey suppressedGrey(const cv::Mat3f& bgr, int diameterPx) {
+  cv::Mat1f luma;
+  cv::transform(bgr, luma, cv::Matx13f(0.0722f, 0.7152f, 0.2126f));
+  const cv::Mat disk = cv::getStructuringElement(cv::MORPH_ELLIPSE, {diameterPx, diameterPx});
+  Grey out;
+  cv::morphologyEx(luma, out.codes, cv::MORPH_OPEN, disk);
+  out.codes.convertTo(out.bytes, CV_8U);
+  return out;
+}
+
+// The 2r + 1 frames around t as [begin, end), shifted inside the clip at its ends.
+std::pair<int, int> windowOf(int t, int frames, int radius) {
+  const int size = std::min(frames, 2 * radius + 1);
+  const int begin = std::clamp(t - radius, 0, frames - size);
+  return {begin, begin + size};
+}
+
+// Not the plain mean: camera motion moves every pixel, while a moving object (or rain the
+// opening left) moves a few; their differences, the largest, would let them buy the flow, which
+// then follows the object instead of masking it. Not the median either: on a mostly flat scene
+// it does not see a sub-pixel shift of the textured part.
+constexpr double kResidualTrimFraction = 0.10;
+
+// The mean |a - b| over `mask` with the largest kResidualTrimFraction left out.
+double trimmedMeanAbsDifference(const cv::Mat1f& a, const cv::Mat1f& b, const cv::Mat1b& mask) {
+  std::vector<float> differences;
+  for (int y = 0; y < a.rows; ++y) {
+    for (int x = 0; x < a.cols; ++x) {
+      if (mask(y, x)) differences.push_back(std::abs(a(y, x) - b(y, x)));
+    }
+  }
+  const size_t kept = size_t(std::ceil((1.0 - kResidualTrimFraction) * differences.size()));
+  if (kept == 0) return std::numeric_limits<double>::infinity();
+  std::nth_element(differences.begin(), differences.begin() + (kept - 1), differences.end());
+  double sum = 0.0;
+  for (size_t i = 0; i < kept; ++i) sum += differences[i];
+  return sum / double(kept);
+}
+
+// Where each pixel of the reference lands in the neighbour: x + flow(x).
+cv::Mat2f landingPoints(const cv::Mat2f& flow) {
+  cv::Mat2f out(flow.size());
+  for (int y = 0; y < flow.rows; ++y) {
+    for (int x = 0; x < flow.cols; ++x) out(y, x) = flow(y, x) + cv::Vec2f(float(x), float(y));
+  }
+  return out;
+}
+
+cv::Mat1b inBounds(const cv::Mat2f& points) {
+  cv::Mat1b out(points.size());
+  const float maxX = float(points.cols - 1), maxY = float(points.rows - 1);
+  for (int y = 0; y < points.rows; ++y) {
+    for (int x = 0; x < points.cols; ++x) {
+      const cv::Vec2f p = points(y, x);
+      out(y, x) = (p[0] >= 0.0f && p[0] <= maxX && p[1] >= 0.0f && p[1] <= maxY) ? 255 : 0;
+    }
+  }
+  return out;
+}
+
+// 255 where following the forward flow and then the backward one returns within `tolerancePx`.
+cv::Mat1b forwardBackwardConsistent(const cv::Mat2f& forward, const cv::Mat2f& backward,
+                                    const cv::Mat2f& points, double tolerancePx) {
+  cv::Mat2f back;
+  cv::remap(backward, back, points, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+  cv::Mat1b out(forward.size());
+  for (int y = 0; y < forward.rows; ++y) {
+    for (int x = 0; x < forward.cols; ++x) {
+      out(y, x) = cv::norm(forward(y, x) + back(y, x)) < tolerancePx ? 255 : 0;
+    }
+  }
+  return out;
+}
+
+// Cubic: linear interpolation at half-pixel offsets blurs fine texture by several codes.
+template <typename M>
+M warped(const M& image, const cv::Mat2f& points) {
+  M out;
+  cv::remap(image, out, points, cv::noArray(), cv::INTER_CUBIC, cv::BORDER_REPLICATE);
+  return out;
+}
+
+// Neighbour s on frame t's grid, by identity or by flow, whichever the residuals favour.
+Registered registerNeighbour(const cv::Mat3f& colour, const Grey& neighbour, const Grey& reference,
+                             cv::DISOpticalFlow& dis, const CleanPlateSettings& settings,
+                             NeighbourRegistration& record) {
+  const cv::Mat1b everywhere(reference.codes.size(), uchar(255));
+  record.identityResidualCodes =
+      trimmedMeanAbsDifference(reference.codes, neighbour.codes, everywhere);
+  cv::Mat2f forward;
+  dis.calc(reference.bytes, neighbour.bytes, forward);
+  const cv::Mat2f points = landingPoints(forward);
+  const cv::Mat1b covered = inBounds(points);
+  const cv::Mat1f warpedGrey = warped(neighbour.codes, points);
+  record.flowResidualCodes = trimmedMeanAbsDifference(reference.codes, warpedGrey, covered);
+  const double gain = record.identityResidualCodes - record.flowResidualCodes;
+  record.flowUsed = gain > settings.flowGainCodes &&
+                    gain > settings.flowGainFraction * record.identityResidualCodes;
+  if (!record.flowUsed) return {colour, neighbour.codes, everywhere};
+
+  cv::Mat2f backward;
+  dis.calc(neighbour.bytes, reference.bytes, backward);
+  const cv::Mat1b consistent =
+      forwardBackwardConsistent(forward, backward, points, settings.consistencyPx);
+  return {warped(colour, points), warpedGrey, covered & consistent};
+}
+
+// The median of the first `count` values (mean of the middle two when even); reorders them.
+float medianOf(float* values, int count) {
+  const int half = count / 2;
+  std::nth_element(values, values + half, values + count);
+  const float upper = values[half];
+  if (count % 2 == 1) return upper;
+  return 0.5f * (upper + *std::max_element(values, values + half));
+}
+
+// The stack's median colour everywhere, and its validity (clean_plate.h).
+void stackMedian(const std::vector<Registered>& stack, const Grey& reference,
+                 const CleanPlateSettings& settings, CleanPlate& out) {
+  const cv::Size size = reference.codes.size();
+  out.plate.create(size);
+  out.valid.create(size);
+  const int needed = settings.radiusFrames + 1;
+  std::vector<float> b(stack.size()), g(stack.size()), r(stack.size()), grey(stack.size());
+  for (int y = 0; y < size.height; ++y) {
+    for (int x = 0; x < size.width; ++x) {
+      int count = 0;
+      for (const Registered& frame : stack) {
+        if (!frame.covers(y, x)) continue;
+        const cv::Vec3f c = frame.colour(y, x);
+        b[count] = c[0], g[count] = c[1], r[count] = c[2];
+        grey[count] = frame.grey(y, x);
+        count += 1;
+      }
+      // The reference itself always covers, so count >= 1.
+      out.plate(y, x) = {medianOf(b.data(), count), medianOf(g.data(), count),
+                         medianOf(r.data(), count)};
+      const float greyMedian = medianOf(grey.data(), count);
+      for (int i = 0; i < count; ++i) grey[i] = std::abs(grey[i] - greyMedian);
+      const float deviation = medianOf(grey.data(), count);
+      const float own = std::abs(reference.codes(y, x) - greyMedian);
+      const bool agrees = deviation < settings.agreementCodes && own < settings.agreementCodes;
+      out.valid(y, x) = count >= needed && agrees ? 255 : 0;
+    }
+  }
+}
+
+void requireFrames(const std::vector<cv::Mat3f>& frames) {
+  if (frames.empty()) throw Error("clean plates: no frames");
+  for (const cv::Mat3f& frame : frames) {
+    if (frame.empty() || frame.size() != frames.front().size()) {
+      throw Error("clean plates: the frames differ in size or one is empty");
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<CleanPlate> cleanPlates(const std::vector<cv::Mat3f>& frames,
+                                    const CleanPlateSettings& settings) {
+  requireFrames(frames);
+  std::vector<Grey> greys;
+  for (const cv::Mat3f& frame : frames) {
+    greys.push_back(suppressedGrey(frame, settings.suppressDiameterPx));
+  }
+  const cv::Ptr<cv::DISOpticalFlow> dis =
+      cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM);
+  const int count = int(frames.size());
+  std::vector<CleanPlate> plates(frames.size());
+  for (int t = 0; t < count; ++t) {
+    const auto [begin, end] = windowOf(t, count, settings.radiusFrames);
+    std::vector<Registered> stack{
+        {frames[t], greys[t].codes, cv::Mat1b(frames[t].size(), uchar(255))}};
+    for (int s = begin; s < end; ++s) {
+      if (s == t) continue;
+      NeighbourRegistration& record = plates[t].neighbours.emplace_back();
+      record.frame = s;
+      stack.push_back(registerNeighbour(frames[s], greys[s], greys[t], *dis, settings, record));
+    }
+    stackMedian(stack, greys[t], settings, plates[t]);
+  }
+  return plates;
+}
+
+}  // namespace pluvia::lab

@@ -1,0 +1,334 @@
+#include "lab/realism_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <opencv2/imgproc.hpp>
+
+#include "image/contact_sheet.h"
+#include "io/clip_reader.h"
+#include "io/image_file_writer.h"
+#include "lab/clean_plate.h"
+#include "lab/report_numbers.h"
+#include "util/error.h"
+#include "util/log.h"
+#include "util/timer.h"
+
+namespace pluvia::lab {
+namespace {
+
+constexpr int kQuickWidthPx = 320, kQuickFrames = 8;
+// Real rain footage whose frame rate is not stored (NTURain's JPEGs) is taken at this rate.
+constexpr double kUnknownFps = 25.0;
+// The contact sheet's crops, at the report's width: where the real rain shows most.
+constexpr int kCropWidthPx = 240, kCropHeightPx = 180;
+// The rain layers on the sheet are shown times this over mid grey.
+constexpr float kLayerGain = 3.0f;
+
+struct RealClip {
+  std::string name;
+  double fps = kUnknownFps;
+  std::vector<cv::Mat3f> frames;  // RGB, 8-bit display codes, at the report's width
+};
+
+std::string defaultClip(const std::string& sharedData) {
+  if (sharedData.empty()) return "";
+  const std::string pattern = sharedData + "/rain_real/nturain_ra1_real_rain_panning/%05d.jpg";
+  return std::filesystem::exists(sharedData + "/rain_real/nturain_ra1_real_rain_panning/00001.jpg")
+             ? pattern
+             : "";
+}
+
+// The clip's first `count` frames (all when fewer), in display codes, scaled to `widthPx`.
+RealClip readRealClip(const std::string& path, int count, int widthPx) {
+  std::unique_ptr<ClipReader> reader = openClip(path);
+  const ClipInfo& info = reader->info();
+  RealClip clip;
+  // A sequence is named by its folder when its file names are only the frame number.
+  const std::filesystem::path file(path);
+  const std::string stem = file.stem().string();
+  const bool numbersOnly = stem.find_first_not_of("%0123456789d#@") == std::string::npos;
+  clip.name = numbersOnly && file.has_parent_path() ? file.parent_path().filename().string()
+                                                    : file.filename().string();
+  if (info.isMovie) clip.fps = info.fps;
+  const double scale = double(widthPx) / info.width;
+  const size_t n = std::min(info.frames.size(), size_t(count));
+  if (n < 3)
+    throw Error(fmt::format("report realism: {} has {} frames; a clean plate needs 3 or more", path,
+                            info.frames.size()),
+                {"report", {}, path});
+  for (size_t i = 0; i < n; ++i) {
+    const Image image = reader->read(info.frames[i]);
+    cv::Mat rgba(image.height, image.width, CV_32FC4, const_cast<float*>(image.rgba.data()));
+    cv::Mat rgb, small;
+    cv::cvtColor(rgba, rgb, cv::COLOR_RGBA2RGB);
+    cv::resize(rgb, small, cv::Size(widthPx, int(std::lround(info.height * scale))), 0, 0,
+               cv::INTER_AREA);
+    clip.frames.push_back(cv::Mat3f(small * 255.0));
+  }
+  return clip;
+}
+
+cv::Mat1f luma(const cv::Mat3f& rgb) {
+  cv::Mat1f y(rgb.size());
+  cv::transform(rgb, y, cv::Matx13f(0.2126f, 0.7152f, 0.0722f));
+  return y;
+}
+
+// The statistics of the layers frame - plate over the clip.
+StreakStats measureLayers(const std::vector<cv::Mat3f>& frames,
+                          const std::vector<CleanPlate>& plates,
+                          std::vector<cv::Mat1f>* layersOut) {
+  StreakStatsAccumulator accumulator;
+  RainLayerFrame previous;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    RainLayerFrame layer;
+    layer.plateLuma = luma(plates[i].plate);
+    layer.layer = luma(frames[i]) - layer.plateLuma;
+    layer.valid = plates[i].valid;
+    accumulator.add(layer, i > 0 ? &previous : nullptr);
+    if (layersOut) layersOut->push_back(layer.layer);
+    previous = layer;
+  }
+  return accumulator.result();
+}
+
+// The crop of the frame where the real layer holds the most streak pixels.
+cv::Rect busiestCrop(const cv::Mat1f& layer, const cv::Mat1b& valid, cv::Size crop) {
+  crop.width = std::min(crop.width, layer.cols);
+  crop.height = std::min(crop.height, layer.rows);
+  const cv::Mat1b streaks = detectStreaks(layer, valid).mask;
+  cv::Mat1d integral;
+  cv::integral(streaks / 255, integral, CV_64F);
+  cv::Rect best(0, 0, crop.width, crop.height);
+  double bestCount = -1.0;
+  for (int y = 0; y + crop.height <= layer.rows; y += crop.height / 4)
+    for (int x = 0; x + crop.width <= layer.cols; x += crop.width / 4) {
+      const double count = integral(y + crop.height, x + crop.width) - integral(y, x + crop.width) -
+                           integral(y + crop.height, x) + integral(y, x);
+      if (count > bestCount) bestCount = count, best = cv::Rect(x, y, crop.width, crop.height);
+    }
+  return best;
+}
+
+Image tileOf(const cv::Mat3f& codes) {
+  Image tile(codes.cols, codes.rows);
+  for (int y = 0; y < codes.rows; ++y)
+    for (int x = 0; x < codes.cols; ++x)
+      for (int c = 0; c < 3; ++c)
+        tile.rgba[(size_t(y) * codes.cols + x) * 4 + c] =
+            std::clamp(codes(y, x)[c] / 255.0f, 0.0f, 1.0f);
+  return tile;
+}
+
+// A layer (codes) as grey around mid grey, times kLayerGain.
+Image layerTile(const cv::Mat1f& layer) {
+  cv::Mat3f grey;
+  cv::Mat1f shown = layer * kLayerGain + 128.0f;
+  cv::merge(std::vector<cv::Mat>{shown, shown, shown}, grey);
+  return tileOf(grey);
+}
+
+// clean_plate.h works on BGR frames: the same plates for RGB ones.
+std::vector<CleanPlate> cleanPlatesRgb(const std::vector<cv::Mat3f>& rgbFrames) {
+  std::vector<cv::Mat3f> bgr(rgbFrames.size());
+  for (size_t i = 0; i < rgbFrames.size(); ++i)
+    cv::cvtColor(rgbFrames[i], bgr[i], cv::COLOR_RGB2BGR);
+  std::vector<CleanPlate> plates = cleanPlates(bgr);
+  for (CleanPlate& plate : plates) cv::cvtColor(plate.plate, plate.plate, cv::COLOR_BGR2RGB);
+  return plates;
+}
+
+struct SheetColumn {
+  std::string label;
+  std::vector<cv::Mat3f> frames;
+  std::vector<cv::Mat1f> layers;
+};
+
+// Two rows per sheet: the middle frame's busiest crop as filmed or rendered, then its layer.
+void writeContactSheet(const std::string& path, const std::vector<SheetColumn>& columns,
+                       const cv::Rect& crop, size_t frame) {
+  ContactSheet sheet(crop.size(), int(columns.size()), 2);
+  for (size_t c = 0; c < columns.size(); ++c) {
+    sheet.place(0, int(c), tileOf(columns[c].frames[frame](crop)), columns[c].label);
+    sheet.place(1, int(c), layerTile(columns[c].layers[frame](crop)),
+                fmt::format("{} layer x{:g}", columns[c].label, kLayerGain));
+  }
+  const Image& image = sheet.image();
+  std::vector<OutputChannel> channels;
+  for (int c = 0; c < 3; ++c)
+    channels.push_back({std::string(1, "RGB"[c]), image.rgba.data() + c, 4});
+  std::filesystem::create_directories(std::filesystem::path(path).parent_path());
+  writeImageFile(path, image.width, image.height, channels, {}, std::nullopt);
+}
+
+}  // namespace
+
+RealismReport runRealismReport(const RealismReportSettings& settings,
+                               const RenderOnPlates& render) {
+  RealismReport report;
+  report.widthPx = settings.quick ? kQuickWidthPx : kReportWidthPx;
+  const int frameCount = settings.quick ? kQuickFrames : settings.frames;
+  std::vector<std::string> clips = settings.clips;
+  if (clips.empty()) {
+    const std::string nturain = defaultClip(settings.sharedData);
+    if (nturain.empty()) {
+      report.notes.push_back(
+          "no real rain clip: NTURain ra1 is not in the shared data (give a clip, or --data)");
+      return report;
+    }
+    clips.push_back(nturain);
+  }
+  for (const std::string& path : clips) {
+    const auto started = std::chrono::steady_clock::now();
+    const RealClip clip = readRealClip(path, frameCount, report.widthPx);
+    const std::vector<CleanPlate> plates = cleanPlatesRgb(clip.frames);
+    std::vector<SheetColumn> columns{{"real", clip.frames, {}}};
+    RealismRow real;
+    real.clip = clip.name;
+    real.preset = "real";
+    real.stats = measureLayers(clip.frames, plates, &columns[0].layers);
+    real.typical = 1.0;
+    real.seconds = secondsSince(started);
+    report.rows.push_back(real);
+    std::vector<cv::Mat3f> plateImages;
+    for (const CleanPlate& plate : plates) plateImages.push_back(plate.plate);
+    const RealismRow* nearest = nullptr;
+    for (const std::string& preset : settings.presets) {
+      const auto renderStarted = std::chrono::steady_clock::now();
+      SheetColumn column{preset, render(plateImages, clip.fps, preset), {}};
+      RealismRow row;
+      row.clip = clip.name;
+      row.preset = preset;
+      row.stats = measureLayers(column.frames, plates, &column.layers);
+      row.ratios = ratiosToReal(row.stats, real.stats);
+      std::vector<double> values;
+      for (const auto& [name, ratio] : row.ratios) values.push_back(ratio);
+      row.typical = typicalFactor(values);
+      row.seconds = secondsSince(renderStarted);
+      report.rows.push_back(row);
+      columns.push_back(std::move(column));
+    }
+    for (const RealismRow& row : report.rows)
+      if (row.clip == clip.name && row.preset != "real" &&
+          (!nearest || row.typical < nearest->typical))
+        nearest = &row;
+    if (nearest)
+      report.notes.push_back(fmt::format("{}: nearest preset {} (typical x{:.2f})", clip.name,
+                                         nearest->preset, nearest->typical));
+    if (!settings.imagesDir.empty()) {
+      const size_t middle = clip.frames.size() / 2;
+      const cv::Rect crop = busiestCrop(columns[0].layers[middle], plates[middle].valid,
+                                        cv::Size(kCropWidthPx * report.widthPx / kReportWidthPx,
+                                                 kCropHeightPx * report.widthPx / kReportWidthPx));
+      const std::string sheet = (std::filesystem::path(settings.imagesDir) /
+                                 (std::filesystem::path(clip.name).stem().string() + "_sheet.png"))
+                                    .string();
+      writeContactSheet(sheet, columns, crop, middle);
+      report.notes.push_back("contact sheet: " + sheet);
+    }
+  }
+  return report;
+}
+
+namespace {
+
+struct Column {
+  const char* header;
+  int width;
+  std::function<std::string(const RealismRow&)> value;
+};
+
+std::vector<Column> statColumns() {
+  auto number = [](double StreakStats::*member, int decimals) {
+    return
+        [member, decimals](const RealismRow& r) { return fixedOrDash(r.stats.*member, decimals); };
+  };
+  return {
+      {"clip", 14, [](const RealismRow& r) { return r.clip.substr(0, 13); }},
+      {"preset", 10, [](const RealismRow& r) { return r.preset; }},
+      {"typical", 8,
+       [](const RealismRow& r) { return r.preset == "real" ? "-" : fixedOrDash(r.typical, 2); }},
+      {"cover%", 7, [](const RealismRow& r) { return percentOrDash(r.stats.coverage); }},
+      {"dI p50", 7, number(&StreakStats::deltaP50, 1)},
+      {"p90", 6, number(&StreakStats::deltaP90, 1)},
+      {"p99", 6, number(&StreakStats::deltaP99, 1)},
+      {"/Mpx", 7, number(&StreakStats::streaksPerMpx, 0)},
+      {"len p50", 8, number(&StreakStats::lengthP50Px, 1)},
+      {"wid p50", 8, number(&StreakStats::widthP50Px, 2)},
+      {"peak p90", 9, number(&StreakStats::peakP90, 1)},
+      {"angle", 7, number(&StreakStats::angleDeg, 1)},
+      {"spread", 7, number(&StreakStats::angleSpreadDeg, 1)},
+      {"dI dark", 8, number(&StreakStats::deltaDarkThird, 1)},
+      {"dI brt", 7, number(&StreakStats::deltaBrightThird, 1)},
+      {"corr", 6, number(&StreakStats::temporalCorrelation, 3)},
+      {"time s", 7, [](const RealismRow& r) { return fixedOrDash(r.seconds, 1); }},
+  };
+}
+
+}  // namespace
+
+std::string formatRealismReport(const RealismReport& report) {
+  std::ostringstream out;
+  out << fmt::format(
+      "Visible rain streaks (dI > 10 codes with a ridge, at {} px wide; false alarms from the "
+      "negated layer subtracted), real footage against each preset on its clean plates:\n",
+      report.widthPx);
+  const std::vector<Column> columns = statColumns();
+  for (const Column& c : columns) out << fmt::format("{:>{}}", c.header, c.width);
+  out << "\n";
+  for (const RealismRow& row : report.rows) {
+    for (const Column& c : columns) out << fmt::format("{:>{}}", c.value(row), c.width);
+    out << "\n";
+  }
+  bool header = false;
+  for (const RealismRow& row : report.rows) {
+    if (row.ratios.empty()) continue;
+    if (!header) {
+      out << "\nRatios to real (typical = exp(mean |ln ratio|) over these):\n";
+      out << fmt::format("{:>14}{:>10}", "clip", "preset");
+      for (const auto& [name, ratio] : row.ratios) out << fmt::format("{:>10}", name);
+      out << fmt::format("{:>9}\n", "typical");
+      header = true;
+    }
+    out << fmt::format("{:>14}{:>10}", row.clip.substr(0, 13), row.preset);
+    for (const auto& [name, ratio] : row.ratios)
+      out << fmt::format("{:>10}", fixedOrDash(ratio, 2));
+    out << fmt::format("{:>9}\n", fixedOrDash(row.typical, 2));
+  }
+  for (const std::string& note : report.notes) out << "note: " << note << "\n";
+  return out.str();
+}
+
+void writeRealismReportCsv(const RealismReport& report, const std::string& path) {
+  size_t ratioColumns = 0;
+  std::string header =
+      "clip,preset,typical,coverage,delta_p50,delta_p90,delta_p99,streaks_per_mpx,length_p50_px,"
+      "width_p50_px,peak_p90,angle_deg,angle_spread_deg,delta_dark_third,delta_bright_third,"
+      "temporal_correlation,frames,seconds";
+  for (const RealismRow& row : report.rows)
+    if (!row.ratios.empty()) {
+      for (const auto& [name, ratio] : row.ratios) header += ",ratio_" + name;
+      ratioColumns = row.ratios.size();
+      break;
+    }
+  writeReportCsv(path, header, [&](std::ostream& out) {
+    for (const RealismRow& r : report.rows) {
+      const StreakStats& s = r.stats;
+      out << r.clip << "," << r.preset << "," << csvNumber(r.typical);
+      for (double v :
+           {s.coverage, s.deltaP50, s.deltaP90, s.deltaP99, s.streaksPerMpx, s.lengthP50Px,
+            s.widthP50Px, s.peakP90, s.angleDeg, s.angleSpreadDeg, s.deltaDarkThird,
+            s.deltaBrightThird, s.temporalCorrelation, double(s.frames), r.seconds})
+        out << "," << csvNumber(v);
+      for (size_t i = 0; i < ratioColumns; ++i)
+        out << "," << (i < r.ratios.size() ? csvNumber(r.ratios[i].second) : "");
+      out << "\n";
+    }
+  });
+}
+
+}  // namespace pluvia::lab

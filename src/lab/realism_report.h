@@ -1,0 +1,67 @@
+#pragma once
+// `pluvia report realism`: the look's own error report. Rain rendered by pluvia against real rain
+// footage, on the same clean plates, by the statistics of the visible streaks.
+//
+// For each real rain clip: the frames scaled to kReportWidthPx wide; a clean plate per frame
+// (clean_plate.h: a registered temporal median of +-3 frames, the flow taken only where it
+// explains the neighbours better than identity, moving things masked); the real rain layer
+// dI = luma(frame) - luma(plate) in 8-bit display codes, with its validity mask. Each preset is
+// rendered on those plates (by the caller: RenderOnPlates) with darken, blur and fog off, so the
+// streaks alone are compared, and its layer is measured the same way (streak_stats.h: visible
+// streaks, dI > 10 codes and a ridge, false alarms from the negated layer subtracted).
+// Each preset's statistics are given as ratios to the real ones and as the typical factor,
+// exp(mean |ln ratio|) over coverage, dI p90, dI p99, streaks per Mpx, length p50, width p50 and
+// peak p90.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "lab/streak_stats.h"
+
+namespace pluvia::lab {
+
+// The statistics are taken at this width (the frames are scaled to it, keeping their aspect).
+inline constexpr int kReportWidthPx = 640;
+
+struct RealismReportSettings {
+  std::vector<std::string> clips;    // real rain clips; empty: NTURain ra1 from sharedData
+  std::vector<std::string> presets;  // rendered and measured, by name or path
+  std::string sharedData;            // ../shared/data; empty: only the clips given
+  std::string imagesDir;             // when set: the contact sheets, PNG
+  int frames = 24;                   // measured per clip (its first ones)
+  bool quick = false;                // 8 frames at 320 px wide (for tests)
+};
+
+// Renders `preset` over the clean plates (RGB, 8-bit display codes as float 0-255, one per
+// frame, a clip at `fps`) and returns the rendered frames in the same encoding, rounded to
+// 8-bit codes as a video frame is.
+using RenderOnPlates = std::function<std::vector<cv::Mat3f>(const std::vector<cv::Mat3f>& plates,
+                                                            double fps, const std::string& preset)>;
+
+struct RealismRow {
+  std::string clip;    // its file name
+  std::string preset;  // "real" for the footage's own rain
+  StreakStats stats;
+  std::vector<std::pair<std::string, double>> ratios;  // to the real row (empty for it)
+  double typical = 0.0;                                // typicalFactor(ratios); 1 for real
+  double seconds = 0.0;                                // plates (real) or render + measure
+};
+
+struct RealismReport {
+  int widthPx = 0;
+  std::vector<RealismRow> rows;    // per clip: the real row, then each preset's
+  std::vector<std::string> notes;  // missing data, images written, the nearest preset per clip
+};
+
+// Throws pluvia::Error naming the clip when a clip given cannot be read; the default clip
+// missing is a note, not an error.
+RealismReport runRealismReport(const RealismReportSettings& settings, const RenderOnPlates& render);
+
+std::string formatRealismReport(const RealismReport& report);
+void writeRealismReportCsv(const RealismReport& report, const std::string& path);
+// The ratios to real per statistic (log scale), one line per preset, one panel per clip.
+void writeRealismReportPlot(const RealismReport& report, const std::string& path);
+
+}  // namespace pluvia::lab
