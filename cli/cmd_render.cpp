@@ -49,7 +49,8 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
   cmd->add_flag("--skip-existing", args->skipExisting,
                 "leave frames that already exist (resume a job)");
   cmd->add_flag("--stats", args->stats, "print a per-stage timing summary");
-  cmd->add_option("--aov", args->aov, "extra outputs: rain,matte,depth,lights,splash,glare");
+  cmd->add_option("--aov", args->aov,
+                  "extra outputs: rain,matte,depth,lights,splash,glare,darken,blur,fog");
   cmd->add_option("--proxy", args->proxy,
                   "render at this fraction of the plate's size, in (0, 1], for quick looks");
   cmd->callback([=, &invocation] {
@@ -75,9 +76,11 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
       size_t comma = args->aov.find(',', start);
       std::string aov = args->aov.substr(start, comma - start);
       if (aov != "rain" && aov != "matte" && aov != "depth" && aov != "lights" && aov != "splash" &&
-          aov != "glare") {
-        throw UsageError(fmt::format(
-            "--aov: unknown output '{}' (known: rain, matte, depth, lights, splash, glare)", aov));
+          aov != "glare" && aov != "darken" && aov != "blur" && aov != "fog") {
+        throw UsageError(
+            fmt::format("--aov: unknown output '{}' (known: rain, matte, depth, lights, splash, "
+                        "glare, darken, blur, fog)",
+                        aov));
       }
       request.aovs.push_back(aov);
       if (comma == std::string::npos) break;

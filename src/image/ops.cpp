@@ -112,14 +112,25 @@ BlurPasses blurPasses(int radius) {
 
 }  // namespace
 
-void darken(Image& image, float amount, float darkening) {
+void darken(Image& image, float amount, float darkening, const float* weight) {
   if (amount == 0.0f) return;
-  const float scale = 1.0f - amount * darkening;
+  forRowBands(image, [&](size_t first, size_t count) {
+    for (size_t i = first; i < first + count; ++i) {
+      const float a = weight ? amount * weight[i] : amount;
+      const float scale = 1.0f - a * darkening;
+      float* p = image.rgba.data() + i * 4;
+      const float y = luminance(p);
+      for (int c = 0; c < 3; ++c) p[c] = ((1.0f - a) * p[c] + a * y) * scale;
+    }
+  });
+}
+
+void blendToward(Image& image, const Image& target, const float* weight) {
   forRowBands(image, [&](size_t first, size_t count) {
     for (size_t i = first; i < first + count; ++i) {
       float* p = image.rgba.data() + i * 4;
-      const float y = luminance(p);
-      for (int c = 0; c < 3; ++c) p[c] = ((1.0f - amount) * p[c] + amount * y) * scale;
+      const float* t = target.rgba.data() + i * 4;
+      for (int c = 0; c < 3; ++c) p[c] += weight[i] * (t[c] - p[c]);
     }
   });
 }

@@ -9,12 +9,18 @@
 namespace pluvia::ops {
 
 // Rec.709 luminance of a linear RGB triple.
-inline float luminance(const float* rgb) { return 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2]; }
+inline float luminance(const float* rgb) {
+  return 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2];
+}
 
 // Starik–Werman darkening: blend each pixel toward its luminance by `amount` (desaturation)
-// and scale it by (1 - amount * strength). amount 0 is the identity.
+// and scale it by (1 - amount * strength). amount 0 is the identity. With `weight` (one value per
+// pixel), pixel i takes amount * weight[i].
 //   out = (1 - amount) * rgb + amount * Y, then * (1 - amount * darkening)
-void darken(Image& image, float amount, float darkening);
+void darken(Image& image, float amount, float darkening, const float* weight = nullptr);
+
+// out = rgb + weight[i] * (target - rgb) per pixel, RGB only: `target` the same size.
+void blendToward(Image& image, const Image& target, const float* weight);
 
 // Gaussian blur of RGB with standard deviation sigmaPx (pixels), reflecting at the border so the
 // mean is preserved. sigma 0 is the identity.

@@ -114,9 +114,14 @@ void refuseSingleFileForManyFrames(const std::string& output, const std::vector<
       {"write", {}, output});
 }
 
+// The grading stages' AOVs: what darken, blur and fog changed (stages/depth_grading.h).
+bool isGradingAov(const std::string& aov) {
+  return aov == "darken" || aov == "blur" || aov == "fog";
+}
+
 void ensureAovPlanes(Image& image, const std::vector<std::string>& aovs) {
   for (const auto& aov : aovs) {
-    if (aov == "rain" || aov == "lights" || aov == "glare") {
+    if (aov == "rain" || aov == "lights" || aov == "glare" || isGradingAov(aov)) {
       for (const char* c : {"R", "G", "B", "A"}) image.plane(aov + "." + c);
     } else {
       image.plane(aov);
@@ -309,11 +314,12 @@ FrameContext RenderSession::readFrame(int64_t frameNumber) {
 }
 
 void RenderSession::processFrame(FrameContext& frame) {
-  // The lights' and the glare's AOV planes, when asked for, exist before the stages run: those
-  // stages write them only when they are there (making four planes of a 1080p frame costs more
-  // than ten lights). The others are made by their stages (the depth plane's absence means sky).
+  // The lights', the glare's and the grading stages' AOV planes, when asked for, exist before the
+  // stages run: those stages write them only when they are there (making four planes of a 1080p
+  // frame costs more than ten lights). The others are made by their stages (the depth plane's
+  // absence means sky).
   for (const std::string& aov : request_.aovs)
-    if (aov == "lights" || aov == "glare") ensureAovPlanes(frame.image, {aov});
+    if (aov == "lights" || aov == "glare" || isGradingAov(aov)) ensureAovPlanes(frame.image, {aov});
   for (auto& [name, stage] : frameStages_) {
     ScopedTimer timer(&times_, name);
     try {

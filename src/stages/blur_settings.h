@@ -8,6 +8,9 @@ namespace pluvia {
 struct BlurSettings {
   bool enabled = true;
   double sigmaPx = 0.0;  // Gaussian standard deviation in frame pixels; 0 leaves the plate sharp
+  // The depth at which 63 % of the blur is mixed in (stages/depth_grading.h); 0: every pixel
+  // alike.
+  double distanceMeters = 30.0;
 };
 
 // The section's table (`section()`: the StageInfo's spec) and its settings read from a

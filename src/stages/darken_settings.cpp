@@ -5,8 +5,9 @@ namespace pluvia {
 const SettingsTable<DarkenSettings>& darkenTable() {
   static const SettingsTable<DarkenSettings> table(
       {.name = "darken",
-       .help = "Desaturates toward luminance and darkens the plate (Starik–Werman).",
-       .inputs = {"image"},
+       .help = "Desaturates toward luminance and darkens the plate (Starik–Werman), more with "
+               "depth; --aov darken writes what it changed.",
+       .inputs = {"image", "depth"},
        .outputs = {"image"}},
       {
           bind(&DarkenSettings::enabled, enabledParam()),
@@ -15,6 +16,11 @@ const SettingsTable<DarkenSettings>& darkenTable() {
           bind(&DarkenSettings::darkening,
                fractionParam("darkening", 0.5,
                              "brightness lost at amount 1: out *= 1 - amount*darkening")),
+          bind(&DarkenSettings::distanceMeters,
+               numberParam("distance_m", 30.0, {0.0, 1e6}, "m",
+                           "the rain between camera and scene darkens by depth z: amount * (1 - "
+                           "exp(-z / distance_m)), the sky the whole amount; 0: every pixel "
+                           "alike")),
       });
   return table;
 }

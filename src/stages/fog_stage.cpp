@@ -12,6 +12,7 @@
 #include "optics/skylight_scattering.h"
 #include "pipeline/camera_settings.h"
 #include "rain/drop_physics.h"
+#include "stages/depth_grading.h"
 #include "stages/fog_settings.h"
 #include "stages/rain_settings.h"
 #include "stages/registry.h"
@@ -43,6 +44,13 @@ class FogStage : public Stage {
   }
 
   void process(ClipContext&, FrameContext& frame) override {
+    const GradingAov aov(frame.image, "fog");
+    addFog(frame);
+    aov.finish(frame.image, {});
+  }
+
+ private:
+  void addFog(FrameContext& frame) const {
     // The rain of this frame bounds the path: its visibility (about 2 km at 15 mm/h).
     const double rate = rain_.enabled ? rain_.rateMmPerHour.valueAt(double(frame.frame)) : 0.0;
     const double visibility =
@@ -58,7 +66,6 @@ class FogStage : public Stage {
     ops::fog(frame.image, float(fog_.densityPerMeter), rgb_, float(visibility));
   }
 
- private:
   void prepareSkylight(ClipContext& clip) {
     path_ = clip.trackedPath ? *clip.trackedPath : camera_.path(clip.camera);
     const EquirectMap sky = clip.environment

@@ -31,7 +31,8 @@ Plan planWith(const std::vector<std::string>& sets, const ArtifactCache* cache =
 
 TEST(Planner, ModerateRunsEverythingButDerain) {
   Plan plan = planWith({});
-  for (const char* s : {"lighting", "depth", "darken", "blur", "fog", "rain", "write"}) EXPECT_TRUE(plan.runs(s)) << s;
+  for (const char* s : {"lighting", "depth", "darken", "blur", "fog", "rain", "write"})
+    EXPECT_TRUE(plan.runs(s)) << s;
   EXPECT_FALSE(plan.runs("derain"));
   EXPECT_NE(entry(plan, "derain").reason.find("nothing reads its output"), std::string::npos);
 }
@@ -58,10 +59,14 @@ TEST(Planner, StagesWhoseOutputNobodyReadsAreLeftOut) {
   Plan plan = planWith({"rain.rate_mm_h=0", "fog.color_source=constant"});
   EXPECT_FALSE(plan.runs("rain"));
   EXPECT_FALSE(plan.runs("lighting"));
-  EXPECT_NE(entry(plan, "lighting").reason.find("nothing reads its output (environment)"), std::string::npos);
+  EXPECT_NE(entry(plan, "lighting").reason.find("nothing reads its output (environment)"),
+            std::string::npos);
   EXPECT_TRUE(plan.runs("depth"));
-  // And with no fog either, depth goes too.
-  Plan bare = planWith({"rain.rate_mm_h=0", "fog.density=0"});
+  // Darken and blur grade by depth (moderate has both): with no fog, depth still feeds them ...
+  EXPECT_TRUE(planWith({"rain.rate_mm_h=0", "fog.density=0"}).runs("depth"));
+  // ... and when they grade every pixel alike, depth goes too.
+  Plan bare =
+      planWith({"rain.rate_mm_h=0", "fog.density=0", "darken.distance_m=0", "blur.distance_m=0"});
   EXPECT_FALSE(bare.runs("depth"));
   EXPECT_FALSE(bare.runs("lighting"));
 }

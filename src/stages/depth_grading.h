@@ -1,0 +1,35 @@
+#pragma once
+// What the rain between the camera and the scene does to the plate grows with the path through
+// it: darken and blur take the weight w(z) = 1 - exp(-z / distance) of the frame's depth z (the
+// "depth" plane, metres; +inf, the sky, and a frame without depth weigh 1), so the near field
+// changes less than the far and nothing is lifted or lowered alike over the whole frame.
+// distance 0 weighs every pixel 1 (the whole frame alike, as before depth grading).
+//
+// Each grading stage writes what it changed as its own AOV (`--aov darken,blur,fog`: planes
+// "<name>.R/G/B" = after - before, "<name>.A" = the weight), so the plate plus the AOVs rebuilds
+// the graded frame in comp.
+#include <string>
+#include <vector>
+
+#include "image/image.h"
+
+namespace pluvia {
+
+// w(z) per pixel, as above.
+std::vector<float> depthGradingWeights(const Image& image, double distanceMeters);
+
+// Records one stage's change to the frame as its AOV when the render asked for it (its planes
+// exist: the render session makes them before the stages run). Construct before the change,
+// call finish() after it.
+class GradingAov {
+ public:
+  GradingAov(const Image& image, std::string name);
+  // Writes after - before and `weight` (may be empty: 1 where anything changed).
+  void finish(Image& image, const std::vector<float>& weight) const;
+
+ private:
+  std::string name_;
+  std::vector<float> before_;  // RGBA; empty when the AOV was not asked for
+};
+
+}  // namespace pluvia
