@@ -7,6 +7,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "image/ops.h"
+
 namespace pluvia::envmap {
 namespace {
 
@@ -16,8 +18,46 @@ constexpr int kSampleWidthPx = 192;
 // The mean albedo of what a plate shows (grass, asphalt, walls, foliage: 0.1-0.4): the 18 % grey
 // a light meter assumes.
 constexpr double kSceneAlbedo = 0.18;
+// What a plate shows is mostly upright (walls, trees, people, cars). Under the CIE overcast sky an
+// upright surface receives (2/3)(pi/4 + 2/3) Lz from the sky and, from ground of the same albedo,
+// half of a level surface's 7 pi / 9 Lz times that albedo: its illuminance per unit Lz.
+const double kUprightIlluminance =
+    2.0 / 3.0 * (M_PI / 4.0 + 2.0 / 3.0) + kSceneAlbedo * 7.0 * M_PI / 9.0 / 2.0;
 // A frame whose sky covers less than this is taken to show none.
 constexpr double kMinSkyFraction = 0.01;
+
+// What the frame shows of its sky, and the scene's luminance under it.
+struct SkySample {
+  double pixels = 0.0;
+  std::array<double, 3> meanRgb{0, 0, 0};
+  double meanElevationDeg = 0.0;  // of the sky pixels, 0 at least
+  double sceneLuminance = 0.0;    // mean of the other pixels (all of them without sky)
+};
+
+SkySample sampleSky(const Image& frame, const Camera& camera, const std::vector<uint8_t>& sky) {
+  SkySample sample;
+  double sceneSum = 0.0, scenePixels = 0.0, elevationSum = 0.0;
+  for (int y = 0; y < camera.height; ++y)
+    for (int x = 0; x < camera.width; ++x) {
+      const float* p = frame.rgba.data() + (size_t(y) * camera.width + x) * 4;
+      if (sky.empty() || !sky[size_t(y) * camera.width + x]) {
+        sceneSum += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+        scenePixels += 1.0;
+        continue;
+      }
+      for (int c = 0; c < 3; ++c) sample.meanRgb[size_t(c)] += p[c];
+      const Eigen::Vector3d d =
+          (camera.worldFromCamera * camera.rayCamera(x + 0.5, y + 0.5)).normalized();
+      elevationSum += std::max(0.0, std::asin(std::clamp(d.y(), -1.0, 1.0)) * 180.0 / M_PI);
+      sample.pixels += 1.0;
+    }
+  if (sample.pixels > 0.0) {
+    for (double& v : sample.meanRgb) v /= sample.pixels;
+    sample.meanElevationDeg = elevationSum / sample.pixels;
+  }
+  sample.sceneLuminance = scenePixels > 0.0 ? sceneSum / scenePixels : 0.0;
+  return sample;
+}
 
 // The unit direction's elevation row in a map of `height` rows.
 int rowOf(double y, int height) {
@@ -25,10 +65,47 @@ int rowOf(double y, int height) {
   return std::clamp(int(v * height), 0, height - 1);
 }
 
+// The day sky above the frame (rows before `first`): the CIE overcast profile of zenith the
+// brighter of the plate's own sky's and the scene's (sceneZenith), tinted as the plate's sky.
+void daySky(FrameEnvironment& result, std::vector<std::array<float, 3>>& profile, int first,
+            const SkySample& seen, bool framedSky, double sceneZenith) {
+  const int mapHeight = int(profile.size());
+  double zenith = sceneZenith;
+  std::array<double, 3> tint{1.0, 1.0, 1.0};  // the sky's colour at unit luminance
+  if (framedSky) {
+    const double luminance =
+        0.2126 * seen.meanRgb[0] + 0.7152 * seen.meanRgb[1] + 0.0722 * seen.meanRgb[2];
+    for (int c = 0; c < 3; ++c)
+      tint[size_t(c)] = seen.meanRgb[size_t(c)] / std::max(1e-6, luminance);
+    const double throughPlate =
+        3.0 * luminance / (1.0 + 2.0 * std::sin(seen.meanElevationDeg * M_PI / 180.0));
+    zenith = std::max(sceneZenith, throughPlate);
+  }
+  result.zenithLuminance = float(zenith);
+  result.skyFromPlate = framedSky && zenith > sceneZenith;
+  // The sky at elevation e (cos theta = sin e).
+  const auto skyAt = [&](double elevationDeg) -> std::array<float, 3> {
+    const double l =
+        zenith * (1.0 + 2.0 * std::sin(std::max(0.0, elevationDeg) * M_PI / 180.0)) / 3.0;
+    return {float(l * tint[0]), float(l * tint[1]), float(l * tint[2])};
+  };
+  for (int r = 0; r < std::min(first, mapHeight); ++r) {
+    const double elevation = 90.0 - 180.0 * (r + 0.5) / mapHeight;
+    if (elevation > 0.0) profile[size_t(r)] = skyAt(elevation);
+  }
+  // The airlight (the fog's colour): a long path toward the horizon looks as the plate shows its
+  // own sky there, where it shows one.
+  result.horizonRgb = framedSky
+                          ? std::array<float, 3>{float(seen.meanRgb[0]), float(seen.meanRgb[1]),
+                                                 float(seen.meanRgb[2])}
+                          : skyAt(0.0);
+}
+
 }  // namespace
 
 FrameEnvironment frameEnvironment(const Image& frame, const Camera& camera,
-                                  const std::vector<uint8_t>& sky, int widthTexels) {
+                                  const std::vector<uint8_t>& sky, bool nightPlate,
+                                  int widthTexels) {
   FrameEnvironment result;
   const int mapWidth = widthTexels, mapHeight = widthTexels / 2;
   const double scale = std::min(1.0, double(kSampleWidthPx) / std::max(1, camera.width));
@@ -67,36 +144,32 @@ FrameEnvironment frameEnvironment(const Image& frame, const Camera& camera,
       profile[size_t(r)][size_t(c)] = float(sum[size_t(from)][size_t(c)] / count[size_t(from)]);
   }
 
-  // The sky above the frame: the frame's own sky where it shows one; else the CIE overcast sky
-  // (Huang et al.'s, L(theta) = Lz (1 + 2 cos theta) / 3) that would light the scene as
-  // brightly as the frame shows it: its illuminance is E = 7 pi Lz / 9, and a surface of albedo
-  // a lit by it has radiance a E / pi, so Lz = 9 / 7 * (the frame's mean luminance) / a.
-  std::array<double, 3> skySum{0, 0, 0};
-  double skyCount = 0.0, luminanceSum = 0.0;
-  for (int y = 0; y < camera.height; ++y)
-    for (int x = 0; x < camera.width; ++x) {
-      const float* p = frame.rgba.data() + (size_t(y) * camera.width + x) * 4;
-      luminanceSum += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
-      if (sky.empty() || !sky[size_t(y) * camera.width + x]) continue;
-      for (int c = 0; c < 3; ++c) skySum[size_t(c)] += p[c];
-      skyCount += 1.0;
-    }
+  // The sky above the frame. Rain falls from an overcast sky, whose radiance grows from the
+  // horizon to the zenith as (1 + 2 sin e) (CIE overcast, Huang et al.'s L(theta) = Lz (1 + 2 cos
+  // theta) / 3): the plate shows at most a band of it near the horizon, and a display-referred
+  // plate clips it (and a camera's highlight knee compresses it). So the sky is the brighter of
+  // two estimates: the profile through the frame's own sky at the mean elevation it is seen at,
+  // and the sky that lights the scene as brightly as the frame shows it: an upright surface of
+  // albedo a under it has radiance a E / pi with E = kUprightIlluminance Lz, so Lz = pi (the
+  // scene's mean luminance) / (a kUprightIlluminance), about 15 times the scene's mean.
+  const SkySample seen = sampleSky(frame, camera, sky);
   const double pixels = double(camera.width) * camera.height;
-  const bool framedSky = skyCount >= kMinSkyFraction * pixels;
-  const double zenith = 9.0 / 7.0 * luminanceSum / pixels / kSceneAlbedo;
-  // The sky at elevation e (cos theta = sin e).
-  const auto skyAt = [&](double elevationDeg) -> std::array<float, 3> {
+  const bool framedSky = seen.pixels >= kMinSkyFraction * pixels;
+  const double sceneZenith = M_PI * seen.sceneLuminance / (kSceneAlbedo * kUprightIlluminance);
+  if (nightPlate) {
+    // At night the scene is lit by its lamps, not by the sky: the sky is what the plate shows of
+    // it, or without sky in view the frame's top rows carried up (the profile already).
     if (framedSky)
-      return {float(skySum[0] / skyCount), float(skySum[1] / skyCount),
-              float(skySum[2] / skyCount)};
-    const float l = float(zenith * (1.0 + 2.0 * std::sin(elevationDeg * M_PI / 180.0)) / 3.0);
-    return {l, l, l};
-  };
-  for (int r = 0; r < std::min(first, mapHeight); ++r) {
-    const double elevation = 90.0 - 180.0 * (r + 0.5) / mapHeight;
-    if (elevation > 0.0) profile[size_t(r)] = skyAt(elevation);
+      for (int r = 0; r < std::min(first, mapHeight); ++r)
+        if (90.0 - 180.0 * (r + 0.5) / mapHeight > 0.0)
+          profile[size_t(r)] = {float(seen.meanRgb[0]), float(seen.meanRgb[1]),
+                                float(seen.meanRgb[2])};
+    result.horizonRgb = profile[size_t(std::clamp(mapHeight / 2 - 1, 0, mapHeight - 1))];
+    result.zenithLuminance = ops::luminance(profile[0].data());
+    result.skyFromPlate = true;
+  } else {
+    daySky(result, profile, first, seen, framedSky, sceneZenith);
   }
-  result.horizonRgb = skyAt(0.0);
 
   EquirectMap& map = result.radiance;
   map = EquirectMap(mapWidth, mapHeight);

@@ -6,10 +6,10 @@
 // integrates to about 1: the furnace test), which is why rain looked too faint before.
 // The map: inside the camera's field of view, the frame itself; elsewhere, the frame's mean
 // radiance at the same elevation (its rows seen at that height above or below the horizon),
-// the bottom rows' mean below the frame; above the frame, the sky: the mean of the frame's own
-// sky where it shows one, else the CIE overcast sky (L = Lz (1 + 2 cos theta) / 3, Huang et
-// al.) that lights the scene as brightly as the frame shows it, taking a typical albedo of 0.18
-// (neutral grey).
+// the bottom rows' mean below the frame; above the frame, the sky: the CIE overcast sky (L = Lz
+// (1 + 2 cos theta) / 3, Huang et al.), brightening from the horizon to the zenith: the brighter
+// of the one through the frame's own sky where it shows one and the one that lights the scene
+// (mostly upright surfaces of a typical albedo, 0.18) as brightly as the frame shows it.
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -23,11 +23,19 @@ namespace pluvia::envmap {
 // `frame` in the working space, seen by `camera` (the frame's size and pose).
 struct FrameEnvironment {
   EquirectMap radiance;
-  std::array<float, 3> horizonRgb{0, 0, 0};  // the sky at the horizon: the airlight
+  // The airlight: the frame's own sky where it shows one, else the sky at the horizon.
+  std::array<float, 3> horizonRgb{0, 0, 0};
+  // The overcast sky assumed above the frame: its zenith luminance, and whether it goes through
+  // the plate's own sky (else it is the one that lights the scene as the plate shows it).
+  float zenithLuminance = 0.0f;
+  bool skyFromPlate = false;
 };
 
-// `sky`: width * height, 1 where the frame shows sky (empty: none known).
+// `sky`: width * height, 1 where the frame shows sky (empty: none known). A night plate is lit by
+// its lamps, not by the sky: its sky is only what the plate shows of it (the frame's own sky, or
+// its top rows carried up), with no overcast sky above.
 FrameEnvironment frameEnvironment(const Image& frame, const Camera& camera,
-                                  const std::vector<uint8_t>& sky, int widthTexels = 128);
+                                  const std::vector<uint8_t>& sky, bool nightPlate,
+                                  int widthTexels = 128);
 
 }  // namespace pluvia::envmap

@@ -95,6 +95,8 @@ struct FrameLight {
   std::array<double, 3> axis{0, 0, -1};  // unit, spot only
   double cosHalfAngle = 0.0;
   double falloffQ = 0.0;  // Huang et al.'s q
+  // A lamp found in the plate: its image and its bloom are already photographed (no glare).
+  bool photographed = false;
 };
 
 struct FrameContext {

@@ -16,6 +16,7 @@
 #include "pluvia/version.h"
 #include "stages/clip_still.h"
 #include "stages/lighting_settings.h"
+#include "stages/plate_lights.h"
 #include "stages/registry.h"
 #include "util/error.h"
 #include "util/hash.h"
@@ -24,7 +25,7 @@
 namespace pluvia {
 namespace {
 
-constexpr const char* kStageVersion = "4";
+constexpr const char* kStageVersion = "5";
 // A uniform environment needs no detail; an HDR is kept at most this wide (area-resampled, so
 // the power of a sun is kept): the drop shading resamples it to 256 x 128 anyway.
 constexpr int kUniformWidth = 8;
@@ -194,8 +195,17 @@ class EnvironmentStage : public Stage {
     if (source == "frame") {
       // The camera of the first frame, as the depth stage's guess sees the sky.
       const Camera camera = camera_.path(clip.camera).cameraAt(0.0);
+      const Image& still = clipStill(clip);
+      const bool night = isNightPlate(plateLuminance(still));
       envmap::FrameEnvironment plate =
-          envmap::frameEnvironment(clipStill(clip), camera, clipSky(clip, camera));
+          envmap::frameEnvironment(still, camera, clipSky(clip, camera), night);
+      log::info(
+          fmt::format("lighting: the sky above the plate has a zenith luminance of {:.3f} ({})",
+                      plate.zenithLuminance,
+                      night ? "a night plate: only the sky it shows, its lamps light the rest"
+                      : plate.skyFromPlate
+                          ? "through the plate's own sky"
+                          : "the sky that lights the scene as brightly as the plate shows it"));
       if (clip.cache) clip.cache->store("lighting", key, {{"frame", plateJson(plate)}});
       clip.environment = plateEnvironment(std::move(plate));
       const auto up = equirectBandMean(clip.environment->radiance, 30.0, 90.0);

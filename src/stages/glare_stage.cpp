@@ -5,10 +5,12 @@
 //
 // The sources: every pixel's light above 1.0 (diffuse white: a display-referred plate has none,
 // its own camera's glare is already in it; halo cores, lit drops and an HDR plate's lamps do)
-// moves out of its pixel into the veil, and each local light of the frame (lights.list and the
-// lamps found in the plate) in front of the camera, inside the frame and not hidden by the
-// scene's depth adds the veil of its irradiance at the camera, I(theta) exp(-beta d) / d^2. A
-// light's own image is not drawn (the plate shows its lamp); only its veil is.
+// moves out of its pixel into the veil, and each light the preset adds (lights.list) in front of
+// the camera, inside the frame and not hidden by the scene's depth adds the veil of its
+// irradiance at the camera, I(theta) exp(-beta d) / d^2. A light's own image is not drawn (the
+// plate shows its lamp); only its veil is. The lamps found in the plate add none: the plate holds
+// them with the bloom its camera gave them, and a second veil would light the frame twice and
+// hide the rain around them.
 #include <cmath>
 #include <optional>
 
@@ -72,6 +74,7 @@ class GlareStage : public Stage {
     const std::vector<float>* depth = image.findPlane("depth");
     const double f2 = camera.focalPx * camera.focalPx;
     for (const FrameLight& light : frame.lights) {
+      if (light.photographed) continue;  // the plate holds it with the bloom its camera gave it
       const auto& p = light.positionMeters;
       if (!(p[2] < 0.0)) continue;  // at or behind the camera
       const double z = -p[2],

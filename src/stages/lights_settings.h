@@ -29,6 +29,9 @@ struct LightSpec {
   std::array<double, 3> direction{0, -1, 0};  // spot: its axis (normalised when used)
   Ramp halfAngleDeg{30.0};                    // spot: A
   double falloffQ = 0.0;                      // spot: q of I(theta)
+  // A lamp found in the plate (lights.find): the plate already holds its image and the bloom the
+  // camera gave it, so it lights the rain and the mist but gets no glare of its own.
+  bool photographed = false;
 };
 
 // lights.glare: the veil bright sources spread over the picture (optics/glare.h).

@@ -234,6 +234,7 @@ std::vector<FrameLight> lightsAtFrame(const LightsSettings& settings, const Came
     for (int c = 0; c < 3; ++c) light.rgbIntensity[size_t(c)] = intensity * spec.rgb[size_t(c)];
     light.positionMeters = {position.x(), position.y(), position.z()};
     light.radiusMeters = spec.radiusMeters;
+    light.photographed = spec.photographed;
     if (spec.spot) {
       if (!(axis.norm() > 1e-9))
         throw Error(fmt::format("lights.list[{}]: a spot's axis (dir_x, dir_y, dir_z) = ({}, {}, "

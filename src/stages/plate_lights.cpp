@@ -150,6 +150,7 @@ LightSpec foundLampLight(const FoundLamp& lamp) {
   light.rgb = lamp.rgb;
   light.intensity = Ramp(lamp.intensity);
   light.radiusMeters = lamp.radiusMeters;
+  light.photographed = true;
   return light;
 }
 

@@ -41,7 +41,7 @@ TEST(CliNightLights, HalosBeamsAndLitStreaksOnADarkenedStreet) {
     "camera": {"fov_deg": 50, "exposure_s": 0.02, "f_number": 0, "focus_m": 0},
     "depth": {"source": "none"},
     "fog": {"density": 0.03, "color_source": "constant", "color": [0, 0, 0]},
-    "rain": {"rate_mm_h": 60, "far_m": 10, "seed": 3},
+    "rain": {"rate_mm_h": 60, "far_m": 10, "seed": 3, "opacity": 3},
     "lights": {"list": [
       {"type": "point", "x_m": -1.2, "y_m": 0.6, "z_m": -6, "intensity": 40,
        "color": [1.0, 0.8, 0.55]},

@@ -64,7 +64,7 @@ TEST(Preset, ExtendsMergesAndOverridesApply) {
   EXPECT_DOUBLE_EQ(p.number("rain.rate_mm_h"), 40.0);  // from heavy
   EXPECT_DOUBLE_EQ(p.number("rain.seed"), 3.0);        // --set
   EXPECT_DOUBLE_EQ(p.number("blur.sigma_px"), 2.5);
-  EXPECT_DOUBLE_EQ(p.number("camera.fov_deg"), 36.0);  // from base
+  EXPECT_DOUBLE_EQ(p.number("camera.fov_deg"), 50.0);  // from base
   EXPECT_EQ(p.string("fog.color_source"), "horizon");  // default filled
   EXPECT_FALSE(p.has("extends"));
 }
@@ -307,10 +307,12 @@ TEST(Preset, CameraPathAndLensKeys) {
   Preset plain = Preset::resolve("moderate", {}, presetSchema());
   EXPECT_TRUE(plain.at("camera.path").empty());
   EXPECT_DOUBLE_EQ(plain.number("camera.shutter_angle_deg"), 0.0);
-  // The shipped lens: focused on the default depth's backdrop, stopped down for daylight.
+  // The shipped camera: a video camera's small sensor at f/4, focused on the default depth's
+  // backdrop, with a daylight shutter.
   EXPECT_DOUBLE_EQ(plain.number("camera.focus_m"), 20.0);
-  EXPECT_DOUBLE_EQ(plain.number("camera.f_number"), 11.0);
-  EXPECT_DOUBLE_EQ(plain.number("camera.sensor_width_mm"), 36.0);
+  EXPECT_DOUBLE_EQ(plain.number("camera.f_number"), 4.0);
+  EXPECT_DOUBLE_EQ(plain.number("camera.sensor_width_mm"), 6.2);
+  EXPECT_DOUBLE_EQ(plain.number("camera.exposure_s"), 0.002);
   Camera base = Camera::fromFieldOfView(640, 360, 40, 0, 1.6);
   EXPECT_FALSE(cameraSettings(plain).path(base).moving());
 

@@ -49,33 +49,88 @@ Image twoToneFrame(float top, float bottom) {
   return frame;
 }
 
-TEST(FrameEnvironment, TheFramesOwnSkyLightsFromAbove) {
-  const Camera camera = Camera::fromFieldOfView(kWidth, kHeight, 50.0, 0.0, 1.6);
+std::vector<uint8_t> topThirdSky() {
   std::vector<uint8_t> sky(size_t(kWidth) * kHeight, 0);
   for (int y = 0; y < kHeight / 3; ++y)
     for (int x = 0; x < kWidth; ++x) sky[size_t(y) * kWidth + x] = 1;
+  return sky;
+}
+
+// The mean elevation (degrees, 0 at least) the sky pixels are seen at.
+double meanSkyElevationDeg(const Camera& camera, const std::vector<uint8_t>& sky) {
+  double sum = 0.0, count = 0.0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      if (!sky[size_t(y) * kWidth + x]) continue;
+      const Eigen::Vector3d d =
+          (camera.worldFromCamera * camera.rayCamera(x + 0.5, y + 0.5)).normalized();
+      sum += std::max(0.0, std::asin(d.y()) * 180.0 / M_PI);
+      count += 1.0;
+    }
+  return sum / count;
+}
+
+// Lz of the CIE overcast sky under which upright surfaces of albedo 0.18 have `luminance`: sky
+// (2/3)(pi/4 + 2/3) Lz plus the ground's 0.18 * (7 pi / 9) Lz / 2.
+double sceneZenith(double luminance) {
+  const double upright = 2.0 / 3.0 * (M_PI / 4.0 + 2.0 / 3.0) + 0.18 * 7.0 * M_PI / 9.0 / 2.0;
+  return M_PI * luminance / (0.18 * upright);
+}
+
+TEST(FrameEnvironment, TheOvercastSkyGoesThroughTheFramesOwnSky) {
+  const Camera camera = Camera::fromFieldOfView(kWidth, kHeight, 50.0, 0.0, 1.6);
+  const std::vector<uint8_t> sky = topThirdSky();
   const envmap::FrameEnvironment env =
-      envmap::frameEnvironment(twoToneFrame(0.9f, 0.1f), camera, sky);
-  // Straight up: the frame's sky; straight down: the frame's bottom rows; ahead, slightly
-  // below the horizon: the frame itself.
-  EXPECT_NEAR(sampleEquirect(env.radiance, 0, 1, 0)[0], 0.9f, 1e-4);
+      envmap::frameEnvironment(twoToneFrame(0.9f, 0.1f), camera, sky, false);
+  // The CIE overcast profile L(e) = Lz (1 + 2 sin e) / 3 through the plate's sky (0.9) at the
+  // mean elevation it is seen at: brighter than the plate above it, darker at the horizon.
+  const double e0 = meanSkyElevationDeg(camera, sky) * M_PI / 180.0;
+  const double zenith = 3.0 * 0.9 / (1.0 + 2.0 * std::sin(e0));
+  ASSERT_GT(zenith, sceneZenith(0.1));  // the plate's sky is the brighter estimate here
+  EXPECT_NEAR(env.zenithLuminance, zenith, 1e-4);
+  EXPECT_TRUE(env.skyFromPlate);
+  EXPECT_NEAR(env.horizonRgb[1], 0.9f, 1e-4);  // the airlight: the plate's own sky
+  const float up = sampleEquirect(env.radiance, 0, 1, 0)[0];
+  EXPECT_NEAR(up, zenith, 0.03 * zenith);  // the top row's centre is just off the zenith
+  // Straight down: the frame's bottom rows; ahead, slightly below the horizon: the frame itself.
   EXPECT_NEAR(sampleEquirect(env.radiance, 0, -1, 0)[0], 0.1f, 1e-4);
   EXPECT_NEAR(sampleEquirect(env.radiance, 0, -0.2f, -1)[0], 0.1f, 1e-3);
-  EXPECT_NEAR(env.horizonRgb[1], 0.9f, 1e-4);
+}
+
+TEST(FrameEnvironment, ADimPlateSkyIsNoDarkerThanTheSkyThatLightsTheScene) {
+  // A clipped or knee-compressed sky records darker than it is: a plate whose sky reads 0.5 over
+  // a scene of 0.3 gets the sky that lights that scene.
+  const Camera camera = Camera::fromFieldOfView(kWidth, kHeight, 50.0, 0.0, 1.6);
+  const envmap::FrameEnvironment env =
+      envmap::frameEnvironment(twoToneFrame(0.5f, 0.3f), camera, topThirdSky(), false);
+  EXPECT_NEAR(env.zenithLuminance, sceneZenith(0.3), 1e-3);
+  EXPECT_FALSE(env.skyFromPlate);
 }
 
 TEST(FrameEnvironment, NoSkyInTheFrameGivesTheOvercastSkyThatLightsIt) {
   const Camera camera = Camera::fromFieldOfView(kWidth, kHeight, 50.0, 0.0, 1.6);
   const Image frame = twoToneFrame(0.2f, 0.2f);  // a grey wall, luminance 0.2
-  const envmap::FrameEnvironment env = envmap::frameEnvironment(frame, camera, {});
-  // CIE overcast: Lz = 9/7 * 0.2 / 0.18; the horizon a third of it.
-  const double zenith = 9.0 / 7.0 * 0.2 / 0.18;
+  const envmap::FrameEnvironment env = envmap::frameEnvironment(frame, camera, {}, false);
+  const double zenith = sceneZenith(0.2);
   EXPECT_NEAR(env.horizonRgb[0], zenith / 3.0, 1e-4);
   const float up = sampleEquirect(env.radiance, 0, 1, 0)[0];
   EXPECT_NEAR(up, zenith, 0.03 * zenith);  // the top row's centre is just off the zenith
   // The sky is brighter than what it lights, so drops against the wall show.
-  EXPECT_GT(up, 5.0f * 0.2f);
+  EXPECT_GT(up, 10.0f * 0.2f);
   for (float v : env.radiance.rgb) EXPECT_TRUE(std::isfinite(v));
+}
+
+TEST(FrameEnvironment, ANightPlatesSkyIsOnlyWhatThePlateShows) {
+  // Lamps light a night scene, not the sky: no overcast sky above, so drops far from the lamps
+  // stay as dark as the night.
+  const Camera camera = Camera::fromFieldOfView(kWidth, kHeight, 50.0, 0.0, 1.6);
+  const envmap::FrameEnvironment withSky =
+      envmap::frameEnvironment(twoToneFrame(0.02f, 0.05f), camera, topThirdSky(), true);
+  EXPECT_NEAR(sampleEquirect(withSky.radiance, 0, 1, 0)[0], 0.02f, 1e-5);
+  EXPECT_NEAR(withSky.zenithLuminance, 0.02f, 1e-5);
+  const envmap::FrameEnvironment noSky =
+      envmap::frameEnvironment(twoToneFrame(0.05f, 0.05f), camera, {}, true);
+  EXPECT_NEAR(sampleEquirect(noSky.radiance, 0, 1, 0)[0], 0.05f, 1e-5);
 }
 
 }  // namespace
