@@ -290,7 +290,7 @@ std::string formatRealismReport(const RealismReport& report) {
     if (!header) {
       out << "\nRatios to real (typical = exp(mean |ln ratio|) over these):\n";
       out << fmt::format("{:>14}{:>10}", "clip", "preset");
-      for (const auto& [name, ratio] : row.ratios) out << fmt::format("{:>10}", name);
+      for (const auto& [name, ratio] : row.ratios) out << fmt::format("{:>14}", name);
       out << fmt::format("{:>9}\n", "typical");
       header = true;
     }

@@ -1,5 +1,6 @@
 #include "pipeline/camera_settings.h"
 
+#include <algorithm>
 #include <limits>
 
 namespace pluvia {
@@ -52,8 +53,11 @@ const SettingsTable<CameraSettings>& cameraTable() {
                numberParam("fov_deg", 36.0, {1.0, 170.0}, "deg", "horizontal field of view")),
           // The exposure may ramp (the rain stage reads it per frame); the rest is fixed for
           // the shot.
-          bind(&S::exposureSeconds, numberParam("exposure_s", 0.02, {1.0 / 8000.0, 1.0}, "s",
-                                                "shutter time; sets the streak length")),
+          bind(&S::exposureSeconds,
+               numberParam("exposure_s", 0.02, {0.0, 1.0}, "s",
+                           "shutter time; sets the streak length and brightness; 0: a video "
+                           "camera's auto exposure: 1/500 s on a day plate, the 180-degree "
+                           "shutter (half the frame time) on a night plate")),
           bind(&S::shutterAngleDeg,
                numberParam("shutter_angle_deg", 0.0, {0.0, 360.0}, "deg",
                            "when > 0: exposure = shutter_angle / 360 / fps, overriding "
@@ -94,7 +98,15 @@ CameraPath CameraSettings::path(const Camera& base) const {
 }
 
 double CameraSettings::exposureSecondsAt(double fps, double frame) const {
-  return shutterAngleDeg > 0.0 ? shutterAngleDeg / 360.0 / fps : exposureSeconds.valueAt(frame);
+  if (shutterAngleDeg > 0.0) return shutterAngleDeg / 360.0 / fps;
+  const double exposure = exposureSeconds.valueAt(frame);
+  return exposure > 0.0 ? exposure : autoExposureSeconds;
+}
+
+bool CameraSettings::autoExposure() const {
+  if (shutterAngleDeg > 0.0) return false;
+  const std::vector<RampKey>& keys = exposureSeconds.keys();
+  return std::any_of(keys.begin(), keys.end(), [](const RampKey& k) { return k.value <= 0.0; });
 }
 
 }  // namespace pluvia

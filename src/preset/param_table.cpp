@@ -1,7 +1,10 @@
 #include "preset/param_table.h"
 
+#include <regex>
+
 #include <algorithm>
 #include <cmath>
+#include <regex>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -101,16 +104,29 @@ bool isKeyframable(const ParamSpec& p) {
   return false;
 }
 
+// " [NAME: value]" when the preset section `preset` sets the parameter to other than its default.
+std::string presetValueText(const ParamSpec& p, const nlohmann::json* preset,
+                            const std::string& presetName) {
+  if (!preset) return "";
+  const nlohmann::json::json_pointer at("/" + std::regex_replace(p.key, std::regex("\\."), "/"));
+  if (!preset->contains(at)) return "";
+  const nlohmann::json& value = preset->at(at);
+  if (value == p.defaultValue) return "";
+  return fmt::format(" [{}: {}]", presetName, value.dump());
+}
+
 void describeParams(std::string& text, const std::vector<ParamSpec>& params,
-                    const std::string& indent) {
+                    const std::string& indent, const nlohmann::json* preset = nullptr,
+                    const std::string& presetName = "") {
   for (const auto& p : params) {
     std::string type = paramTypeName(p.type);
     if (p.keyframes) type += "|keys";
     std::string defaultText = p.required                 ? "(required)"
                               : p.defaultValue.is_null() ? "-"
                                                          : p.defaultValue.dump();
-    text += fmt::format("{}{:<22} {:<12} default {:<12} {:<16} {:<6} {}\n", indent, p.key, type,
-                        defaultText, rangeText(p), p.units, p.help);
+    text += fmt::format("{}{:<22} {:<12} default {:<12} {:<16} {:<6} {}{}\n", indent, p.key, type,
+                        defaultText, rangeText(p), p.units, p.help,
+                        presetValueText(p, preset, presetName));
     if (!p.orderedBy.empty())
       text += fmt::format("{}  items in strictly increasing \"{}\"\n", indent, p.orderedBy);
     for (const auto& [itemType, fields] : p.itemTypes) {
@@ -125,7 +141,8 @@ void describeParams(std::string& text, const std::vector<ParamSpec>& params,
 }
 }  // namespace
 
-std::string describeSection(const SectionSpec& section) {
+std::string describeSection(const SectionSpec& section, const nlohmann::json* preset,
+                            const std::string& presetName) {
   std::string text = fmt::format("{}: {}\n", section.name, section.help);
   if (!section.inputs.empty() || !section.outputs.empty()) {
     auto join = [](const std::vector<std::string>& v) {
@@ -135,7 +152,7 @@ std::string describeSection(const SectionSpec& section) {
     };
     text += fmt::format("  reads: {}   writes: {}\n", join(section.inputs), join(section.outputs));
   }
-  describeParams(text, section.params, "  ");
+  describeParams(text, section.params, "  ", preset, presetName);
   if (std::any_of(section.params.begin(), section.params.end(), isKeyframable)) {
     text +=
         "  number|keys: a number, or keyframes over clip frames: "

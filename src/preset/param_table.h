@@ -102,7 +102,10 @@ std::string nearestWord(const std::string& word, const std::vector<std::string>&
 std::string didYouMean(const std::string& word, const std::vector<std::string>& candidates);
 
 // One line per parameter: key, type, default, range or choices, units, help. A keyframable
-// parameter's type reads "number|keys" / "integer|keys".
-std::string describeSection(const SectionSpec& section);
+// parameter's type reads "number|keys" / "integer|keys". With `preset` (the section's object in a
+// resolved preset) and its name, a parameter the preset sets to other than the default ends with
+// "[NAME: value]".
+std::string describeSection(const SectionSpec& section, const nlohmann::json* preset = nullptr,
+                            const std::string& presetName = "");
 
 }  // namespace pluvia

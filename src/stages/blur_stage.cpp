@@ -8,29 +8,6 @@
 #include "stages/registry.h"
 
 namespace pluvia {
-namespace {
-
-class BlurStage : public Stage {
- public:
-  explicit BlurStage(BlurSettings blur) : blur_(blur) {}
-
-  void process(ClipContext&, FrameContext& frame) override {
-    const GradingAov aov(frame.image, "blur");
-    const std::vector<float> weight = depthGradingWeights(frame.image, blur_.distanceMeters);
-    Image blurred;
-    blurred.width = frame.image.width;
-    blurred.height = frame.image.height;
-    blurred.rgba = frame.image.rgba;
-    ops::gaussianBlur(blurred, float(blur_.sigmaPx));
-    ops::blendToward(frame.image, blurred, weight.data());
-    aov.finish(frame.image, weight);
-  }
-
- private:
-  BlurSettings blur_;
-};
-
-}  // namespace
 
 StageInfo blurStageInfo() {
   return makeStageInfo(blurTable().section(), blurSettings,
@@ -43,8 +20,19 @@ StageInfo blurStageInfo() {
                                          ? std::vector<std::string>{"image", "depth"}
                                          : std::vector<std::string>{"image"};
                             },
-                        .create = [](const BlurSettings& blur,
-                                     const Preset&) { return std::make_unique<BlurStage>(blur); }});
+                        .create =
+                            [](const BlurSettings& blur, const Preset&) {
+                              return std::make_unique<DepthGradingStage>(
+                                  "blur", blur.distanceMeters,
+                                  [blur](Image& image, const std::vector<float>& weight) {
+                                    Image blurred;
+                                    blurred.width = image.width;
+                                    blurred.height = image.height;
+                                    blurred.rgba = image.rgba;
+                                    ops::gaussianBlur(blurred, float(blur.sigmaPx));
+                                    ops::blendToward(image, blurred, weight.data());
+                                  });
+                            }});
 }
 
 }  // namespace pluvia

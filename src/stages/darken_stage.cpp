@@ -7,24 +7,6 @@
 #include "stages/registry.h"
 
 namespace pluvia {
-namespace {
-
-class DarkenStage : public Stage {
- public:
-  explicit DarkenStage(DarkenSettings darken) : darken_(darken) {}
-
-  void process(ClipContext&, FrameContext& frame) override {
-    const GradingAov aov(frame.image, "darken");
-    const std::vector<float> weight = depthGradingWeights(frame.image, darken_.distanceMeters);
-    ops::darken(frame.image, float(darken_.amount), float(darken_.darkening), weight.data());
-    aov.finish(frame.image, weight);
-  }
-
- private:
-  DarkenSettings darken_;
-};
-
-}  // namespace
 
 StageInfo darkenStageInfo() {
   return makeStageInfo(
@@ -37,8 +19,14 @@ StageInfo darkenStageInfo() {
              return darken.distanceMeters > 0.0 ? std::vector<std::string>{"image", "depth"}
                                                 : std::vector<std::string>{"image"};
            },
-       .create = [](const DarkenSettings& darken,
-                    const Preset&) { return std::make_unique<DarkenStage>(darken); }});
+       .create =
+           [](const DarkenSettings& darken, const Preset&) {
+             return std::make_unique<DepthGradingStage>(
+                 "darken", darken.distanceMeters,
+                 [darken](Image& image, const std::vector<float>& weight) {
+                   ops::darken(image, float(darken.amount), float(darken.darkening), weight.data());
+                 });
+           }});
 }
 
 }  // namespace pluvia

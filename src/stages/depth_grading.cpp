@@ -42,4 +42,11 @@ void GradingAov::finish(Image& image, const std::vector<float>& weight) const {
   }
 }
 
+void DepthGradingStage::process(ClipContext&, FrameContext& frame) {
+  const GradingAov aov(frame.image, name_);
+  const std::vector<float> weight = depthGradingWeights(frame.image, distanceMeters_);
+  grade_(frame.image, weight);
+  aov.finish(frame.image, weight);
+}
+
 }  // namespace pluvia

@@ -8,10 +8,12 @@
 // Each grading stage writes what it changed as its own AOV (`--aov darken,blur,fog`: planes
 // "<name>.R/G/B" = after - before, "<name>.A" = the weight), so the plate plus the AOVs rebuilds
 // the graded frame in comp.
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "image/image.h"
+#include "pipeline/stage.h"
 
 namespace pluvia {
 
@@ -30,6 +32,21 @@ class GradingAov {
  private:
   std::string name_;
   std::vector<float> before_;  // RGBA; empty when the AOV was not asked for
+};
+
+// A grading stage (darken, blur): `grade` changes the frame by the per-pixel weight w(z) of
+// `distanceMeters`, and the change is recorded as AOV `name` when asked for.
+class DepthGradingStage : public Stage {
+ public:
+  using Grade = std::function<void(Image& image, const std::vector<float>& weight)>;
+  DepthGradingStage(std::string name, double distanceMeters, Grade grade)
+      : name_(std::move(name)), distanceMeters_(distanceMeters), grade_(std::move(grade)) {}
+  void process(ClipContext&, FrameContext& frame) override;
+
+ private:
+  std::string name_;
+  double distanceMeters_;
+  Grade grade_;
 };
 
 }  // namespace pluvia

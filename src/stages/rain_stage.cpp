@@ -12,6 +12,7 @@
 #include "rain/drop_simulation.h"
 #include "rain/stroke_library.h"
 #include "rain/thin_lens.h"
+#include "stages/auto_exposure.h"
 #include "stages/fog_settings.h"
 #include "stages/lights_settings.h"
 #include "stages/local_lights.h"
@@ -125,6 +126,7 @@ class RainStage : public Stage {
 
   void prepare(ClipContext& clip) override {
     fps_ = clip.fps;
+    resolveAutoExposure(camera_, clip, "rain");
     const CameraPath path = clip.trackedPath ? *clip.trackedPath : camera_.path(clip.camera);
     path_ = path;
     // D(theta) per steradian for drops lit by the local lights (lights stage), 512 bins in

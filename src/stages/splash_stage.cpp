@@ -18,6 +18,7 @@
 #include "rain/splash_rate.h"
 #include "rain/splashes.h"
 #include "rain/splatter.h"
+#include "stages/auto_exposure.h"
 #include "stages/rain_settings.h"
 #include "stages/registry.h"
 #include "stages/splash_settings.h"
@@ -43,6 +44,7 @@ class SplashStage : public Stage {
     if (!clip.environment) throw Error("splash needs the lighting stage's environment", {"splash"});
     path_ = clip.trackedPath ? *clip.trackedPath : camera_.path(clip.camera);
     fps_ = clip.fps;
+    resolveAutoExposure(camera_, clip, "splash");
     // A small map is enough: splashes are a few pixels across.
     optics::RadianceMapSettings map;
     map.outputWidth = 64;

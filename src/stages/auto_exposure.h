@@ -1,0 +1,18 @@
+#pragma once
+// camera.exposure_s 0: the shutter a video camera's auto exposure takes for the plate. By day,
+// without neutral-density filters, it shortens the shutter against the light (1/500 s in overcast
+// daylight: NTURain's rain, short bright dashes, measures so in `pluvia report realism`); at night
+// it opens to the 180-degree shutter, half the frame time (1/50 s at 25 fps), where drops far
+// from the lamps fade into the dark and those near them draw long glints.
+#include "pipeline/camera_settings.h"
+#include "pipeline/stage.h"
+
+namespace pluvia {
+
+inline constexpr double kDaylightExposureSeconds = 1.0 / 500.0;
+
+// Sets camera.autoExposureSeconds from the clip's still (stages/plate_lights.h: a night plate)
+// when the camera leaves its exposure to auto; logs it once per stage.
+void resolveAutoExposure(CameraSettings& camera, ClipContext& clip, const char* stage);
+
+}  // namespace pluvia
