@@ -296,7 +296,7 @@ std::string formatRealismReport(const RealismReport& report) {
     }
     out << fmt::format("{:>14}{:>10}", row.clip.substr(0, 13), row.preset);
     for (const auto& [name, ratio] : row.ratios)
-      out << fmt::format("{:>10}", fixedOrDash(ratio, 2));
+      out << fmt::format("{:>14}", fixedOrDash(ratio, 2));
     out << fmt::format("{:>9}\n", fixedOrDash(row.typical, 2));
   }
   for (const std::string& note : report.notes) out << "note: " << note << "\n";
