@@ -251,6 +251,14 @@ StageInfo environmentStageInfo() {
   return makeStageInfo(
       lightingTable().section(), lightingSettings,
       {.perClip = true,
+       // Which sky the drops are lit by, before the analysis says how bright (the log does).
+       .note = [](const LightingSettings& lighting, const Preset&) -> std::string {
+         if (lighting.source != "frame") return "";
+         return "drops lit by the plate and, above it, an overcast sky (zenith 3x the horizon): "
+                "the brighter of the plate's own sky and the sky that lights its scene as "
+                "brightly as the plate shows it (about 15x its mean luminance); a night plate "
+                "keeps only the sky it shows";
+       },
        .cacheKey =
            [](const LightingSettings& lighting, const Preset& p, const ClipInfo& clip) {
              // An HDR is read, not computed: nothing to cache (`--require-cache` must not ask

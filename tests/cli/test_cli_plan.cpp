@@ -18,6 +18,10 @@ TEST(CliPlan, SaysWhatRunsAndWhatIsLeftOutAndWhy) {
             std::string::npos);
   EXPECT_NE(r.output.find("run     rain"), std::string::npos);
   EXPECT_NE(r.output.find("48 frames"), std::string::npos);
+  // Which sky lights the drops (the log gives its brightness once the plate is analysed).
+  EXPECT_NE(r.output.find("drops lit by the plate and, above it, an overcast sky"),
+            std::string::npos)
+      << r.output;
 }
 
 TEST(CliPlan, CacheMakesLightingCachedOnTheSecondRun) {
