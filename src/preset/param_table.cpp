@@ -108,7 +108,8 @@ bool isKeyframable(const ParamSpec& p) {
 std::string presetValueText(const ParamSpec& p, const nlohmann::json* preset,
                             const std::string& presetName) {
   if (!preset) return "";
-  const nlohmann::json::json_pointer at("/" + std::regex_replace(p.key, std::regex("\\."), "/"));
+  const nlohmann::json::json_pointer at(
+      fmt::format("/{}", std::regex_replace(p.key, std::regex("\\."), "/")));
   if (!preset->contains(at)) return "";
   const nlohmann::json& value = preset->at(at);
   if (value == p.defaultValue) return "";
