@@ -6,6 +6,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "rain/stroke_profile.h"
 #include "util/error.h"
 
 namespace pluvia::derain {
@@ -170,51 +171,27 @@ struct Measure {
   double fidelity = 0.0;
 };
 
-// Length: the stroke's full length at half maximum of its profile along (row sums),
-// independent of its contrast; width: its mean equivalent width across (row sum over row peak)
-// over those rows.
+// Length and width: the matte's own (rain/stroke_profile.h), as the renderer measures it.
 Measure measureStroke(const cv::Mat& crop) {
   Measure m;
-  std::vector<double> rowPeak(size_t(crop.rows), 0.0), rowSum(size_t(crop.rows), 0.0);
-  for (int y = 0; y < crop.rows; ++y) {
-    const float* p = crop.ptr<float>(y);
-    for (int x = 0; x < crop.cols; ++x) {
-      rowPeak[size_t(y)] = std::max(rowPeak[size_t(y)], double(p[x]));
-      rowSum[size_t(y)] += p[x];
-    }
-    m.contrast = std::max(m.contrast, rowPeak[size_t(y)]);
-  }
+  const rain::StrokeProfile profile =
+      rain::strokeProfile(crop.ptr<float>(0), crop.step1(), crop.cols, crop.rows);
+  m.contrast = profile.contrast;
   if (m.contrast <= 0.0) return m;
-  // The profile along the stroke is the row sum: unlike the row peak it does not change with
-  // where a thin stroke falls between pixels.
-  const double along = *std::max_element(rowSum.begin(), rowSum.end());
-  const double half = 0.5 * along;
-  // First and last rows above half maximum, with the crossings interpolated.
-  int first = -1, last = -1;
-  for (int y = 0; y < crop.rows; ++y)
-    if (rowSum[size_t(y)] >= half) {
-      if (first < 0) first = y;
-      last = y;
-    }
-  auto crossing = [&](int inside, int outside) {
-    if (outside < 0 || outside >= crop.rows) return 0.5;
-    const double a = rowSum[size_t(inside)], b = rowSum[size_t(outside)];
-    return std::clamp((a - half) / std::max(a - b, 1e-12), 0.0, 1.0);
-  };
-  m.lengthPx = double(last - first) + crossing(first, first - 1) + crossing(last, last + 1);
-  double widthSum = 0.0, profileSum = 0.0;
-  int rows = 0;
+  const std::vector<double>& rowPeak = profile.rowPeak;
+  const std::vector<double>& rowSum = profile.rowSum;
+  const double along = profile.along, half = 0.5 * along;
+  const int first = profile.first, last = profile.last;
+  m.lengthPx = profile.lengthPx;
+  m.widthPx = profile.widthPx;
+  double profileSum = 0.0;
   // Gaps: the profile's lowest point inside, away from the ends (where it falls to half).
   const int inset = std::max(1, int(std::lround(0.15 * (last - first))));
   m.gap = 1.0;
   for (int y = first; y <= last; ++y) {
     profileSum += rowSum[size_t(y)];
     if (y >= first + inset && y <= last - inset) m.gap = std::min(m.gap, rowSum[size_t(y)] / along);
-    if (rowSum[size_t(y)] < half) continue;
-    widthSum += rowSum[size_t(y)] / rowPeak[size_t(y)];
-    ++rows;
   }
-  m.widthPx = rows ? widthSum / rows : 0.0;
   m.fill = profileSum / (double(last - first + 1) * along);
   // Row centres (alpha-weighted) over the same rows, fitted by x = a + b y (weighted).
   double sw = 0, sy = 0, sx = 0, syy = 0, sxy = 0;

@@ -23,6 +23,11 @@ constexpr double kSceneAlbedo = 0.18;
 // half of a level surface's 7 pi / 9 Lz times that albedo: its illuminance per unit Lz.
 const double kUprightIlluminance =
     2.0 / 3.0 * (M_PI / 4.0 + 2.0 / 3.0) + kSceneAlbedo * 7.0 * M_PI / 9.0 / 2.0;
+// What a plate shows stands among other things (the street's far side, trees, eaves, the
+// camera's own surroundings) that hide part of the sky from it: sky view factors in streets
+// and gardens run 0.4-0.8 of an open site's. A drop in the open air between them sees more of
+// it; pluvia takes the surfaces' share as 2/3.
+constexpr double kSkyViewFactor = 2.0 / 3.0;
 // A frame whose sky covers less than this is taken to show none.
 constexpr double kMinSkyFraction = 0.01;
 
@@ -150,12 +155,14 @@ FrameEnvironment frameEnvironment(const Image& frame, const Camera& camera,
   // plate clips it (and a camera's highlight knee compresses it). So the sky is the brighter of
   // two estimates: the profile through the frame's own sky at the mean elevation it is seen at,
   // and the sky that lights the scene as brightly as the frame shows it: an upright surface of
-  // albedo a under it has radiance a E / pi with E = kUprightIlluminance Lz, so Lz = pi (the
-  // scene's mean luminance) / (a kUprightIlluminance), about 15 times the scene's mean.
+  // albedo a under it, seeing a share v of it, has radiance a E / pi with E = v kUprightIlluminance
+  // Lz, so Lz = pi (the scene's mean luminance) / (a v kUprightIlluminance), about 22 times the
+  // scene's mean.
   const SkySample seen = sampleSky(frame, camera, sky);
   const double pixels = double(camera.width) * camera.height;
   const bool framedSky = seen.pixels >= kMinSkyFraction * pixels;
-  const double sceneZenith = M_PI * seen.sceneLuminance / (kSceneAlbedo * kUprightIlluminance);
+  const double sceneZenith =
+      M_PI * seen.sceneLuminance / (kSceneAlbedo * kSkyViewFactor * kUprightIlluminance);
   if (nightPlate) {
     // At night the scene is lit by its lamps, not by the sky: the sky is what the plate shows of
     // it, or without sky in view the frame's top rows carried up (the profile already).

@@ -220,6 +220,39 @@ bool DropSimulation::insideBox(const Eigen::Vector3d& worldMeters) const {
   return true;
 }
 
+namespace {
+
+struct StreakQuadFit {
+  double headX, headY, tailX, tailY, widthPx;
+  double alphaScale;  // the old quad's area over the new one's: the streak's energy is kept
+};
+
+// The quad that makes a stroke's own size the streak's: its equivalent width that of a disc
+// swept along the path (pi/4 of the drawn diameter), its half-maximum length the path and the
+// drop together (hypot: the path for a long streak, the disc for a still drop). The rectangle
+// around it is `scale` = {across, along} times larger (strokeQuadScales()).
+StreakQuadFit fitStrokeToStreak(double hx, double hy, double tx, double ty, double widthPx,
+                                std::array<float, 2> scale) {
+  if (scale[0] == 1.0f && scale[1] == 1.0f) return {hx, hy, tx, ty, widthPx, 1.0};
+  const double lengthPx = std::hypot(tx - hx, ty - hy);
+  const double quadWidthPx = scale[0] * 0.25 * M_PI * widthPx;
+  const double quadAlongPx = std::max(scale[1] * std::hypot(lengthPx, widthPx), quadWidthPx);
+  const double pathPx = quadAlongPx - quadWidthPx;
+  // A still drop keeps the vertical axis the quad takes for it (gpu/streak_quad.h).
+  const bool moving = lengthPx > 1e-4;
+  const double axisX = moving ? (tx - hx) / lengthPx : 0.0;
+  const double axisY = moving ? (ty - hy) / lengthPx : 1.0;
+  const double cx = 0.5 * (hx + tx), cy = 0.5 * (hy + ty);
+  return {cx - 0.5 * pathPx * axisX,
+          cy - 0.5 * pathPx * axisY,
+          cx + 0.5 * pathPx * axisX,
+          cy + 0.5 * pathPx * axisY,
+          quadWidthPx,
+          (lengthPx + widthPx) * widthPx / (quadAlongPx * quadWidthPx)};
+}
+
+}  // namespace
+
 std::vector<StreakInstance> DropSimulation::buildStreaks(
     const StreakSettings& s, std::vector<StreakInstance>* farStreaks) const {
   const Camera start = cameraAt_(double(frame_));
@@ -257,21 +290,27 @@ std::vector<StreakInstance> DropSimulation::buildStreaks(
     const double timeFraction = widthPx / (lengthPx + drawnWidthPx);
     const double coverage = widthPx / drawnWidthPx;
     const double fog = std::exp(-s.fogDensityPerMeter * depthMeters);
-    const double alpha = std::min(1.0, s.opacity * timeFraction * coverage * fog / s.meanMatte);
+    CounterRng rng(settings_.seed ^ 0x5712u, i);
+    const int strokeIndex =
+        int(std::min<uint64_t>(uint64_t(std::max(1, s.strokeCount)) - 1,
+                               rng.nextU64() % uint64_t(std::max(1, s.strokeCount))));
+    const StreakQuadFit fit = fitStrokeToStreak(hx, hy, tx, ty, drawnWidthPx,
+                                                size_t(strokeIndex) < s.strokeQuadScale.size()
+                                                    ? s.strokeQuadScale[size_t(strokeIndex)]
+                                                    : std::array<float, 2>{1.0f, 1.0f});
+    const double alpha =
+        std::min(1.0, s.opacity * timeFraction * coverage * fog / s.meanMatte * fit.alphaScale);
     if (!(alpha >= 1.0 / 1024.0)) continue;  // invisible in any 10-bit output (and never NaN)
     const Eigen::Vector3d view = (p - start.positionMeters).normalized();
-    CounterRng rng(settings_.seed ^ 0x5712u, i);
     StreakInstance streak{};
-    streak.headX = float(hx);
-    streak.headY = float(hy);
-    streak.tailX = float(tx);
-    streak.tailY = float(ty);
-    streak.widthPx = float(drawnWidthPx);
+    streak.headX = float(fit.headX);
+    streak.headY = float(fit.headY);
+    streak.tailX = float(fit.tailX);
+    streak.tailY = float(fit.tailY);
+    streak.widthPx = float(fit.widthPx);
     streak.alpha = float(alpha);
     streak.depthMeters = float(depthMeters);
-    streak.strokeIndex =
-        float(std::min<uint64_t>(uint64_t(std::max(1, s.strokeCount)) - 1,
-                                 rng.nextU64() % uint64_t(std::max(1, s.strokeCount))));
+    streak.strokeIndex = float(strokeIndex);
     streak.viewX = float(view.x());
     streak.viewY = float(view.y());
     streak.viewZ = float(view.z());

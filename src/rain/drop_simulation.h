@@ -20,6 +20,7 @@
 // frame, from the clip's first frame) however the frames are split between processes, and
 // every drop's randomness depends only on (seed, index); so frame N is byte-identical whether
 // rendered alone, in a chunk or in a full run.
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -78,6 +79,11 @@ struct StreakSettings {
   // Mean matte value over a stroke's rectangle: alpha is divided by it so that the drawn
   // matte, integrated over the quad, carries the drop's physical coverage.
   double meanMatte = 1.0;
+  // Per stroke, its rectangle over the matte's own equivalent width and half-maximum length
+  // (strokeQuadScales() in rain/stroke_library.h): each quad grows by them so that the stroke
+  // it carries, not its rectangle, has the streak's width and length. Empty: the rectangle is
+  // the stroke (a synthetic atlas).
+  std::vector<std::array<float, 2>> strokeQuadScale;
   // Defocus (thin lens): no blur when either is 0.
   double focusMeters = 0.0;
   double fNumber = 0.0;

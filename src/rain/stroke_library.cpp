@@ -10,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "pluvia/version.h"
+#include "rain/stroke_profile.h"
 #include "util/error.h"
 #include "util/fs.h"
 
@@ -257,6 +258,26 @@ double meanMatte(const StrokeAtlas& atlas) {
       }
   }
   return count && sum > 0 ? sum / double(count) : 1.0;
+}
+
+std::vector<std::array<float, 2>> strokeQuadScales(const StrokeAtlas& atlas) {
+  std::vector<std::array<float, 2>> scales;
+  scales.reserve(atlas.rects.size());
+  for (const auto& r : atlas.rects) {
+    const int x0 = int(r[0]), y0 = int(r[1]), cols = int(r[2]) - x0, rows = int(r[3]) - y0;
+    const StrokeProfile profile = cols > 0 && rows > 0
+                                      ? strokeProfile(&atlas.alpha[size_t(y0) * atlas.width + x0],
+                                                      size_t(atlas.width), cols, rows)
+                                      : StrokeProfile{};
+    if (profile.widthPx <= 0.0 || profile.lengthPx <= 0.0) {
+      scales.push_back({1.0f, 1.0f});
+      continue;
+    }
+    // Never smaller than the rectangle: a matte is not cropped.
+    scales.push_back({float(std::max(1.0, cols / profile.widthPx)),
+                      float(std::max(1.0, rows / profile.lengthPx))});
+  }
+  return scales;
 }
 
 nlohmann::json strokeAtlasToJson(const StrokeAtlas& atlas) {

@@ -10,6 +10,7 @@
 //                 "source_frame": n, "score": s}, ...]}
 // Every stroke in the atlas is vertical (rain rotated upright), its matte scaled to peak 1
 // (the renderer sets the opacity from physics; `contrast` keeps the measured peak).
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -47,6 +48,13 @@ std::string builtinStrokeLibraryPath();
 
 // Mean matte value over all strokes' rectangles (1 for an empty atlas).
 double meanMatte(const StrokeAtlas& atlas);
+
+// Per stroke, how much larger than the matte's own equivalent width and length (half-maximum,
+// rain/stroke_profile.h) its rectangle is: {across, along}. A matte cut from footage keeps its
+// soft sides and ends, so its rectangle is wider and longer than the stroke it holds; the
+// renderer grows each quad by these factors so that the stroke itself is the drop's streak.
+// {1, 1} for an empty rectangle.
+std::vector<std::array<float, 2>> strokeQuadScales(const StrokeAtlas& atlas);
 
 // A whole atlas as one JSON value (alpha inline), for the artifact cache.
 nlohmann::json strokeAtlasToJson(const StrokeAtlas& atlas);

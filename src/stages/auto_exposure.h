@@ -1,7 +1,9 @@
 #pragma once
 // camera.exposure_s 0: the shutter a video camera's auto exposure takes for the plate. By day,
-// without neutral-density filters, it shortens the shutter against the light (1/500 s in overcast
-// daylight: NTURain's rain, short bright dashes, measures so in `pluvia report realism`); at night
+// without neutral-density filters, it shortens the shutter against the light: about 1/1000 s
+// for a phone or camcorder (f/1.8-2.8 at base ISO) in overcast daylight. NTURain's brightest
+// streaks say the same: about 3 times as long as wide, so the drop moved about twice its own
+// diameter during the exposure (2 mm at 6.5 m/s: 1/1000 s). At night
 // it opens to the 180-degree shutter, half the frame time (1/50 s at 25 fps), where drops far
 // from the lamps fade into the dark and those near them draw long glints.
 #include "pipeline/camera_settings.h"
@@ -9,7 +11,7 @@
 
 namespace pluvia {
 
-inline constexpr double kDaylightExposureSeconds = 1.0 / 500.0;
+inline constexpr double kDaylightExposureSeconds = 1.0 / 1000.0;
 
 // Sets camera.autoExposureSeconds from the clip's still (stages/plate_lights.h: a night plate)
 // when the camera leaves its exposure to auto; logs it once per stage.

@@ -161,6 +161,7 @@ class RainStage : public Stage {
     streakParams_.strokeCount = int(atlas_.rects.size());
     streakParams_.lodPx = rain_.lodPx;
     streakParams_.meanMatte = rain::meanMatte(atlas_);
+    streakParams_.strokeQuadScale = rain::strokeQuadScales(atlas_);
     if (!clip.environment) throw Error("rain needs the lighting stage's environment", {"rain"});
     // One shading for the clip, or one per key environment of a looming camera.
     if (clip.environment->keys.empty()) shading_ = dropShading(rain_, clip.environment->radiance);

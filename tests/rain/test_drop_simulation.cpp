@@ -329,3 +329,37 @@ TEST(DropSimulation, AThousandFramesKeepMemoryAndTheCountSteady) {
 }
 
 }  // namespace
+
+// A stroke whose matte fills a third of its rectangle's width and half its length: each quad
+// grows so that the stroke is pi/4 of the drop's drawn width (a swept disc's equivalent width)
+// and hypot(path, width) long, about the same centre, keeping alpha x area (the drop's energy).
+TEST(DropSimulation, QuadsGrowSoThatTheStrokeIsTheStreak) {
+  DropSimulation sim(settingsFor(10, 20000), fixedCamera(), constantRain(20.0));
+  StreakSettings plain;
+  plain.minWidthPx = 0.0;
+  plain.opacity = 3.0;  // no drop falls under the visibility threshold in either set
+  StreakSettings fitted = plain;
+  fitted.strokeQuadScale = {{3.0f, 2.0f}};
+  const auto a = sim.buildStreaks(plain);
+  const auto b = sim.buildStreaks(fitted);
+  ASSERT_EQ(a.size(), b.size());  // the same drops, in drop order
+  ASSERT_GT(a.size(), 100u);
+  int checked = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const double pathA = std::hypot(a[i].tailX - a[i].headX, a[i].tailY - a[i].headY);
+    const double pathB = std::hypot(b[i].tailX - b[i].headX, b[i].tailY - b[i].headY);
+    EXPECT_NEAR(b[i].widthPx, 3.0 * 0.25 * M_PI * a[i].widthPx, 1e-4 + 1e-5 * a[i].widthPx);
+    const double along =
+        std::max(2.0 * std::hypot(pathA, double(a[i].widthPx)), double(b[i].widthPx));
+    EXPECT_NEAR(pathB + b[i].widthPx, along, 1e-3 * along + 1e-3);
+    EXPECT_NEAR(b[i].headX + b[i].tailX, a[i].headX + a[i].tailX, 1e-2);  // the same centre
+    EXPECT_NEAR(b[i].headY + b[i].tailY, a[i].headY + a[i].tailY, 1e-2);
+    if (a[i].alpha < 1.0f) {
+      ++checked;
+      const double carriedA = double(a[i].alpha) * a[i].widthPx * (pathA + a[i].widthPx);
+      const double carriedB = double(b[i].alpha) * b[i].widthPx * (pathB + b[i].widthPx);
+      EXPECT_NEAR(carriedB, carriedA, 2e-3 * carriedA);
+    }
+  }
+  EXPECT_GT(checked, 50);
+}

@@ -241,3 +241,29 @@ TEST(StrokeLibrary, BuiltinHoldsUprightElongatedStrokes) {
     }
   }
 }
+
+// A box stroke 2 px wide and 10 px long in a 6 x 20 rectangle (soft margins of zeros): the quad
+// must grow 3x across and 2x along so that the stroke, not its rectangle, spans the streak. The
+// builtin library's strokes, cut from footage with their soft sides, all ask for growth.
+TEST(StrokeLibrary, QuadScalesAreTheRectangleOverTheStrokesOwnSize) {
+  rain::StrokeAtlas atlas;
+  atlas.width = 8;
+  atlas.height = 24;
+  atlas.alpha.assign(size_t(atlas.width * atlas.height), 0.0f);
+  for (int y = 7; y < 17; ++y)
+    for (int x = 3; x < 5; ++x) atlas.alpha[size_t(y * atlas.width + x)] = 1.0f;
+  atlas.rects = {{1, 2, 7, 22}, {0, 0, 0, 0}};
+  const auto scales = rain::strokeQuadScales(atlas);
+  ASSERT_EQ(scales.size(), 2u);
+  EXPECT_NEAR(scales[0][0], 3.0, 1e-6);  // 6 / 2 across
+  EXPECT_NEAR(scales[0][1], 2.0, 1e-6);  // 20 / 10 along (half-maximum length of a box)
+  EXPECT_EQ(scales[1][0], 1.0f);         // an empty rectangle is left as it is
+  EXPECT_EQ(scales[1][1], 1.0f);
+
+  const rain::StrokeLibrary builtin = rain::loadStrokeLibrary(rain::builtinStrokeLibraryPath());
+  for (const auto& scale : rain::strokeQuadScales(builtin.atlas)) {
+    EXPECT_GT(scale[0], 1.1f);
+    EXPECT_GT(scale[1], 1.1f);
+    EXPECT_LT(scale[1], 3.0f);
+  }
+}
