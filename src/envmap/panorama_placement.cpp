@@ -13,6 +13,7 @@
 
 #include "envmap/panorama.h"
 #include "envmap/perspective_view.h"
+#include "image/srgb.h"
 
 namespace pluvia::envmap {
 namespace {
@@ -33,7 +34,7 @@ cv::Mat featureImage(const cv::Mat& linearRgb, double scale) {
   std::array<uchar, 4096> lut{};
   for (int i = 0; i < 4096; ++i) {
     const double v = i / 4095.0;
-    const double e = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+    const double e = srgbEncode(v);
     lut[i] = uchar(std::clamp(int(std::lround(e * 255.0)), 0, 255));
   }
   for (int y = 0; y < small.rows; ++y) {

@@ -6,20 +6,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "image/srgb.h"
+
 namespace pluvia::envmap {
-namespace {
-
-double srgbEncode(double linear) {
-  if (linear <= 0.0031308) return 12.92 * linear;
-  return 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
-}
-
-double srgbDecode(double encoded) {
-  if (encoded <= 0.04045) return encoded / 12.92;
-  return std::pow((encoded + 0.055) / 1.055, 2.4);
-}
-
-}  // namespace
 
 RecordedFrame recordView(const EquirectMap& environment, const CameraPose& pose, int width,
                          int height, double exposure) {

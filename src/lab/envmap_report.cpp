@@ -17,6 +17,7 @@
 #include "envmap/panorama.h"
 #include "envmap/perspective_view.h"
 #include "image/equirect.h"
+#include "image/srgb.h"
 #include "io/image_file_writer.h"
 #include "lab/log_grid.h"
 #include "lab/optics_report.h"
@@ -216,11 +217,6 @@ double rotationAngleDeg(const cv::Matx33d& a, const cv::Matx33d& b) {
   const cv::Matx33d r = a.t() * b;
   const double c = std::clamp((r(0, 0) + r(1, 1) + r(2, 2) - 1.0) / 2.0, -1.0, 1.0);
   return std::acos(c) / kDeg;
-}
-
-double srgbEncode(double linear) {
-  if (linear <= 0.0031308) return 12.92 * linear;
-  return 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
 }
 
 // The map times `scale`, clipped, sRGB-encoded, as an 8-bit PNG.
@@ -491,7 +487,7 @@ void runRealPhotos(const EnvmapReportSettings& settings, EnvmapReport& report) {
   std::array<float, 256> decode{};
   for (int i = 0; i < 256; ++i) {
     const double e = i / 255.0;
-    decode[size_t(i)] = float(e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4));
+    decode[size_t(i)] = float(srgbDecode(e));
   }
   std::vector<PanoramaFrame> frames;
   double saturated = 0.0, pixels = 0.0;

@@ -8,16 +8,19 @@
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
+#include "derain/clean_plate.h"
 #include "image/contact_sheet.h"
 #include "io/clip_reader.h"
 #include "io/image_file_writer.h"
-#include "lab/clean_plate.h"
 #include "lab/report_numbers.h"
 #include "util/error.h"
 #include "util/log.h"
 #include "util/timer.h"
 
 namespace pluvia::lab {
+
+using namespace derain;
+
 namespace {
 
 constexpr int kQuickWidthPx = 320, kQuickFrames = 8;

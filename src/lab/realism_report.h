@@ -18,9 +18,11 @@
 
 #include <opencv2/core.hpp>
 
-#include "lab/streak_stats.h"
+#include "derain/streak_stats.h"
 
 namespace pluvia::lab {
+
+using derain::StreakStats;
 
 // The statistics are taken at this width (the frames are scaled to it, keeping their aspect).
 inline constexpr int kReportWidthPx = 640;

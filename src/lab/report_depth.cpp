@@ -19,6 +19,7 @@
 
 #include "geometry/camera.h"
 #include "geometry/camera_path.h"
+#include "image/srgb.h"
 #include "lab/log_grid.h"
 #include "lab/pose_error.h"
 #include "lab/report_numbers.h"
@@ -54,8 +55,7 @@ std::string rowLabel(const DepthReportRow& row) {
 
 // The encode of an sRGB camera file (8-bit PNG, as COLMAP and a real plate get), clamped 0..1.
 float srgbEncode(float linear) {
-  const float v = std::clamp(linear, 0.0f, 1.0f);
-  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+  return float(pluvia::srgbEncode(std::clamp(linear, 0.0f, 1.0f)));
 }
 
 // What each pixel of a true depth map shows: 0 sky, 1 ground, 2 walls (side and back), 3 boxes.

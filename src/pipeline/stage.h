@@ -55,6 +55,12 @@ struct FoundLamp {
   double radiusMeters = 0.0;
 };
 
+// Whether the plate was shot in rain (stages/clip_plate_rain.h).
+struct PlateRainFinding {
+  bool rained = false;
+  std::string summary;  // what was measured, for the log
+};
+
 // Per-clip state, filled by per-clip stages in prepare() and read by per-frame stages.
 struct ClipContext {
   const ClipInfo* clip = nullptr;
@@ -80,6 +86,8 @@ struct ClipContext {
   // The lamps found in the still (lights.find), set once by the lights stage's prepare(), so
   // that every chunk of a farm render places them alike and `pluvia plan --resolved` lists them.
   std::optional<std::vector<FoundLamp>> foundLamps;
+  // Measured on first use by a grading stage that leaves itself out on a plate shot in rain.
+  std::optional<PlateRainFinding> plateRain;
 };
 
 // A local light of one frame in the frame's camera space (geometry/camera.h: +X right, +Y up,

@@ -298,9 +298,11 @@ std::vector<StreakInstance> DropSimulation::buildStreaks(
                                                 size_t(strokeIndex) < s.strokeQuadScale.size()
                                                     ? s.strokeQuadScale[size_t(strokeIndex)]
                                                     : std::array<float, 2>{1.0f, 1.0f});
-    const double alpha =
-        std::min(1.0, s.opacity * timeFraction * coverage * fog / s.meanMatte * fit.alphaScale);
-    if (!(alpha >= 1.0 / 1024.0)) continue;  // invisible in any 10-bit output (and never NaN)
+    // The drop's alpha over its own path and width; a drop under 1/1024 there is invisible in
+    // any 10-bit output (and never NaN). The stroke's soft margins then spread it thinner.
+    const double pathAlpha = s.opacity * timeFraction * coverage * fog / s.meanMatte;
+    if (!(pathAlpha >= 1.0 / 1024.0)) continue;
+    const double alpha = std::min(1.0, pathAlpha * fit.alphaScale);
     const Eigen::Vector3d view = (p - start.positionMeters).normalized();
     StreakInstance streak{};
     streak.headX = float(fit.headX);

@@ -1,5 +1,7 @@
 #include "stages/blur_settings.h"
 
+#include "stages/clip_plate_rain.h"
+
 namespace pluvia {
 
 const SettingsTable<BlurSettings>& blurTable() {
@@ -11,6 +13,7 @@ const SettingsTable<BlurSettings>& blurTable() {
        .outputs = {"image"}},
       {
           bind(&BlurSettings::enabled, enabledParam()),
+          bind(&BlurSettings::overRain, overRainParam()),
           bind(&BlurSettings::sigmaPx, numberParam("sigma_px", 0.0, {0.0, 100.0}, "px",
                                                    "standard deviation; 0 leaves the plate sharp")),
           bind(&BlurSettings::distanceMeters,

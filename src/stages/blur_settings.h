@@ -7,7 +7,8 @@ namespace pluvia {
 
 struct BlurSettings {
   bool enabled = true;
-  double sigmaPx = 0.0;  // Gaussian standard deviation in frame pixels; 0 leaves the plate sharp
+  bool overRain = false;  // also on a plate shot in rain (stages/clip_plate_rain.h)
+  double sigmaPx = 0.0;   // Gaussian standard deviation in frame pixels; 0 leaves the plate sharp
   // The depth at which 63 % of the blur is mixed in (stages/depth_grading.h); 0: every pixel
   // alike.
   double distanceMeters = 30.0;

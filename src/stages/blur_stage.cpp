@@ -4,35 +4,38 @@
 // so the near field stays sharp and the far softens.
 #include "image/ops.h"
 #include "stages/blur_settings.h"
+#include "stages/clip_plate_rain.h"
 #include "stages/depth_grading.h"
 #include "stages/registry.h"
 
 namespace pluvia {
 
 StageInfo blurStageInfo() {
-  return makeStageInfo(blurTable().section(), blurSettings,
-                       {.noOpReason = [](const BlurSettings& blur, const Preset&) -> std::string {
-                          return blur.sigmaPx == 0.0 ? "sigma_px is 0" : "";
-                        },
-                        .reads =
-                            [](const BlurSettings& blur, const Preset&) {
-                              return blur.distanceMeters > 0.0
-                                         ? std::vector<std::string>{"image", "depth"}
-                                         : std::vector<std::string>{"image"};
-                            },
-                        .create =
-                            [](const BlurSettings& blur, const Preset&) {
-                              return std::make_unique<DepthGradingStage>(
-                                  "blur", blur.distanceMeters,
-                                  [blur](Image& image, const std::vector<float>& weight) {
-                                    Image blurred;
-                                    blurred.width = image.width;
-                                    blurred.height = image.height;
-                                    blurred.rgba = image.rgba;
-                                    ops::gaussianBlur(blurred, float(blur.sigmaPx));
-                                    ops::blendToward(image, blurred, weight.data());
-                                  });
-                            }});
+  return makeStageInfo(
+      blurTable().section(), blurSettings,
+      {.noOpReason = [](const BlurSettings& blur, const Preset&) -> std::string {
+         return blur.sigmaPx == 0.0 ? "sigma_px is 0" : "";
+       },
+       .note = [](const BlurSettings& blur,
+                  const Preset&) { return rainedPlateNote("blur", blur.overRain); },
+       .reads =
+           [](const BlurSettings& blur, const Preset&) {
+             return blur.distanceMeters > 0.0 ? std::vector<std::string>{"image", "depth"}
+                                              : std::vector<std::string>{"image"};
+           },
+       .create =
+           [](const BlurSettings& blur, const Preset&) {
+             return std::make_unique<DepthGradingStage>(
+                 "blur", blur.distanceMeters, blur.overRain,
+                 [blur](Image& image, const std::vector<float>& weight) {
+                   Image blurred;
+                   blurred.width = image.width;
+                   blurred.height = image.height;
+                   blurred.rgba = image.rgba;
+                   ops::gaussianBlur(blurred, float(blur.sigmaPx));
+                   ops::blendToward(image, blurred, weight.data());
+                 });
+           }});
 }
 
 }  // namespace pluvia

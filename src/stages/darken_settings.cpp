@@ -1,5 +1,7 @@
 #include "stages/darken_settings.h"
 
+#include "stages/clip_plate_rain.h"
+
 namespace pluvia {
 
 const SettingsTable<DarkenSettings>& darkenTable() {
@@ -11,6 +13,7 @@ const SettingsTable<DarkenSettings>& darkenTable() {
        .outputs = {"image"}},
       {
           bind(&DarkenSettings::enabled, enabledParam()),
+          bind(&DarkenSettings::overRain, overRainParam()),
           bind(&DarkenSettings::amount,
                fractionParam("amount", 0.0, "blend toward luminance; 0 leaves the plate as it is")),
           bind(&DarkenSettings::darkening,

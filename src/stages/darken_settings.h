@@ -7,6 +7,7 @@ namespace pluvia {
 
 struct DarkenSettings {
   bool enabled = true;
+  bool overRain = false;   // also on a plate shot in rain (stages/clip_plate_rain.h)
   double amount = 0.0;     // blend toward luminance; 0 leaves the plate as it is
   double darkening = 0.5;  // brightness lost at amount 1: out *= 1 - amount * darkening
   // The depth at which 63 % of the amount applies (stages/depth_grading.h); 0: every pixel alike.

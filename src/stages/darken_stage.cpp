@@ -2,6 +2,7 @@
 // (stages/depth_grading.h): the rain between the camera and the scene greys and darkens what is
 // far more than what is near.
 #include "image/ops.h"
+#include "stages/clip_plate_rain.h"
 #include "stages/darken_settings.h"
 #include "stages/depth_grading.h"
 #include "stages/registry.h"
@@ -14,6 +15,8 @@ StageInfo darkenStageInfo() {
       {.noOpReason = [](const DarkenSettings& darken, const Preset&) -> std::string {
          return darken.amount == 0.0 ? "amount is 0" : "";
        },
+       .note = [](const DarkenSettings& darken,
+                  const Preset&) { return rainedPlateNote("darken", darken.overRain); },
        .reads =
            [](const DarkenSettings& darken, const Preset&) {
              return darken.distanceMeters > 0.0 ? std::vector<std::string>{"image", "depth"}
@@ -22,7 +25,7 @@ StageInfo darkenStageInfo() {
        .create =
            [](const DarkenSettings& darken, const Preset&) {
              return std::make_unique<DepthGradingStage>(
-                 "darken", darken.distanceMeters,
+                 "darken", darken.distanceMeters, darken.overRain,
                  [darken](Image& image, const std::vector<float>& weight) {
                    ops::darken(image, float(darken.amount), float(darken.darkening), weight.data());
                  });

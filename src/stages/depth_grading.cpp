@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 
+#include "stages/clip_plate_rain.h"
+
 namespace pluvia {
 
 std::vector<float> depthGradingWeights(const Image& image, double distanceMeters) {
@@ -42,7 +44,12 @@ void GradingAov::finish(Image& image, const std::vector<float>& weight) const {
   }
 }
 
+void DepthGradingStage::prepare(ClipContext& clip) {
+  leftOut_ = leaveOutOnRainedPlate(clip, name_, overRain_);
+}
+
 void DepthGradingStage::process(ClipContext&, FrameContext& frame) {
+  if (leftOut_) return;
   const GradingAov aov(frame.image, name_);
   const std::vector<float> weight = depthGradingWeights(frame.image, distanceMeters_);
   grade_(frame.image, weight);

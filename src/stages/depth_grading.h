@@ -35,18 +35,25 @@ class GradingAov {
 };
 
 // A grading stage (darken, blur): `grade` changes the frame by the per-pixel weight w(z) of
-// `distanceMeters`, and the change is recorded as AOV `name` when asked for.
+// `distanceMeters`, and the change is recorded as AOV `name` when asked for. On a plate shot in
+// rain it leaves the frames as they are unless `overRain` (stages/clip_plate_rain.h).
 class DepthGradingStage : public Stage {
  public:
   using Grade = std::function<void(Image& image, const std::vector<float>& weight)>;
-  DepthGradingStage(std::string name, double distanceMeters, Grade grade)
-      : name_(std::move(name)), distanceMeters_(distanceMeters), grade_(std::move(grade)) {}
+  DepthGradingStage(std::string name, double distanceMeters, bool overRain, Grade grade)
+      : name_(std::move(name)),
+        distanceMeters_(distanceMeters),
+        overRain_(overRain),
+        grade_(std::move(grade)) {}
+  void prepare(ClipContext& clip) override;
   void process(ClipContext&, FrameContext& frame) override;
 
  private:
   std::string name_;
   double distanceMeters_;
+  bool overRain_;
   Grade grade_;
+  bool leftOut_ = false;
 };
 
 }  // namespace pluvia

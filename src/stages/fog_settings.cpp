@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "stages/clip_plate_rain.h"
 #include "util/error.h"
 
 namespace pluvia {
@@ -21,6 +22,7 @@ const SettingsTable<FogSettings>& fogTable() {
        .outputs = {"image"}},
       {
           bind(&S::enabled, enabledParam()),
+          bind(&S::overRain, overRainParam()),
           bind(&S::model,
                enumParam("model", "exponential", {"exponential", "skylight"},
                          "exponential: one airlight colour (color_source); skylight: the "

@@ -10,6 +10,7 @@ namespace pluvia {
 
 struct FogSettings {
   bool enabled = true;
+  bool overRain = false;  // also on a plate shot in rain (stages/clip_plate_rain.h)
   // "exponential": alpha = 1 - exp(-density * depth) toward one airlight colour; "skylight": the
   // environment scattered by rain and fog per view direction (optics/skylight_scattering.h).
   std::string model = "exponential";

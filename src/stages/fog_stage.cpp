@@ -12,6 +12,7 @@
 #include "optics/skylight_scattering.h"
 #include "pipeline/camera_settings.h"
 #include "rain/drop_physics.h"
+#include "stages/clip_plate_rain.h"
 #include "stages/depth_grading.h"
 #include "stages/fog_settings.h"
 #include "stages/rain_settings.h"
@@ -29,6 +30,8 @@ class FogStage : public Stage {
       : fog_(std::move(fog)), rain_(std::move(rain)), camera_(std::move(camera)) {}
 
   void prepare(ClipContext& clip) override {
+    leftOut_ = leaveOutOnRainedPlate(clip, "fog", fog_.overRain);
+    if (leftOut_) return;
     rgb_ = fog_.constantRgb;
     if (fog_.model == "skylight") {
       prepareSkylight(clip);  // fog.color: the CIE sky's zenith without an environment
@@ -44,6 +47,7 @@ class FogStage : public Stage {
   }
 
   void process(ClipContext&, FrameContext& frame) override {
+    if (leftOut_) return;
     const GradingAov aov(frame.image, "fog");
     addFog(frame);
     aov.finish(frame.image, {});
@@ -85,6 +89,7 @@ class FogStage : public Stage {
   CameraPath path_;
   std::optional<optics::SkylightTable> skylight_;
   std::array<float, 3> rgb_{0, 0, 0};
+  bool leftOut_ = false;
 };
 
 }  // namespace
@@ -101,6 +106,8 @@ StageInfo fogStageInfo() {
          }
          return fog.densityPerMeter == 0.0 ? "density is 0" : "";
        },
+       .note = [](const FogSettings& fog,
+                  const Preset&) { return rainedPlateNote("fog", fog.overRain); },
        .reads =
            [](const FogSettings& fog, const Preset&) {
              std::vector<std::string> reads{"image", "depth"};

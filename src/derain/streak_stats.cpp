@@ -1,6 +1,6 @@
 // Rain streak detection and the statistics of real against rendered rain (streak_stats.h says
 // what is measured).
-#include "lab/streak_stats.h"
+#include "derain/streak_stats.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 
 #include "util/error.h"
 
-namespace pluvia::lab {
+namespace pluvia::derain {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -385,4 +385,4 @@ std::vector<std::pair<std::string, double>> ratiosToReal(const StreakStats& rend
           {"peakP90", rendered.peakP90 / real.peakP90}};
 }
 
-}  // namespace pluvia::lab
+}  // namespace pluvia::derain

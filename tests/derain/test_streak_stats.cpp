@@ -11,11 +11,11 @@
 
 #include <opencv2/core.hpp>
 
-#include "lab/streak_stats.h"
+#include "derain/streak_stats.h"
 #include "util/error.h"
 
 using namespace pluvia;
-using namespace pluvia::lab;
+using namespace pluvia::derain;
 
 namespace {
 

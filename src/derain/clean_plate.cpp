@@ -1,16 +1,18 @@
 // Clean plates of real rain footage: registered temporal medians (clean_plate.h says how).
-#include "lab/clean_plate.h"
+#include "derain/clean_plate.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
+#include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
 #include "util/error.h"
 
-namespace pluvia::lab {
+namespace pluvia::derain {
 namespace {
 
 // Rain-suppressed greys of one frame: float for residuals and the stack, 8-bit for DIS.
@@ -184,30 +186,42 @@ void requireFrames(const std::vector<cv::Mat3f>& frames) {
 
 }  // namespace
 
-std::vector<CleanPlate> cleanPlates(const std::vector<cv::Mat3f>& frames,
-                                    const CleanPlateSettings& settings) {
+std::vector<CleanPlate> cleanPlatesAt(const std::vector<cv::Mat3f>& frames,
+                                      const std::vector<int>& at,
+                                      const CleanPlateSettings& settings) {
   requireFrames(frames);
+  const int count = int(frames.size());
+  for (int t : at)
+    if (t < 0 || t >= count)
+      throw Error(fmt::format("clean plate: frame {} is outside the {} frames given", t, count));
   std::vector<Grey> greys;
   for (const cv::Mat3f& frame : frames) {
     greys.push_back(suppressedGrey(frame, settings.suppressDiameterPx));
   }
   const cv::Ptr<cv::DISOpticalFlow> dis =
       cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM);
-  const int count = int(frames.size());
-  std::vector<CleanPlate> plates(frames.size());
-  for (int t = 0; t < count; ++t) {
+  std::vector<CleanPlate> plates(at.size());
+  for (size_t k = 0; k < at.size(); ++k) {
+    const int t = at[k];
     const auto [begin, end] = windowOf(t, count, settings.radiusFrames);
     std::vector<Registered> stack{
         {frames[t], greys[t].codes, cv::Mat1b(frames[t].size(), uchar(255))}};
     for (int s = begin; s < end; ++s) {
       if (s == t) continue;
-      NeighbourRegistration& record = plates[t].neighbours.emplace_back();
+      NeighbourRegistration& record = plates[k].neighbours.emplace_back();
       record.frame = s;
       stack.push_back(registerNeighbour(frames[s], greys[s], greys[t], *dis, settings, record));
     }
-    stackMedian(stack, greys[t], settings, plates[t]);
+    stackMedian(stack, greys[t], settings, plates[k]);
   }
   return plates;
 }
 
-}  // namespace pluvia::lab
+std::vector<CleanPlate> cleanPlates(const std::vector<cv::Mat3f>& frames,
+                                    const CleanPlateSettings& settings) {
+  std::vector<int> all(frames.size());
+  std::iota(all.begin(), all.end(), 0);
+  return cleanPlatesAt(frames, all, settings);
+}
+
+}  // namespace pluvia::derain

@@ -13,12 +13,12 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "lab/clean_plate.h"
+#include "derain/clean_plate.h"
 #include "test_support.h"
 #include "util/error.h"
 
 using namespace pluvia;
-using namespace pluvia::lab;
+using namespace pluvia::derain;
 
 namespace {
 

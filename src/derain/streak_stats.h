@@ -21,7 +21,7 @@
 
 #include <opencv2/core.hpp>
 
-namespace pluvia::lab {
+namespace pluvia::derain {
 
 struct StreakDetectSettings {
   int orientations = 12;         // over 180 degrees
@@ -156,4 +156,4 @@ double typicalFactor(const std::vector<double>& ratios);
 std::vector<std::pair<std::string, double>> ratiosToReal(const StreakStats& rendered,
                                                          const StreakStats& real);
 
-}  // namespace pluvia::lab
+}  // namespace pluvia::derain

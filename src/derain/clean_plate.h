@@ -20,7 +20,7 @@
 
 #include <opencv2/core.hpp>
 
-namespace pluvia::lab {
+namespace pluvia::derain {
 
 struct CleanPlateSettings {
   int radiusFrames = 3;            // r: the stack holds up to 2r + 1 frames
@@ -54,5 +54,10 @@ struct CleanPlate {
 // One plate per frame. Throws pluvia::Error when the frames are empty or differ in size.
 std::vector<CleanPlate> cleanPlates(const std::vector<cv::Mat3f>& frames,
                                     const CleanPlateSettings& settings = {});
+// The plates of the frames `at` (indices into `frames`) only, in that order; the same errors,
+// and one naming an index outside the frames.
+std::vector<CleanPlate> cleanPlatesAt(const std::vector<cv::Mat3f>& frames,
+                                      const std::vector<int>& at,
+                                      const CleanPlateSettings& settings = {});
 
-}  // namespace pluvia::lab
+}  // namespace pluvia::derain

@@ -1,0 +1,57 @@
+#include "derain/plate_rain.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+#include <opencv2/imgproc.hpp>
+
+#include "derain/clean_plate.h"
+#include "util/error.h"
+
+namespace pluvia::derain {
+namespace {
+
+cv::Mat1f lumaOfBgr(const cv::Mat3f& bgr) {
+  cv::Mat1f y(bgr.size());
+  cv::transform(bgr, y, cv::Matx13f(0.0722f, 0.7152f, 0.2126f));
+  return y;
+}
+
+}  // namespace
+
+std::string PlateRain::summary() const {
+  std::string angle = std::isfinite(stats.angleDeg)
+                          ? fmt::format(", falling at {:.1f} deg", stats.angleDeg)
+                          : std::string();
+  return fmt::format("streaks over {:.2f} % of the frame, {:.0f} per Mpx{} ({} frames measured)",
+                     100.0 * stats.coverage, stats.streaksPerMpx, angle, frames);
+}
+
+PlateRain measurePlateRain(const std::vector<cv::Mat3f>& bgrFrames,
+                           const PlateRainSettings& settings) {
+  const int count = int(bgrFrames.size());
+  if (count < 3)
+    throw Error(fmt::format("plate rain: {} frames; a clean plate needs 3 or more", count));
+  const int measured = std::clamp(settings.measuredFrames, 1, count);
+  const int first = (count - measured) / 2;
+  std::vector<int> at;
+  for (int k = 0; k < measured; ++k) at.push_back(first + k);
+  const std::vector<CleanPlate> plates = cleanPlatesAt(bgrFrames, at);
+  StreakStatsAccumulator accumulator;
+  for (size_t k = 0; k < at.size(); ++k) {
+    RainLayerFrame layer;
+    layer.plateLuma = lumaOfBgr(plates[k].plate);
+    layer.layer = lumaOfBgr(bgrFrames[size_t(at[k])]) - layer.plateLuma;
+    layer.valid = plates[k].valid;
+    accumulator.add(layer);
+  }
+  PlateRain out;
+  out.stats = accumulator.result();
+  out.frames = measured;
+  out.rained = out.stats.coverage >= settings.minCoverage &&
+               out.stats.streaksPerMpx >= settings.minStreaksPerMpx;
+  return out;
+}
+
+}  // namespace pluvia::derain

@@ -1,0 +1,27 @@
+#pragma once
+// Whether the clip was shot in rain (derain/plate_rain.h), measured once per clip on first use
+// on 9 consecutive frames from its middle (the same for every chunk of a farm render), and what
+// the grading stages (darken, blur, fog) do with it: a plate shot in rain already holds the veil
+// they would add, so each leaves itself out there unless its `over_rain` asks for it.
+#include <string>
+
+#include "pipeline/stage.h"
+#include "preset/param_table.h"
+
+namespace pluvia {
+
+// clip.plateRain, measured on first use. A clip of fewer than 3 frames (or none: a stage run
+// on its own) is taken as dry.
+const PlateRainFinding& clipPlateRain(ClipContext& clip);
+
+// True, with a log line naming `stage`, when the stage is to leave the clip as it is: not
+// `overRain` and the plate was shot in rain.
+bool leaveOutOnRainedPlate(ClipContext& clip, const std::string& stage, bool overRain);
+
+// The plan's note for a grading stage: what it does on a plate shot in rain.
+std::string rainedPlateNote(const std::string& stage, bool overRain);
+
+// The over_rain key every grading stage has.
+ParamSpec overRainParam();
+
+}  // namespace pluvia
