@@ -95,30 +95,32 @@ class FogStage : public Stage {
 }  // namespace
 
 StageInfo fogStageInfo() {
-  return makeStageInfo(
-      fogTable().section(), fogSettings,
-      {.noOpReason = [](const FogSettings& fog, const Preset& p) -> std::string {
-         // Skylight fog scatters through the rain as well: no-op only without fog and rain.
-         if (fog.model == "skylight") {
-           const RainSettings rain = rainSettings(p);
-           const bool raining = rain.enabled && rain.rateMmPerHour.valueAt(0.0) > 0.0;
-           return fog.densityPerMeter == 0.0 && !raining ? "density is 0 and no rain" : "";
-         }
-         return fog.densityPerMeter == 0.0 ? "density is 0" : "";
-       },
-       .note = [](const FogSettings& fog,
-                  const Preset&) { return rainedPlateNote("fog", fog.overRain); },
-       .reads =
-           [](const FogSettings& fog, const Preset&) {
-             std::vector<std::string> reads{"image", "depth"};
-             if (fog.model == "skylight" || fog.colorSource != "constant")
-               reads.push_back("environment");
-             return reads;
-           },
-       .create =
-           [](const FogSettings& fog, const Preset& p) {
-             return std::make_unique<FogStage>(fog, rainSettings(p), cameraSettings(p));
-           }});
+  return makeStageInfo(fogTable().section(), fogSettings,
+                       {.noOpReason = [](const FogSettings& fog, const Preset& p) -> std::string {
+                          // Skylight fog scatters through the rain as well: no-op only without fog
+                          // and rain.
+                          if (fog.model == "skylight") {
+                            // Any frame with rain (a ramp may start dry), as the other stages ask.
+                            return fog.densityPerMeter == 0.0 && !rainSettings(p).falls()
+                                       ? "density is 0 and no rain"
+                                       : "";
+                          }
+                          return fog.densityPerMeter == 0.0 ? "density is 0" : "";
+                        },
+                        .note = [](const FogSettings& fog,
+                                   const Preset&) { return rainedPlateNote("fog", fog.overRain); },
+                        .reads =
+                            [](const FogSettings& fog, const Preset&) {
+                              std::vector<std::string> reads{"image", "depth"};
+                              if (fog.model == "skylight" || fog.colorSource != "constant")
+                                reads.push_back("environment");
+                              return reads;
+                            },
+                        .create =
+                            [](const FogSettings& fog, const Preset& p) {
+                              return std::make_unique<FogStage>(fog, rainSettings(p),
+                                                                cameraSettings(p));
+                            }});
 }
 
 }  // namespace pluvia
