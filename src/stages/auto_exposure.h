@@ -13,7 +13,8 @@ namespace pluvia {
 
 inline constexpr double kDaylightExposureSeconds = 1.0 / 1000.0;
 
-// Sets camera.autoExposureSeconds from the clip's still (stages/plate_lights.h: a night plate)
+// Sets camera.autoExposureSeconds from the plate's metadata (ExposureTime, when its files state
+// it), else from the clip's still (stages/plate_lights.h: a night plate)
 // when the camera leaves its exposure to auto; logs it once per stage.
 void resolveAutoExposure(CameraSettings& camera, ClipContext& clip, const char* stage);
 
