@@ -13,7 +13,8 @@ namespace pluvia::cli {
 
 namespace {
 
-// lights.find: the lamps the plate gives, one line each, before the resolved preset (they are
+// lights.find: the lamps the plate gives, one line each, on stderr (stdout holds only the resolved
+// preset's JSON, for a script to load) (they are
 // found in the clip's still and placed at the depth the depth stage gives its first frame, as a
 // render does once per clip). Only the depth and lights stages are prepared.
 void printFoundLamps(const std::string& input, const Preset& preset, const std::string& cache) {
@@ -34,12 +35,12 @@ void printFoundLamps(const std::string& input, const Preset& preset, const std::
   session.prepareStagesNamed({"depth", "lights"});
   log::setLevel(level);
   const auto& found = session.clipContext().foundLamps;
-  std::cout << fmt::format("lamps found in the plate (lights.find): {}\n",
+  std::cerr << fmt::format("lamps found in the plate (lights.find): {}\n",
                            found ? found->size() : 0);
   if (!found) return;
   for (size_t i = 0; i < found->size(); ++i) {
     const FoundLamp& l = (*found)[i];
-    std::cout << fmt::format(
+    std::cerr << fmt::format(
         "  lamp {}: pixel ({:.1f}, {:.1f}), {} px, depth {:.2f} m, colour ({:.3f}, {:.3f}, "
         "{:.3f}), intensity {:.4g}, world ({:.3f}, {:.3f}, {:.3f}) m, radius {:.3f} m\n",
         i, l.xPx, l.yPx, l.areaPx, l.depthMeters, l.rgb[0], l.rgb[1], l.rgb[2], l.intensity,
@@ -61,8 +62,8 @@ void addPlanCommand(CLI::App& app, Invocation& invocation) {
   addClipPresetOptions(cmd, args->input, args->preset, args->sets);
   cmd->add_option("--cache", args->cache, "cache folder for per-clip analysis");
   cmd->add_flag("--resolved", args->resolved,
-                "print the fully resolved preset as JSON instead, after the lamps found in the "
-                "plate (lights.find), one line each");
+                "print the fully resolved preset as JSON instead (stdout), and the lamps found "
+                "in the plate (lights.find), one line each, on stderr");
   cmd->callback([=] {
     Preset preset = loadPreset(args->preset, args->sets);
     if (args->resolved) {

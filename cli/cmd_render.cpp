@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <iostream>
 
 #include <fmt/format.h>
@@ -82,7 +83,9 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
                         "glare, darken, blur, fog)",
                         aov));
       }
-      request.aovs.push_back(aov);
+      // Named twice, written once (the second copy made unnamed channels).
+      if (std::find(request.aovs.begin(), request.aovs.end(), aov) == request.aovs.end())
+        request.aovs.push_back(aov);
       if (comma == std::string::npos) break;
       start = comma + 1;
     }

@@ -158,7 +158,11 @@ void addClipPresetOptions(CLI::App* cmd, std::string& input, std::string& preset
   cmd->add_option("INPUT", input,
                   "movie (mp4/mov/avi), image sequence (plate.####.exr, plate.%04d.png) or image")
       ->required();
-  cmd->add_option("-p,--preset", preset, "preset name (drizzle, moderate, heavy, storm) or path")
+  // Every shipped preset (base is what they extend, not one to render with).
+  std::vector<std::string> names = shippedPresetNames();
+  names.erase(std::remove(names.begin(), names.end(), "base"), names.end());
+  cmd->add_option("-p,--preset", preset,
+                  fmt::format("preset name ({}) or path", fmt::join(names, ", ")))
       ->required();
   cmd->add_option("--set", sets, "override KEY=VALUE (dotted key path, e.g. rain.rate_mm_h=40)");
   // Shorthands for the colour keys: the same overrides, applied after any --set.

@@ -28,9 +28,9 @@ void commitTemporary(const stdfs::path& tmp, const stdfs::path& target) {
   std::error_code ec;
   stdfs::rename(tmp, target, ec);
   if (ec) {
+    const std::string why = ec.message();  // before remove() reuses ec
     stdfs::remove(tmp, ec);
-    throw Error("cannot move the finished file into place: " + ec.message(),
-                {"write", {}, target.string()});
+    throw Error("cannot move the finished file into place: " + why, {"write", {}, target.string()});
   }
 }
 

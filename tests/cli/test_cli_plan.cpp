@@ -84,3 +84,10 @@ TEST(CliValidateDescribe, ValidateAndDescribe) {
   auto help = runPluvia({"--help"});
   EXPECT_NE(help.output.find("Exit codes"), std::string::npos);
 }
+
+TEST(CliPlan, PresetHelpListsEveryShippedPreset) {
+  const auto help = runPluvia({"render", "--help"});
+  ASSERT_EQ(help.exitCode, 0) << help.output;
+  EXPECT_NE(help.output.find("drizzle, gentle, hard, heavy, moderate, storm"), std::string::npos)
+      << help.output;
+}

@@ -14,6 +14,7 @@
 
 #include "night_plate.h"
 #include "test_support.h"
+#include "util/subprocess.h"
 
 using namespace pluvia;
 using namespace pluvia::test;
@@ -156,6 +157,11 @@ TEST(CliPlateLights, PlanResolvedListsTheFoundLamps) {
         EXPECT_GT(std::stod(found[7]), 0.0);
       });
   EXPECT_EQ(matched, 2) << planned.output;
-  const auto json = nlohmann::json::parse(planned.output.substr(planned.output.find('{')));
+  // stdout alone is the JSON (the lamps go to stderr), so a script can load it as it is.
+  const auto stdoutOnly =
+      runProcess({"sh", "-c", "\"$0\" plan \"$1\" -p \"$2\" --resolved 2>/dev/null",
+                  pluviaBinary().string(), plate, preset(dir).string()});
+  ASSERT_EQ(stdoutOnly.exitCode, 0) << stdoutOnly.output;
+  const auto json = nlohmann::json::parse(stdoutOnly.output);
   EXPECT_EQ(json["lights"]["find"], "auto");
 }

@@ -142,4 +142,12 @@ TEST(CliRender, MovieOutputAndAovs) {
   EXPECT_NE(channels.output.find("rain.A"), std::string::npos) << channels.output;
   EXPECT_NE(channels.output.find("depth.Z"), std::string::npos) << channels.output;
   EXPECT_NE(channels.output.find("pluvia:presetHash"), std::string::npos) << channels.output;
+  // An AOV named twice is written once, not as a second set of unnamed channels.
+  auto twice = (dir / "twice.####.exr").string();
+  r = runPluvia({"render", exampleClip().string(), "-p", "moderate", "-o", twice, "--frames", "3-3",
+                 "--aov", "rain,rain"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  channels = runProcess({"oiiotool", "--info", "-v", (dir / "twice.0003.exr").string()});
+  EXPECT_NE(channels.output.find("rain.A"), std::string::npos) << channels.output;
+  EXPECT_EQ(channels.output.find("channel8"), std::string::npos) << channels.output;
 }
