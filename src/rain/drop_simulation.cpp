@@ -79,7 +79,7 @@ DropSimulation::DropSimulation(const DropSimulationSettings& settings, CameraAtF
   activeUniform_.resize(positions_.size());
   ownGaussian_.resize(positions_.size());
   poolDensity_ = double(positions_.size()) / boxVolumeCubicMeters();
-  restart();
+  restartAt(settings_.firstFrame);
 }
 
 DropSimulation::~DropSimulation() = default;
@@ -88,19 +88,54 @@ double DropSimulation::boxVolumeCubicMeters() const {
   return boxSize_.prod();
 }
 
-void DropSimulation::restart() {
-  frame_ = settings_.firstFrame;
-  const RainAtFrame first = rainAt_(double(frame_));
+void DropSimulation::restartAt(int64_t segmentStart) {
+  const int64_t first = settings_.firstFrame;
+  const double dt = settings_.stepSeconds;
+  segmentStart_ = segmentStart;
+  frame_ = segmentStart;
+  // The wind: its clock (t = 0 at the first frame) set to the warm-up's start, its fluid warmed
+  // up from rest to the segment's start as the steps would have driven it.
+  const int64_t warmStart = segmentStart - std::max<int64_t>(0, settings_.windWarmupFrames);
+  const RainAtFrame atWarmStart = rainAt_(double(warmStart));
   WindSettings wind = settings_.wind;
-  wind.speedMetersPerSecond = first.windSpeedMetersPerSecond;
-  wind.directionDeg = first.windDirectionDeg;
+  wind.speedMetersPerSecond = atWarmStart.windSpeedMetersPerSecond;
+  wind.directionDeg = atWarmStart.windDirectionDeg;
   wind_ = std::make_unique<WindField>(wind);
-  const Camera camera = cameraAt_(double(frame_));
+  constexpr uint64_t kStepOrigin = uint64_t(1) << 40;  // keeps the forcing's step index >= 0
+  wind_->startAt(double(warmStart - first) * dt, kStepOrigin + uint64_t(warmStart - first));
+  // The rain cells: laid out around the first frame's camera, carried to the warm-up's start by
+  // the base wind's closed-form drift, then by the warming wind.
+  const Camera firstCamera = cameraAt_(double(first));
   cells_ = std::make_unique<RainCells>(
-      settings_.cells, Eigen::Vector2d(camera.positionMeters.x(), camera.positionMeters.z()));
+      settings_.cells,
+      Eigen::Vector2d(firstCamera.positionMeters.x(), firstCamera.positionMeters.z()));
+  if (!cells_->centersXZ().empty()) {
+    Eigen::Vector2d drift = Eigen::Vector2d::Zero();
+    const int64_t from = std::min(first, warmStart), to = std::max(first, warmStart);
+    for (int64_t f = from; f < to; ++f) {
+      const RainAtFrame r = rainAt_(double(f));
+      const double d = r.windDirectionDeg * M_PI / 180.0;
+      const double t = double(f - first) * dt;
+      drift += r.windSpeedMetersPerSecond * Eigen::Vector2d(std::cos(d), -std::sin(d)) *
+               (wind_->gustIntegral(t + dt) - wind_->gustIntegral(t));
+    }
+    cells_->translate(warmStart >= first ? drift : Eigen::Vector2d(-drift));
+  }
+  for (int64_t f = warmStart; f < segmentStart; ++f) {
+    const RainAtFrame r = rainAt_(double(f));
+    wind_->setBase(r.windSpeedMetersPerSecond, r.windDirectionDeg);
+    wind_->advance(dt);
+    cells_->advance(dt, *wind_);
+    ++windSteps_;
+  }
+  // The drops: a fresh layout per segment (the first segment's from the seed itself).
+  const uint64_t segment =
+      uint64_t((segmentStart - first) / std::max<int64_t>(1, settings_.segmentFrames));
+  const uint64_t seed = settings_.seed ^ (0x9E3779B97F4A7C15ull * segment);
+  const Camera camera = cameraAt_(double(frame_));
   const Eigen::Matrix3d heading = headingOf(camera);
   tbb::parallel_for(size_t(0), positions_.size(), [&](size_t i) {
-    CounterRng rng(settings_.seed, i);
+    CounterRng rng(seed, i);
     const Eigen::Vector3d u(rng.uniform(), rng.uniform(), rng.uniform());
     const Eigen::Vector3d p = camera.positionMeters + heading * (boxLo_ + u.cwiseProduct(boxSize_));
     positions_[i] = p.cast<float>();
@@ -113,11 +148,18 @@ void DropSimulation::restart() {
         Eigen::Vector2f(float(radius * std::cos(angle)), float(radius * std::sin(angle)));
   });
   baseDiameterMm_.clear();  // the sizes follow from the uniforms just drawn
-  setRain(first);
+  setRain(rainAt_(double(frame_)));
   tbb::parallel_for(size_t(0), positions_.size(), [&](size_t i) {
     const Eigen::Vector3d w = wind_->velocityAt(positions_[i].x(), positions_[i].z());
     horizontalSpeed_[i] = (Eigen::Vector2d(w.x(), w.z()) + ownSpeed(i)).cast<float>();
   });
+}
+
+int64_t DropSimulation::segmentStartOf(int64_t frame) const {
+  const int64_t first = settings_.firstFrame;
+  if (frame <= first) return first;
+  const int64_t length = std::max<int64_t>(1, settings_.segmentFrames);
+  return first + (frame - first) / length * length;
 }
 
 Eigen::Vector2d DropSimulation::ownSpeed(size_t i) const {
@@ -127,7 +169,8 @@ Eigen::Vector2d DropSimulation::ownSpeed(size_t i) const {
 }
 
 void DropSimulation::advanceTo(int64_t frame) {
-  if (frame < frame_) restart();
+  const int64_t start = segmentStartOf(frame);
+  if (start != segmentStart_ || frame < frame_) restartAt(start);
   while (frame_ < frame) step();
 }
 
@@ -175,6 +218,8 @@ void DropSimulation::step() {
                       }
                     });
   ++frame_;
+  ++dropSteps_;
+  ++windSteps_;
   setRain(rainAt_(double(frame_)));
 }
 

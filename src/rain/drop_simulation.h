@@ -62,8 +62,17 @@ struct DropSimulationSettings {
   uint64_t seed = 1;
   double stepSeconds = 1.0 / 24.0;  // one frame
   int64_t firstFrame = 0;           // the clip's first frame: where the simulation starts
-  int64_t lastFrame = 0;            // the clip's last frame (sizes the pool and the box)
-  WindSettings wind;                // speed and direction are taken from RainAtFrame
+  // Any frame in constant time: the drops of frame N are simulated from the start of its
+  // segment, firstFrame + a multiple of segmentFrames, where they are laid out afresh (a new
+  // random layout per segment; rain is uncorrelated from frame to frame anyway, each drop
+  // falling far more than the spacing of the drops in 1/24 s). The wind and the rain cells are
+  // closed forms of the time (gusts, drift) plus a fluid warmed up over windWarmupFrames before
+  // each segment, so they carry on across segments. A frame costs at most segmentFrames - 1
+  // steps of the drops, whatever its number.
+  int64_t segmentFrames = 24;
+  int64_t windWarmupFrames = 240;
+  int64_t lastFrame = 0;  // the clip's last frame (sizes the pool and the box)
+  WindSettings wind;      // speed and direction are taken from RainAtFrame
   RainCellSettings cells;
 };
 
@@ -98,9 +107,15 @@ class DropSimulation {
   DropSimulation(const DropSimulationSettings& settings, CameraAtFrame cameraAt, RainAt rainAt);
   ~DropSimulation();
 
-  // Steps forward to `frame` (restarting from the first frame when asked for an earlier one).
+  // Steps forward to `frame`, from the start of its segment when it is not in the current one
+  // or lies before the current frame (frames before firstFrame take firstFrame's drops).
   void advanceTo(int64_t frame);
   int64_t frame() const { return frame_; }
+  // Steps of the drops and of the wind taken so far (the work a frame number costs).
+  int64_t dropSteps() const { return dropSteps_; }
+  int64_t windSteps() const { return windSteps_; }
+  // The first frame of the segment `frame` is simulated in.
+  int64_t segmentStartOf(int64_t frame) const;
   const DropSimulationSettings& settings() const { return settings_; }
 
   // Drops in the pool, and how many are drawn at the current frame (inside the density).
@@ -129,7 +144,7 @@ class DropSimulation {
                                            std::vector<StreakInstance>* farStreaks = nullptr) const;
 
  private:
-  void restart();
+  void restartAt(int64_t segmentStart);
   void step();
   void setRain(const RainAtFrame& rain);
   std::pair<double, double> sizeAndFall(size_t i, double xMeters, double zMeters) const;
@@ -140,6 +155,8 @@ class DropSimulation {
   CameraAtFrame cameraAt_;
   RainAt rainAt_;
   int64_t frame_ = 0;
+  int64_t segmentStart_ = 0;
+  int64_t dropSteps_ = 0, windSteps_ = 0;
   RainAtFrame rain_;
   Eigen::Vector3d boxLo_, boxSize_;  // in the camera's heading frame, relative to its position
   double poolDensity_ = 0.0;         // drops per cubic metre the pool holds

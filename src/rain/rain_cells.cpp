@@ -23,20 +23,31 @@ RainCells::RainCells(const RainCellSettings& settings, Eigen::Vector2d originXZ)
 }
 
 void RainCells::advance(double dtSeconds, const WindField& wind) {
-  const double side = 2.0 * settings_.regionHalfSizeMeters;
   for (Eigen::Vector2d& c : centers_) {
     const Eigen::Vector3d first = wind.velocityAt(c.x(), c.y());
     const Eigen::Vector2d mid = c + 0.5 * dtSeconds * Eigen::Vector2d(first.x(), first.z());
     const Eigen::Vector3d v = wind.velocityAt(mid.x(), mid.y());
     c += dtSeconds * Eigen::Vector2d(v.x(), v.z());
-    if (side <= 0.0) continue;
-    // Wrap into the square around the origin.
-    for (int axis = 0; axis < 2; ++axis) {
-      const double local = c[axis] - (originXZ_[axis] - settings_.regionHalfSizeMeters);
-      if (local < 0.0 || local >= side)
-        c[axis] = originXZ_[axis] - settings_.regionHalfSizeMeters +
-                  (local - side * std::floor(local / side));
-    }
+    wrap(c);
+  }
+}
+
+void RainCells::translate(const Eigen::Vector2d& displacementMeters) {
+  for (Eigen::Vector2d& c : centers_) {
+    c += displacementMeters;
+    wrap(c);
+  }
+}
+
+// Into the square around the origin.
+void RainCells::wrap(Eigen::Vector2d& centre) const {
+  const double side = 2.0 * settings_.regionHalfSizeMeters;
+  if (side <= 0.0) return;
+  for (int axis = 0; axis < 2; ++axis) {
+    const double local = centre[axis] - (originXZ_[axis] - settings_.regionHalfSizeMeters);
+    if (local < 0.0 || local >= side)
+      centre[axis] = originXZ_[axis] - settings_.regionHalfSizeMeters +
+                     (local - side * std::floor(local / side));
   }
 }
 

@@ -29,6 +29,8 @@ class RainCells {
 
   // Moves every centre with the wind at its position (midpoint rule, exact in a uniform wind).
   void advance(double dtSeconds, const WindField& wind);
+  // Carries every centre by the same displacement (a closed-form drift over a long time).
+  void translate(const Eigen::Vector2d& displacementMeters);
 
   // 1 + sum_k (peak - 1) exp(-r_k^2 / (2 sigma^2)).
   double densityFactor(double xMeters, double zMeters) const;
@@ -40,6 +42,7 @@ class RainCells {
   const std::vector<Eigen::Vector2d>& centersXZ() const { return centers_; }
 
  private:
+  void wrap(Eigen::Vector2d& centre) const;
   double weightOf(size_t k, double xMeters, double zMeters) const;
 
   RainCellSettings settings_;

@@ -175,6 +175,15 @@ void WindField::setBase(double speedMetersPerSecond, double directionDeg) {
   baseXZ_ = settings_.speedMetersPerSecond * Eigen::Vector2d(std::cos(d), -std::sin(d));
 }
 
+void WindField::startAt(double tSeconds, uint64_t step) {
+  timeSeconds_ = tSeconds;
+  step_ = step;
+  gustNow_ = gustFactor(tSeconds);
+  const double tile = fluid_.tileMeters();
+  const Eigen::Vector2d drift = baseXZ_ * gustIntegral(tSeconds);
+  frameOffsetMeters_ = {wrapInto(drift.x(), tile), wrapInto(drift.y(), tile)};
+}
+
 double WindField::gustFactor(double tSeconds) const {
   double sum = 0.0;
   for (size_t k = 0; k < kGustWeight.size(); ++k)

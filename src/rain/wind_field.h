@@ -77,6 +77,10 @@ class WindField {
 
   // Changes the base wind from now on (a ramped speed or direction); the fluid is kept.
   void setBase(double speedMetersPerSecond, double directionDeg);
+  // Sets the clock to `tSeconds` and the forcing to its `step`-th kicks, as if the field had
+  // advanced that far (the gusts and the fluid frame's drift are closed forms of the time; the
+  // fluid itself starts at rest and takes a gust period or so to settle).
+  void startAt(double tSeconds, uint64_t step);
 
   // One Stable Fluids step: forcing, advection, diffusion, projection, then a clamp of the
   // perturbation to 4 times its RMS as a last guard. dt = 0 changes nothing; dt must be finite
@@ -91,11 +95,11 @@ class WindField {
   double timeSeconds() const { return timeSeconds_; }
   // Smooth, >= 0, mean 1: 1 + gustiness * (a weighted sum of three sinusoids, seeded phases).
   double gustFactor(double tSeconds) const;
+  double gustIntegral(double tSeconds) const;  // integral of gustFactor from 0 to t
   double tileMeters() const { return fluid_.tileMeters(); }
   const StableFluidGrid& fluid() const { return fluid_; }
 
  private:
-  double gustIntegral(double tSeconds) const;  // integral of gustFactor from 0 to t
   double perturbationRms() const;
   void addForcing(double dtSeconds);
 

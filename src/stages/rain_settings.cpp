@@ -42,9 +42,9 @@ const SettingsTable<RainSettings>& rainTable() {
                            "5 % of the frame width, at least 0.3 m; 0.5 m for a pinhole)")),
           bind(&S::startFrame,
                integerParam("start_frame", 0, {-1e9, 1e9}, "frame",
-                            "frame the simulation starts from (a pre-roll up to the plate's first "
-                            "frame), so plates with other handles get the same rain on the same "
-                            "frame numbers")),
+                            "frame the simulation counts its 24-frame segments from, so plates "
+                            "with other handles get the same rain on the same frame numbers (any "
+                            "frame costs at most 23 steps)")),
           bind(&S::farMeters,
                numberParam("far_m", 15.0, {0.1, 1000.0}, "m", "farthest drops drawn")),
           bind(&S::maxDrops, integerParam("max_drops", 100000, {0, 10000000}, "drops",

@@ -150,9 +150,10 @@ class RainStage : public Stage {
           wanted, simulation_->boxVolumeCubicMeters(), simulation_->poolSize(),
           100.0 * double(simulation_->poolSize()) / wanted));
     }
-    log::info(fmt::format("rain: drops from {:.2f} to {:g} m, simulated from frame {}",
-                          simulation_->settings().nearMeters, rain_.farMeters,
-                          simulation_->settings().firstFrame));
+    log::info(fmt::format(
+        "rain: drops from {:.2f} to {:g} m, simulated in segments of {} frames from frame {}",
+        simulation_->settings().nearMeters, rain_.farMeters, simulation_->settings().segmentFrames,
+        simulation_->settings().firstFrame));
     atlas_ = loadAtlas(clip);
     streakParams_.focusMeters = camera_.focusMeters;
     streakParams_.fNumber = camera_.fNumber;
