@@ -87,6 +87,33 @@ std::string farmJobJson(const FarmJob& job) {
   return json.dump(2) + "\n";
 }
 
+namespace {
+
+// More chunks than any scheduler's job array holds (Slurm's MaxArraySize tops out at 4 million):
+// a farm.json asking for them was edited by hand or damaged.
+constexpr int64_t kMaxChunks = 4000000;
+
+// The frame range and chunk size a farm.json states, before anything divides by or loops over
+// them.
+void checkFrames(const FarmJob& job, const std::string& path) {
+  const auto bad = [&](const std::string& key, const std::string& why) {
+    return Error(fmt::format("{}: {} {}", path, key, why), {"farm", {}, path});
+  };
+  if (job.chunkFrames < 1)
+    throw bad("chunk_frames",
+              fmt::format("is {}; a chunk holds at least 1 frame", job.chunkFrames));
+  if (job.lastFrame < job.firstFrame)
+    throw bad("last_frame",
+              fmt::format("{} is before first_frame {}", job.lastFrame, job.firstFrame));
+  const int64_t chunks = (job.lastFrame - job.firstFrame) / job.chunkFrames + 1;
+  if (chunks > kMaxChunks)
+    throw bad("last_frame",
+              fmt::format("{} makes {} chunks of {} frames from {}; at most {}", job.lastFrame,
+                          chunks, job.chunkFrames, job.firstFrame, kMaxChunks));
+}
+
+}  // namespace
+
 FarmJob farmJobFromJson(const std::string& text, const std::string& path) {
   try {
     const nlohmann::json json = nlohmann::json::parse(text);
@@ -104,7 +131,10 @@ FarmJob farmJobFromJson(const std::string& text, const std::string& path) {
     job.chunkFrames = json.at("chunk_frames");
     job.fps = json.at("fps");
     job.threads = json.at("threads");
+    checkFrames(job, path);
     return job;
+  } catch (const Error&) {
+    throw;
   } catch (const std::exception& e) {
     throw Error(fmt::format("{} is not a pluvia farm job description: {}", path, e.what()),
                 {"farm", {}, path});

@@ -215,6 +215,15 @@ std::map<std::string, std::string> accounted(const std::vector<std::string>& job
   return states;
 }
 
+// A file's text for a one-line message: its first 60 bytes, control characters and bytes
+// outside ASCII as '?', so nothing in it can move the terminal.
+std::string printable(const std::string& text) {
+  std::string out = text.substr(0, 60);
+  for (char& c : out)
+    if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) > 0x7e) c = '?';
+  return text.size() > 60 ? out + "..." : out;
+}
+
 UnitState unitState(const std::string& id, const std::map<std::string, std::string>& queue,
                     const std::map<std::string, std::string>& accounting,
                     const stdfs::path& record) {
@@ -229,11 +238,18 @@ UnitState unitState(const std::string& id, const std::map<std::string, std::stri
     return unit;
   }
   if (stdfs::exists(record)) {
-    std::istringstream fields(fs::readTextFile(record));
+    const std::string text = fs::readTextFile(record);
+    std::istringstream fields(text);
     int code = -1;
     std::string host, log;
-    fields >> code >> host >> log;
     unit.done = true;
+    if (!(fields >> code >> host >> log)) {
+      // Not what recordedRun() writes (exit code, host, log): never counted as a success.
+      unit.failed = true;
+      unit.state = "UNREADABLE task record";
+      unit.detail = fmt::format("{} reads '{}'", record.string(), printable(text));
+      return unit;
+    }
     unit.failed = code != 0;
     unit.state = code == 0 ? "COMPLETED" : fmt::format("FAILED (exit {})", code);
     unit.detail = fmt::format("on {}, log {}", host, log);
