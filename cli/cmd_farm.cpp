@@ -189,7 +189,9 @@ void addAssembleCommand(CLI::App* farm) {
   auto args = std::make_shared<Args>();
   cmd->add_option("FRAMES", args->frames, "the chunks' frames (frames.####.tif)")->required();
   cmd->add_option("-o,--output", args->output, "the movie (out.mp4)")->required();
-  cmd->add_option("--fps", args->fps, "frames per second")->required()->check(CLI::PositiveNumber);
+  cmd->add_option("--fps", args->fps, "frames per second, 0.001 to 10000")
+      ->required()
+      ->check(CLI::Range(0.001, 10000.0));
   cmd->add_option("--frames", args->range, "FIRST-LAST")->required();
   cmd->add_option("-p,--preset", args->preset, "the render's preset, recorded in the movie")
       ->required();

@@ -67,7 +67,15 @@ void mergeInto(json& base, const json& over) {
   }
 }
 
+// Deeper than any real chain of looks (base, a show's, a sequence's, a shot's ...): a longer one
+// was made by a script gone wrong, and following it would exhaust the stack.
+constexpr size_t kMaxExtendsDepth = 64;
+
 json loadWithExtends(const stdfs::path& file, std::vector<std::string>& chain) {
+  if (chain.size() >= kMaxExtendsDepth)
+    throw PresetError(file.string(),
+                      {fmt::format("\"extends\" chains more than {} presets (from {})",
+                                   kMaxExtendsDepth, chain.front())});
   std::string canonical = stdfs::weakly_canonical(file).string();
   for (const auto& c : chain) {
     if (c == canonical)
