@@ -101,5 +101,10 @@ int main(int argc, char** argv) {
     log::error(e.what());
     return 1;
   }
+  // The command did its work but the log it was asked to keep is incomplete: a farm must know.
+  if (log::fileFailed() && invocation.exitCode == 0) {
+    log::error("the log file could not be written to the end (see the warning above)");
+    return 1;
+  }
   return invocation.exitCode;
 }

@@ -616,6 +616,11 @@ void applyOverride(json& document, const std::string& assignment) {
   }
   json* node = &document;
   auto parts = splitDots(key);
+  for (const std::string& part : parts)
+    if (part.empty())
+      throw PresetError("--set", {fmt::format("--set {}: an empty key between dots (write "
+                                              "section.key, for example rain.rate_mm_h)",
+                                              key)});
   for (size_t i = 0; i < parts.size(); ++i) {
     const std::string& part = parts[i];
     bool last = i + 1 == parts.size();
@@ -687,15 +692,18 @@ Preset Preset::resolve(const std::string& nameOrPath, const std::vector<std::str
   stdfs::path file = findPreset(nameOrPath);
   std::vector<std::string> chain;
   nlohmann::json document = loadWithExtends(file, chain);
-  std::vector<std::string> problems;
+  // A --set that cannot be applied is the command line's mistake, not the preset file's.
+  std::vector<std::string> setProblems;
   for (const auto& assignment : overrides) {
     try {
       wrapKeyShorthand(document, schema);
       applyOverride(document, assignment);
     } catch (const PresetError& e) {
-      problems.insert(problems.end(), e.problems().begin(), e.problems().end());
+      setProblems.insert(setProblems.end(), e.problems().begin(), e.problems().end());
     }
   }
+  if (!setProblems.empty()) throw PresetError("--set", setProblems);
+  std::vector<std::string> problems;
   wrapKeyShorthand(document,
                    schema);  // problems name the full form's paths (/rain/rate_mm_h/keys/1/1)
   auto found = validatePreset(document, schema);

@@ -16,6 +16,20 @@ namespace {
 std::atomic<Level> gLevel{Level::Info};
 std::mutex gMutex;
 std::FILE* gFile = nullptr;  // --log FILE, guarded by gMutex
+std::string gFilePath;
+bool gFileFailed = false;
+
+// A write to the log file failed (a full disk, /dev/full): say so once on stderr and stop
+// writing to it; the command's exit code says it too (fileFailed()).
+void fileWriteFailed() {
+  const int code = errno;
+  std::fclose(gFile);
+  gFile = nullptr;
+  gFileFailed = true;
+  std::fprintf(stderr, "pluvia: warning: the log file %s stops here: %s\n", gFilePath.c_str(),
+               std::strerror(code));
+  std::fflush(stderr);
+}
 const bool gTerminal = isatty(fileno(stderr)) != 0;
 
 void toFile(const char* tag, const std::string& message) {
@@ -25,8 +39,9 @@ void toFile(const char* tag, const std::string& message) {
   std::tm local{};
   localtime_r(&now, &local);
   std::strftime(stamp, sizeof stamp, "%Y-%m-%d %H:%M:%S", &local);
-  std::fprintf(gFile, "%s pluvia: %s%s\n", stamp, tag, message.c_str());
-  std::fflush(gFile);
+  if (std::fprintf(gFile, "%s pluvia: %s%s\n", stamp, tag, message.c_str()) < 0 ||
+      std::fflush(gFile) != 0)
+    fileWriteFailed();
 }
 
 void emit(const char* tag, const std::string& message) {
@@ -49,10 +64,17 @@ void setFile(const std::string& path) {
   if (gFile) std::fclose(gFile);
   gFile = nullptr;
   if (path.empty()) return;
+  gFilePath = path;
+  gFileFailed = false;
   gFile = std::fopen(path.c_str(), "a");
   if (!gFile)
     throw Error("cannot open the log file " + path + ": " + std::strerror(errno),
                 {"write", {}, path});
+}
+
+bool fileFailed() {
+  std::lock_guard lock(gMutex);
+  return gFileFailed;
 }
 
 void warning(const std::string& m) {
@@ -77,10 +99,9 @@ void progress(const std::string& line, const std::string& terminalText, bool las
     std::fprintf(stderr, "%s\n", line.c_str());
   }
   std::fflush(stderr);
-  if (gFile && !line.empty()) {
-    std::fprintf(gFile, "%s\n", line.c_str());
-    std::fflush(gFile);
-  }
+  if (gFile && !line.empty() &&
+      (std::fprintf(gFile, "%s\n", line.c_str()) < 0 || std::fflush(gFile) != 0))
+    fileWriteFailed();
 }
 
 }  // namespace pluvia::log

@@ -12,6 +12,8 @@ Level level();
 // Appends every line from now on to `path` too (created when missing). Throws pluvia::Error
 // naming the file when it cannot be opened. "" stops.
 void setFile(const std::string& path);
+// Whether a write to that file failed (it was then closed, with a warning on stderr).
+bool fileFailed();
 void warning(const std::string& message);
 void info(const std::string& message);
 void debug(const std::string& message);
