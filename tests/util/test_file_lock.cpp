@@ -8,6 +8,7 @@
 #include <chrono>
 #include <csignal>
 #include <fstream>
+#include <optional>
 #include <thread>
 
 #include "test_support.h"
@@ -19,10 +20,21 @@ namespace stdfs = std::filesystem;
 namespace {
 
 // A child process that holds [start, start + length) of `path` until `release` exists.
+// The child's lock, retried for up to 10 s: the parent's probes (waitUntilHeld) hold the range
+// for an instant each, and a child refused by one would otherwise give up (a flaky test on a
+// loaded machine).
+std::optional<FileRangeLock> lockInChild(const std::string& path, off_t start, off_t length) {
+  for (int i = 0; i < 2000; ++i) {
+    if (auto lock = FileRangeLock::tryLock(path, start, length, nullptr)) return lock;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return std::nullopt;
+}
+
 pid_t holdInChild(const std::string& path, off_t start, off_t length, const stdfs::path& release) {
   const pid_t pid = fork();
   if (pid == 0) {
-    auto lock = FileRangeLock::tryLock(path, start, length, nullptr);
+    auto lock = lockInChild(path, start, length);
     if (!lock) _exit(3);
     while (!stdfs::exists(release)) std::this_thread::sleep_for(std::chrono::milliseconds(10));
     _exit(0);
@@ -30,11 +42,14 @@ pid_t holdInChild(const std::string& path, off_t start, off_t length, const stdf
   return pid;
 }
 
-// Waits until a probe of `path` over [start, start + length) is refused (the child holds it).
+// Waits (up to 30 s) until a probe of `path` over [start, start + length) is refused and names
+// a holder (the child holds it and has written its pid and host after locking).
 bool waitUntilHeld(const std::string& path, off_t start, off_t length) {
-  for (int i = 0; i < 500; ++i) {
+  for (int i = 0; i < 3000; ++i) {
     LockConflict conflict;
-    if (!FileRangeLock::tryLock(path, start, length, &conflict)) return true;
+    if (!FileRangeLock::tryLock(path, start, length, &conflict) && !conflict.holder.empty() &&
+        conflict.holder != "unknown" && conflict.holder.find(' ') != std::string::npos)
+      return true;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   return false;
@@ -46,7 +61,9 @@ TEST(FileLock, DisjointRangesAreHeldTogetherAndAnOverlapIsRefusedNamingTheHolder
   const auto dir = test::freshTempDir("file_lock_ranges");
   const std::string path = (dir / "o.####.png.pluvia-lock").string();
   const pid_t child = holdInChild(path, 640, 128, dir / "release");  // the child's 640..767
-  ASSERT_TRUE(waitUntilHeld(path, 640, 1));
+  const bool held = waitUntilHeld(path, 640, 1);
+  if (!held) std::ofstream(dir / "release").put('x');  // let the child go
+  ASSERT_TRUE(held);
   {
     LockConflict conflict;
     auto before = FileRangeLock::tryLock(path, 0, 640, &conflict);  // up to 639: disjoint
@@ -70,12 +87,14 @@ TEST(FileLock, ADeadHoldersRangeIsFreeAndTheLastHolderRemovesTheFile) {
   const std::string path = (dir / "entry.json.pluvia-lock").string();
   const pid_t child = fork();
   if (child == 0) {
-    auto lock = FileRangeLock::tryLock(path, 0, 0, nullptr);
+    auto lock = lockInChild(path, 0, 0);
+    if (!lock) _exit(3);
     pause();  // killed below while it holds the whole file
-    _exit(lock ? 0 : 3);
+    _exit(0);
   }
-  ASSERT_TRUE(waitUntilHeld(path, 0, 0));
-  kill(child, SIGKILL);
+  const bool held = waitUntilHeld(path, 0, 0);
+  kill(child, SIGKILL);  // also when it never held: a paused child would hang the suite
+  ASSERT_TRUE(held);
   EXPECT_EQ(test::waitForExit(child), 1000 + SIGKILL);
   // The killed holder left its file, holding nothing.
   ASSERT_TRUE(stdfs::exists(path));
