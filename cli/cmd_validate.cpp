@@ -2,6 +2,7 @@
 
 #include "commands.h"
 #include "common.h"
+#include "util/printable.h"
 
 namespace pluvia::cli {
 
@@ -14,9 +15,9 @@ void addValidateCommand(CLI::App& app, Invocation& invocation) {
   cmd->callback([=, &invocation] {
     try {
       Preset p = loadPreset(*preset, *sets);
-      std::cout << p.source() << ": valid (hash " << p.hash() << ")\n";
+      std::cout << printable(p.source()) << ": valid (hash " << p.hash() << ")\n";
     } catch (const PresetError& e) {
-      std::cout << e.what() << "\n";
+      std::cout << printable(e.what(), /*keepLines=*/true) << "\n";
       invocation.exitCode = 1;
     }
   });

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <set>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -13,6 +14,7 @@
 #include "stages/registry.h"
 #include "util/error.h"
 #include "util/fs.h"
+#include "util/input_guard.h"
 #include "util/log.h"
 #include "util/parse_number.h"
 
@@ -131,8 +133,19 @@ std::string joinCommandLine(int argc, char** argv) {
   return line;
 }
 
+void protectNamedInputs(const CLI::App& app) {
+  static const std::set<std::string> kInputOptions = {"INPUT", "CLIP", "--env", "--hdr",
+                                                      "--preset"};
+  for (const CLI::App* command : app.get_subcommands()) {
+    for (const CLI::Option* option : command->get_options())
+      if (kInputOptions.count(option->get_name()) != 0) fs::protectInputs(option->results());
+    protectNamedInputs(*command);
+  }
+}
+
 void refuseOverwritingInput(const std::vector<std::string>& inputFiles, const std::string& option,
                             const std::vector<std::string>& outputs) {
+  fs::protectInputs(inputFiles);
   for (const std::string& out : outputs)
     for (const std::string& in : inputFiles)
       if (fs::samePath(out, in))

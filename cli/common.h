@@ -42,6 +42,11 @@ Preset loadPresetForProxy(const std::string& nameOrPath, const std::vector<std::
                           double scale);
 // Throws UsageError when any of `outputs` is one of `inputFiles` ("OPTION OUT is the input file
 // IN: refusing to overwrite it"), before anything is written.
+// Registers the files the parsed command names as its inputs (INPUT, CLIP, --env, --hdr, a
+// preset path) with fs::protectInputs, so that no output, report or log of the run can be written
+// over one. A sequence pattern's frames are registered by the command once it has listed them.
+void protectNamedInputs(const CLI::App& app);
+
 void refuseOverwritingInput(const std::vector<std::string>& inputFiles, const std::string& option,
                             const std::vector<std::string>& outputs);
 // The command line as one shell-quoted string, for logs and metadata.

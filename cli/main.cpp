@@ -57,6 +57,7 @@ int main(int argc, char** argv) {
   app.parse_complete_callback([&] {
     log::setLevel(quiet ? log::Level::Warning : verbose ? log::Level::Debug : log::Level::Info);
     if (!logFile.empty()) log::setFile(logFile);
+    cli::protectNamedInputs(app);
   });
 
   // CLI11 would only say "a subcommand is required" for a mistyped command: name it.

@@ -1,5 +1,6 @@
 #include "farm/slurm.h"
 
+#include <cctype>
 #include <filesystem>
 #include <map>
 #include <sstream>
@@ -9,6 +10,7 @@
 
 #include "util/error.h"
 #include "util/fs.h"
+#include "util/printable.h"
 #include "util/subprocess.h"
 
 namespace pluvia::farm {
@@ -16,51 +18,77 @@ namespace stdfs = std::filesystem;
 
 namespace {
 
+// A value on an #SBATCH line: sbatch reads the line itself (no shell), splitting at blanks
+// unless the value is in double quotes. A control character (a newline would end the
+// directive and start a command line) or a double quote cannot be written there: refused.
+std::string directiveValue(const std::string& what, const std::string& value) {
+  for (const unsigned char c : value) {
+    if (c < 0x20 || c == 0x7f || c == '"')
+      throw UsageError(fmt::format("{} '{}' holds a {}, which a Slurm #SBATCH line cannot carry: "
+                                   "use a name without it",
+                                   what, printable(value),
+                                   c == '"' ? "double quote" : "control character (a newline?)"),
+                       {"farm", {}, value});
+  }
+  return value.find_first_of(" \t") == std::string::npos ? value : "\"" + value + "\"";
+}
+
 std::string header(const FarmJob& job, const SlurmOptions& options, const std::string& jobName,
                    const std::string& logName) {
   std::string text = "#!/bin/bash\n";
-  text += fmt::format("#SBATCH --job-name={}\n", jobName);
-  text +=
-      fmt::format("#SBATCH --output={}\n", (stdfs::path(job.farmDir) / "logs" / logName).string());
-  text += fmt::format("#SBATCH --chdir={}\n", job.workingDir);
+  text += fmt::format("#SBATCH --job-name={}\n", directiveValue("the job name", jobName));
+  text += fmt::format(
+      "#SBATCH --output={}\n",
+      directiveValue("--farm-dir", (stdfs::path(job.farmDir) / "logs" / logName).string()));
+  text += fmt::format("#SBATCH --chdir={}\n", directiveValue("the working folder", job.workingDir));
   if (!options.partition.empty())
-    text += fmt::format("#SBATCH --partition={}\n", options.partition);
+    text +=
+        fmt::format("#SBATCH --partition={}\n", directiveValue("--partition", options.partition));
   if (options.cpusPerTask > 0)
     text += fmt::format("#SBATCH --cpus-per-task={}\n", options.cpusPerTask);
-  for (const std::string& arg : options.sbatchArgs) text += fmt::format("#SBATCH {}\n", arg);
+  for (const std::string& arg : options.sbatchArgs)
+    text += fmt::format("#SBATCH {}\n", directiveValue("--sbatch-arg", arg));
   return text;
 }
 
 // Runs `command`, then records its exit code, the host and the log in tasks/RECORD.status, for
-// `pluvia farm status` to list failed tasks where Slurm keeps no accounting.
+// `pluvia farm status` to list failed tasks where Slurm keeps no accounting. The log's folder is
+// quoted for the shell and only its name, which holds Slurm's variables, is expanded.
 std::string recordedRun(const FarmJob& job, const std::string& command, const std::string& record,
-                        const std::string& log) {
+                        const std::string& logName) {
+  const std::string logs = shellQuote((stdfs::path(job.farmDir) / "logs").string());
   return fmt::format(
       "{}\n"
       "code=$?\n"
-      "printf '%s %s %s\\n' \"$code\" \"$(hostname)\" \"{}\" > {}/\"{}.status\"\n"
+      "printf '%s %s %s\\n' \"$code\" \"$(hostname)\" {}/\"{}\" > {}/\"{}.status\"\n"
       "exit $code\n",
-      command, log, shellQuote((stdfs::path(job.farmDir) / "tasks").string()), record);
+      command, logs, logName, shellQuote((stdfs::path(job.farmDir) / "tasks").string()), record);
 }
 
+// The output's name in the job names squeue shows; any character sbatch or a terminal could
+// misread (a blank, a quote, a control character) as "_".
 std::string jobLabel(const FarmJob& job) {
-  return stdfs::path(job.output).stem().stem().string();
+  std::string label = stdfs::path(job.output).stem().stem().string();
+  for (char& c : label)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-' && c != '_') c = '_';
+  return label;
 }
 
 }  // namespace
 
 std::vector<SlurmScript> slurmScripts(const FarmJob& job, const SlurmOptions& options) {
   const std::string label = jobLabel(job);
-  const std::string logs = (stdfs::path(job.farmDir) / "logs").string();
   std::vector<SlurmScript> scripts;
-  const std::string intro = fmt::format("# pluvia farm job: {} -> {}, frames {}-{}\n", job.input,
-                                        job.output, job.firstFrame, job.lastFrame);
+  // A comment: a newline in a name must not end it (printable() escapes control characters).
+  const std::string intro =
+      fmt::format("# pluvia farm job: {} -> {}, frames {}-{}\n", printable(job.input),
+                  printable(job.output), job.firstFrame, job.lastFrame);
 
   scripts.push_back(
-      {"prepare.sbatch", header(job, options, "pluvia-prepare-" + label, "prepare-%j.log") + intro +
-                             "# The per-clip analysis, once, into the shared cache.\n" +
-                             recordedRun(job, prepareCommand(job), "prepare",
-                                         logs + "/prepare-${SLURM_JOB_ID}.log")});
+      {"prepare.sbatch",
+       header(job, options, "pluvia-prepare-" + label, "prepare-%j.log") + intro +
+           "# The per-clip analysis, once, into the shared cache.\n" +
+           recordedRun(job, prepareCommand(job), "prepare", "prepare-${SLURM_JOB_ID}.log")});
 
   const int chunks = chunkCount(job);
   std::string render = header(job, options, "pluvia-render-" + label, "render-%A_%a.log");
@@ -75,15 +103,15 @@ std::vector<SlurmScript> slurmScripts(const FarmJob& job, const SlurmOptions& op
       job.firstFrame, job.chunkFrames, job.chunkFrames, job.firstFrame, job.chunkFrames,
       job.chunkFrames - 1, job.lastFrame, job.lastFrame);
   render += recordedRun(job, renderCommand(job, "$FIRST-$LAST"), "render-${SLURM_ARRAY_TASK_ID}",
-                        logs + "/render-${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}.log");
+                        "render-${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}.log");
   scripts.push_back({"render.sbatch", render});
 
   if (isMovieJob(job)) {
     scripts.push_back(
-        {"assemble.sbatch", header(job, options, "pluvia-assemble-" + label, "assemble-%j.log") +
-                                intro + "# The chunks' frames encoded into the movie.\n" +
-                                recordedRun(job, assembleCommand(job), "assemble",
-                                            logs + "/assemble-${SLURM_JOB_ID}.log")});
+        {"assemble.sbatch",
+         header(job, options, "pluvia-assemble-" + label, "assemble-%j.log") + intro +
+             "# The chunks' frames encoded into the movie.\n" +
+             recordedRun(job, assembleCommand(job), "assemble", "assemble-${SLURM_JOB_ID}.log")});
   }
 
   std::string submit =
@@ -103,8 +131,38 @@ std::vector<SlurmScript> slurmScripts(const FarmJob& job, const SlurmOptions& op
   return scripts;
 }
 
+namespace {
+
+// A farm folder is pluvia's own: new, empty, or an earlier farm job's (its farm.json). Anything
+// else may be the user's files, which rewriting the folder would delete or mix with the job's.
+void refuseForeignFarmFolder(const stdfs::path& dir) {
+  std::error_code ec;
+  for (const char* sub : {"logs", "tasks"}) {
+    if (stdfs::is_symlink(dir / sub, ec))
+      throw UsageError(fmt::format("--farm-dir {}: {} is a symbolic link; a farm folder's {} must "
+                                   "be its own folder (choose a new --farm-dir)",
+                                   dir.string(), (dir / sub).string(), sub),
+                       {"farm", {}, (dir / sub).string()});
+  }
+  if (!stdfs::is_directory(dir, ec) || stdfs::is_empty(dir, ec) ||
+      stdfs::exists(dir / "farm.json", ec))
+    return;
+  throw UsageError(fmt::format("--farm-dir {} holds files but no farm.json: it is not a pluvia "
+                               "farm folder, and pluvia would overwrite them (choose a new or "
+                               "empty folder)",
+                               dir.string()),
+                   {"farm", {}, dir.string()});
+}
+
+bool isTaskRecord(const stdfs::path& file) {
+  return file.extension() == ".status";
+}
+
+}  // namespace
+
 void writeSlurmFarmFolder(const FarmJob& job, const std::vector<SlurmScript>& scripts) {
   const stdfs::path dir = job.farmDir;
+  refuseForeignFarmFolder(dir);
   for (const char* sub : {"logs", "tasks"}) {
     std::error_code ec;
     stdfs::create_directories(dir / sub, ec);
@@ -114,7 +172,8 @@ void writeSlurmFarmFolder(const FarmJob& job, const std::vector<SlurmScript>& sc
           {"farm", {}, dir.string()});
   }
   // A farm folder is for one job: the task records of an earlier one would be read as this one's.
-  for (const auto& entry : stdfs::directory_iterator(dir / "tasks")) stdfs::remove(entry.path());
+  for (const auto& entry : stdfs::directory_iterator(dir / "tasks"))
+    if (isTaskRecord(entry.path())) stdfs::remove(entry.path());
   std::error_code ignored;
   stdfs::remove(dir / "jobs.json", ignored);
   for (const SlurmScript& script : scripts) {

@@ -64,6 +64,14 @@ std::string suffixOf(const std::string& output) {
   return std::filesystem::path(output).extension().string();
 }
 
+// The AOV's own file (formats without extra channels): depth always, and every AOV of an HDR
+// output, go to EXR (Radiance holds RGB only).
+std::string aovPathFor(const FrameNaming& naming, const std::string& suffix,
+                       const std::string& extension, const std::string& aov, int64_t frame) {
+  const bool asExr = aov == "depth" || extension == "hdr";
+  return naming.aov(aov, asExr ? withExtension(suffix, "exr") : suffix, frame);
+}
+
 // The AOV's planes as channels: a single plane "matte" -> "matte.Y" ("depth" -> "depth.Z", in
 // full float), or the four planes "rain.R".."rain.A" -> channels of the same names.
 std::vector<OutputChannel> aovChannels(const std::string& aov, const Image& image, int64_t frame,
@@ -160,8 +168,7 @@ class ImageSequenceWriter final : public ClipWriter {
                                                              const Image& image,
                                                              int64_t frame) const {
     const bool asExr = aov == "depth" || extension_ == "hdr";
-    const std::string path =
-        naming_.aov(aov, asExr ? withExtension(suffix_, "exr") : suffix_, frame);
+    const std::string path = aovPathFor(naming_, suffix_, extension_, aov, frame);
     std::vector<OutputChannel> channels = aovChannels(aov, image, frame, path);
     // In a file of its own the AOV's channels drop its name: "rain.R" -> "R", "depth.Z" -> "Z".
     for (OutputChannel& channel : channels)
@@ -212,6 +219,17 @@ std::unique_ptr<ClipWriter> openClipWriter(const std::string& output, int width,
   fs::ensureParentFolder(firstPath);
   if (isMovieFormat) return openMovieWriter(output, width, height, options);
   return std::make_unique<ImageSequenceWriter>(output, width, height, options);
+}
+
+std::vector<std::string> framePaths(const std::string& output, const std::vector<std::string>& aovs,
+                                    int64_t frame) {
+  const FrameNaming naming = namingFor(output);
+  std::vector<std::string> paths = {naming.beauty(frame)};
+  const std::string extension = lowerExtension(output);
+  if (isMovieExtension(output) || extension == "exr") return paths;
+  for (const std::string& aov : aovs)
+    paths.push_back(aovPathFor(naming, suffixOf(output), extension, aov, frame));
+  return paths;
 }
 
 bool outputIsLinear(const std::string& output) {

@@ -65,6 +65,12 @@ class ClipWriter {
 std::unique_ptr<ClipWriter> openClipWriter(const std::string& output, int width, int height,
                                            const WriterOptions& options);
 
+// Every file a sequence or image output writes for `frame`: the beauty and, for formats that
+// cannot hold AOVs as channels, each AOV's own file ("out.####.png" with rain ->
+// "out.0001.png", "out.rain.0001.png"). A movie: its own path.
+std::vector<std::string> framePaths(const std::string& output, const std::vector<std::string>& aovs,
+                                    int64_t frame);
+
 // True for outputs that should be written as scene-linear (EXR, HDR); others get display encoding.
 bool outputIsLinear(const std::string& output);
 

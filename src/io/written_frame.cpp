@@ -4,6 +4,7 @@
 #include <memory>
 
 #include <OpenImageIO/imageio.h>
+#include <fmt/format.h>
 
 #include "io/clip_reader.h"
 #include "io/image_file_reader.h"
@@ -13,19 +14,17 @@
 namespace pluvia {
 namespace {
 
-constexpr const char* kHashKey = "pluvia:presetHash";
-
-// EXR and PNG keep the key as a named attribute; TIFF and JPEG inside the description
+// EXR and PNG keep a key as a named attribute; TIFF and JPEG inside the description
 // ("key=value; key=value", see image_file_writer.cpp). Empty when absent.
-std::string recordedPresetHash(const std::string& path) {
-  std::unique_ptr<OIIO::ImageInput> input = OIIO::ImageInput::open(path);
-  if (!input) return "";
-  const OIIO::ImageSpec& spec = input->spec();
-  std::string hash = spec.get_string_attribute(kHashKey);
-  if (!hash.empty()) return hash;
+std::string recordedValue(const OIIO::ImageSpec& spec, const std::string& key) {
+  std::string value = spec.get_string_attribute(key);
+  if (!value.empty()) return value;
   const std::string description = spec.get_string_attribute("ImageDescription");
-  const std::string field = std::string(kHashKey) + "=";
-  const size_t start = description.find(field);
+  const std::string field = key + "=";
+  size_t start = description.find(field);
+  // A match must start a field ("pluvia:size=" is not inside another key's value).
+  while (start != std::string::npos && start != 0 && description.compare(start - 2, 2, "; ") != 0)
+    start = description.find(field, start + 1);
   if (start == std::string::npos) return "";
   const size_t end = description.find(';', start);
   return description.substr(start + field.size(), end == std::string::npos
@@ -40,7 +39,12 @@ bool formatRecordsMetadata(const std::string& extension) {
 
 }  // namespace
 
-std::string reasonToRenderAgain(const std::string& path, const std::string& presetHash) {
+const char* const kResumeIdentityKeys[8] = {"pluvia:presetHash", "pluvia:version", "pluvia:plate",
+                                            "pluvia:size",       "pluvia:proxy",   "pluvia:colour",
+                                            "pluvia:aovs",       "pluvia:format"};
+
+std::string reasonToRenderAgain(const std::string& path,
+                                const std::map<std::string, std::string>& metadata) {
   std::error_code ec;
   if (std::filesystem::file_size(path, ec) == 0 || ec) return "the file is empty";
   try {
@@ -49,10 +53,24 @@ std::string reasonToRenderAgain(const std::string& path, const std::string& pres
     return "the file does not decode (truncated or corrupt)";
   }
   if (!formatRecordsMetadata(lowerExtension(path))) return "";
-  const std::string recorded = recordedPresetHash(path);
-  if (recorded.empty()) return std::string("the file records no ") + kHashKey;
-  if (recorded != presetHash)
-    return "it was rendered with preset " + recorded + ", this render's is " + presetHash;
+  std::unique_ptr<OIIO::ImageInput> input = OIIO::ImageInput::open(path);
+  if (!input) return "the file does not decode (truncated or corrupt)";
+  for (const char* key : kResumeIdentityKeys) {
+    const auto wanted = metadata.find(key);
+    const std::string expected = wanted == metadata.end() ? "" : wanted->second;
+    const std::string recorded = recordedValue(input->spec(), key);
+    if (recorded == expected) continue;
+    if (recorded.empty()) return std::string("the file records no ") + key;
+    if (std::string(key) == "pluvia:presetHash")
+      return "it was rendered with preset " + recorded + ", this render's is " + expected;
+    if (std::string(key) == "pluvia:plate")
+      return fmt::format(
+          "it was rendered from another plate (or the plate changed since): {} {}, "
+          "this render's {}",
+          key, recorded, expected);
+    return fmt::format("it was rendered with {} '{}', this render's is '{}'", key, recorded,
+                       expected.empty() ? "(none)" : expected);
+  }
   return "";
 }
 

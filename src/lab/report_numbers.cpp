@@ -1,11 +1,12 @@
 #include "lab/report_numbers.h"
 
 #include <cmath>
-#include <fstream>
+#include <sstream>
 
 #include <fmt/format.h>
 
 #include "util/error.h"
+#include "util/fs.h"
 #include "util/log.h"
 
 namespace pluvia::lab {
@@ -24,11 +25,10 @@ std::string csvNumber(double value) {
 
 void writeReportCsv(const std::string& path, const std::string& header,
                     const std::function<void(std::ostream&)>& writeRows) {
-  std::ofstream file(path);
-  if (!file) throw Error("cannot write the report", {"report", {}, path});
-  file << header << "\n";
-  writeRows(file);
-  if (!file) throw Error("failed while writing the report", {"report", {}, path});
+  std::ostringstream text;
+  text << header << "\n";
+  writeRows(text);
+  fs::writeTextFile(path, text.str());  // atomic, and never over an input of the run
 }
 
 bool runRealPart(const std::string& report, const std::string& what,

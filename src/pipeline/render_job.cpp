@@ -6,6 +6,7 @@
 #include <set>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "image/color.h"
 #include "image/ops.h"
@@ -21,6 +22,8 @@
 #include "pipeline/proxy_clip_reader.h"
 #include "pipeline/skip_existing.h"
 #include "util/fs.h"
+#include "util/hash.h"
+#include "util/input_guard.h"
 #include "util/log.h"
 
 namespace pluvia {
@@ -79,24 +82,22 @@ std::vector<int64_t> selectFrames(const RenderRequest& request, const ClipInfo& 
   return frames;
 }
 
-// Refuses any output file that is one of the input files: the original plate is never touched.
-void refuseOverwritingInput(const ClipInfo& clip, const std::string& output,
+// Refuses any file the render would write (the beauty, an AOV's own file) that is one of the
+// input files: the original plate is never touched. The inputs are also registered with
+// fs::protectInputs, which every later write (reports, the log) checks.
+void refuseOverwritingInput(const ClipInfo& clip, const RenderRequest& request,
                             const std::vector<int64_t>& frames) {
-  std::vector<std::string> outputs;
-  if (auto pattern = SequencePattern::parse(output)) {
-    for (int64_t f : frames) outputs.push_back(pattern->pathFor(f));
-  } else {
-    outputs.push_back(output);
-  }
   std::set<std::string> inputs(clip.files.begin(), clip.files.end());
   inputs.insert(clip.path);
-  for (const auto& out : outputs) {
-    for (const auto& in : inputs) {
-      if (fs::samePath(out, in)) {
+  fs::protectInputs({inputs.begin(), inputs.end()});
+  const bool oneFile = !SequencePattern::parse(request.output);
+  for (const int64_t frame : oneFile ? std::vector<int64_t>{frames.front()} : frames) {
+    for (const std::string& out : framePaths(request.output, request.aovs, frame)) {
+      const std::string in = fs::protectedInputAt(out);
+      if (!in.empty())
         throw UsageError(
             fmt::format("output {} is the input file {}: refusing to overwrite the plate", out, in),
             {"write", {}, in});
-      }
     }
   }
 }
@@ -139,7 +140,7 @@ std::unique_ptr<ClipReader> openInput(const RenderRequest& request) {
 // The frames to render; an output that names an input file is refused before any work.
 std::vector<int64_t> framesToRender(const RenderRequest& request, const ClipInfo& clip) {
   std::vector<int64_t> frames = selectFrames(request, clip);
-  refuseOverwritingInput(clip, request.output, frames);
+  refuseOverwritingInput(clip, request, frames);
   return frames;
 }
 
@@ -175,6 +176,30 @@ void carryInputMetadata(WriterOptions& options, const ClipInfo& clip,
   if (clip.dataWindow && proxyScale == 1.0) options.dataWindow = clip.dataWindow;
 }
 
+// What a frame's pixels and file depend on besides the preset, recorded in its header so that
+// --skip-existing keeps only a frame this render would write alike (io/written_frame.h): the
+// plate (pipeline/stage.h's clipIdentity), the output size, the colour config and spaces, the
+// AOVs and the file format's options. pluvia:presetHash, pluvia:version and pluvia:proxy are
+// recorded already. No value holds ';' (TIFF and JPEG keep them as "key=value; ...").
+void addResumeIdentity(WriterOptions& options, const RenderRequest& request,
+                       const ColorSettings& color, const ClipInfo& clip) {
+  options.metadata["pluvia:plate"] = clipIdentity(clip);
+  options.metadata["pluvia:size"] = fmt::format("{}x{}", clip.width, clip.height);
+  Hasher config;
+  config.add(describeConfig(color.configPath));
+  const std::string configFile = chosenConfigPath(color.configPath);
+  if (!configFile.empty()) config.add(fs::readTextFile(configFile));
+  options.metadata["pluvia:colour"] =
+      fmt::format("{} -> {} -> {}, config {}", resolveInputSpace(color, clip), color.workingSpace,
+                  resolveOutputSpace(color, request.output), config.hex());
+  options.metadata["pluvia:aovs"] =
+      request.aovs.empty() ? "none" : fmt::format("{}", fmt::join(request.aovs, ","));
+  options.metadata["pluvia:format"] =
+      lowerExtension(request.output) == "exr"
+          ? fmt::format("exr {} {}", options.exrSampleType, options.exrCompression)
+          : lowerExtension(request.output);
+}
+
 WriterOptions writerOptionsFor(const RenderRequest& request, const Preset& preset,
                                const std::vector<StageInfo>& stages, const CameraSettings& camera,
                                const ColorSettings& color, const ClipInfo& clip,
@@ -189,6 +214,9 @@ WriterOptions writerOptionsFor(const RenderRequest& request, const Preset& prese
   if (request.proxyScale != 1.0)
     options.metadata["pluvia:proxy"] =
         fmt::format("{:g} ({}x{})", request.proxyScale, clip.width, clip.height);
+  // A movie is kept or redone whole by its frame count (io/written_frame.h); its comment stays
+  // what `farm assemble` writes too, so both movies are alike.
+  if (!isMovieExtension(request.output)) addResumeIdentity(options, request, color, clip);
   return options;
 }
 
@@ -365,7 +393,8 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset,
   // Frames already on disk are skipped before any decoding.
   std::vector<int64_t> frames = session.frames();
   if (request.skipExisting) {
-    FramesToRender todo = framesStillToRender(request.output, frames, preset.hash());
+    FramesToRender todo =
+        framesStillToRender(request.output, frames, session.writerOptions().metadata);
     summary.framesSkipped = todo.kept;
     summary.framesRedone = todo.redone;
     if (todo.frames.empty()) return summary;

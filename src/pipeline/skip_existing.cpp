@@ -12,7 +12,7 @@
 namespace pluvia {
 
 FramesToRender framesStillToRender(const std::string& output, const std::vector<int64_t>& frames,
-                                   const std::string& presetHash) {
+                                   const std::map<std::string, std::string>& metadata) {
   FramesToRender result;
   result.frames = frames;
   if (isMovieExtension(output) && std::filesystem::exists(output)) {
@@ -34,7 +34,7 @@ FramesToRender framesStillToRender(const std::string& output, const std::vector<
         result.frames.push_back(f);
         continue;
       }
-      const std::string reason = reasonToRenderAgain(path, presetHash);
+      const std::string reason = reasonToRenderAgain(path, metadata);
       if (reason.empty()) {
         ++result.kept;
       } else {

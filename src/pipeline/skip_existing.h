@@ -1,6 +1,7 @@
 #pragma once
-// --skip-existing: which of a render's frames are already on disk, whole and of this preset.
+// --skip-existing: which of a render's frames are already on disk, whole and alike.
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -13,9 +14,11 @@ struct FramesToRender {
 };
 
 // The frames of `frames` that `output` (a sequence pattern, a movie or one image file) does not
-// yet hold whole with `presetHash` (io/written_frame.h), each frame rendered again named in a
-// warning. A movie is kept or redone whole. Checks files only: nothing is decoded from the input.
+// yet hold whole with the identity this render's header `metadata` records (preset, plate, size,
+// proxy, colour, AOVs, format: io/written_frame.h), each frame rendered again named in a warning
+// with what differs. A movie is kept or redone whole. Checks files only: nothing is decoded from
+// the input.
 FramesToRender framesStillToRender(const std::string& output, const std::vector<int64_t>& frames,
-                                   const std::string& presetHash);
+                                   const std::map<std::string, std::string>& metadata);
 
 }  // namespace pluvia

@@ -191,7 +191,9 @@ StageInfo makeStageInfo(SectionSpec spec, Settings (*read)(const Preset&),
   return info;
 }
 
-// Hash of a clip's identity for cache keys: file paths, sizes and modification times.
+// Hash of a clip's identity for cache keys and resumed frames: file paths, sizes and
+// modification times, and the first and last MiB of its first, middle and last files (a plate
+// replaced in place keeping its size and time is another plate).
 std::string clipIdentity(const ClipInfo& clip);
 
 }  // namespace pluvia

@@ -59,17 +59,24 @@ nlohmann::json equirectJson(const EquirectMap& map) {
   return {{"width", map.width}, {"height", map.height}, {"rgb", map.rgb}};
 }
 
+// A cache entry is a file anyone can edit: its sizes are checked against the samples it holds
+// before anything is allocated.
 EquirectMap equirectFromJson(const nlohmann::json& json) {
-  EquirectMap map(json.at("width").get<int>(), json.at("height").get<int>());
-  map.rgb = json.at("rgb").get<std::vector<float>>();
-  if (map.rgb.size() != size_t(map.width) * map.height * 3)
-    throw Error("cached panorama has the wrong size");
+  const int width = json.at("width").get<int>(), height = json.at("height").get<int>();
+  const nlohmann::json& rgb = json.at("rgb");
+  if (width < 1 || height < 1 || width > 65536 || height > 65536 || !rgb.is_array() ||
+      rgb.size() != size_t(width) * size_t(height) * 3)
+    throw Error(fmt::format("cached panorama: {}x{} does not match its {} samples", width, height,
+                            rgb.is_array() ? rgb.size() : 0));
+  EquirectMap map(width, height);
+  map.rgb = rgb.get<std::vector<float>>();
   return map;
 }
 
 // The clip's environment from its stitched panoramas (envmap/clip_environment.h): one for a pan
 // or a static camera; keys every lighting.every frames for a looming one.
 Environment stitchedEnvironment(const nlohmann::json& keys) {
+  if (!keys.is_array() || keys.empty()) throw Error("cached stitch: no panorama");
   Environment env;
   for (const auto& key : keys)
     env.keys.emplace_back(key.at("frame").get<int64_t>(), equirectFromJson(key));
@@ -112,6 +119,32 @@ Environment hdrEnvironment(const std::string& path, double intensity) {
   if (map.width > kMaxHdrWidth) map = resampleEquirect(map, kMaxHdrWidth, kMaxHdrWidth / 2);
   for (float& v : map.rgb) v *= float(intensity);
   return mapEnvironment(std::move(map));
+}
+
+// The environment a cache entry holds (as prepare() stores it); throws on a malformed entry.
+Environment cachedEnvironment(const nlohmann::json& cached) {
+  if (cached.contains("stitched")) {
+    Environment env = stitchedEnvironment(cached.at("stitched"));
+    log::info("lighting: stitched panorama from cache");
+    return env;
+  }
+  if (cached.contains("frame")) {
+    Environment env = plateEnvironment(plateFromJson(cached.at("frame")));
+    log::info("lighting: from the plate, from cache");
+    return env;
+  }
+  const nlohmann::json& rgb = cached.at("average_rgb");
+  Environment env =
+      uniformEnvironment({rgb.at(0).get<float>(), rgb.at(1).get<float>(), rgb.at(2).get<float>()});
+  log::info("lighting: from cache");
+  return env;
+}
+
+// A cache entry is a file anyone can edit (or a crash may have cut): one that does not read as
+// the lighting pluvia stored is measured again, and stored anew.
+void ignoreMalformedEntry(const ClipContext& clip, const std::string& key, const std::string& why) {
+  log::warning(fmt::format("ignoring the malformed cache entry {} ({}): measuring again",
+                           clip.cache->pathFor("lighting", key).string(), why));
 }
 
 // What the environment depends on: the lighting, the colour spaces, the camera and the clip.
@@ -158,21 +191,16 @@ class EnvironmentStage : public Stage {
     const std::string key = environmentCacheKey(lighting_, color_, camera_, *clip.clip);
     if (clip.cache) {
       if (auto cached = clip.cache->load("lighting", key)) {
-        if (cached->contains("stitched")) {
-          clip.environment = stitchedEnvironment(cached->at("stitched"));
-          log::info("lighting: stitched panorama from cache");
+        try {
+          clip.environment = cachedEnvironment(*cached);
           return;
+        } catch (const nlohmann::json::exception&) {
+          ignoreMalformedEntry(clip, key, "a field is missing or of the wrong type");
+        } catch (const Error& e) {
+          ignoreMalformedEntry(clip, key, e.what());
+        } catch (const std::bad_alloc&) {
+          ignoreMalformedEntry(clip, key, "its sizes are beyond memory");
         }
-        if (cached->contains("frame")) {
-          clip.environment = plateEnvironment(plateFromJson(cached->at("frame")));
-          log::info("lighting: from the plate, from cache");
-          return;
-        }
-        auto rgb = (*cached)["average_rgb"];
-        clip.environment =
-            uniformEnvironment({rgb[0].get<float>(), rgb[1].get<float>(), rgb[2].get<float>()});
-        log::info("lighting: from cache");
-        return;
       }
     }
     if (source == "stitch") {

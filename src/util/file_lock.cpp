@@ -55,10 +55,29 @@ std::optional<FileRangeLock> FileRangeLock::tryLock(const std::string& path, off
                                                     off_t length, LockConflict* conflict) {
   fs::ensureParentFolder(path);
   while (true) {
-    const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    // Never through a link: a lock file that is a symlink (or a second name of another file)
+    // would have its target's bytes overwritten by the holder's pid and host.
+    const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd < 0 && errno == ELOOP)
+      throw Error(fmt::format("the lock file {} is a symbolic link: refusing to follow it (remove "
+                              "it; pluvia makes its own)",
+                              path),
+                  {{}, {}, path});
     if (fd < 0)
       throw Error(fmt::format("cannot create the lock file {}: {}", path, std::strerror(errno)),
                   {{}, {}, path});
+    struct stat opened {};
+    if (fstat(fd, &opened) == 0 && opened.st_nlink == 0) {  // removed by its last holder
+      ::close(fd);
+      continue;
+    }
+    if (fstat(fd, &opened) != 0 || !S_ISREG(opened.st_mode) || opened.st_nlink != 1) {
+      ::close(fd);
+      throw Error(fmt::format("the lock file {} is not a plain file of its own (a device, a "
+                              "folder or a hard link to another file): refusing to write to it",
+                              path),
+                  {{}, {}, path});
+    }
     struct flock lock = writeLock(start, length);
     if (fcntl(fd, F_OFD_SETLK, &lock) != 0) {
       const int failure = errno;

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "util/error.h"
+#include "util/input_guard.h"
 
 namespace pluvia::fs {
 namespace stdfs = std::filesystem;
@@ -26,6 +27,12 @@ stdfs::path temporaryPathFor(const stdfs::path& target) {
 
 void commitTemporary(const stdfs::path& tmp, const stdfs::path& target) {
   std::error_code ec;
+  try {
+    refuseWritingInput(target);
+  } catch (const Error&) {
+    stdfs::remove(tmp, ec);
+    throw;
+  }
   stdfs::rename(tmp, target, ec);
   if (ec) {
     const std::string why = ec.message();  // before remove() reuses ec
@@ -60,6 +67,7 @@ int writeWholeFile(const stdfs::path& path, const char* bytes, size_t size) {
 }  // namespace
 
 void writeFileAtomically(const stdfs::path& target, const void* bytes, size_t size) {
+  refuseWritingInput(target);
   const stdfs::path tmp = temporaryPathFor(target);
   int failure = writeWholeFile(tmp, static_cast<const char*>(bytes), size);
   struct stat written {};

@@ -1,5 +1,6 @@
 #include "util/log.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -10,6 +11,8 @@
 #include <mutex>
 
 #include "util/error.h"
+#include "util/input_guard.h"
+#include "util/printable.h"
 
 namespace pluvia::log {
 namespace {
@@ -30,6 +33,22 @@ void fileWriteFailed() {
                std::strerror(code));
   std::fflush(stderr);
 }
+// The log is appended to: a file holding NUL bytes (an image, a movie, an archive) is no text
+// log, and appending would damage it (`--log plate.0002.png`).
+void refuseBinaryFile(const std::string& path) {
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0 || !S_ISREG(info.st_mode)) return;  // new, a device, a pipe
+  std::FILE* existing = std::fopen(path.c_str(), "rb");
+  if (!existing) return;
+  char head[65536];
+  const size_t n = std::fread(head, 1, sizeof head, existing);
+  std::fclose(existing);
+  if (std::memchr(head, '\0', n))
+    throw UsageError(
+        "--log " + path + " is not a text log (it holds binary data): refusing to append to it",
+        {"write", {}, path});
+}
+
 const bool gTerminal = isatty(fileno(stderr)) != 0;
 
 void toFile(const char* tag, const std::string& message) {
@@ -44,11 +63,14 @@ void toFile(const char* tag, const std::string& message) {
     fileWriteFailed();
 }
 
+// Control characters from names, tags and preset values are shown escaped: an escape sequence
+// must not drive the terminal (util/printable.h).
 void emit(const char* tag, const std::string& message) {
+  const std::string shown = printable(message, /*keepLines=*/true);
   std::lock_guard lock(gMutex);
-  std::fprintf(stderr, "pluvia: %s%s\n", tag, message.c_str());
+  std::fprintf(stderr, "pluvia: %s%s\n", tag, shown.c_str());
   std::fflush(stderr);
-  toFile(tag, message);
+  toFile(tag, shown);
 }
 }  // namespace
 
@@ -64,12 +86,19 @@ void setFile(const std::string& path) {
   if (gFile) std::fclose(gFile);
   gFile = nullptr;
   if (path.empty()) return;
+  fs::refuseWritingInput(path);
+  refuseBinaryFile(path);
   gFilePath = path;
   gFileFailed = false;
   gFile = std::fopen(path.c_str(), "a");
   if (!gFile)
     throw Error("cannot open the log file " + path + ": " + std::strerror(errno),
                 {"write", {}, path});
+}
+
+std::string filePath() {
+  std::lock_guard lock(gMutex);
+  return gFile ? gFilePath : std::string();
 }
 
 bool fileFailed() {

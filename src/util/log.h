@@ -14,6 +14,8 @@ Level level();
 void setFile(const std::string& path);
 // Whether a write to that file failed (it was then closed, with a warning on stderr).
 bool fileFailed();
+// The --log file being written, or "" when there is none.
+std::string filePath();
 void warning(const std::string& message);
 void info(const std::string& message);
 void debug(const std::string& message);

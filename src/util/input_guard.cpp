@@ -1,0 +1,54 @@
+#include "util/input_guard.h"
+
+#include <sys/stat.h>
+
+#include <map>
+#include <mutex>
+#include <utility>
+
+#include "util/error.h"
+#include "util/log.h"
+
+namespace pluvia::fs {
+namespace {
+
+using FileId = std::pair<dev_t, ino_t>;
+
+std::mutex gMutex;
+std::map<FileId, std::string> gInputs;  // file id -> the path it was read by
+
+}  // namespace
+
+void protectInputs(const std::vector<std::string>& files) {
+  {
+    std::lock_guard lock(gMutex);
+    for (const std::string& file : files) {
+      struct stat info {};
+      if (::stat(file.c_str(), &info) == 0) gInputs.emplace(FileId{info.st_dev, info.st_ino}, file);
+    }
+  }
+  // The log was opened before the command knew its inputs.
+  const std::string logFile = log::filePath();
+  if (logFile.empty() || protectedInputAt(logFile).empty()) return;
+  log::setFile("");  // closed first, so that the error itself is not appended to the input
+  refuseWritingInput(logFile);
+}
+
+std::string protectedInputAt(const std::filesystem::path& target) {
+  struct stat info {};
+  if (::stat(target.c_str(), &info) != 0) return "";
+  std::lock_guard lock(gMutex);
+  auto found = gInputs.find({info.st_dev, info.st_ino});
+  return found == gInputs.end() ? "" : found->second;
+}
+
+void refuseWritingInput(const std::filesystem::path& target) {
+  const std::string input = protectedInputAt(target);
+  if (input.empty()) return;
+  const std::string same = input == target.string() ? "" : " (the same file as " + input + ")";
+  throw UsageError(
+      target.string() + " is an input file of this run" + same + ": refusing to write over it",
+      {"write", {}, target.string()});
+}
+
+}  // namespace pluvia::fs

@@ -1,0 +1,128 @@
+// The job scripts `farm slurm` writes run nothing but pluvia, whatever the names (adversarial
+// S1): `$()` and backticks in paths are data, a newline cannot become a command line (refused
+// where an #SBATCH line would have to carry it), a space is quoted for sbatch. A --farm-dir that
+// holds someone's files, or whose tasks folder is a link, is refused instead of emptied (S2).
+// The scripts are run with bash, as a Slurm node would run them; no cluster is needed.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "test_support.h"
+#include "util/fs.h"
+#include "util/subprocess.h"
+
+using namespace pluvia;
+using namespace pluvia::test;
+namespace stdfs = std::filesystem;
+
+namespace {
+
+int runScript(const stdfs::path& script) {
+  return runProcess({"env", "SLURM_ARRAY_TASK_ID=0", "SLURM_JOB_ID=7", "bash", script.string()})
+      .exitCode;
+}
+
+}  // namespace
+
+TEST(CliFarmScripts, NamesInTheScriptsAreDataNotCommands) {
+  const stdfs::path dir = freshTempDir("farm_scripts");
+  const std::string plate = writeTexturedPlate(dir, 1, 4);
+  const stdfs::path marker = dir / "PWNED";
+
+  // $() in the output path, and backticks in --farm-dir: both reach the scripts' commands and
+  // the status line; neither runs.
+  const stdfs::path out = dir / ("o$(touch " + marker.string() + ")") / "r.####.png";
+  const stdfs::path farm = dir / ("f`touch " + marker.string() + "`");
+  auto r = runPluvia({"farm", "slurm", plate, "-p", "moderate", "-o", out.string(), "--chunk", "2",
+                      "--farm-dir", farm.string()});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  runScript(farm / "prepare.sbatch");
+  runScript(farm / "render.sbatch");
+  EXPECT_FALSE(stdfs::exists(marker));
+  EXPECT_TRUE(stdfs::exists(farm / "tasks" / "prepare.status"));  // the status line still ran
+  EXPECT_TRUE(stdfs::exists(out.parent_path() / "r.0001.png"));   // and so did the render
+
+  // A newline in the output path stays inside its quotes (and the comment that names it).
+  const stdfs::path newline = dir / ("x\ntouch " + marker.string() + "\n.####.png");
+  r = runPluvia({"farm", "slurm", plate, "-p", "moderate", "-o", newline.string(), "--chunk", "2",
+                 "--farm-dir", (dir / "f2").string()});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  runScript(dir / "f2" / "prepare.sbatch");
+  runScript(dir / "f2" / "render.sbatch");
+  EXPECT_FALSE(stdfs::exists(marker));
+  EXPECT_TRUE(stdfs::exists(dir / "f2" / "tasks" / "render-0.status"));
+
+  // Where the value would stand on an #SBATCH line, a newline is refused, naming the option.
+  r = runPluvia({"farm", "slurm", plate, "-p", "moderate", "-o",
+                 (dir / "o3" / "r.####.png").string(), "--chunk", "2", "--partition",
+                 "debug\ntouch " + marker.string()});
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find("--partition"), std::string::npos) << r.output;
+  r = runPluvia({"farm", "slurm", plate, "-p", "moderate", "-o",
+                 (dir / "o4" / "r.####.png").string(), "--chunk", "2",
+                 "--sbatch-arg=--time=1:00\ntouch " + marker.string()});
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find("--sbatch-arg"), std::string::npos) << r.output;
+  EXPECT_FALSE(stdfs::exists(dir / "o3" / "r.farm" / "render.sbatch"));
+}
+
+TEST(CliFarmScripts, ASpaceInThePathIsQuotedOnTheSbatchLines) {
+  const stdfs::path dir = freshTempDir("farm_space");
+  const std::string plate = writeTexturedPlate(dir, 1, 2);
+  const stdfs::path farm = dir / "my shots" / "f";
+  const auto r = runPluvia({"farm", "slurm", plate, "-p", "moderate", "-o",
+                            (dir / "my shots" / "r.####.png").string(), "--chunk", "2",
+                            "--farm-dir", farm.string()});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const std::string script = fs::readTextFile(farm / "render.sbatch");
+  EXPECT_NE(script.find("#SBATCH --output=\"" + (farm / "logs").string()), std::string::npos)
+      << script;
+}
+
+TEST(CliFarmScripts, AFarmFolderHoldingOtherFilesIsRefusedNotEmptied) {
+  const stdfs::path dir = freshTempDir("farm_foreign");
+  const std::string plate = writeTexturedPlate(dir, 1, 2);
+  stdfs::create_directories(dir / "proj" / "tasks");
+  writeTextFile(dir / "proj" / "tasks", "todo.txt", "mine");
+  writeTextFile(dir / "proj", "jobs.json", "{}");
+  auto r = runPluvia({"farm", "slurm", plate, "-p", "moderate", "-o",
+                      (dir / "a" / "r.####.png").string(), "--chunk", "2", "--farm-dir",
+                      (dir / "proj").string()});
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find("not a pluvia farm folder"), std::string::npos) << r.output;
+  EXPECT_TRUE(stdfs::exists(dir / "proj" / "tasks" / "todo.txt"));
+  EXPECT_TRUE(stdfs::exists(dir / "proj" / "jobs.json"));
+
+  // A tasks folder that is a link to the user's folder.
+  stdfs::create_directories(dir / "victim");
+  writeTextFile(dir / "victim", "data.txt", "precious");
+  stdfs::create_directories(dir / "r");
+  stdfs::create_directory_symlink(dir / "victim", dir / "r" / "tasks");
+  r = runPluvia({"farm", "slurm", plate, "-p", "moderate", "-o",
+                 (dir / "b" / "r.####.png").string(), "--chunk", "2", "--farm-dir",
+                 (dir / "r").string()});
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_TRUE(stdfs::exists(dir / "victim" / "data.txt"));
+
+  // pluvia's own farm folder is rewritten: its old task records go, other files stay.
+  const stdfs::path own = dir / "own";
+  const std::vector<std::string> job = {"farm",
+                                        "slurm",
+                                        plate,
+                                        "-p",
+                                        "moderate",
+                                        "-o",
+                                        (dir / "c" / "r.####.png").string(),
+                                        "--chunk",
+                                        "2",
+                                        "--farm-dir",
+                                        own.string()};
+  r = runPluvia(job);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  writeTextFile(own / "tasks", "render-0.status", "1 host log");
+  writeTextFile(own / "tasks", "notes.txt", "mine");
+  r = runPluvia(job);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_FALSE(stdfs::exists(own / "tasks" / "render-0.status"));
+  EXPECT_TRUE(stdfs::exists(own / "tasks" / "notes.txt"));
+}
