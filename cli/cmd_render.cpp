@@ -101,7 +101,7 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
       existing += fmt::format(", {} existing frames skipped", summary.framesSkipped);
     if (summary.framesRedone) {
       existing += fmt::format(
-          ", {} existing frames rendered again (empty, unreadable or of another preset)",
+          ", {} existing frames rendered again (empty, unreadable, or not what this render writes)",
           summary.framesRedone);
     }
     log::info(fmt::format("wrote {} {}frames to {} in {:.1f} s{}", summary.framesWritten,

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <csignal>
 #include <cstdio>
+#include <new>
 
 #include <CLI/CLI.hpp>
 
@@ -97,6 +98,12 @@ int main(int argc, char** argv) {
     log::error(e.describe());
     // Whatever failed after a SIGINT or SIGTERM (ffmpeg got it too and stopped) failed for it.
     if (const int signal = interruptSignal()) return 128 + signal;
+    return 1;
+  } catch (const std::bad_alloc&) {
+    log::error(
+        "out of memory: this command needed more memory than the process may use (the "
+        "machine's, ulimit -v or the job's memory limit); a smaller --proxy, fewer "
+        "--threads or rain.max_drops lower it");
     return 1;
   } catch (const std::exception& e) {
     log::error(e.what());

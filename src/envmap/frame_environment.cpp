@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "image/ops.h"
+#include "image/resize.h"
 
 namespace pluvia::envmap {
 namespace {
@@ -115,7 +116,7 @@ FrameEnvironment frameEnvironment(const Image& frame, const Camera& camera,
   const int mapWidth = widthTexels, mapHeight = widthTexels / 2;
   const double scale = std::min(1.0, double(kSampleWidthPx) / std::max(1, camera.width));
   cv::Mat rgb = rgbMat(frame), small;
-  cv::resize(rgb, small, cv::Size(), scale, scale, cv::INTER_AREA);
+  cv::resize(rgb, small, scaledSize(rgb.cols, rgb.rows, scale), 0, 0, cv::INTER_AREA);
   Camera view = camera;  // the same view at the sample size
   view.width = small.cols;
   view.height = small.rows;

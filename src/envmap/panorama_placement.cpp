@@ -13,6 +13,7 @@
 
 #include "envmap/panorama.h"
 #include "envmap/perspective_view.h"
+#include "image/resize.h"
 #include "image/srgb.h"
 
 namespace pluvia::envmap {
@@ -26,7 +27,8 @@ constexpr size_t kMinKeypoints = 20;        // fewer: the frame is placed by int
 cv::Mat featureImage(const cv::Mat& linearRgb, double scale) {
   cv::Mat small;
   if (scale < 1.0) {
-    cv::resize(linearRgb, small, cv::Size(), scale, scale, cv::INTER_AREA);
+    cv::resize(linearRgb, small, scaledSize(linearRgb.cols, linearRgb.rows, scale), 0, 0,
+               cv::INTER_AREA);
   } else {
     small = linearRgb;
   }

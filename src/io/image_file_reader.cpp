@@ -8,6 +8,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include "io/frame_size.h"
 #include "io/oiio_message.h"
 #include "io/timecode.h"
 #include "util/error.h"
@@ -43,6 +44,8 @@ std::unique_ptr<OIIO::ImageInput> openImage(const std::string& path, std::option
       spec.nchannels <= 0) {
     throw Error("image has no pixels (zero size): " + path, readContext(path, frame));
   }
+  checkFrameSize(spec.full_width, spec.full_height, path, readContext(path, frame));
+  checkFrameSize(spec.width, spec.height, path, readContext(path, frame));  // the data window
   return input;
 }
 

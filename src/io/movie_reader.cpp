@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <opencv2/core/utility.hpp>
 
+#include "io/frame_size.h"
 #include "io/movie_probe.h"
 #include "util/error.h"
 #include "util/log.h"
@@ -85,6 +86,7 @@ class MovieReader final : public ClipReader {
     sampleBytes_ = probe_.bitsPerSample > 8 ? 2 : 1;
     if (info_.width <= 0 || info_.height <= 0)
       throw Error("movie has no picture (zero size): " + path, {"read", {}, path});
+    checkFrameSize(info_.width, info_.height, path, {"read", {}, path});
     if (probe_.variableRate) {
       log::warning(fmt::format(
           "movie {} has a variable frame rate ({} coded frames): conformed to its nominal {} fps "

@@ -5,13 +5,18 @@
 #include <cctype>
 #include <charconv>
 #include <filesystem>
+#include <limits>
 #include <system_error>
 
 #include <fmt/format.h>
 
+#include "util/error.h"
+
 namespace pluvia {
 namespace stdfs = std::filesystem;
 namespace {
+
+constexpr int kMaxPadding = 19;
 
 // A frame-number token found in a pattern: where it is, how long it is, its padding.
 struct Token {
@@ -48,7 +53,9 @@ std::optional<Token> findPrintfToken(const std::string& text) {
       while (cursor < text.size() && std::isdigit(static_cast<unsigned char>(text[cursor])))
         ++cursor;
       if (cursor == digitsBegin) continue;
-      std::from_chars(text.data() + digitsBegin, text.data() + cursor, padding);
+      if (std::from_chars(text.data() + digitsBegin, text.data() + cursor, padding).ec !=
+          std::errc())
+        padding = std::numeric_limits<int>::max();  // refused by parse()
     }
     if (cursor < text.size() && text[cursor] == 'd') return Token{at, cursor + 1 - at, padding};
   }
@@ -63,6 +70,14 @@ std::optional<SequencePattern> SequencePattern::parse(const std::string& text) {
   const std::optional<Token> token =
       later(later(findRunToken(text, '#'), findRunToken(text, '@')), findPrintfToken(text));
   if (!token) return std::nullopt;
+  // A frame number has at most 19 digits: a longer padding only makes gigantic names (and a
+  // 100 MB error message for '%0100000000d').
+  if (token->padding > kMaxPadding)
+    throw Error(
+        fmt::format("the sequence pattern '{}...' pads frame numbers to {} digits: at most {}",
+                    text.substr(0, std::min<size_t>(text.size(), token->position + 8)),
+                    token->padding, kMaxPadding),
+        {{}, {}, text.substr(0, 200)});
   SequencePattern pattern;
   pattern.prefix = text.substr(0, token->position);
   pattern.suffix = text.substr(token->position + token->length);

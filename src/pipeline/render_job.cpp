@@ -102,6 +102,19 @@ void refuseOverwritingInput(const ClipInfo& clip, const RenderRequest& request,
   }
 }
 
+// A name over the file system's limit would fail only at the first write, after the per-clip
+// analysis: said before any work.
+void refuseNamesTooLongToWrite(const RenderRequest& request, int64_t frame) {
+  for (const std::string& out : framePaths(request.output, request.aovs, frame)) {
+    const std::string name = std::filesystem::path(out).filename().string();
+    if (name.size() > fs::kNameMaxBytes)
+      throw UsageError(fmt::format("the output file name {} is {} bytes, over the file system's "
+                                   "{}: shorten it",
+                                   name, name.size(), fs::kNameMaxBytes),
+                       {"write", {}, out});
+  }
+}
+
 // One image file holds one frame: more frames into it would each overwrite the last.
 void refuseSingleFileForManyFrames(const std::string& output, const std::vector<int64_t>& frames) {
   if (frames.size() < 2 || SequencePattern::parse(output) || isMovieExtension(output)) return;
@@ -141,6 +154,7 @@ std::unique_ptr<ClipReader> openInput(const RenderRequest& request) {
 std::vector<int64_t> framesToRender(const RenderRequest& request, const ClipInfo& clip) {
   std::vector<int64_t> frames = selectFrames(request, clip);
   refuseOverwritingInput(clip, request, frames);
+  refuseNamesTooLongToWrite(request, frames.back());
   return frames;
 }
 

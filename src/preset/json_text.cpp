@@ -1,6 +1,8 @@
 #include "preset/json_text.h"
 
 #include <cstdint>
+#include <set>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -85,8 +87,32 @@ bool isValidUtf8(const std::string& text) {
 
 nlohmann::json parsePresetJson(const std::string& text, const std::string& source) {
   checkJsonNesting(text, source);
+  // The parser stops at a NUL byte: what follows would be ignored unseen.
+  if (const size_t nul = text.find('\0'); nul != std::string::npos)
+    throw PresetError(
+        source, {fmt::format("a NUL byte at {}: not a JSON text file", positionOf(text, nul))});
+  // A key given twice in one object: JSON takes the last silently, so a preset edited by hand
+  // could hold a value nobody sees. Each object's keys so far, innermost last.
+  std::vector<std::set<std::string>> keys;
+  std::vector<std::string> duplicates;
+  const nlohmann::json::parser_callback_t noteDuplicates =
+      [&](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+        using Event = nlohmann::json::parse_event_t;
+        if (event == Event::object_start) keys.emplace_back();
+        if (event == Event::object_end && !keys.empty()) keys.pop_back();
+        if (event == Event::key && !keys.empty() &&
+            !keys.back().insert(parsed.get<std::string>()).second)
+          duplicates.push_back(parsed.get<std::string>());
+        return true;
+      };
   try {
-    return nlohmann::json::parse(text);
+    nlohmann::json value = nlohmann::json::parse(text, noteDuplicates);
+    if (!duplicates.empty())
+      throw PresetError(source,
+                        {fmt::format("the key \"{}\" is given twice in one object (JSON would "
+                                     "take the last silently): keep one",
+                                     duplicates.front())});
+    return value;
   } catch (const nlohmann::json::parse_error& e) {
     // e.byte is 1-based, just past what was read.
     const size_t offset = e.byte > 0 ? e.byte - 1 : 0;

@@ -11,6 +11,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "image/resize.h"
 #include "io/image_file_writer.h"
 #include "sfm/colmap_model.h"
 #include "sfm/dense_import.h"
@@ -121,7 +122,8 @@ namespace {
 cv::Mat smallFrame(const Image& image) {
   cv::Mat small;
   const double scale = std::min(1.0, 640.0 / std::max(image.width, image.height));
-  cv::resize(rgbMat(image), small, cv::Size(), scale, scale, cv::INTER_AREA);
+  cv::resize(rgbMat(image), small, scaledSize(image.width, image.height, scale), 0, 0,
+             cv::INTER_AREA);
   return small;
 }
 

@@ -8,6 +8,8 @@
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "image/resize.h"
+
 namespace pluvia::sfm {
 namespace {
 
@@ -17,7 +19,8 @@ cv::Mat grey8(const cv::Mat& frame, int maxSizePx) {
   if (frame.channels() == 4) cv::cvtColor(frame, grey, cv::COLOR_RGBA2GRAY);
   if (grey.depth() != CV_8U) grey.convertTo(grey, CV_8U, 255.0);
   const double scale = double(maxSizePx) / std::max(grey.cols, grey.rows);
-  if (scale < 1.0) cv::resize(grey, grey, cv::Size(), scale, scale, cv::INTER_AREA);
+  if (scale < 1.0)
+    cv::resize(grey, grey, scaledSize(grey.cols, grey.rows, scale), 0, 0, cv::INTER_AREA);
   return grey;
 }
 

@@ -4,6 +4,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "image/resize.h"
 #include "sfm/sparse_densify.h"
 
 namespace pluvia {
@@ -43,7 +44,7 @@ const std::vector<uint8_t>& clipSky(ClipContext& clip, const Camera& camera) {
   const Image& still = clipStill(clip);
   const double scale = double(kSkySidePx) / std::max(still.width, still.height);
   cv::Mat small, bgr;
-  cv::resize(rgbMat(still), small, cv::Size(), scale, scale,
+  cv::resize(rgbMat(still), small, scaledSize(still.width, still.height, scale), 0, 0,
              scale < 1.0 ? cv::INTER_AREA : cv::INTER_LINEAR);
   cv::cvtColor(small, bgr, cv::COLOR_RGB2BGR);
   sfm::DensifyOptions options;

@@ -19,10 +19,14 @@ namespace stdfs = std::filesystem;
 
 stdfs::path temporaryPathFor(const stdfs::path& target) {
   static std::atomic<uint64_t> counter{0};
-  stdfs::path tmp =
-      target.parent_path() / (target.stem().string() + ".pluvia-tmp-" + std::to_string(getpid()) +
-                              "-" + std::to_string(counter++) + target.extension().string());
-  return tmp;
+  const std::string tail = ".pluvia-tmp-" + std::to_string(getpid()) + "-" +
+                           std::to_string(counter++) + target.extension().string();
+  // A legal name near the 255-byte limit must still get a temporary: its stem is cut short
+  // (the start, which names the output, is kept).
+  std::string stem = target.stem().string();
+  if (stem.size() + tail.size() > kNameMaxBytes)
+    stem.resize(kNameMaxBytes > tail.size() ? kNameMaxBytes - tail.size() : 0);
+  return target.parent_path() / (stem + tail);
 }
 
 void commitTemporary(const stdfs::path& tmp, const stdfs::path& target) {

@@ -1,12 +1,17 @@
 #pragma once
 // File-system helpers shared by readers, writers and the cache.
+#include <cstddef>
 #include <filesystem>
 #include <string>
 
 namespace pluvia::fs {
 
+// The longest file name ext4, XFS, btrfs and NFS take (NAME_MAX).
+constexpr size_t kNameMaxBytes = 255;
+
 // A temporary path beside `target` (same folder, so rename is atomic), keeping the extension
-// so that format-sniffing writers still see it: "a.0001.exr" -> "a.0001.pluvia-tmp-<pid>-<n>.exr".
+// so that format-sniffing writers still see it: "a.0001.exr" -> "a.0001.pluvia-tmp-<pid>-<n>.exr"
+// (a stem too long for that is cut short, so any legal name can be written).
 std::filesystem::path temporaryPathFor(const std::filesystem::path& target);
 
 // Renames tmp over target atomically; removes tmp and throws pluvia::Error on failure.
