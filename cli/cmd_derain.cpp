@@ -1,3 +1,4 @@
+#include <optional>
 // `pluvia derain`: the clean background and per-frame rain mattes of real rain footage
 // (Wang et al. Eq. 1), written as sequences, with a JSON report of the solve.
 #include <iostream>
@@ -11,9 +12,11 @@
 #include "image/color.h"
 #include "io/clip_reader.h"
 #include "io/clip_writer.h"
+#include "io/output_lock.h"
 #include "pluvia/version.h"
 #include "util/error.h"
 #include "util/fs.h"
+#include "util/interrupt.h"
 #include "util/log.h"
 
 namespace pluvia::cli {
@@ -108,6 +111,7 @@ void addDerainCommand(CLI::App& app, Invocation& invocation) {
     if (!args->matte.empty() && args->matte == args->clean)
       throw UsageError("--matte-out and -o name the same files");
 
+    InterruptHandlers stopCleanly;
     const ClipInfo clip = openClip(args->input)->info();
     std::vector<int64_t> frames;
     for (int64_t f : clip.frames)
@@ -120,12 +124,22 @@ void addDerainCommand(CLI::App& app, Invocation& invocation) {
     if (cleanWriter->isMovie())
       throw UsageError(fmt::format("-o {}: write a sequence pattern, not a movie", args->clean));
     refuseOverwritingInput(clip.files, "-o", outputPaths(*cleanWriter, frames));
+    // Held to the end, as a render holds its output; the temporaries a killed derain left go.
+    std::optional<OutputLock> cleanLock, matteLock;
+    if (!frames.empty()) {
+      cleanLock.emplace(args->clean, frames.front(), frames.back());
+      cleanLock->removeStaleTemporaries();
+    }
     std::unique_ptr<ClipWriter> matteWriter;
     if (!args->matte.empty()) {
       matteWriter = openClipWriter(args->matte, clip.width, clip.height, options);
       if (matteWriter->isMovie())
         throw UsageError(fmt::format("--matte-out {}: write a sequence pattern", args->matte));
       refuseOverwritingInput(clip.files, "--matte-out", outputPaths(*matteWriter, frames));
+      if (!frames.empty()) {
+        matteLock.emplace(args->matte, frames.front(), frames.back());
+        matteLock->removeStaleTemporaries();
+      }
     }
     // The solver keeps the file's encoding; convert only where the output's differs.
     const bool inputLinear = clip.isFloat, outputLinear = outputIsLinear(args->clean);

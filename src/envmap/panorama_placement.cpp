@@ -15,6 +15,7 @@
 #include "envmap/perspective_view.h"
 #include "image/resize.h"
 #include "image/srgb.h"
+#include "util/interrupt.h"
 
 namespace pluvia::envmap {
 namespace {
@@ -134,6 +135,7 @@ Placement placeFrames(const std::vector<PanoramaFrame>& frames, const PlacementS
     std::vector<cd::ImageFeatures> all(n);
     cv::Ptr<cv::Feature2D> orb = cv::ORB::create(1500);
     cd::computeImageFeatures(orb, images, all);
+    throwIfInterrupted();  // between the feature and the matching passes, the long ones
     // Frames with too few features (sky, fog, a blank wall, a flash) are left out of the
     // matching and placed afterwards between their neighbours.
     std::vector<int> featured;
@@ -226,6 +228,8 @@ Placement placeFrames(const std::vector<PanoramaFrame>& frames, const PlacementS
       pose.cameraToWorld = cv::Matx33d(cv::Mat(svd.u * svd.vt));
     }
     return p;
+  } catch (const Interrupted&) {
+    throw;
   } catch (const std::exception& e) {
     return fallback(frames, settings, std::string("feature placement failed: ") + e.what());
   }

@@ -11,6 +11,7 @@
 #include "io/movie_reader.h"
 #include "io/sequence_pattern.h"
 #include "util/error.h"
+#include "util/interrupt.h"
 #include "util/log.h"
 
 namespace pluvia {
@@ -26,6 +27,7 @@ class ImageFilesReader final : public ClipReader {
   const ClipInfo& info() const override { return info_; }
 
   Image read(int64_t frame) override {
+    throwIfInterrupted();  // an analysis stops at its next frame (util/interrupt.h)
     const std::string path = pathFor_(frame);
     if (!std::binary_search(info_.frames.begin(), info_.frames.end(), frame)) {
       const bool inGap = frame > info_.frames.front() && frame < info_.frames.back();

@@ -13,6 +13,7 @@
 #include "io/frame_size.h"
 #include "io/movie_probe.h"
 #include "util/error.h"
+#include "util/interrupt.h"
 #include "util/log.h"
 #include "util/read_pipe.h"
 #include "util/thread_limit.h"
@@ -105,6 +106,7 @@ class MovieReader final : public ClipReader {
   const ClipInfo& info() const override { return info_; }
 
   Image read(int64_t frame) override {
+    throwIfInterrupted();  // an analysis stops at its next frame (util/interrupt.h)
     std::lock_guard lock(mutex_);
     if (frame < 0 || frame >= static_cast<int64_t>(info_.frames.size())) {
       throw Error(fmt::format("frame {} is not in movie {} (frames 0..{})", frame, info_.path,

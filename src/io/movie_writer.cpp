@@ -1,5 +1,7 @@
 #include "io/movie_writer.h"
 
+#include <sys/statvfs.h>
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -42,6 +44,9 @@ std::string metadataComment(const std::map<std::string, std::string>& metadata) 
   return comment;
 }
 
+// Less than this left on the output's file system reads as a full disk.
+constexpr unsigned long long kFullDiskBytes = 1 << 20;
+
 std::string lastLines(const stdfs::path& path, int count) {
   std::ifstream in(path);
   std::deque<std::string> lines;
@@ -51,7 +56,16 @@ std::string lastLines(const stdfs::path& path, int count) {
   }
   std::string text;
   for (const std::string& line : lines) text += "\n  " + line;
-  return text.empty() ? " (ffmpeg printed nothing)" : text;
+  if (!text.empty()) return text;
+  // ffmpeg's log sits beside the movie: on a full disk it is empty too, so say what is left.
+  struct statvfs disk {};
+  if (::statvfs(path.parent_path().empty() ? "." : path.parent_path().c_str(), &disk) == 0 &&
+      disk.f_bavail * disk.f_frsize < kFullDiskBytes)
+    return fmt::format(
+        " (the disk is full: the output's file system has {} bytes free, and ffmpeg's log "
+        "beside it is empty)",
+        disk.f_bavail * disk.f_frsize);
+  return " (ffmpeg printed nothing)";
 }
 
 struct MovieCodec {

@@ -24,6 +24,7 @@
 #include "util/fs.h"
 #include "util/hash.h"
 #include "util/input_guard.h"
+#include "util/interrupt.h"
 #include "util/log.h"
 
 namespace pluvia {
@@ -309,6 +310,7 @@ void RenderSession::prepareStages(bool analysisOnly) {
   for (auto& [info, stage] : stages_) {
     const std::string& name = info->spec.name;
     ScopedTimer timer(&times_, name + " (prepare)");
+    throwIfInterrupted();  // a stop asked for during the analysis before: no further one
     try {
       // Held while the stage computes its missing cache entry, so that it is computed once.
       const auto entryLock = lockMissingEntry(cache_ ? &*cache_ : nullptr, *info, preset_, clip());
@@ -318,6 +320,7 @@ void RenderSession::prepareStages(bool analysisOnly) {
       throw Error(e.what(), {name, {}, e.context().file});
     }
   }
+  throwIfInterrupted();
   // Only per-frame stages that run take part in the frame loop; per-clip ones are done.
   for (auto& [info, stage] : stages_) {
     if (!info->perClip && plan_.runs(info->spec.name))

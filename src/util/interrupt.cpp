@@ -11,12 +11,15 @@ void record(int signal) {
   gSignal = signal;
 }
 
-struct sigaction gPreviousInt, gPreviousTerm;
+struct sigaction gPreviousInt, gPreviousTerm, gPreviousHup;
 
 }  // namespace
 
 Interrupted::Interrupted(int signal)
-    : Error(std::string("stopped by ") + (signal == SIGINT ? "SIGINT" : "SIGTERM") +
+    : Error(std::string("stopped by ") +
+            (signal == SIGINT   ? "SIGINT"
+             : signal == SIGHUP ? "SIGHUP"
+                                : "SIGTERM") +
             "; frames already written are whole, nothing partial is left"),
       signal_(signal) {}
 
@@ -28,11 +31,14 @@ InterruptHandlers::InterruptHandlers() {
   action.sa_flags = SA_RESTART | SA_RESETHAND;
   sigaction(SIGINT, &action, &gPreviousInt);
   sigaction(SIGTERM, &action, &gPreviousTerm);
+  // A closed terminal or ssh session hangs the job up: it stops as cleanly as on SIGTERM.
+  sigaction(SIGHUP, &action, &gPreviousHup);
 }
 
 InterruptHandlers::~InterruptHandlers() {
   sigaction(SIGINT, &gPreviousInt, nullptr);
   sigaction(SIGTERM, &gPreviousTerm, nullptr);
+  sigaction(SIGHUP, &gPreviousHup, nullptr);
 }
 
 int interruptSignal() {

@@ -1,8 +1,10 @@
 #pragma once
-// Stopping cleanly on SIGINT and SIGTERM. The handler only records the signal; long jobs check it
-// between frames and throw Interrupted, which unwinds like any error, so temporary files and a
-// movie's partial file are removed on the way out. The command then exits 128 + the signal
-// (130 for SIGINT, 143 for SIGTERM). A second signal acts at once (the default action).
+// Stopping cleanly on SIGINT, SIGTERM and SIGHUP. The handler only records the signal; long jobs
+// check it between frames and throw Interrupted, which unwinds like any error, so temporary files
+// and a movie's partial file are removed on the way out. The command then exits 128 + the signal
+// (130 for SIGINT, 143 for SIGTERM, 129 for SIGHUP). Every frame a clip reader reads checks it
+// too, so a per-clip analysis (prepare, derain) stops at its next frame. A second signal acts at
+// once (the default action).
 #include "util/error.h"
 
 namespace pluvia {
@@ -25,7 +27,7 @@ class InterruptHandlers {
   InterruptHandlers& operator=(const InterruptHandlers&) = delete;
 };
 
-// The signal that arrived (SIGINT, SIGTERM), or 0.
+// The signal that arrived (SIGINT, SIGTERM, SIGHUP), or 0.
 int interruptSignal();
 // Throws Interrupted when a signal arrived.
 void throwIfInterrupted();

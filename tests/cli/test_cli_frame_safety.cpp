@@ -291,6 +291,33 @@ TEST(CliFrameSafety, SigtermStopsAMovieRenderAndRemovesItsPartialFile) {
   EXPECT_TRUE(stdfs::is_empty(dir / "out")) << "a partial movie, temporary or lock is left";
 }
 
+// A closed terminal or ssh session (adversarial S23): SIGHUP left the temporary movie, its
+// ffmpeg log and the lock.
+TEST(CliFrameSafety, SighupStopsAMovieRenderAsCleanlyAsSigterm) {
+  auto dir = freshTempDir("sighup_movie");
+  const pid_t pid = startLongRender(dir, "o.mp4");
+  EXPECT_TRUE(waitUntil([&] { return countTemporaries(dir / "out") > 0; }));
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  kill(pid, SIGHUP);
+  EXPECT_EQ(waitForExit(pid), 129) << fs::readTextFile(dir / "log");
+  EXPECT_NE(fs::readTextFile(dir / "log").find("stopped by SIGHUP"), std::string::npos);
+  EXPECT_TRUE(stdfs::is_empty(dir / "out")) << "a partial movie, temporary or lock is left";
+}
+
+// A derain killed mid-write left a temporary that no rerun removed (S23).
+TEST(CliFrameSafety, DerainRemovesTheTemporariesOfAKilledDerain) {
+  auto dir = freshTempDir("derain_stale");
+  auto plate = writeTexturedPlate(dir, 1, 6);
+  stdfs::create_directories(dir / "d");
+  // pid 999999 runs no process (pid_max is 4194304 at most, and this one is not started).
+  const stdfs::path stale = dir / "d" / "c.0001.pluvia-tmp-999999-0.png";
+  std::ofstream(stale) << "half a frame";
+  const auto r = runPluvia({"derain", plate, "-o", (dir / "d" / "c.####.png").string()});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_FALSE(stdfs::exists(stale));
+  EXPECT_EQ(countTemporaries(dir / "d"), 0);
+}
+
 TEST(CliFrameSafety, SigintStopsASequenceRenderLeavingWholeFramesOnly) {
   auto dir = freshTempDir("sigint_sequence");
   const pid_t pid = startLongRender(dir, "o.####.png");
