@@ -69,6 +69,8 @@ void addEnvmapCommand(CLI::App& app, Invocation& invocation) {
       if (const auto pattern = SequencePattern::parse(args->panorama))
         for (int64_t f : keyFrames) panoramas.push_back(pattern->pathFor(f));
       refuseOverwritingInput(inputs, "--panorama-out", panoramas);
+      // Made as -o's is, and before the work: an unwritable folder fails at once.
+      fs::ensureParentFolder(args->panorama);
     };
     if (!args->hdr.empty()) {
       refuseOutputsOnto({args->hdr}, {0});

@@ -2,7 +2,9 @@
 // status), and a movie output's last step (farm assemble). The work is in src/farm.
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <thread>
@@ -50,7 +52,8 @@ void addSlurmCommand(CLI::App* farm) {
   struct Args {
     std::string input, preset, output, frames, cache, farmDir, partition;
     std::vector<std::string> sets, sbatchArgs;
-    int chunk = 0, threads = 2, cpus = 0;
+    RenderOutputOptions writes;
+    int chunk = 0, threads = 0, cpus = 0;
     bool submit = false, dryRun = false;
   };
   auto args = std::make_shared<Args>();
@@ -70,11 +73,16 @@ void addSlurmCommand(CLI::App* farm) {
   cmd->add_option("--cpus-per-task", args->cpus, "CPUs per job (default: the cluster's)");
   cmd->add_option("--sbatch-arg", args->sbatchArgs,
                   "another #SBATCH line for every job, e.g. --sbatch-arg=--time=2:00:00");
-  cmd->add_option("--threads", args->threads, "writer threads per chunk")->check(CLI::Range(1, 64));
+  cmd->add_option("--threads", args->threads,
+                  "threads per chunk (default: --cpus-per-task, else the node's Slurm allocation)")
+      ->check(CLI::Range(1, 64));
+  addRenderOutputOptions(cmd, args->writes);
   auto* submit = cmd->add_flag("--submit", args->submit, "submit the jobs through sbatch");
   cmd->add_flag("--dry-run", args->dryRun, "print the scripts, write and submit nothing")
       ->excludes(submit);
   cmd->callback([=] {
+    checkProxyScale(args->writes.proxy);
+    args->writes.aovs();  // an unknown AOV refused here, not on the farm
     const Preset preset = loadPreset(args->preset, args->sets);  // refused here, not on the farm
     const std::unique_ptr<ClipReader> reader = openClip(args->input);
     const ClipInfo& clip = reader->info();
@@ -106,7 +114,21 @@ void addSlurmCommand(CLI::App* farm) {
           fmt::format("--frames {}: a farm job renders frames 0 and up", args->frames));
     job.chunkFrames = args->chunk;
     job.fps = preset.number("camera.fps") > 0 ? preset.number("camera.fps") : clip.fps;
-    job.threads = args->threads;
+    job.threads = args->threads > 0 ? args->threads : args->cpus;
+    // Every render option goes to the chunks, a movie's codec to its assembly instead (the
+    // chunks write TIFF), and the proxy also to the prepare job.
+    const bool movie = isMovieExtension(job.output);
+    for (const std::string& argument : args->writes.renderArguments())
+      job.renderOptions.push_back(argument);
+    if (movie && args->writes.codec != RenderOutputOptions().codec) {
+      const auto codec = std::find(job.renderOptions.begin(), job.renderOptions.end(), "--codec");
+      job.renderOptions.erase(codec, codec + 2);
+      job.assembleOptions = {"--codec", args->writes.codec};
+    }
+    if (args->writes.proxy != 1.0)
+      job.prepareOptions = {"--proxy", fmt::format("{}", args->writes.proxy)};
+    if (const char* ocio = std::getenv("OCIO"); ocio && *ocio)
+      job.ocioConfig = stdfs::absolute(ocio).string();
     // The chunks' outputs must not be the plate's files (the render refuses it too, but only on
     // the farm, after the prepare job).
     std::vector<std::string> outputs{job.output};
@@ -182,12 +204,13 @@ void addAssembleCommand(CLI::App* farm) {
   auto* cmd = farm->add_subcommand(
       "assemble", "encode a farm job's rendered frames into its movie (the assembly job)");
   struct Args {
-    std::string frames, output, preset, range;
+    std::string frames, output, preset, range, codec = RenderOutputOptions().codec;
     std::vector<std::string> sets;
     double fps = 24;
   };
   auto args = std::make_shared<Args>();
   cmd->add_option("FRAMES", args->frames, "the chunks' frames (frames.####.tif)")->required();
+  cmd->add_option("--codec", args->codec, "the render's movie codec (see pluvia render --help)");
   cmd->add_option("-o,--output", args->output, "the movie (out.mp4)")->required();
   cmd->add_option("--fps", args->fps, "frames per second, 0.001 to 10000")
       ->required()
@@ -203,6 +226,7 @@ void addAssembleCommand(CLI::App* farm) {
     options.fps = args->fps;
     options.metadata = frameMetadata(preset, allStages());
     options.color = outputColorTags(colorSettings(preset), args->output);
+    options.codec = args->codec;
     InterruptHandlers stopCleanly;
     const auto started = std::chrono::steady_clock::now();
     const int frames = farm::assembleMovie(args->frames, first, last, args->output, options);

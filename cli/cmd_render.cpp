@@ -17,11 +17,10 @@ namespace pluvia::cli {
 void addRenderCommand(CLI::App& app, Invocation& invocation) {
   auto* cmd = app.add_subcommand("render", "render rained frames from a clip");
   struct Args {
-    std::string input, output, preset, frames, cache, aov;
-    std::string codec = "h264", exrType = "half", exrCompression = "piz";
+    std::string input, output, preset, frames, cache;
+    RenderOutputOptions writes;
     std::vector<std::string> sets;
     int threads = 2;
-    double proxy = 1.0;
     bool skipExisting = false, stats = false, requireCache = false;
   };
   auto args = std::make_shared<Args>();
@@ -35,14 +34,6 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
   cmd->add_option("--threads", args->threads,
                   "threads for every pool: decoding, colour conversion, encoding (default 2)")
       ->check(CLI::Range(1, 64));
-  cmd->add_option("--codec", args->codec,
-                  "movie codec: h264 (default), prores_4444, prores_422hq, dnxhr_hq, dnxhr_hqx, "
-                  "dnxhr_444 (ProRes and DNxHR in .mov or .mkv)");
-  cmd->add_option("--exr-type", args->exrType, "EXR samples: half (default) or float")
-      ->check(CLI::IsMember({"half", "float"}));
-  cmd->add_option("--exr-compression", args->exrCompression,
-                  "EXR compression: piz (default), zip, zips, dwaa, dwab, b44, b44a, pxr24, rle, "
-                  "none");
   cmd->add_option("--cache", args->cache, "cache folder for per-clip analysis");
   cmd->add_flag("--require-cache", args->requireCache,
                 "fail when per-clip analysis is missing from --cache instead of computing it "
@@ -50,12 +41,9 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
   cmd->add_flag("--skip-existing", args->skipExisting,
                 "leave frames that already exist (resume a job)");
   cmd->add_flag("--stats", args->stats, "print a per-stage timing summary");
-  cmd->add_option("--aov", args->aov,
-                  "extra outputs: rain,matte,depth,lights,splash,glare,darken,blur,fog");
-  cmd->add_option("--proxy", args->proxy,
-                  "render at this fraction of the plate's size, in (0, 1], for quick looks");
+  addRenderOutputOptions(cmd, args->writes);
   cmd->callback([=, &invocation] {
-    checkProxyScale(args->proxy);
+    checkProxyScale(args->writes.proxy);
     RenderRequest request;
     request.input = args->input;
     request.output = args->output;
@@ -63,33 +51,18 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
       setFrames(request, args->frames);
     }
     request.threads = args->threads;
-    request.format.codec = args->codec;
-    request.format.exrSampleType = args->exrType;
-    request.format.exrCompression = args->exrCompression;
+    request.format.codec = args->writes.codec;
+    request.format.exrSampleType = args->writes.exrType;
+    request.format.exrCompression = args->writes.exrCompression;
     request.cacheDir = args->cache;
     if (args->requireCache && args->cache.empty())
       throw UsageError("--require-cache needs --cache DIR");
     request.requireCache = args->requireCache;
     request.skipExisting = args->skipExisting;
     request.commandLine = invocation.commandLine;
-    request.proxyScale = args->proxy;
-    for (size_t start = 0; !args->aov.empty() && start <= args->aov.size();) {
-      size_t comma = args->aov.find(',', start);
-      std::string aov = args->aov.substr(start, comma - start);
-      if (aov != "rain" && aov != "matte" && aov != "depth" && aov != "lights" && aov != "splash" &&
-          aov != "glare" && aov != "darken" && aov != "blur" && aov != "fog") {
-        throw UsageError(
-            fmt::format("--aov: unknown output '{}' (known: rain, matte, depth, lights, splash, "
-                        "glare, darken, blur, fog)",
-                        aov));
-      }
-      // Named twice, written once (the second copy made unnamed channels).
-      if (std::find(request.aovs.begin(), request.aovs.end(), aov) == request.aovs.end())
-        request.aovs.push_back(aov);
-      if (comma == std::string::npos) break;
-      start = comma + 1;
-    }
-    Preset preset = loadPresetForProxy(args->preset, args->sets, args->proxy);
+    request.proxyScale = args->writes.proxy;
+    request.aovs = args->writes.aovs();
+    Preset preset = loadPresetForProxy(args->preset, args->sets, args->writes.proxy);
     InterruptHandlers stopCleanly;
     const ThreadLimit threadCap(args->threads);
     StageTimes times;

@@ -133,6 +133,53 @@ std::string joinCommandLine(int argc, char** argv) {
   return line;
 }
 
+void addRenderOutputOptions(CLI::App* cmd, RenderOutputOptions& options) {
+  cmd->add_option("--codec", options.codec,
+                  "movie codec: h264 (default), prores_4444, prores_422hq, dnxhr_hq, dnxhr_hqx, "
+                  "dnxhr_444 (ProRes and DNxHR in .mov or .mkv)");
+  cmd->add_option("--exr-type", options.exrType, "EXR samples: half (default) or float")
+      ->check(CLI::IsMember({"half", "float"}));
+  cmd->add_option("--exr-compression", options.exrCompression,
+                  "EXR compression: piz (default), zip, zips, dwaa, dwab, b44, b44a, pxr24, rle, "
+                  "none");
+  cmd->add_option("--aov", options.aov,
+                  "extra outputs: rain,matte,depth,lights,splash,glare,darken,blur,fog");
+  cmd->add_option("--proxy", options.proxy,
+                  "render at this fraction of the plate's size, in (0, 1], for quick looks");
+}
+
+std::vector<std::string> RenderOutputOptions::aovs() const {
+  static const std::vector<std::string> kKnown = {"rain",  "matte",  "depth", "lights", "splash",
+                                                  "glare", "darken", "blur",  "fog"};
+  std::vector<std::string> list;
+  for (size_t start = 0; !aov.empty() && start <= aov.size();) {
+    const size_t comma = aov.find(',', start);
+    const std::string name = aov.substr(start, comma - start);
+    if (std::find(kKnown.begin(), kKnown.end(), name) == kKnown.end())
+      throw UsageError(
+          fmt::format("--aov: unknown output '{}' (known: {})", name, fmt::join(kKnown, ", ")));
+    // Named twice, written once (the second copy made unnamed channels).
+    if (std::find(list.begin(), list.end(), name) == list.end()) list.push_back(name);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return list;
+}
+
+std::vector<std::string> RenderOutputOptions::renderArguments() const {
+  const RenderOutputOptions defaults;
+  std::vector<std::string> arguments;
+  if (codec != defaults.codec) arguments.insert(arguments.end(), {"--codec", codec});
+  if (exrType != defaults.exrType) arguments.insert(arguments.end(), {"--exr-type", exrType});
+  if (exrCompression != defaults.exrCompression)
+    arguments.insert(arguments.end(), {"--exr-compression", exrCompression});
+  if (!aov.empty())
+    arguments.insert(arguments.end(), {"--aov", fmt::format("{}", fmt::join(aovs(), ","))});
+  if (proxy != defaults.proxy)
+    arguments.insert(arguments.end(), {"--proxy", fmt::format("{}", proxy)});
+  return arguments;
+}
+
 void protectNamedInputs(const CLI::App& app) {
   static const std::set<std::string> kInputOptions = {"INPUT", "CLIP", "--env", "--hdr",
                                                       "--preset"};

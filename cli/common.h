@@ -32,6 +32,19 @@ std::pair<int, int> parseFrameSize(const std::string& size, int minSidePx,
 void setFrames(RenderRequest& request, const std::string& text);
 // --proxy: throws UsageError unless `scale` is in (0, 1].
 void checkProxyScale(double scale);
+
+// What a render writes besides its frames' pixels: shared by `render` and `farm slurm` (which
+// passes them on to its chunks and its assembly) so that the two commands cannot drift.
+struct RenderOutputOptions {
+  std::string codec = "h264", exrType = "half", exrCompression = "piz", aov;
+  double proxy = 1.0;
+  // The --aov list, checked: each known output once, in the order given.
+  std::vector<std::string> aovs() const;
+  // These options as `pluvia render` arguments (those the user gave a value other than the
+  // default), for a farm chunk's command line.
+  std::vector<std::string> renderArguments() const;
+};
+void addRenderOutputOptions(CLI::App* cmd, RenderOutputOptions& options);
 // Resolves a preset against the full schema (every stage's table).
 Preset loadPreset(const std::string& nameOrPath, const std::vector<std::string>& overrides);
 // The same for a proxy render (--proxy `scale` < 1): the parameters measured in frame pixels

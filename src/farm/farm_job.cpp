@@ -48,26 +48,40 @@ std::string presetArguments(const FarmJob& job) {
   return args;
 }
 
+std::string quotedArguments(const std::vector<std::string>& arguments) {
+  std::string line;
+  for (const std::string& argument : arguments) line += " " + shellQuote(argument);
+  return line;
+}
+
+// A fixed count, or the node's allocation.
+std::string threadsArgument(const FarmJob& job) {
+  return job.threads > 0 ? std::to_string(job.threads) : "\"${SLURM_CPUS_PER_TASK:-2}\"";
+}
+
 }  // namespace
 
 std::string prepareCommand(const FarmJob& job) {
-  return fmt::format("{} prepare {} {} --cache {}", shellQuote(job.pluvia), shellQuote(job.input),
-                     presetArguments(job), shellQuote(job.cacheDir));
+  return fmt::format("{} prepare {} {} --cache {}{}", shellQuote(job.pluvia), shellQuote(job.input),
+                     presetArguments(job), shellQuote(job.cacheDir),
+                     quotedArguments(job.prepareOptions));
 }
 
 std::string renderCommand(const FarmJob& job, const std::string& frames) {
   // The frame range stays open to the shell (it may be "$FIRST-$LAST"): double quotes.
   return fmt::format(
       "{} render {} {} -o {} --frames \"{}\" --cache {} --require-cache --skip-existing "
-      "--threads {}",
+      "--threads {}{}",
       shellQuote(job.pluvia), shellQuote(job.input), presetArguments(job),
-      shellQuote(chunkOutput(job)), frames, shellQuote(job.cacheDir), job.threads);
+      shellQuote(chunkOutput(job)), frames, shellQuote(job.cacheDir), threadsArgument(job),
+      quotedArguments(job.renderOptions));
 }
 
 std::string assembleCommand(const FarmJob& job) {
-  return fmt::format("{} farm assemble {} -o {} --fps {} --frames {}-{} {}", shellQuote(job.pluvia),
-                     shellQuote(chunkOutput(job)), shellQuote(job.output), job.fps, job.firstFrame,
-                     job.lastFrame, presetArguments(job));
+  return fmt::format("{} farm assemble {} -o {} --fps {} --frames {}-{} {}{}",
+                     shellQuote(job.pluvia), shellQuote(chunkOutput(job)), shellQuote(job.output),
+                     job.fps, job.firstFrame, job.lastFrame, presetArguments(job),
+                     quotedArguments(job.assembleOptions));
 }
 
 std::string farmJobJson(const FarmJob& job) {
@@ -83,7 +97,11 @@ std::string farmJobJson(const FarmJob& job) {
                       {"last_frame", job.lastFrame},
                       {"chunk_frames", job.chunkFrames},
                       {"fps", job.fps},
-                      {"threads", job.threads}};
+                      {"threads", job.threads},
+                      {"render_options", job.renderOptions},
+                      {"prepare_options", job.prepareOptions},
+                      {"assemble_options", job.assembleOptions},
+                      {"ocio", job.ocioConfig}};
   return json.dump(2) + "\n";
 }
 
@@ -131,6 +149,11 @@ FarmJob farmJobFromJson(const std::string& text, const std::string& path) {
     job.chunkFrames = json.at("chunk_frames");
     job.fps = json.at("fps");
     job.threads = json.at("threads");
+    // Farm folders written before these were recorded hold none.
+    job.renderOptions = json.value("render_options", std::vector<std::string>{});
+    job.prepareOptions = json.value("prepare_options", std::vector<std::string>{});
+    job.assembleOptions = json.value("assemble_options", std::vector<std::string>{});
+    job.ocioConfig = json.value("ocio", std::string());
     checkFrames(job, path);
     return job;
   } catch (const Error&) {

@@ -24,7 +24,16 @@ struct FarmJob {
   int64_t lastFrame = 0;
   int chunkFrames = 10;
   double fps = 24;  // a movie's, as the one-machine render writes it
-  int threads = 2;  // writer threads per chunk
+  // Threads per chunk; 0: the node's Slurm allocation ($SLURM_CPUS_PER_TASK, else 2).
+  int threads = 0;
+  // What the render was asked to write (cli/common.h's RenderOutputOptions, as `pluvia render`
+  // arguments): the chunks get them all but a movie's --codec, which goes to the assembly, and
+  // the prepare job gets --proxy (the analysis is cached per proxy size).
+  std::vector<std::string> renderOptions;
+  std::vector<std::string> prepareOptions;
+  std::vector<std::string> assembleOptions;
+  // Exported in every job, so that a node renders in the colour config the submitting shell had.
+  std::string ocioConfig;
 };
 
 // How many chunks, and chunk `index`'s frames.

@@ -80,9 +80,12 @@ std::vector<SlurmScript> slurmScripts(const FarmJob& job, const SlurmOptions& op
   const std::string label = jobLabel(job);
   std::vector<SlurmScript> scripts;
   // A comment: a newline in a name must not end it (printable() escapes control characters).
-  const std::string intro =
+  std::string intro =
       fmt::format("# pluvia farm job: {} -> {}, frames {}-{}\n", printable(job.input),
                   printable(job.output), job.firstFrame, job.lastFrame);
+  // The colour config the submitting shell named: a node with another $OCIO (or none) would
+  // render in another colour space.
+  if (!job.ocioConfig.empty()) intro += "export OCIO=" + shellQuote(job.ocioConfig) + "\n";
 
   scripts.push_back(
       {"prepare.sbatch",
@@ -92,7 +95,9 @@ std::vector<SlurmScript> slurmScripts(const FarmJob& job, const SlurmOptions& op
 
   const int chunks = chunkCount(job);
   std::string render = header(job, options, "pluvia-render-" + label, "render-%A_%a.log");
-  render += fmt::format("#SBATCH --array=0-{}\n#SBATCH --requeue\n", chunks - 1);
+  // A requeued task appends to its log: the failed try's messages stay readable.
+  render += fmt::format("#SBATCH --array=0-{}\n#SBATCH --requeue\n#SBATCH --open-mode=append\n",
+                        chunks - 1);
   render += intro;
   render += fmt::format(
       "# Task i renders frames {} + i x {} on, {} at most; --skip-existing keeps the frames a\n"

@@ -126,3 +126,58 @@ TEST(CliFarmScripts, AFarmFolderHoldingOtherFilesIsRefusedNotEmptied) {
   EXPECT_FALSE(stdfs::exists(own / "tasks" / "render-0.status"));
   EXPECT_TRUE(stdfs::exists(own / "tasks" / "notes.txt"));
 }
+
+// The chunks render what `render` would with the same options (one list of options for both
+// commands), with the threads Slurm gives them, in the colour config the submitting shell had;
+// a requeued task appends to its log.
+TEST(CliFarmScripts, TheChunksGetTheRendersOptionsThreadsAndColourConfig) {
+  const stdfs::path dir = freshTempDir("farm_options");
+  const std::string plate = writeTexturedPlate(dir, 1, 4);
+  const stdfs::path config = writeTextFile(dir, "facility.ocio", "ocio_profile_version: 2\n");
+  const auto withOcio = runProcess({"env",
+                                    "OCIO=" + config.string(),
+                                    pluviaBinary().string(),
+                                    "farm",
+                                    "slurm",
+                                    plate,
+                                    "-p",
+                                    "moderate",
+                                    "-o",
+                                    (dir / "a" / "o.####.exr").string(),
+                                    "--chunk",
+                                    "2",
+                                    "--aov",
+                                    "rain,matte",
+                                    "--proxy",
+                                    "0.5",
+                                    "--exr-compression",
+                                    "dwaa",
+                                    "--cpus-per-task",
+                                    "1"});
+  ASSERT_EQ(withOcio.exitCode, 0) << withOcio.output;
+  const std::string render = fs::readTextFile(dir / "a" / "o.farm" / "render.sbatch");
+  for (const std::string& wanted :
+       {std::string("--threads 1 --exr-compression dwaa --aov rain,matte --proxy 0.5"),
+        "export OCIO=" + config.string(), std::string("#SBATCH --open-mode=append")})
+    EXPECT_NE(render.find(wanted), std::string::npos) << wanted << "\n" << render;
+  const std::string prepare = fs::readTextFile(dir / "a" / "o.farm" / "prepare.sbatch");
+  EXPECT_NE(prepare.find("--proxy 0.5"), std::string::npos) << prepare;
+
+  // No --cpus-per-task: each chunk takes its node's allocation. A movie's codec goes to the
+  // assembly, not to the chunks' TIFF frames.
+  auto r = runPluvia({"farm", "slurm", plate, "-p", "moderate", "-o",
+                      (dir / "b" / "o.mov").string(), "--chunk", "2", "--codec", "prores_4444"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const std::string chunks = fs::readTextFile(dir / "b" / "o.farm" / "render.sbatch");
+  EXPECT_NE(chunks.find("--threads \"${SLURM_CPUS_PER_TASK:-2}\""), std::string::npos) << chunks;
+  EXPECT_EQ(chunks.find("prores"), std::string::npos) << chunks;
+  const std::string assemble = fs::readTextFile(dir / "b" / "o.farm" / "assemble.sbatch");
+  EXPECT_NE(assemble.find("--codec prores_4444"), std::string::npos) << assemble;
+
+  // An option the render would refuse is refused here, before any script is written.
+  r = runPluvia({"farm", "slurm", plate, "-p", "moderate", "-o",
+                 (dir / "c" / "o.####.exr").string(), "--chunk", "2", "--aov", "rain,sparkle"});
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find("unknown output 'sparkle'"), std::string::npos) << r.output;
+  EXPECT_FALSE(stdfs::exists(dir / "c" / "o.farm"));
+}

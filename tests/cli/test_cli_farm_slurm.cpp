@@ -212,9 +212,13 @@ class FarmSlurm : public ::testing::Test {
   }
 
   // `pluvia farm slurm` of the plate into dir_/farm/OUTPUT in chunks of 6 frames, submitted.
-  CommandResult submit(const std::string& output) const {
-    return runPluvia({"farm", "slurm", plate_, "-p", "drizzle", "-o",
-                      (dir_ / "farm" / output).string(), "--chunk", "6", "--submit"});
+  CommandResult submit(const std::string& output,
+                       const std::vector<std::string>& options = {}) const {
+    std::vector<std::string> args = {
+        "farm",    "slurm", plate_,    "-p", "drizzle", "-o", (dir_ / "farm" / output).string(),
+        "--chunk", "6",     "--submit"};
+    args.insert(args.end(), options.begin(), options.end());
+    return runPluvia(args);
   }
   // `pluvia farm status` of dir_/farm/FARM, waiting for its jobs (up to 120 s).
   CommandResult waitForFarm(const std::string& farm) const {
@@ -277,10 +281,11 @@ TEST_F(FarmSlurm, FourChunksGiveTheOneMachineFramesByteForByte) {
 }
 
 TEST_F(FarmSlurm, AMovieIsAssembledAfterItsChunksAsTheOneMachineMovie) {
-  const auto one =
-      runPluvia({"render", plate_, "-p", "drizzle", "-o", (dir_ / "one.mp4").string()});
+  // ProRes 4444: the codec goes to the assembly job (the chunks write TIFF).
+  const auto one = runPluvia({"render", plate_, "-p", "drizzle", "-o", (dir_ / "one.mov").string(),
+                              "--codec", "prores_4444"});
   ASSERT_EQ(one.exitCode, 0) << one.output;
-  const auto submitted = submit("rain.mp4");
+  const auto submitted = submit("rain.mov", {"--codec", "prores_4444"});
   ASSERT_EQ(submitted.exitCode, 0) << submitted.output;
   const std::vector<std::string> ids = jobIds(submitted.output);
   ASSERT_EQ(ids.size(), 3u) << submitted.output;
@@ -291,9 +296,37 @@ TEST_F(FarmSlurm, AMovieIsAssembledAfterItsChunksAsTheOneMachineMovie) {
   EXPECT_NE(status.output.find("assemble  " + ids[2]), std::string::npos) << status.output;
   // The chunks wrote 16-bit frames, which the movie writer takes as it takes a render's frames:
   // the same ffmpeg input, so the same movie.
-  ASSERT_TRUE(stdfs::exists(dir_ / "farm" / "rain.mp4")) << status.output;
-  EXPECT_EQ(fs::readTextFile(dir_ / "one.mp4"), fs::readTextFile(dir_ / "farm" / "rain.mp4"));
+  ASSERT_TRUE(stdfs::exists(dir_ / "farm" / "rain.mov")) << status.output;
+  EXPECT_EQ(fs::readTextFile(dir_ / "one.mov"), fs::readTextFile(dir_ / "farm" / "rain.mov"));
   EXPECT_TRUE(stdfs::exists(dir_ / "farm" / "rain.farm" / "frames" / "rain.1024.tif"));
+}
+
+// Every option of `render` reaches the chunks through a farm folder whose path holds a space:
+// the frames are the one-machine ones (a movie's codec: the test above).
+TEST_F(FarmSlurm, EveryRenderOptionReachesTheChunksThroughAPathWithASpace) {
+  const std::vector<std::string> options = {"--aov", "rain,matte,depth",  "--proxy",
+                                            "0.5",   "--exr-compression", "dwaa"};
+  std::vector<std::string> local = {"render",  plate_, "-p",
+                                    "drizzle", "-o",   (dir_ / "one" / "o.####.exr").string()};
+  local.insert(local.end(), options.begin(), options.end());
+  const auto one = runPluvia(local);
+  ASSERT_EQ(one.exitCode, 0) << one.output;
+  const stdfs::path spaced = dir_ / "my shots";
+  std::vector<std::string> farm = {
+      "farm",    "slurm", plate_,    "-p", "drizzle", "-o", (spaced / "o.####.exr").string(),
+      "--chunk", "12",    "--submit"};
+  farm.insert(farm.end(), options.begin(), options.end());
+  const auto submitted = runPluvia(farm);
+  ASSERT_EQ(submitted.exitCode, 0) << submitted.output;
+  const auto status =
+      runPluvia({"farm", "status", (spaced / "o.farm").string(), "--wait", "--timeout", "120"});
+  ASSERT_EQ(status.exitCode, 0) << status.output << cluster_->logs();
+  for (int f = 1001; f <= 1024; ++f) {
+    const std::string name = "o." + std::to_string(f) + ".exr";
+    ASSERT_TRUE(stdfs::exists(spaced / name)) << name << "\n" << status.output;
+    EXPECT_EQ(fs::readTextFile(dir_ / "one" / name), fs::readTextFile(spaced / name))
+        << name << " differs";
+  }
 }
 
 TEST_F(FarmSlurm, AFailedChunkIsListedWithItsFramesAndLog) {

@@ -14,6 +14,7 @@
 #include <fstream>
 #include <functional>
 #include <thread>
+#include <tuple>
 
 #include "test_support.h"
 #include "util/fs.h"
@@ -279,29 +280,23 @@ TEST(CliFrameSafety, ChunksOfOneOutputRenderTogetherAndAnOverlapIsRefused) {
   ::close(fd);
 }
 
-TEST(CliFrameSafety, SigtermStopsAMovieRenderAndRemovesItsPartialFile) {
-  auto dir = freshTempDir("sigterm_movie");
-  const pid_t pid = startLongRender(dir, "o.mp4");
-  // Stopped once the encoder has written part of the movie.
-  EXPECT_TRUE(waitUntil([&] { return countTemporaries(dir / "out") > 0; }));
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  kill(pid, SIGTERM);
-  EXPECT_EQ(waitForExit(pid), 143) << fs::readTextFile(dir / "log");
-  EXPECT_NE(fs::readTextFile(dir / "log").find("stopped by SIGTERM"), std::string::npos);
-  EXPECT_TRUE(stdfs::is_empty(dir / "out")) << "a partial movie, temporary or lock is left";
-}
-
-// A closed terminal or ssh session (adversarial S23): SIGHUP left the temporary movie, its
-// ffmpeg log and the lock.
-TEST(CliFrameSafety, SighupStopsAMovieRenderAsCleanlyAsSigterm) {
-  auto dir = freshTempDir("sighup_movie");
-  const pid_t pid = startLongRender(dir, "o.mp4");
-  EXPECT_TRUE(waitUntil([&] { return countTemporaries(dir / "out") > 0; }));
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  kill(pid, SIGHUP);
-  EXPECT_EQ(waitForExit(pid), 129) << fs::readTextFile(dir / "log");
-  EXPECT_NE(fs::readTextFile(dir / "log").find("stopped by SIGHUP"), std::string::npos);
-  EXPECT_TRUE(stdfs::is_empty(dir / "out")) << "a partial movie, temporary or lock is left";
+// SIGTERM, and SIGHUP (a closed terminal or ssh session: it left the temporary movie, its
+// ffmpeg log and the lock, adversarial S23), stop a movie render cleanly.
+TEST(CliFrameSafety, SigtermAndSighupStopAMovieRenderAndRemoveItsPartialFile) {
+  for (const auto& [signal, name, code] :
+       {std::tuple{SIGTERM, "SIGTERM", 143}, std::tuple{SIGHUP, "SIGHUP", 129}}) {
+    SCOPED_TRACE(name);
+    auto dir = freshTempDir(std::string("stop_movie_") + name);
+    const pid_t pid = startLongRender(dir, "o.mp4");
+    // Stopped once the encoder has written part of the movie.
+    EXPECT_TRUE(waitUntil([&] { return countTemporaries(dir / "out") > 0; }));
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    kill(pid, signal);
+    EXPECT_EQ(waitForExit(pid), code) << fs::readTextFile(dir / "log");
+    EXPECT_NE(fs::readTextFile(dir / "log").find(std::string("stopped by ") + name),
+              std::string::npos);
+    EXPECT_TRUE(stdfs::is_empty(dir / "out")) << "a partial movie, temporary or lock is left";
+  }
 }
 
 // A derain killed mid-write left a temporary that no rerun removed (S23).

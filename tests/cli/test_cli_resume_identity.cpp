@@ -49,6 +49,24 @@ TEST(CliResumeIdentity, SkipExistingRendersAgainWhatThisRenderWouldWriteOtherwis
   r = runPluvia(render(other, out, {"--skip-existing"}));
   expectOutputHas(r.output, {"2 existing frames rendered again", "from another plate"});
 
+  // A facility's OCIO config in place of the built-in one (the same spaces by name).
+  const stdfs::path config = writeTextFile(dir, "facility.ocio", R"(ocio_profile_version: 2
+roles: {default: lin, scene_linear: lin, texture_paint: srgb}
+file_rules:
+  - !<Rule> {name: Default, colorspace: lin}
+colorspaces:
+  - !<ColorSpace> {name: lin, encoding: scene-linear}
+  - !<ColorSpace>
+    name: srgb
+    encoding: sdr-video
+    to_scene_reference: !<ExponentWithLinearTransform> {gamma: 2.4, offset: 0.055}
+)");
+  r = runPluvia(render(other, out, {"--skip-existing", "--ocio", config.string()}));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  expectOutputHas(r.output, {"2 existing frames rendered again", "pluvia:colour"});
+  r = runPluvia(render(other, out, {"--skip-existing"}));
+  expectOutputHas(r.output, {"2 existing frames rendered again", "pluvia:colour"});
+
   // Another AOV set (the rain AOV's own files are wanted now).
   r = runPluvia(render(other, out, {"--skip-existing", "--aov", "rain"}));
   expectOutputHas(r.output, {"2 existing frames rendered again", "pluvia:aovs 'none'"});
@@ -90,10 +108,11 @@ TEST(CliResumeIdentity, AMalformedCacheEntryIsMeasuredAgain) {
   for (const auto& file : stdfs::directory_iterator(cache))
     if (file.path().filename().string().rfind("lighting-", 0) == 0) entry = file.path();
   ASSERT_FALSE(entry.empty());
+  // A crash (an empty stitch) and an allocation of 240 GB (sizes its samples do not match); a
+  // missing or mistyped field takes the json error path the test of the first one covers.
   for (const std::string& bad :
-       {R"({"stitched": []})", R"({})",
-        R"({"frame":{"width":200000,"height":100000,"rgb":[],"horizon_rgb":[0,0,0]}})",
-        R"({"frame":{"width":-5,"height":3,"rgb":[],"horizon_rgb":[0,0,0]}})"}) {
+       {R"({"stitched": []})",
+        R"({"frame":{"width":200000,"height":100000,"rgb":[],"horizon_rgb":[0,0,0]}})"}) {
     std::ofstream(entry, std::ios::trunc) << bad;
     const stdfs::path out = dir / "o" / "r.####.png";
     stdfs::remove_all(dir / "o");
