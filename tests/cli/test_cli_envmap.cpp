@@ -40,9 +40,13 @@ TEST(CliEnvmap, UniformHdrProjectsOntoTheConstantCoefficient) {
   for (int y = 0; y < 32; ++y)
     for (int x = 0; x < 64; ++x) std::fill(uniform.pixel(x, y), uniform.pixel(x, y) + 3, 0.5f);
   writeImageFile(dir / "uniform.exr", uniform);
-  const CommandResult r = runPluvia(
-      {"-q", "envmap", "--hdr", (dir / "uniform.exr").string(), "-o", (dir / "env.json").string()});
+  // The panorama goes into a folder that does not exist yet, made as -o's is (adversarial S27:
+  // it failed after the work).
+  const CommandResult r =
+      runPluvia({"-q", "envmap", "--hdr", (dir / "uniform.exr").string(), "-o",
+                 (dir / "env.json").string(), "--panorama-out", (dir / "new" / "p.exr").string()});
   ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_TRUE(stdfs::exists(dir / "new" / "p.exr"));
   const auto sh = nlohmann::json::parse(fs::readTextFile(dir / "env.json")).at("keys")[0].at("sh");
   // L = 0.5 everywhere: c00 = 0.5 * Y00 * 4 pi = 0.5 * sqrt(4 pi), every other coefficient 0.
   EXPECT_NEAR(sh[0][0].get<double>(), 0.5 * std::sqrt(4.0 * M_PI), 1e-3);

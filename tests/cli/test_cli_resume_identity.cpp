@@ -9,6 +9,7 @@
 
 #include "test_support.h"
 #include "util/fs.h"
+#include "util/subprocess.h"
 
 using namespace pluvia;
 using namespace pluvia::test;
@@ -49,7 +50,8 @@ TEST(CliResumeIdentity, SkipExistingRendersAgainWhatThisRenderWouldWriteOtherwis
   r = runPluvia(render(other, out, {"--skip-existing"}));
   expectOutputHas(r.output, {"2 existing frames rendered again", "from another plate"});
 
-  // A facility's OCIO config in place of the built-in one (the same spaces by name).
+  // A facility's OCIO config from $OCIO in place of the built-in one: the preset (and its hash)
+  // is the same, the frames are not.
   const stdfs::path config = writeTextFile(dir, "facility.ocio", R"(ocio_profile_version: 2
 roles: {default: lin, scene_linear: lin, texture_paint: srgb}
 file_rules:
@@ -61,9 +63,11 @@ colorspaces:
     encoding: sdr-video
     to_scene_reference: !<ExponentWithLinearTransform> {gamma: 2.4, offset: 0.055}
 )");
-  r = runPluvia(render(other, out, {"--skip-existing", "--ocio", config.string()}));
-  ASSERT_EQ(r.exitCode, 0) << r.output;
-  expectOutputHas(r.output, {"2 existing frames rendered again", "pluvia:colour"});
+  std::vector<std::string> withOcio = {"env", "OCIO=" + config.string(), pluviaBinary().string()};
+  for (const std::string& arg : render(other, out, {"--skip-existing"})) withOcio.push_back(arg);
+  const auto facility = runProcess(withOcio);
+  ASSERT_EQ(facility.exitCode, 0) << facility.output;
+  expectOutputHas(facility.output, {"2 existing frames rendered again", "pluvia:colour"});
   r = runPluvia(render(other, out, {"--skip-existing"}));
   expectOutputHas(r.output, {"2 existing frames rendered again", "pluvia:colour"});
 
