@@ -20,15 +20,20 @@ flat in vec4 vStreak;
 flat in vec4 vRectPx;
 flat in vec3 vRadiance;
 flat in vec4 vLocal;
-flat in float vBeadCycles;
+flat in vec3 vBead;  // beadCycles, glintMode20, glintMode31
 
-// kBeadDepth and localLightBead() of src/rain/streak_types.h: keep them in step.
-const float kBeadDepth = 0.5;
-float localLightBead(float cycles, float phase, float v) {
-  float x = phase + cycles * v;
-  float f = x - floor(x);
-  float g = 4.0 * f * (1.0 - f);
-  return 1.0 + kBeadDepth * (2.0 * g - 1.0);
+// kOscillationModeRatio, parabolicSine() and localLightBead() of src/rain/streak_types.h: keep
+// them in step.
+const float kOscillationModeRatio = 1.93649167;
+float parabolicSine(float s) {
+  float y = 2.0 * (s - floor(s)) - 1.0;
+  return -4.0 * y * (1.0 - abs(y));
+}
+float localLightBead(float cycles, float phase, float mode20, float mode31, float v) {
+  float s = phase + cycles * v;
+  float x = mode20 * parabolicSine(s) + mode31 * parabolicSine(kOscillationModeRatio * s);
+  float r = sqrt(1.0 + x * x) + abs(x);
+  return x >= 0.0 ? 1.0 / r : r;
 }
 
 // The rain layer (starts transparent black): premultiplied, (ONE, ONE_MINUS_SRC_ALPHA) on all
@@ -56,6 +61,6 @@ void main() {
   float alpha = clamp(matte * vStreak.z, 0.0, 1.0);
   if (alpha <= 0.0) discard;
 
-  vec3 radiance = vRadiance + localLightBead(vBeadCycles, vLocal.w, v) * vLocal.rgb;
+  vec3 radiance = vRadiance + localLightBead(vBead.x, vLocal.w, vBead.y, vBead.z, v) * vLocal.rgb;
   oRain = vec4(alpha * radiance, alpha);
 }

@@ -12,12 +12,13 @@
 #include "common_sh.glsl"
 #include "common_trig.glsl"
 
-// StreakInstance of rain/streak_types.h, 16 floats.
+// StreakInstance of rain/streak_types.h, 20 floats.
 struct Streak {
   vec4 endsPx;  // headX, headY, tailX, tailY; pixels, y down
   vec4 streak;  // widthPx, alpha, depthMeters, strokeIndex
   vec4 view;    // unit direction camera -> drop, beadCycles
   vec4 local;   // the local lights' radiance RGB, beadPhase
+  vec4 glint;   // glintMode20, glintMode31, padding
 };
 layout(std430, binding = 1) readonly buffer Streaks { Streak streaks[]; };
 
@@ -40,7 +41,7 @@ flat out vec4 vStreak;    // widthPx, lengthPx, alpha, depthMeters
 flat out vec4 vRectPx;    // the stroke's rectangle in the atlas
 flat out vec3 vRadiance;  // C
 flat out vec4 vLocal;     // the local lights' radiance RGB (beaded per fragment), beadPhase
-flat out float vBeadCycles;
+flat out vec3 vBead;      // beadCycles, glintMode20, glintMode31
 
 // Same threshold as kDegenerateStreakLengthPx: a shorter streak is a still drop, drawn as a
 // square with a vertical axis.
@@ -153,5 +154,5 @@ void main() {
   vRectPx = strokeRects[int(aStreak.w)];
   vRadiance = streakRadiance(instance.view.xyz);
   vLocal = instance.local;
-  vBeadCycles = instance.view.w;
+  vBead = vec3(instance.view.w, instance.glint.xy);
 }

@@ -7,6 +7,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "envmap/scene_albedo.h"
 #include "image/ops.h"
 #include "image/resize.h"
 
@@ -16,14 +17,11 @@ namespace {
 // The frame is sampled at about this width: the map is 128 texels around, so the frame's
 // 36-60 deg cover 13-21 of them.
 constexpr int kSampleWidthPx = 192;
-// The mean albedo of what a plate shows (grass, asphalt, walls, foliage: 0.1-0.4): the 18 % grey
-// a light meter assumes.
-constexpr double kSceneAlbedo = 0.18;
 // What a plate shows is mostly upright (walls, trees, people, cars). Under the CIE overcast sky an
 // upright surface receives (2/3)(pi/4 + 2/3) Lz from the sky and, from ground of the same albedo,
 // half of a level surface's 7 pi / 9 Lz times that albedo: its illuminance per unit Lz.
 const double kUprightIlluminance =
-    2.0 / 3.0 * (M_PI / 4.0 + 2.0 / 3.0) + kSceneAlbedo * 7.0 * M_PI / 9.0 / 2.0;
+    2.0 / 3.0 * (M_PI / 4.0 + 2.0 / 3.0) + kMeteredSceneAlbedo * 7.0 * M_PI / 9.0 / 2.0;
 // What a plate shows stands among other things (the street's far side, trees, eaves, the
 // camera's own surroundings) that hide part of the sky from it: sky view factors in streets
 // and gardens run 0.4-0.8 of an open site's. A drop in the open air between them sees more of
@@ -157,13 +155,13 @@ FrameEnvironment frameEnvironment(const Image& frame, const Camera& camera,
   // two estimates: the profile through the frame's own sky at the mean elevation it is seen at,
   // and the sky that lights the scene as brightly as the frame shows it: an upright surface of
   // albedo a under it, seeing a share v of it, has radiance a E / pi with E = v kUprightIlluminance
-  // Lz, so Lz = pi (the scene's mean luminance) / (a v kUprightIlluminance), about 22 times the
-  // scene's mean.
+  // Lz, so Lz = pi (the scene's mean luminance) / (a v kUprightIlluminance), about 34 times the
+  // scene's mean (a = 0.125, envmap/scene_albedo.h; v = 2/3).
   const SkySample seen = sampleSky(frame, camera, sky);
   const double pixels = double(camera.width) * camera.height;
   const bool framedSky = seen.pixels >= kMinSkyFraction * pixels;
   const double sceneZenith =
-      M_PI * seen.sceneLuminance / (kSceneAlbedo * kSkyViewFactor * kUprightIlluminance);
+      M_PI * seen.sceneLuminance / (kMeteredSceneAlbedo * kSkyViewFactor * kUprightIlluminance);
   if (nightPlate) {
     // At night the scene is lit by its lamps, not by the sky: the sky is what the plate shows of
     // it, or without sky in view the frame's top rows carried up (the profile already).

@@ -9,7 +9,8 @@
 // the bottom rows' mean below the frame; above the frame, the sky: the CIE overcast sky (L = Lz
 // (1 + 2 cos theta) / 3, Huang et al.), brightening from the horizon to the zenith: the brighter
 // of the one through the frame's own sky where it shows one and the one that lights the scene
-// (mostly upright surfaces of a typical albedo, 0.18) as brightly as the frame shows it.
+// (mostly upright surfaces of the metered albedo, 0.125: envmap/scene_albedo.h) as brightly as the
+// frame shows it.
 #include <array>
 #include <cstdint>
 #include <vector>

@@ -67,7 +67,7 @@ struct LightSource {
 //    when one is given, else fitted), the CIE overcast sky (Huang et al.) or a uniform sky,
 //    whichever fits best (sky_model.h); the ground below it a Lambertian ground of the seen
 //    ground's albedo lit by that sky (the seen ground's mean radiance; with no ground seen,
-//    albedo 0.18). Near the coverage both fade into the nearest seen colour (no seam). With no sky
+//    albedo 0.125). Near the coverage both fade into the nearest seen colour (no seam). With no sky
 //    seen, the overcast sky that lights the seen ground; with nothing seen, Nearest. unseen_fill.h
 //    has the details.
 enum class UnseenFill { Nearest, SkyModel };

@@ -1,6 +1,8 @@
 // Filling the unseen directions of a stitched panorama (unseen_fill.h).
 #include "envmap/unseen_fill.h"
 
+#include "envmap/scene_albedo.h"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -13,7 +15,6 @@
 namespace pluvia::envmap {
 namespace {
 
-constexpr double kSceneAlbedo = 0.18;
 // Seen sky texels given to the fit, at most (a regular subsample): enough for five parameters.
 constexpr int kMaxSkySamples = 1500;
 // Neighbouring sky texels differ by less than this in log luminance (about 8 %).
@@ -199,15 +200,15 @@ bool fillModel(EquirectMap& map, const cv::Mat& coverage, const cv::Mat& clipped
                            CV_PI * (0.2126 * ground[0] + 0.7152 * ground[1] + 0.0722 * ground[2]) /
                                (0.2126 * e[0] + 0.7152 * e[1] + 0.0722 * e[2]));
     } else {
-      for (size_t k = 0; k < 3; ++k) ground[k] = kSceneAlbedo * e[k] / CV_PI;
-      model += ", ground it lights at albedo 0.18";
+      for (size_t k = 0; k < 3; ++k) ground[k] = kMeteredSceneAlbedo * e[k] / CV_PI;
+      model += fmt::format(", ground it lights at albedo {}", kMeteredSceneAlbedo);
     }
   } else {
     if (groundWeight <= 0) return false;
-    // The overcast sky that lights the seen ground at albedo 0.18: E = 7 pi Lz / 9.
+    // The overcast sky that lights the seen ground at the metered albedo: E = 7 pi Lz / 9.
     SkyFit overcast;
     overcast.kind = SkyKind::CieOvercast;
-    for (size_t k = 0; k < 3; ++k) overcast.scale[k] = ground[k] / kSceneAlbedo * 9.0 / 7.0;
+    for (size_t k = 0; k < 3; ++k) overcast.scale[k] = ground[k] / kMeteredSceneAlbedo * 9.0 / 7.0;
     sky = overcast;
     model = "cie overcast lighting the seen ground";
   }

@@ -33,11 +33,12 @@ struct ModelFillSettings {
 // texels above the horizon, the bright envelope of what is seen there (what stands in front of
 // the sky is darker than it). The ground a Lambertian surface of the seen ground's albedo under
 // that sky: the mean radiance of the seen ground at the coverage's lower edge (with no ground
-// seen, albedo 0.18 under the fitted sky). With no sky seen, the CIE overcast sky that gives the
-// seen ground at albedo 0.18. `clipped`: CV_8UC1, nonzero where a seen texel is only a lower
-// bound or a light (left out of the fit). Returns false, doing nothing, when nothing is seen or
-// when more of the seen sky is clipped than could be fitted (a bright sky through leaves: what
-// is left unclipped is not that sky); `model` then says why. `model` says what was fitted.
+// seen, albedo 0.125 under the fitted sky). With no sky seen, the CIE overcast sky that gives the
+// seen ground at albedo 0.125 (envmap/scene_albedo.h). `clipped`: CV_8UC1, nonzero where a seen
+// texel is only a lower bound or a light (left out of the fit). Returns false, doing nothing, when
+// nothing is seen or when more of the seen sky is clipped than could be fitted (a bright sky
+// through leaves: what is left unclipped is not that sky); `model` then says why. `model` says what
+// was fitted.
 bool fillModel(EquirectMap& map, const cv::Mat& coverage, const cv::Mat& clipped,
                const std::vector<int>& nearest, const ModelFillSettings& settings,
                std::string& model);

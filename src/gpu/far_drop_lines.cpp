@@ -11,6 +11,7 @@
 #include "gpu/rain_inputs.h"
 #include "gpu/streak_quad.h"
 #include "gpu/streak_radiance.h"
+#include "rain/drop_glint.h"
 
 namespace pluvia::gpu {
 
@@ -76,7 +77,11 @@ void FarDropLines::draw(const std::vector<rain::StreakInstance>& streaks,
     line.first = std::max(first, 0), line.last = std::min(last, extent - 1);
     line.depthMeters = s.depthMeters;
     line.color = streakRadiance(shading, s);
-    const float bead = 1.0f + rain::kBeadDepth / 3.0f;  // localLightBead()'s mean
+    // The beaded local term's mean over the streak: a far streak is a line of one colour.
+    const float bead =
+        s.localR > 0.0f || s.localG > 0.0f || s.localB > 0.0f
+            ? rain::streakMeanBead(s.beadCycles, s.beadPhase, s.glintMode20, s.glintMode31)
+            : 0.0f;
     line.color[0] += bead * s.localR, line.color[1] += bead * s.localG;
     line.color[2] += bead * s.localB;
   });

@@ -89,7 +89,8 @@ void renderRainCpu(Image& frame, const std::vector<rain::StreakInstance>& streak
         if (alpha <= 0.0f) continue;
         float* composite = frame.rgba.data() + pixel * 4;
         float* layer = rain.data() + pixel * 4;
-        const float bead = rain::localLightBead(streak.beadCycles, streak.beadPhase, v);
+        const float bead = rain::localLightBead(streak.beadCycles, streak.beadPhase,
+                                                streak.glintMode20, streak.glintMode31, v);
         const std::array<float, 3> local{streak.localR, streak.localG, streak.localB};
         for (int c = 0; c < 3; ++c) {
           const float shaded =

@@ -111,6 +111,10 @@ void validateStreaks(const std::vector<rain::StreakInstance>& streaks, int strok
       throwRainError(fmt::format("streak {} has bead cycles {} and phase {}: not within +/-1e4", i,
                                  streak.beadCycles, streak.beadPhase));
     }
+    if (!(std::abs(streak.glintMode20) <= 1e4f && std::abs(streak.glintMode31) <= 1e4f)) {
+      throwRainError(fmt::format("streak {} has glint modes {} and {}: not within +/-1e4", i,
+                                 streak.glintMode20, streak.glintMode31));
+    }
     const float index = streak.strokeIndex;
     // Both renderers truncate the index to an integer, as GLSL's int() does; for index >= 0
     // that stays below the count exactly when the float does.

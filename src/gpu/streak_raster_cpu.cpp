@@ -78,6 +78,8 @@ Setup setupOf(const rain::StreakInstance& streak, const rain::ShadingParams& sha
   setup.local = {streak.localR, streak.localG, streak.localB};
   setup.beadCycles = streak.beadCycles;
   setup.beadPhase = streak.beadPhase;
+  setup.glintMode20 = streak.glintMode20;
+  setup.glintMode31 = streak.glintMode31;
   setup.hasLocal = streak.localR > 0.0f || streak.localG > 0.0f || streak.localB > 0.0f;
   boundingPixels(quad, width, height, setup);
   return setup;

@@ -79,7 +79,9 @@ void drawStreakPortable(const StreakSetup& s, const PaddedAtlas& atlas, const Ti
       const float covered = std::max(0.0f, std::min(matte * s.alpha, 1.0f));
       const float alpha = inside && inFront ? covered : 0.0f;
       const float keep = 1.0f - alpha;
-      const float bead = s.hasLocal ? rain::localLightBead(s.beadCycles, s.beadPhase, v) : 0.0f;
+      const float bead = s.hasLocal ? rain::localLightBead(s.beadCycles, s.beadPhase, s.glintMode20,
+                                                           s.glintMode31, v)
+                                    : 0.0f;
       target.r[pixel] = alpha * (s.radiance[0] + bead * s.local[0]) + target.r[pixel] * keep;
       target.g[pixel] = alpha * (s.radiance[1] + bead * s.local[1]) + target.g[pixel] * keep;
       target.b[pixel] = alpha * (s.radiance[2] + bead * s.local[2]) + target.b[pixel] * keep;
@@ -138,6 +140,15 @@ PLUVIA_AVX2 inline __m256 comparableDepth8(__m256 depth) {
   return _mm256_blendv_ps(_mm256_set1_ps(kFarDepthMeters), depth, finite);
 }
 
+// rain::parabolicSine() for 8 lanes: -4 y (1 - |y|), y = 2 fract(s) - 1.
+PLUVIA_AVX2 inline __m256 parabolicSine(__m256 s) {
+  const __m256 one = _mm256_set1_ps(1.0f);
+  const __m256 fraction = _mm256_sub_ps(s, _mm256_floor_ps(s));
+  const __m256 y = _mm256_sub_ps(_mm256_add_ps(fraction, fraction), one);
+  const __m256 magnitude = _mm256_andnot_ps(_mm256_set1_ps(-0.0f), y);
+  return _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(-4.0f), y), _mm256_sub_ps(one, magnitude));
+}
+
 PLUVIA_AVX2 void drawStreakAvx2(const StreakSetup& s, const PaddedAtlas& atlas,
                                 const TileTarget& target, int tx0, int ty0, int tx1, int ty1) {
   const int y0 = std::max(s.y0, ty0), y1 = std::min(s.y1, ty1);
@@ -160,7 +171,9 @@ PLUVIA_AVX2 void drawStreakAvx2(const StreakSetup& s, const PaddedAtlas& atlas,
   const __m256 localRed = _mm256_set1_ps(s.local[0]), localGreen = _mm256_set1_ps(s.local[1]);
   const __m256 localBlue = _mm256_set1_ps(s.local[2]);
   const __m256 beadCycles = _mm256_set1_ps(s.beadCycles), beadPhase = _mm256_set1_ps(s.beadPhase);
-  const __m256 four = _mm256_set1_ps(4.0f), beadDepth = _mm256_set1_ps(rain::kBeadDepth);
+  const __m256 glintMode20 = _mm256_set1_ps(s.glintMode20);
+  const __m256 glintMode31 = _mm256_set1_ps(s.glintMode31);
+  const __m256 modeRatio = _mm256_set1_ps(rain::kOscillationModeRatio);
   const __m256i stride = _mm256_set1_epi32(atlas.stride);
   alignas(32) int32_t quad[8];
   for (int y = y0; y <= y1; y += 2) {
@@ -229,12 +242,16 @@ PLUVIA_AVX2 void drawStreakAvx2(const StreakSetup& s, const PaddedAtlas& atlas,
       const __m256 keep = _mm256_sub_ps(one, alpha);
       const size_t a = rowA + static_cast<size_t>(wx), b = rowB + static_cast<size_t>(wx);
       if (s.hasLocal) {
-        // localLightBead() per lane: f = fract(phase + cycles * v), 1 + depth * (8 f (1 - f) - 1).
-        const __m256 x = _mm256_fmadd_ps(beadCycles, v, beadPhase);
-        const __m256 f = _mm256_sub_ps(x, _mm256_floor_ps(x));
-        const __m256 g = _mm256_mul_ps(_mm256_mul_ps(four, f), _mm256_sub_ps(one, f));
-        const __m256 bead =
-            _mm256_add_ps(one, _mm256_mul_ps(beadDepth, _mm256_sub_ps(_mm256_add_ps(g, g), one)));
+        // localLightBead() per lane: x = mode20 sin(2 pi s) + mode31 sin(2 pi r s) by
+        // parabolicSine(), r = sqrt(1 + x^2) + |x|, bead = x >= 0 ? 1 / r : r.
+        const __m256 phase = _mm256_fmadd_ps(beadCycles, v, beadPhase);
+        const __m256 x = _mm256_fmadd_ps(
+            glintMode20, parabolicSine(phase),
+            _mm256_mul_ps(glintMode31, parabolicSine(_mm256_mul_ps(modeRatio, phase))));
+        const __m256 r = _mm256_add_ps(_mm256_sqrt_ps(_mm256_fmadd_ps(x, x, one)),
+                                       _mm256_andnot_ps(_mm256_set1_ps(-0.0f), x));
+        const __m256 bead = _mm256_blendv_ps(r, _mm256_div_ps(one, r),
+                                             _mm256_cmp_ps(x, _mm256_setzero_ps(), _CMP_GE_OQ));
         blendRows(target.r + a, target.r + b, second, alpha, keep,
                   _mm256_fmadd_ps(bead, localRed, red));
         blendRows(target.g + a, target.g + b, second, alpha, keep,

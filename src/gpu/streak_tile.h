@@ -25,7 +25,7 @@ struct StreakSetup {
   std::array<float, 3> radiance;                // C
   // The local lights' radiance, beaded along v (rain::localLightBead); hasLocal: any is > 0.
   std::array<float, 3> local;
-  float beadCycles, beadPhase;
+  float beadCycles, beadPhase, glintMode20, glintMode31;
   bool hasLocal;
   int x0, y0, x1, y1;  // pixels that may hold centres (inclusive)
 };

@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 
+#include "rain/drop_glint.h"
 #include "rain/thin_lens.h"
 #include "util/hash.h"
 
@@ -361,13 +362,16 @@ std::vector<StreakInstance> DropSimulation::buildStreaks(
     streak.viewX = float(view.x());
     streak.viewY = float(view.y());
     streak.viewZ = float(view.z());
-    // The drop oscillates (Garg and Nayar): its glint under a local light is beaded, one bead
-    // per period of mode (2, 0) over the exposure, at a random phase per drop. Bounded so that
-    // the phase stays exact in float (a still frame of a tiny drop).
+    // The drop oscillates (Garg and Nayar): periods of mode (2, 0) over the exposure, from a
+    // random instant, one of their two shape sets and a random orientation phi_rot about the
+    // vertical (rain/drop_glint.h). Bounded so that the phase stays exact in float (a still
+    // frame of a tiny drop).
     const double diameterMm = d * rain_.sizeScale;
     streak.beadCycles =
         float(std::min(1e3, oscillationFrequencyHz(diameterMm) * s.exposureSeconds));
     streak.beadPhase = float(rng.uniform());
+    streak.glintMode20 = kOscillationAmplitude20[rng.uniform() < 0.5 ? 0 : 1];
+    streak.glintMode31 = kOscillationAmplitude31 * float(std::cos(2.0 * M_PI * rng.uniform()));
     if (farStreaks && widthPx < s.lodPx) {
       farStreaks->push_back(streak);
     } else {

@@ -284,7 +284,7 @@ StageInfo environmentStageInfo() {
          if (lighting.source != "frame") return "";
          return "drops lit by the plate and, above it, an overcast sky (zenith 3x the horizon): "
                 "the brighter of the plate's own sky and the sky that lights its scene as "
-                "brightly as the plate shows it (about 22x its mean luminance); a night plate "
+                "brightly as the plate shows it (about 34x its mean luminance); a night plate "
                 "keeps only the sky it shows";
        },
        .cacheKey =

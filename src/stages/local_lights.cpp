@@ -647,11 +647,13 @@ HaloResult addHalos(Image& image, const Camera& camera, const std::vector<FrameL
   return result;
 }
 
-std::array<float, 3> dropLocalRadiance(const optics::TransferTable& transfer,
-                                       const std::vector<FrameLight>& lights, double betaPerMeter,
-                                       const std::array<double, 3>& drop,
-                                       const std::array<double, 3>& view) {
+DropLocalLight dropLocalRadiance(const optics::TransferTable& transfer,
+                                 const std::vector<FrameLight>& lights, double betaPerMeter,
+                                 const std::array<double, 3>& drop,
+                                 const std::array<double, 3>& view) {
   std::array<double, 3> sum{0, 0, 0};
+  DropLocalLight result;
+  double brightest = 0.0;
   for (const FrameLight& light : lights) {
     const std::array<double, 3> w{light.positionMeters[0] - drop[0],
                                   light.positionMeters[1] - drop[1],
@@ -669,12 +671,21 @@ std::array<float, 3> dropLocalRadiance(const optics::TransferTable& transfer,
     if (cone <= 0.0) continue;
     const double irradiancePerIntensity = cone * std::exp(-betaPerMeter * d) / (d * d);
     const double D = transfer.at(std::clamp(cosView, -1.0, 1.0));
-    for (int c = 0; c < 3; ++c)
-      sum[size_t(c)] += D * irradiancePerIntensity * light.rgbIntensity[size_t(c)];
+    double luminance = 0.0;
+    for (int c = 0; c < 3; ++c) {
+      const double added = D * irradiancePerIntensity * light.rgbIntensity[size_t(c)];
+      sum[size_t(c)] += added;
+      luminance += added;
+    }
+    if (luminance > brightest && distance > 0.0) {
+      brightest = luminance;
+      result.towardsBrightest = {w[0] / distance, w[1] / distance, w[2] / distance};
+    }
   }
   // Float's range bounds it (an intensity of 1e9 at the bulb's surface).
-  return {float(std::min(sum[0], 1e30)), float(std::min(sum[1], 1e30)),
-          float(std::min(sum[2], 1e30))};
+  result.rgb = {float(std::min(sum[0], 1e30)), float(std::min(sum[1], 1e30)),
+                float(std::min(sum[2], 1e30))};
+  return result;
 }
 
 }  // namespace pluvia

@@ -50,13 +50,20 @@ HaloResult addHalos(Image& image, const Camera& camera, const std::vector<FrameL
                     double betaPerMeter, const optics::ScatteringTables& tables,
                     double thresholdRadiance, bool everyPixel = false);
 
+// The radiance the lights give one drop, and the unit direction from the drop to the light that
+// gives it most (camera space; zero when none lights it).
+struct DropLocalLight {
+  std::array<float, 3> rgb{0, 0, 0};
+  std::array<double, 3> towardsBrightest{0, 0, 0};
+};
+
 // The radiance the lights give a drop at `dropMeters` (camera space) seen along unit `view`
 // (camera -> drop): sum over lights of D(angle(view, drop -> light)) * I(theta) rgb / d^2 *
 // exp(-beta d), d the distance from the drop to the light, at least the bulb's radius.
-std::array<float, 3> dropLocalRadiance(const optics::TransferTable& transfer,
-                                       const std::vector<FrameLight>& lights, double betaPerMeter,
-                                       const std::array<double, 3>& dropMeters,
-                                       const std::array<double, 3>& view);
+DropLocalLight dropLocalRadiance(const optics::TransferTable& transfer,
+                                 const std::vector<FrameLight>& lights, double betaPerMeter,
+                                 const std::array<double, 3>& dropMeters,
+                                 const std::array<double, 3>& view);
 
 // The spot's I(theta) / I0 at cos(theta) (1 for a point light): Huang et al.'s
 // (1 - q)(cos theta - cos A) / (1 - cos A) + q inside the cone, 0 outside.

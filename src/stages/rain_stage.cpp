@@ -9,6 +9,7 @@
 #include "gpu/rain_renderer.h"
 #include "optics/drop_shading.h"
 #include "pipeline/camera_settings.h"
+#include "rain/drop_glint.h"
 #include "rain/drop_simulation.h"
 #include "rain/stroke_library.h"
 #include "rain/thin_lens.h"
@@ -209,10 +210,12 @@ class RainStage : public Stage {
   }
 
   // Each drop's radiance from the frame's local lights (stages/local_lights.h), at the drop's
-  // place in camera space: along its view ray, at its z-depth.
+  // place in camera space: along its view ray, at its z-depth; its glint beaded by the drop's
+  // oscillation as the light that lights it most sees it (rain/drop_glint.h).
   void lightDrops(std::vector<rain::StreakInstance>& streaks, const FrameContext& frame) const {
     const Eigen::Matrix3d cameraFromWorld =
         path_.cameraAt(double(frame.frame)).worldFromCamera.transpose();
+    const Eigen::Vector3d upCamera = cameraFromWorld * Eigen::Vector3d::UnitY();
     tbb::parallel_for(size_t(0), streaks.size(), [&](size_t i) {
       rain::StreakInstance& streak = streaks[i];
       const Eigen::Vector3d view =
@@ -220,12 +223,14 @@ class RainStage : public Stage {
       const double distance = streak.depthMeters / std::max(1e-6, -view.z());
       const std::array<double, 3> drop{view.x() * distance, view.y() * distance,
                                        view.z() * distance};
-      const std::array<float, 3> local =
+      const DropLocalLight local =
           dropLocalRadiance(transfer_, frame.lights, frame.lightsExtinctionPerMeter, drop,
                             {view.x(), view.y(), view.z()});
-      streak.localR = local[0];
-      streak.localG = local[1];
-      streak.localB = local[2];
+      streak.localR = local.rgb[0];
+      streak.localG = local.rgb[1];
+      streak.localB = local.rgb[2];
+      rain::shapeGlint(streak, local.towardsBrightest, {-view.x(), -view.y(), -view.z()},
+                       {upCamera.x(), upCamera.y(), upCamera.z()});
     });
   }
 

@@ -459,6 +459,8 @@ TEST(GpuVsCpuLocalLights, BeadedLocalLightTermAgrees) {
     streaks[i].localB = 0.5f;
     streaks[i].beadCycles = 3.7f;
     streaks[i].beadPhase = 0.3f;
+    streaks[i].glintMode20 = 0.8f;
+    streaks[i].glintMode31 = -1.2f;
   }
   Image background = gradientBackground();
   addDepthPlane(background);
@@ -478,16 +480,6 @@ TEST(GpuVsCpuLocalLights, BeadedLocalLightTermAgrees) {
     }
     EXPECT_GT(litSum, 1.2 * unlitSum);
   }
-}
-
-TEST(LocalLightBead, PeriodAndRangeAndMean) {
-  // Period 1 in phase, 1 / cycles in v; between 1 - depth and 1 + depth; mean 1 + depth / 3.
-  EXPECT_NEAR(rain::localLightBead(2.0f, 0.1f, 0.3f), rain::localLightBead(2.0f, 0.1f, 0.8f), 1e-5);
-  EXPECT_NEAR(rain::localLightBead(1.0f, 0.0f, 0.5f), 1.0f + rain::kBeadDepth, 1e-6);
-  EXPECT_NEAR(rain::localLightBead(1.0f, 0.0f, 0.0f), 1.0f - rain::kBeadDepth, 1e-6);
-  double mean = 0;
-  for (int i = 0; i < 1000; ++i) mean += rain::localLightBead(1.0f, 0.0f, (i + 0.5f) / 1000) / 1000;
-  EXPECT_NEAR(mean, 1.0 + rain::kBeadDepth / 3.0, 1e-4);
 }
 
 }  // namespace

@@ -191,8 +191,9 @@ TEST(LocalLights, StableAtTheExtremes) {
   // The drop term at the bulb, inside it and at 1e6.
   const optics::TransferTable transfer = optics::binTransfer(optics::DropOptics{}, 256);
   for (const auto& drop : {std::array<double, 3>{0, 0, 0}, std::array<double, 3>{0.5, 1.0, -6}}) {
-    const auto rgb = dropLocalRadiance(transfer, lights, 0.5, drop, {0, 0, -1});
-    for (float v : rgb) EXPECT_TRUE(std::isfinite(v) && v >= 0.0f);
+    const DropLocalLight local = dropLocalRadiance(transfer, lights, 0.5, drop, {0, 0, -1});
+    for (float v : local.rgb) EXPECT_TRUE(std::isfinite(v) && v >= 0.0f);
+    for (double v : local.towardsBrightest) EXPECT_TRUE(std::isfinite(v));
   }
 }
 
@@ -210,7 +211,10 @@ TEST(LocalLights, DropsNearALampGlintMoreByInverseSquare) {
     // the exact angle instead.
     const std::array<double, 3> view{0, -below / n, -10 / n};
     const double cosTheta = view[1] * 1.0;  // w = +Y
-    return std::pair{dropLocalRadiance(transfer, {lamp}, beta, drop, view)[0],
+    const DropLocalLight local = dropLocalRadiance(transfer, {lamp}, beta, drop, view);
+    // The lamp straight above the drop is the brightest (the only) light.
+    EXPECT_NEAR(local.towardsBrightest[1], 1.0, 1e-12);
+    return std::pair{local.rgb[0],
                      transfer.at(cosTheta) * 100.0 * std::exp(-beta * below) / (below * below)};
   };
   const auto [near, nearExpected] = radianceAt(1.0);

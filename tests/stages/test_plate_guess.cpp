@@ -70,31 +70,32 @@ double meanSkyElevationDeg(const Camera& camera, const std::vector<uint8_t>& sky
   return sum / count;
 }
 
-// Lz of the CIE overcast sky under which upright surfaces of albedo 0.18 that see 2/3 of it have
-// `luminance`: sky (2/3)(pi/4 + 2/3) Lz plus the ground's 0.18 * (7 pi / 9) Lz / 2, times 2/3.
+// Lz of the CIE overcast sky under which upright surfaces of albedo 0.125 (the metered albedo,
+// independent of the code) that see 2/3 of it have `luminance`: sky (2/3)(pi/4 + 2/3) Lz plus the
+// ground's 0.125 * (7 pi / 9) Lz / 2, times 2/3.
 double sceneZenith(double luminance) {
-  const double upright = 2.0 / 3.0 * (M_PI / 4.0 + 2.0 / 3.0) + 0.18 * 7.0 * M_PI / 9.0 / 2.0;
-  return M_PI * luminance / (0.18 * 2.0 / 3.0 * upright);
+  const double upright = 2.0 / 3.0 * (M_PI / 4.0 + 2.0 / 3.0) + 0.125 * 7.0 * M_PI / 9.0 / 2.0;
+  return M_PI * luminance / (0.125 * 2.0 / 3.0 * upright);
 }
 
 TEST(FrameEnvironment, TheOvercastSkyGoesThroughTheFramesOwnSky) {
   const Camera camera = Camera::fromFieldOfView(kWidth, kHeight, 50.0, 0.0, 1.6);
   const std::vector<uint8_t> sky = topThirdSky();
   const envmap::FrameEnvironment env =
-      envmap::frameEnvironment(twoToneFrame(0.9f, 0.07f), camera, sky, false);
+      envmap::frameEnvironment(twoToneFrame(0.9f, 0.05f), camera, sky, false);
   // The CIE overcast profile L(e) = Lz (1 + 2 sin e) / 3 through the plate's sky (0.9) at the
   // mean elevation it is seen at: brighter than the plate above it, darker at the horizon.
   const double e0 = meanSkyElevationDeg(camera, sky) * M_PI / 180.0;
   const double zenith = 3.0 * 0.9 / (1.0 + 2.0 * std::sin(e0));
-  ASSERT_GT(zenith, sceneZenith(0.07));  // the plate's sky is the brighter estimate here
+  ASSERT_GT(zenith, sceneZenith(0.05));  // the plate's sky is the brighter estimate here
   EXPECT_NEAR(env.zenithLuminance, zenith, 1e-4);
   EXPECT_TRUE(env.skyFromPlate);
   EXPECT_NEAR(env.horizonRgb[1], 0.9f, 1e-4);  // the airlight: the plate's own sky
   const float up = sampleEquirect(env.radiance, 0, 1, 0)[0];
   EXPECT_NEAR(up, zenith, 0.03 * zenith);  // the top row's centre is just off the zenith
   // Straight down: the frame's bottom rows; ahead, slightly below the horizon: the frame itself.
-  EXPECT_NEAR(sampleEquirect(env.radiance, 0, -1, 0)[0], 0.07f, 1e-4);
-  EXPECT_NEAR(sampleEquirect(env.radiance, 0, -0.2f, -1)[0], 0.07f, 1e-3);
+  EXPECT_NEAR(sampleEquirect(env.radiance, 0, -1, 0)[0], 0.05f, 1e-4);
+  EXPECT_NEAR(sampleEquirect(env.radiance, 0, -0.2f, -1)[0], 0.05f, 1e-3);
 }
 
 TEST(FrameEnvironment, ADimPlateSkyIsNoDarkerThanTheSkyThatLightsTheScene) {
