@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <sstream>
 #include <tuple>
 
@@ -167,6 +169,57 @@ void applyExactly(const OCIO::ConstCPUProcessorRcPtr& processor, float* rgb, siz
   processor->apply(packed);
 }
 
+// A LUT file bigger than this is not a LUT (a 129^3 cube as text is about 60 MB).
+constexpr uintmax_t kMaxLutFileBytes = uintmax_t(1) << 30;
+
+// Throws pluvia::Error when a FileTransform in `transform` (or in the spaces it names, `seen`
+// guarding against cycles) reads something that is not a LUT file: a device (/dev/zero), a FIFO
+// or a folder, or a file over kMaxLutFileBytes. OpenColorIO would read such a source until
+// memory runs out. A source it cannot find is left to OpenColorIO's own message.
+void refuseHostileLuts(const OCIO::ConstConfigRcPtr& config,
+                       const OCIO::ConstTransformRcPtr& transform, const std::string& configPath,
+                       std::set<std::string>& seen);
+
+void refuseHostileLutsOfSpace(const OCIO::ConstConfigRcPtr& config, const std::string& name,
+                              const std::string& configPath, std::set<std::string>& seen) {
+  OCIO::ConstColorSpaceRcPtr space = config->getColorSpace(name.c_str());
+  if (!space || !seen.insert(space->getName()).second) return;
+  for (auto direction : {OCIO::COLORSPACE_DIR_TO_REFERENCE, OCIO::COLORSPACE_DIR_FROM_REFERENCE})
+    refuseHostileLuts(config, space->getTransform(direction), configPath, seen);
+}
+
+void refuseHostileLuts(const OCIO::ConstConfigRcPtr& config,
+                       const OCIO::ConstTransformRcPtr& transform, const std::string& configPath,
+                       std::set<std::string>& seen) {
+  if (!transform) return;
+  if (auto group = OCIO::DynamicPtrCast<const OCIO::GroupTransform>(transform)) {
+    for (int i = 0; i < group->getNumTransforms(); ++i)
+      refuseHostileLuts(config, group->getTransform(i), configPath, seen);
+  } else if (auto space = OCIO::DynamicPtrCast<const OCIO::ColorSpaceTransform>(transform)) {
+    refuseHostileLutsOfSpace(config, space->getSrc(), configPath, seen);
+    refuseHostileLutsOfSpace(config, space->getDst(), configPath, seen);
+  } else if (auto file = OCIO::DynamicPtrCast<const OCIO::FileTransform>(transform)) {
+    std::string path;
+    try {
+      path = config->getCurrentContext()->resolveFileLocation(file->getSrc());
+    } catch (const OCIO::Exception&) {
+      return;
+    }
+    std::error_code error;
+    const auto status = std::filesystem::status(path, error);
+    if (error) return;
+    if (!std::filesystem::is_regular_file(status))
+      throw Error("the LUT '" + std::string(file->getSrc()) + "' (" + path +
+                      ") is not a regular file (a device, FIFO or folder)",
+                  {"color", {}, configPath});
+    const uintmax_t bytes = std::filesystem::file_size(path, error);
+    if (!error && bytes > kMaxLutFileBytes)
+      throw Error("the LUT '" + std::string(file->getSrc()) + "' (" + path + ") holds " +
+                      std::to_string(bytes) + " bytes: more than any LUT (1 GiB)",
+                  {"color", {}, configPath});
+  }
+}
+
 Conversion conversionFor(const OCIO::ConstConfigRcPtr& config, const std::string& configPath,
                          const std::string& from, const std::string& to) {
   static std::map<std::tuple<std::string, std::string, std::string>, Conversion> conversions;
@@ -176,6 +229,9 @@ Conversion conversionFor(const OCIO::ConstConfigRcPtr& config, const std::string
     auto found = conversions.find(key);
     if (found != conversions.end()) return found->second;
   }
+  std::set<std::string> seen;
+  refuseHostileLutsOfSpace(config, from, configPath, seen);
+  refuseHostileLutsOfSpace(config, to, configPath, seen);
   Conversion conversion;
   try {
     conversion.processor =

@@ -8,6 +8,8 @@
 #include <tbb/parallel_for.h>
 #include <Eigen/Geometry>
 
+#include "optics/drop_shading.h"
+#include "optics/fresnel.h"
 #include "rain/counter_stream.h"
 
 namespace pluvia::rain {
@@ -47,7 +49,9 @@ double surfaceDepth(const std::vector<float>& depth, int w, int h, double px, do
   return inverse > 0.0 ? 1.0 / inverse : nearest;
 }
 
-// The crown's blob directions on the horizontal, made once (no trigonometry per crown).
+}  // namespace
+
+// The crown's patch directions on the horizontal, made once (no trigonometry per crown).
 const std::array<Eigen::Vector3d, kCrownPoints>& crownDirections() {
   static const std::array<Eigen::Vector3d, kCrownPoints> directions = [] {
     std::array<Eigen::Vector3d, kCrownPoints> d;
@@ -59,6 +63,8 @@ const std::array<Eigen::Vector3d, kCrownPoints>& crownDirections() {
   }();
   return directions;
 }
+
+namespace {
 
 int dropletCount(const Impact& impact) {
   return 2 + int(std::lround(2.0 * impact.diameterMm));
@@ -190,12 +196,20 @@ void appendSplashParticles(const Impact& impact, double open, double close, doub
   const double a1 = std::min(close - impact.timeSeconds, crownLife);
   const double rMax = kCrownRadiusPerDiameter * d;
   const Eigen::Vector3d centre = impact.point + Eigen::Vector3d(0, 0.5 * d, 0);
-  if (a1 > a0 && 2.0 * rMax < pixelMeters) {
-    out.push_back({centre, centre, std::sqrt(double(kCrownPoints)) * d / 3.0});
-  } else if (a1 > a0) {
+  if (a1 > a0) {
     const double r0 = rMax * std::sqrt(a0 / crownLife), r1 = rMax * std::sqrt(a1 / crownLife);
-    for (const Eigen::Vector3d& dir : crownDirections())
-      out.push_back({centre + dir * r0, centre + dir * r1, d / 3.0});
+    // The sheet as the camera sees it: two walls (near and far) 2 r wide and D tall, r at the
+    // middle of the exposure, shared by the patches as discs of the same area.
+    const double patchArea = 4.0 * 0.5 * (r0 + r1) * d / kCrownPoints;
+    const double patchDiameter = std::sqrt(4.0 * patchArea / M_PI);
+    if (2.0 * rMax < pixelMeters) {
+      SplashParticle merged{centre, centre, std::sqrt(double(kCrownPoints)) * patchDiameter};
+      merged.crownMerged = true;
+      out.push_back(merged);
+    } else {
+      for (const Eigen::Vector3d& dir : crownDirections())
+        out.push_back({centre + dir * r0, centre + dir * r1, patchDiameter, dir});
+    }
   }
   // Droplets: ballistic until they are back at the surface.
   if (!droplets) return;
@@ -217,6 +231,20 @@ void appendSplashParticles(const Impact& impact, double open, double close, doub
     };
     out.push_back({at(b0), at(b1), kDropletDiameterFraction * d});
   }
+}
+
+SheetReflection crownSheetReflection(const Eigen::Vector3d& outward,
+                                     const Eigen::Vector3d& towardsCamera) {
+  const double lean = kCrownLeanDeg * M_PI / 180.0;
+  // The outer face's normal: outwards and down, perpendicular to the leaning sheet.
+  Eigen::Vector3d normal = outward * std::cos(lean) - Eigen::Vector3d::UnitY() * std::sin(lean);
+  double cosIncidence = normal.dot(towardsCamera);
+  if (cosIncidence < 0.0) normal = -normal, cosIncidence = -cosIncidence;  // the inner face
+  SheetReflection result;
+  result.mirrorDirection = (2.0 * cosIncidence * normal - towardsCamera).normalized();
+  const double r = optics::fresnelReflectance(std::min(cosIncidence, 1.0), optics::kWaterEta);
+  result.reflectance = 2.0 * r / (1.0 + r);
+  return result;
 }
 
 std::vector<SplashParticle> splashParticles(const Impact& impact, double open, double close,

@@ -11,10 +11,15 @@
 //
 // Each impact of a drop of diameter D at speed U makes (scalings after Yarin 2006, crown
 // splashes on wet surfaces; the constants are a look, not a fit):
-//  - a crown: a thin rim rising around the impact point, radius 2 D sqrt(t / tau) to 2 D,
-//    height D, over tau = 20 D / U, drawn as kCrownPoints blobs of diameter D / 3;
+//  - a crown: a thin sheet of water rising around the impact point, leaning out by
+//    kCrownLeanDeg, radius 2 D sqrt(t / tau) to 2 D, height D, over tau = 20 D / U, drawn as
+//    kCrownPoints patches that share the sheet's area as the camera sees it (both walls: the
+//    sheet is clear). A patch shows what lies behind it and the environment mirrored in its face
+//    towards the camera with a thin film's reflectance (crownSheetReflection): the far wall's
+//    inner face mirrors the sky (a bright arc), the near wall's outer face the ground;
 //  - 2 + 2 D[mm] secondary droplets of diameter 0.15 D, thrown at 0.2 U, 45..75 deg above the
 //    surface in random azimuths, falling back under gravity until they reach the surface.
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -77,11 +82,33 @@ double splashLifeSeconds(const Impact& impact);
 struct SplashParticle {
   Eigen::Vector3d from, to;
   double diameterMeters = 0.0;
+  // A patch of the crown's sheet: its outward direction (horizontal, unit); zero for a droplet.
+  // A crown merged into one particle (narrower than a pixel) has crownMerged set instead.
+  Eigen::Vector3d crownOutward = Eigen::Vector3d::Zero();
+  bool crownMerged = false;
 };
+
+// How far the crown's sheet leans out from the vertical (crowns in Yarin's 2006 photographs
+// open upwards at 20-40 degrees).
+inline constexpr double kCrownLeanDeg = 30.0;
+
+// What a patch of the crown's sheet facing `outward` (horizontal unit) mirrors towards the unit
+// direction `towardsCamera`: the environment along mirrorDirection, with the reflectance of a thin
+// film of water (both faces, incoherently: 2 R / (1 + R), R Fresnel's at that incidence). The face
+// the camera sees is the outer one (its normal leans down) or the inner one (up).
+struct SheetReflection {
+  Eigen::Vector3d mirrorDirection = Eigen::Vector3d::UnitY();  // unit, world
+  double reflectance = 0.0;
+};
+SheetReflection crownSheetReflection(const Eigen::Vector3d& outward,
+                                     const Eigen::Vector3d& towardsCamera);
+
+// The directions of the crown's kCrownPoints patches on the horizontal.
+const std::array<Eigen::Vector3d, kCrownPoints>& crownDirections();
 // The crown's and droplets' motion during [openSeconds, closeSeconds] (clipped to their lives);
 // none when the splash is not alive then. A crown narrower than `pixelMeters` (a pixel's width
 // at the impact's depth; 0: never) is one still particle at its centre with the area of its
-// kCrownPoints blobs: drawn under a pixel, it covers that pixel as much as they would together.
+// kCrownPoints patches: drawn under a pixel, it covers that pixel as much as they would together.
 std::vector<SplashParticle> splashParticles(const Impact& impact, double openSeconds,
                                             double closeSeconds, double pixelMeters = 0.0);
 // The same, appended to `out` (a frame's many impacts share one vector: no allocation each);

@@ -1,8 +1,9 @@
 // Splashes: where the rain's drops strike surfaces facing up, a crown and a few droplets
 // (rain/splashes.h), with splash.splatter a splatter texture's flash (rain/splatter.h), drawn on
-// the CPU over the plate after the rain (rain/splash_draw.h), shaded like the drops (the
-// environment convolved with the drop's transfer function, looked up along each particle's view
-// direction), their coverage in the "splash" plane.
+// the CPU over the plate after the rain (rain/splash_draw.h): the droplets shaded like the drops
+// (the environment convolved with the drop's transfer function, looked up along each particle's
+// view direction), the crown's sheet as the environment it mirrors over what lies behind it
+// (rain/splashes.h, crownSheetReflection); their coverage in the "splash" plane.
 #include <cmath>
 #include <limits>
 
@@ -49,6 +50,7 @@ class SplashStage : public Stage {
     optics::RadianceMapSettings map;
     map.outputWidth = 64;
     map.inputWidth = 128;
+    environment_ = clip.environment->radiance;
     radiance_ = optics::buildDropRadianceMap(
         clip.environment->radiance,
         optics::channelOptics(optics::kWaterEtaDispersion, optics::kDefaultTerms), map);
@@ -119,11 +121,26 @@ class SplashStage : public Stage {
         const std::array<float, 3> radiance =
             sampleEquirect(radiance_, float(view.x()), float(view.y()), float(view.z()));
         if (flashing) flashes[b].push_back({&impact, radiance});
+        const Eigen::Vector3d towardsCamera = -view;
         rain::ProjectedParticle projected;
-        for (size_t j = 0; j < particles.size(); ++j)
-          if (rain::projectSplashParticle(camera, particles[j], opacity, radiance,
+        for (size_t j = 0; j < particles.size(); ++j) {
+          const rain::SplashParticle& particle = particles[j];
+          // A droplet: the drop's shading, opaque; a patch of the crown's sheet: what it mirrors,
+          // as opaque as the film reflects (what lies behind shows through the rest).
+          std::array<float, 3> shade = radiance;
+          double share = 1.0;
+          if (particle.crownMerged) {
+            sheetAverage(towardsCamera, shade, share);
+          } else if (particle.crownOutward.squaredNorm() > 0.0) {
+            const rain::SheetReflection sheet =
+                rain::crownSheetReflection(particle.crownOutward, towardsCamera);
+            shade = mirrored(sheet.mirrorDirection);
+            share = sheet.reflectance;
+          }
+          if (rain::projectSplashParticle(camera, particle, float(opacity * share), shade,
                                           impact.key ^ (kThinningSalt + j), projected))
             out.push_back(projected);
+        }
       }
     });
     // The splatters lie on the surface, under the crowns and droplets.
@@ -135,12 +152,34 @@ class SplashStage : public Stage {
   }
 
  private:
+  std::array<float, 3> mirrored(const Eigen::Vector3d& direction) const {
+    return sampleEquirect(environment_, float(direction.x()), float(direction.y()),
+                          float(direction.z()));
+  }
+
+  // A crown merged into one particle: its patches' mirrored light, weighted by their
+  // reflectances, and their mean reflectance.
+  void sheetAverage(const Eigen::Vector3d& towardsCamera, std::array<float, 3>& shade,
+                    double& share) const {
+    std::array<double, 3> sum{0, 0, 0};
+    double reflectance = 0.0;
+    for (const Eigen::Vector3d& outward : rain::crownDirections()) {
+      const rain::SheetReflection sheet = rain::crownSheetReflection(outward, towardsCamera);
+      const std::array<float, 3> light = mirrored(sheet.mirrorDirection);
+      for (size_t c = 0; c < 3; ++c) sum[c] += sheet.reflectance * light[c];
+      reflectance += sheet.reflectance;
+    }
+    for (size_t c = 0; c < 3; ++c) shade[c] = float(sum[c] / std::max(reflectance, 1e-12));
+    share = reflectance / rain::kCrownPoints;
+  }
+
   SplashSettings splash_;
   RainSettings rain_;
   CameraSettings camera_;
   CameraPath path_;
   double fps_ = 24.0;
-  EquirectMap radiance_;
+  EquirectMap environment_;  // the lighting stage's, for what the crowns mirror
+  EquirectMap radiance_;     // the drops' shading, for the droplets
   rain::SplashMemo memo_;
   std::vector<std::vector<rain::ProjectedParticle>> projected_;  // per block of impacts
 };

@@ -83,3 +83,29 @@ TEST(CliHostileInputs, AFrameNameNearTheFileSystemLimitIsWritten) {
   EXPECT_EQ(over.exitCode, 2) << over.output;
   EXPECT_NE(over.output.find("over the file system's 255"), std::string::npos) << over.output;
 }
+
+TEST(CliHostileInputs, AnOcioLutThatIsADeviceIsRefusedBeforeReading) {
+  // Adversarial S26: a config whose output space's FileTransform reads a link to /dev/zero (or
+  // a folder) would read until memory ran out; it is refused by name at once.
+  const stdfs::path dir = freshTempDir("hostile_lut");
+  const std::string plate = writeTexturedPlate(dir, 1, 2);
+  stdfs::create_symlink("/dev/zero", dir / "lut.cube");
+  stdfs::create_directory(dir / "folder.cube");
+  for (const std::string lut : {"lut.cube", "folder.cube"}) {
+    const stdfs::path config =
+        writeTextFile(dir, "z.ocio",
+                      "ocio_profile_version: 2\nsearch_path: .\nroles:\n  default: lin\n"
+                      "  scene_linear: lin\nfile_rules:\n  - !<Rule> {name: Default, colorspace: "
+                      "lin}\ncolorspaces:\n  - !<ColorSpace>\n    name: lin\n  - !<ColorSpace>\n"
+                      "    name: zero\n    from_scene_reference: !<FileTransform> {src: " +
+                          lut + ", interpolation: linear}\n");
+    const auto r = runPluvia({"render", plate, "-p", "moderate", "-o",
+                              (dir / "o" / "r.####.exr").string(), "--frames", "1", "--ocio",
+                              config.string(), "--in-colorspace", "lin", "--out-colorspace",
+                              "zero"});
+    EXPECT_EQ(r.exitCode, 1) << r.output;
+    EXPECT_NE(r.output.find("the LUT '" + lut + "'"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("is not a regular file"), std::string::npos) << r.output;
+    EXPECT_FALSE(stdfs::exists(dir / "o" / "r.0001.exr"));
+  }
+}

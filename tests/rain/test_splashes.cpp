@@ -212,3 +212,62 @@ TEST(Splashes, ThinningKeepsTheExpectedCoverageOfFaintParticles) {
   EXPECT_GT(drawn, particles.size() * 4 / 10);
   EXPECT_LT(drawn, particles.size() * 6 / 10);
 }
+
+TEST(CrownSheet, TheFarWallMirrorsTheSkyAndTheNearWallTheGround) {
+  // A camera level with a crown looks along -Z; the far wall (outward -Z) turns its inner face to
+  // the camera, whose normal leans up by kCrownLeanDeg: the mirror direction rises at twice it.
+  const double lean = kCrownLeanDeg * M_PI / 180.0;
+  const Eigen::Vector3d towardsCamera(0, 0, 1);
+  const SheetReflection far = crownSheetReflection(Eigen::Vector3d(0, 0, -1), towardsCamera);
+  EXPECT_NEAR(far.mirrorDirection.y(), std::sin(2 * lean), 1e-12);
+  EXPECT_NEAR(far.mirrorDirection.z(), std::cos(2 * lean), 1e-12);
+  const SheetReflection near = crownSheetReflection(Eigen::Vector3d(0, 0, 1), towardsCamera);
+  EXPECT_NEAR(near.mirrorDirection.y(), -std::sin(2 * lean), 1e-12);
+  // Both at incidence lean: a thin film's 2 R / (1 + R) of Fresnel's R for water there (an
+  // independent evaluation of the s and p reflectances).
+  const double n = 1.333, ci = std::cos(lean), st = std::sin(lean) / n;
+  const double ct = std::sqrt(1 - st * st);
+  const double rs = std::pow((ci - n * ct) / (ci + n * ct), 2);
+  const double rp = std::pow((ct - n * ci) / (ct + n * ci), 2);
+  const double r = 0.5 * (rs + rp);
+  EXPECT_NEAR(far.reflectance, 2 * r / (1 + r), 1e-9);
+  EXPECT_NEAR(near.reflectance, far.reflectance, 1e-12);
+  // A side patch seen edge-on reflects almost everything, at normal incidence about 4 %.
+  const SheetReflection side = crownSheetReflection(Eigen::Vector3d(1, 0, 0), towardsCamera);
+  EXPECT_GT(side.reflectance, 0.95);
+  const Eigen::Vector3d down(0, -std::sin(lean), std::cos(lean));  // the near face's own normal
+  const SheetReflection normal = crownSheetReflection(Eigen::Vector3d(0, 0, 1), down);
+  EXPECT_NEAR(normal.reflectance, 2 * 0.02037 / 1.02037, 1e-4);
+  EXPECT_NEAR(normal.mirrorDirection.dot(down), 1.0, 1e-12);
+}
+
+TEST(CrownSheet, PatchesShareTheAreaTheCameraSeesAndFaceOutwards) {
+  // Two walls 2 r wide and D tall, r at the middle of the exposure: 4 r D over the patches.
+  Impact impact;
+  impact.point = Eigen::Vector3d(0, 0, -3);
+  impact.diameterMm = 2.0;
+  impact.speedMetersPerSecond = 6.5;
+  impact.timeSeconds = 0.0;
+  const double life = 20.0 * 2e-3 / 6.5;
+  const std::vector<SplashParticle> particles = splashParticles(impact, 0.0, life, 0.0);
+  double area = 0.0;
+  int patches = 0;
+  for (const SplashParticle& p : particles) {
+    if (p.crownOutward.squaredNorm() == 0.0) continue;
+    ++patches;
+    area += M_PI / 4 * p.diameterMeters * p.diameterMeters;
+    // Outward: the patch moves along its own direction, on the horizontal.
+    const Eigen::Vector3d moved = p.to - p.from;
+    EXPECT_NEAR(moved.normalized().dot(p.crownOutward), 1.0, 1e-9);
+    EXPECT_NEAR(p.crownOutward.y(), 0.0, 1e-12);
+  }
+  EXPECT_EQ(patches, kCrownPoints);
+  const double rMiddle = 0.5 * (0.0 + 2.0 * 2e-3);
+  EXPECT_NEAR(area, 4.0 * rMiddle * 2e-3, 1e-12);
+  // Narrower than a pixel: one particle with all of that area, marked as the merged crown.
+  const std::vector<SplashParticle> merged = splashParticles(impact, 0.0, life, 1.0);
+  ASSERT_FALSE(merged.empty());
+  EXPECT_TRUE(merged.front().crownMerged);
+  EXPECT_NEAR(M_PI / 4 * merged.front().diameterMeters * merged.front().diameterMeters, area,
+              1e-12);
+}
