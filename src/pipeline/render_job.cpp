@@ -288,6 +288,7 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
   // From the clip's size as read: a proxy's smaller frames get a proportionally shorter focal
   // length in pixels, so the rain and the depth land where they would on the full frame.
   context_.camera = camera_.base(clip().width, clip().height);
+  context_.cameraPath = camera_.path(context_.camera);
   context_.readWorking = [this](int64_t frame) {
     Image image = reader_->read(frame);
     ops::replaceNonFinite(image);

@@ -72,9 +72,11 @@ struct ClipContext {
   StageTimes* times = nullptr;
   std::optional<Environment> environment;
   std::optional<rain::StrokeAtlas> footageStrokes;
-  // The camera tracked from the footage (depth stage, COLMAP): it replaces the preset's camera
-  // for the rain.
-  std::optional<CameraPath> trackedPath;
+  // The camera every stage draws with: the preset's path (camera.path over `camera`, set by the
+  // render session), replaced by the one tracked from the footage (depth stage, COLMAP, which
+  // sets cameraTracked).
+  CameraPath cameraPath;
+  bool cameraTracked = false;
   // A still of the clip and the sky found in it (stages/clip_still.h), made once for the stages
   // that guess from the plate (the default lighting and depth).
   std::optional<Image> still;

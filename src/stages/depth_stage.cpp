@@ -6,7 +6,7 @@
 //    cards, polygons, sky), whose numbers and polygon points may be keyframed;
 //  - "colmap": the clip tracked by COLMAP (stages/depth_tracking.h, cached per clip), each
 //    frame's sparse points densified guided by the frame; the tracked camera path then drives
-//    the rain camera (ClipContext::trackedPath). When tracking fails, depth.fallback = "layers"
+//    the rain camera (ClipContext::cameraPath). When tracking fails, depth.fallback = "layers"
 //    falls back to the manual layers with a warning; otherwise the render stops before any frame;
 //  - "file": the user's depth sequence (io/depth_sequence.h), depth.file's frame N for plate
 //    frame N, decoded by depth.file_encoding and resampled to the plate;
@@ -166,7 +166,8 @@ class DepthStage : public Stage {
     }
     if (!camera_.pathKeys.empty())
       log::warning("depth: the COLMAP-tracked camera replaces camera.path");
-    clip.trackedPath = sfm_->path;
+    clip.cameraPath = sfm_->path;
+    clip.cameraTracked = true;
     return true;
   }
 

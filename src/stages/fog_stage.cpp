@@ -10,7 +10,6 @@
 
 #include "image/ops.h"
 #include "optics/skylight_scattering.h"
-#include "pipeline/camera_settings.h"
 #include "rain/drop_physics.h"
 #include "stages/clip_plate_rain.h"
 #include "stages/depth_grading.h"
@@ -26,8 +25,7 @@ namespace {
 
 class FogStage : public Stage {
  public:
-  FogStage(FogSettings fog, RainSettings rain, CameraSettings camera)
-      : fog_(std::move(fog)), rain_(std::move(rain)), camera_(std::move(camera)) {}
+  FogStage(FogSettings fog, RainSettings rain) : fog_(std::move(fog)), rain_(std::move(rain)) {}
 
   void prepare(ClipContext& clip) override {
     leftOut_ = leaveOutOnRainedPlate(clip, "fog", fog_.overRain);
@@ -71,7 +69,7 @@ class FogStage : public Stage {
   }
 
   void prepareSkylight(ClipContext& clip) {
-    path_ = clip.trackedPath ? *clip.trackedPath : camera_.path(clip.camera);
+    path_ = clip.cameraPath;
     const EquirectMap sky = clip.environment
                                 ? clip.environment->radiance
                                 : optics::cieOvercastSky(4 * fog_.skylightTableWidth, rgb_);
@@ -85,7 +83,6 @@ class FogStage : public Stage {
 
   FogSettings fog_;
   RainSettings rain_;
-  CameraSettings camera_;
   CameraPath path_;
   std::optional<optics::SkylightTable> skylight_;
   std::array<float, 3> rgb_{0, 0, 0};
@@ -95,32 +92,30 @@ class FogStage : public Stage {
 }  // namespace
 
 StageInfo fogStageInfo() {
-  return makeStageInfo(fogTable().section(), fogSettings,
-                       {.noOpReason = [](const FogSettings& fog, const Preset& p) -> std::string {
-                          // Skylight fog scatters through the rain as well: no-op only without fog
-                          // and rain.
-                          if (fog.model == "skylight") {
-                            // Any frame with rain (a ramp may start dry), as the other stages ask.
-                            return fog.densityPerMeter == 0.0 && !rainSettings(p).falls()
-                                       ? "density is 0 and no rain"
-                                       : "";
-                          }
-                          return fog.densityPerMeter == 0.0 ? "density is 0" : "";
-                        },
-                        .note = [](const FogSettings& fog,
-                                   const Preset&) { return rainedPlateNote("fog", fog.overRain); },
-                        .reads =
-                            [](const FogSettings& fog, const Preset&) {
-                              std::vector<std::string> reads{"image", "depth"};
-                              if (fog.model == "skylight" || fog.colorSource != "constant")
-                                reads.push_back("environment");
-                              return reads;
-                            },
-                        .create =
-                            [](const FogSettings& fog, const Preset& p) {
-                              return std::make_unique<FogStage>(fog, rainSettings(p),
-                                                                cameraSettings(p));
-                            }});
+  return makeStageInfo(
+      fogTable().section(), fogSettings,
+      {.noOpReason = [](const FogSettings& fog, const Preset& p) -> std::string {
+         // Skylight fog scatters through the rain as well: no-op only without fog
+         // and rain.
+         if (fog.model == "skylight") {
+           // Any frame with rain (a ramp may start dry), as the other stages ask.
+           return fog.densityPerMeter == 0.0 && !rainSettings(p).falls()
+                      ? "density is 0 and no rain"
+                      : "";
+         }
+         return fog.densityPerMeter == 0.0 ? "density is 0" : "";
+       },
+       .note = [](const FogSettings& fog,
+                  const Preset&) { return rainedPlateNote("fog", fog.overRain); },
+       .reads =
+           [](const FogSettings& fog, const Preset&) {
+             std::vector<std::string> reads{"image", "depth"};
+             if (fog.model == "skylight" || fog.colorSource != "constant")
+               reads.push_back("environment");
+             return reads;
+           },
+       .create = [](const FogSettings& fog,
+                    const Preset& p) { return std::make_unique<FogStage>(fog, rainSettings(p)); }});
 }
 
 }  // namespace pluvia

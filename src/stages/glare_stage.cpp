@@ -17,7 +17,6 @@
 #include <fmt/format.h>
 
 #include "optics/glare.h"
-#include "pipeline/camera_settings.h"
 #include "stages/lights_settings.h"
 #include "stages/local_lights.h"
 #include "stages/registry.h"
@@ -40,12 +39,9 @@ constexpr double kOccludedBelow = 0.9;
 
 class GlareStage : public Stage {
  public:
-  GlareStage(LightsSettings lights, CameraSettings camera)
-      : lights_(std::move(lights)), camera_(std::move(camera)) {}
+  explicit GlareStage(LightsSettings lights) : lights_(std::move(lights)) {}
 
-  void prepare(ClipContext& clip) override {
-    path_ = clip.trackedPath ? *clip.trackedPath : camera_.path(clip.camera);
-  }
+  void prepare(ClipContext& clip) override { path_ = clip.cameraPath; }
 
   void process(ClipContext&, FrameContext& frame) override {
     if (lights_.glare == GlareMode::Auto && frame.lights.empty()) return;
@@ -169,7 +165,6 @@ class GlareStage : public Stage {
 
  private:
   LightsSettings lights_;
-  CameraSettings camera_;
   CameraPath path_;
   std::optional<optics::GlarePyramid> pyramid_;
   bool lastGlared_ = false;
@@ -204,10 +199,8 @@ StageInfo glareStageInfo() {
                     : "lights.glare auto: on the frames whose lights' veil 1 deg away could reach "
                       "lights.halo_threshold";
        },
-       .create =
-           [](const LightsSettings& lights, const Preset& p) {
-             return std::make_unique<GlareStage>(lights, cameraSettings(p));
-           }});
+       .create = [](const LightsSettings& lights,
+                    const Preset& p) { return std::make_unique<GlareStage>(lights); }});
 }
 
 }  // namespace pluvia

@@ -6,7 +6,6 @@
 #include <fmt/format.h>
 
 #include "optics/single_scattering.h"
-#include "pipeline/camera_settings.h"
 #include "rain/drop_physics.h"
 
 #include "stages/clip_still.h"
@@ -33,16 +32,14 @@ double extinctionPerMeter(const RainSettings& rain, const FogSettings& fog, doub
 
 class LightsStage : public Stage {
  public:
-  LightsStage(LightsSettings lights, RainSettings rain, FogSettings fog, CameraSettings camera,
-              double backdropMeters)
+  LightsStage(LightsSettings lights, RainSettings rain, FogSettings fog, double backdropMeters)
       : lights_(std::move(lights)),
         rain_(std::move(rain)),
         fog_(std::move(fog)),
-        camera_(std::move(camera)),
         backdropMeters_(backdropMeters) {}
 
   void prepare(ClipContext& clip) override {
-    path_ = clip.trackedPath ? *clip.trackedPath : camera_.path(clip.camera);
+    path_ = clip.cameraPath;
     // The found lamps, once per clip: from the still, placed with the camera and the depth of
     // the clip's first frame, fixed in the world (a moving camera passes them); every chunk of a
     // farm render places them alike.
@@ -57,7 +54,7 @@ class LightsStage : public Stage {
       for (const FoundLamp& lamp : *clip.foundLamps) lights_.lights.push_back(foundLampLight(lamp));
     if (lights_.halos) tables_ = std::make_unique<optics::ScatteringTables>();
     log::info(fmt::format("lights: {} lights{}", lights_.lights.size(),
-                          clip.trackedPath ? ", following the tracked camera" : ""));
+                          clip.cameraTracked ? ", following the tracked camera" : ""));
   }
 
   void process(ClipContext&, FrameContext& frame) override {
@@ -84,7 +81,6 @@ class LightsStage : public Stage {
   LightsSettings lights_;
   RainSettings rain_;
   FogSettings fog_;
-  CameraSettings camera_;
   double backdropMeters_;
   CameraPath path_;
   std::unique_ptr<optics::ScatteringTables> tables_;
@@ -124,7 +120,6 @@ StageInfo lightsStageInfo() {
        .create =
            [](const LightsSettings& lights, const Preset& p) {
              return std::make_unique<LightsStage>(lights, rainSettings(p), fogSettings(p),
-                                                  cameraSettings(p),
                                                   depthSettings(p).backdropMeters);
            }});
 }

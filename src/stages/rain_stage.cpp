@@ -128,12 +128,12 @@ class RainStage : public Stage {
   void prepare(ClipContext& clip) override {
     fps_ = clip.fps;
     resolveAutoExposure(camera_, clip, "rain");
-    const CameraPath path = clip.trackedPath ? *clip.trackedPath : camera_.path(clip.camera);
+    const CameraPath path = clip.cameraPath;
     path_ = path;
     // D(theta) per steradian for drops lit by the local lights (lights stage), 512 bins in
     // cos(theta): the paper's water, 9 terms.
     if (litDrops_) transfer_ = optics::binTransfer(optics::DropOptics{}, 512);
-    if (clip.trackedPath)
+    if (clip.cameraTracked)
       log::info(fmt::format("rain: camera tracked by COLMAP ({} keys, focal length {:.1f} px)",
                             path.keys().size(), path.cameraAt(0.0).focalPx));
     simulation_ = std::make_unique<rain::DropSimulation>(

@@ -22,14 +22,11 @@ constexpr int kPlanWidth = 1920, kPlanHeight = 1080;
 
 class RainbowStage : public Stage {
  public:
-  RainbowStage(RainbowSettings bow, RainSettings rain, FogSettings fog, CameraSettings camera)
-      : bow_(std::move(bow)),
-        rain_(std::move(rain)),
-        fog_(std::move(fog)),
-        camera_(std::move(camera)) {}
+  RainbowStage(RainbowSettings bow, RainSettings rain, FogSettings fog)
+      : bow_(std::move(bow)), rain_(std::move(rain)), fog_(std::move(fog)) {}
 
   void prepare(ClipContext& clip) override {
-    path_ = clip.trackedPath ? *clip.trackedPath : camera_.path(clip.camera);
+    path_ = clip.cameraPath;
     if (bow_.sunSource == "direction") {
       sun_ = Sun{sunDirection(bow_.sunElevationDeg, bow_.sunAzimuthDeg),
                  {bow_.sunIrradianceRgb[0], bow_.sunIrradianceRgb[1], bow_.sunIrradianceRgb[2]}};
@@ -73,7 +70,6 @@ class RainbowStage : public Stage {
   RainbowSettings bow_;
   RainSettings rain_;
   FogSettings fog_;
-  CameraSettings camera_;
   CameraPath path_;
   std::optional<Sun> sun_;
   std::array<optics::RainbowProfile, 3> profiles_;
@@ -100,8 +96,7 @@ StageInfo rainbowStageInfo() {
            },
        .create =
            [](const RainbowSettings& bow, const Preset& p) {
-             return std::make_unique<RainbowStage>(bow, rainSettings(p), fogSettings(p),
-                                                   cameraSettings(p));
+             return std::make_unique<RainbowStage>(bow, rainSettings(p), fogSettings(p));
            }});
 }
 

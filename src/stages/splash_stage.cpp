@@ -43,7 +43,7 @@ class SplashStage : public Stage {
 
   void prepare(ClipContext& clip) override {
     if (!clip.environment) throw Error("splash needs the lighting stage's environment", {"splash"});
-    path_ = clip.trackedPath ? *clip.trackedPath : camera_.path(clip.camera);
+    path_ = clip.cameraPath;
     fps_ = clip.fps;
     resolveAutoExposure(camera_, clip, "splash");
     // A small map is enough: splashes are a few pixels across.
