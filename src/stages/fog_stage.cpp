@@ -10,10 +10,10 @@
 
 #include "image/ops.h"
 #include "optics/skylight_scattering.h"
-#include "rain/drop_physics.h"
 #include "stages/clip_plate_rain.h"
 #include "stages/depth_grading.h"
 #include "stages/fog_settings.h"
+#include "stages/rain_medium.h"
 #include "stages/rain_settings.h"
 #include "stages/registry.h"
 #include "stages/skylight_fog.h"
@@ -54,18 +54,16 @@ class FogStage : public Stage {
  private:
   void addFog(FrameContext& frame) const {
     // The rain of this frame bounds the path: its visibility (about 2 km at 15 mm/h).
-    const double rate = rain_.enabled ? rain_.rateMmPerHour.valueAt(double(frame.frame)) : 0.0;
-    const double visibility =
-        rain_.enabled ? rain::rainVisibilityMeters(rate) : std::numeric_limits<double>::infinity();
+    const RainMedium medium = mediumAt(rain_, fog_, double(frame.frame));
     if (skylight_) {
-      optics::SkylightMedium medium;
-      medium.rainExtinctionPerMeter = rain::rainExtinctionPerMeter(rate);
-      medium.fogPerMeter = fog_.densityPerMeter;
-      applySkylightFog(frame.image, path_.cameraAt(double(frame.frame)), *skylight_, medium,
-                       visibility);
+      optics::SkylightMedium skylight;
+      skylight.rainExtinctionPerMeter = medium.rainExtinctionPerMeter;
+      skylight.fogPerMeter = medium.fogPerMeter;
+      applySkylightFog(frame.image, path_.cameraAt(double(frame.frame)), *skylight_, skylight,
+                       medium.rainVisibilityMeters);
       return;
     }
-    ops::fog(frame.image, float(fog_.densityPerMeter), rgb_, float(visibility));
+    ops::fog(frame.image, float(medium.fogPerMeter), rgb_, float(medium.rainVisibilityMeters));
   }
 
   void prepareSkylight(ClipContext& clip) {

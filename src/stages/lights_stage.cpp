@@ -6,7 +6,6 @@
 #include <fmt/format.h>
 
 #include "optics/single_scattering.h"
-#include "rain/drop_physics.h"
 
 #include "stages/clip_still.h"
 #include "stages/depth_settings.h"
@@ -14,21 +13,13 @@
 #include "stages/lights_settings.h"
 #include "stages/local_lights.h"
 #include "stages/plate_lights.h"
+#include "stages/rain_medium.h"
 #include "stages/rain_settings.h"
 #include "stages/registry.h"
 #include "util/log.h"
 
 namespace pluvia {
 namespace {
-
-// The medium between the lights and the camera: the rain's extinction at the frame's rate plus
-// the fog's density, per metre.
-double extinctionPerMeter(const RainSettings& rain, const FogSettings& fog, double frame) {
-  double beta = 0.0;
-  if (rain.enabled) beta += rain::rainExtinctionPerMeter(rain.rateMmPerHour.valueAt(frame));
-  if (fog.enabled) beta += fog.densityPerMeter;
-  return beta;
-}
 
 class LightsStage : public Stage {
  public:
@@ -62,7 +53,7 @@ class LightsStage : public Stage {
     const Camera camera = path_.cameraAt(at);
     if (lights_.lights.empty()) return;
     frame.lights = lightsAtFrame(lights_, camera, at);
-    frame.lightsExtinctionPerMeter = extinctionPerMeter(rain_, fog_, at);
+    frame.lightsExtinctionPerMeter = mediumAt(rain_, fog_, at).extinctionPerMeter();
     if (!tables_) return;
     const HaloResult halos =
         addHalos(frame.image, camera, frame.lights, frame.lightsExtinctionPerMeter, *tables_,

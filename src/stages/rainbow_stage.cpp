@@ -8,6 +8,7 @@
 #include "pipeline/camera_settings.h"
 #include "rain/drop_physics.h"
 #include "stages/fog_settings.h"
+#include "stages/rain_medium.h"
 #include "stages/rain_settings.h"
 #include "stages/rainbow_render.h"
 #include "stages/rainbow_settings.h"
@@ -58,9 +59,9 @@ class RainbowStage : public Stage {
   void process(ClipContext&, FrameContext& frame) override {
     if (!sun_) return;
     RainbowVolume volume;
-    volume.rainExtinctionPerMeter =
-        rain::rainExtinctionPerMeter(rain_.rateMmPerHour.valueAt(double(frame.frame)));
-    volume.fogExtinctionPerMeter = fog_.enabled ? fog_.densityPerMeter : 0.0;
+    const RainMedium medium = mediumAt(rain_, fog_, double(frame.frame));
+    volume.rainExtinctionPerMeter = medium.rainExtinctionPerMeter;
+    volume.fogExtinctionPerMeter = medium.fogPerMeter;
     volume.showerExtentMeters = bow_.showerExtentMeters;
     volume.strength = bow_.strength;
     addRainbow(frame.image, path_.cameraAt(double(frame.frame)), *sun_, profiles_, volume);
