@@ -98,6 +98,18 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
           fmt::format("derain: frames {}-{}: camera locked off (phase correlation), not "
                       "resampled",
                       frames[start], frames[start + window - 1]));
+    if (registration.motionRejected)
+      log::info(fmt::format(
+          "derain: frames {}-{}: not registered: the fitted motion (shift {:.1f} px) leaves a "
+          "residual of {:.2f} codes against {:.2f} without it (kept only under {:g} of it)",
+          frames[start], frames[start + window - 1], registration.maxShiftPx,
+          registration.motionResidual, registration.identityResidual, kClearlyLowerResidual));
+    else if (registration.moving())
+      log::info(fmt::format(
+          "derain: frames {}-{}: registered: the fitted motion leaves a residual of {:.2f} codes "
+          "against {:.2f} without it",
+          frames[start], frames[start + window - 1], registration.motionResidual,
+          registration.identityResidual));
     DerainSettings solver = settings.solver;
     if (registration.moving()) solver.registrationErrorPx = kResidualMisregistrationPx;
     const DerainResult result = solveDerain(warpToReference(originals, registration), solver);
@@ -106,6 +118,12 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
     stats.firstFrame = frames[start];
     stats.lastFrame = frames[start + window - 1];
     stats.maxShiftPx = registration.moving() ? registration.maxShiftPx : 0.0;
+    stats.identityResidual = registration.identityResidual;
+    stats.motionResidual = registration.motionResidual;
+    stats.registration = registration.lockedOff        ? "locked off"
+                         : registration.motionRejected ? "identity (the motion explained less)"
+                         : registration.moving()       ? "motion"
+                                                       : "identity";
     stats.angleDeg = result.angleDeg;
     stats.iterations = result.iterations;
     stats.residual = result.residual;

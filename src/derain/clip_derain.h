@@ -36,6 +36,10 @@ struct ClipDerainFrame {
 struct ClipDerainWindow {
   int64_t firstFrame = 0, lastFrame = 0;
   double maxShiftPx = 0.0;  // registration: 0 when not registered
+  // Which registration was taken ("locked off", "identity", "identity (the motion explained
+  // less)" or "motion") and the residuals it was chosen by (Registration; 0 when not measured).
+  std::string registration;
+  double identityResidual = 0.0, motionResidual = 0.0;
   double angleDeg = 0.0;
   int iterations = 0;
   double residual = 0.0;

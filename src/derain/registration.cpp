@@ -102,6 +102,32 @@ bool cameraIsStill(const std::vector<cv::Mat>& frames) {
   return shifts.empty() || shifts[std::min<size_t>(1, shifts.size() - 1)] < kStillShiftPx;
 }
 
+// The mean absolute difference of the frames' rain-suppressed images from the reference's, each
+// resampled by `referenceToFrame` onto the reference grid and compared where it covers it.
+double temporalResidual(const std::vector<cv::Mat>& features, int reference,
+                        const std::vector<cv::Matx33d>& referenceToFrame) {
+  double sum = 0.0, count = 0.0;
+  const cv::Mat& target = features[size_t(reference)];
+  const cv::Mat ones(target.size(), CV_8U, cv::Scalar(255));
+  for (size_t k = 0; k < features.size(); ++k) {
+    if (int(k) == reference) continue;
+    cv::Mat warped = features[k], covered = ones;
+    if (referenceToFrame[k] != cv::Matx33d::eye()) {
+      const cv::Mat h(referenceToFrame[k]);
+      const int flags = cv::INTER_LINEAR | cv::WARP_INVERSE_MAP;
+      cv::warpPerspective(features[k], warped, h, target.size(), flags, cv::BORDER_CONSTANT);
+      cv::warpPerspective(ones, covered, h, target.size(), cv::INTER_NEAREST | cv::WARP_INVERSE_MAP,
+                          cv::BORDER_CONSTANT);
+    }
+    cv::Mat difference;
+    cv::absdiff(warped, target, difference);
+    const double pixels = cv::countNonZero(covered);
+    if (pixels > 0.0) sum += cv::mean(difference, covered)[0] * pixels;
+    count += pixels;
+  }
+  return count > 0.0 ? sum / count : 0.0;
+}
+
 double cornerShift(const cv::Matx33d& h, cv::Size size) {
   double shift = 0.0;
   for (const cv::Point2d corner :
@@ -181,8 +207,24 @@ Registration registerFrames(const std::vector<cv::Mat>& frames, int reference) {
     // The fits only measured noise. Keep the frames exactly as they are.
     std::fill(registration.referenceToFrame.begin(), registration.referenceToFrame.end(),
               cv::Matx33d::eye());
+    return registration;
   }
+  keepMotionThatExplains(frames, reference, registration);
   return registration;
+}
+
+void keepMotionThatExplains(const std::vector<cv::Mat>& frames, int reference,
+                            Registration& registration) {
+  std::vector<cv::Mat> features;
+  for (const cv::Mat& frame : frames) features.push_back(featureImage(frame));
+  const std::vector<cv::Matx33d> identity(frames.size(), cv::Matx33d::eye());
+  registration.identityResidual = temporalResidual(features, reference, identity);
+  registration.motionResidual =
+      temporalResidual(features, reference, registration.referenceToFrame);
+  if (!(registration.motionResidual < kClearlyLowerResidual * registration.identityResidual)) {
+    registration.motionRejected = true;  // maxShiftPx keeps the shift it would have made
+    registration.referenceToFrame = identity;
+  }
 }
 
 FrameStack warpToReference(const std::vector<cv::Mat>& frames, const Registration& registration) {

@@ -24,7 +24,14 @@ struct Registration {
   bool lockedOff = false;
   // Frames that could not be registered and took their nearest registered neighbour's motion.
   std::vector<int> placedFrames;
-  bool moving() const { return maxShiftPx >= 0.25; }
+  // What the fitted motion explains (measured when it moved a frame by kStaticShiftPx): the mean
+  // absolute difference of the rain-suppressed frames from the reference's (8-bit codes of
+  // featureImage), with the frames as they are and resampled by the motion. The motion is kept
+  // only when it leaves clearly less (motionRejected otherwise: every homography is identity).
+  double identityResidual = 0.0;
+  double motionResidual = 0.0;
+  bool motionRejected = false;
+  bool moving() const { return !motionRejected && maxShiftPx >= 0.25; }
 };
 
 // Estimates each frame's homography from frames[reference]. First, from evidence: when phase
@@ -33,8 +40,19 @@ struct Registration {
 // matched, nothing is resampled). Otherwise ORB features on the median-filtered luminance (thin
 // rain streaks carry none; ratio test; RANSAC). A frame with too few matches takes its nearest
 // registered neighbour's homography, with a warning, and is listed in placedFrames. When no
-// frame moves more than half a pixel every homography is the identity.
+// frame moves more than half a pixel every homography is the identity. Then by what the motion
+// explains: it is kept only where it lowers the rain-suppressed temporal residual to under
+// kClearlyLowerResidual of the residual of the frames as they are (repeated texture, a façade's
+// windows, can fit a motion on a camera that never moved).
+inline constexpr double kClearlyLowerResidual = 0.8;
 Registration registerFrames(const std::vector<cv::Mat>& frames, int reference);
+
+// The last step of registerFrames: measures registration's identityResidual and motionResidual
+// on `frames` and, unless the motion leaves under kClearlyLowerResidual of the residual without
+// it, sets motionRejected and every homography to the identity (maxShiftPx is kept, to say what
+// was rejected).
+void keepMotionThatExplains(const std::vector<cv::Mat>& frames, int reference,
+                            Registration& registration);
 
 // The frames resampled onto the reference frame's pixel grid, with validity masks. When the
 // registration is not moving() the frames are passed through untouched (no resampling blur).
