@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
+#include "image/luminance.h"
 #include "util/error.h"
 
 namespace pluvia::derain {
@@ -30,7 +31,7 @@ struct Registered {
 
 Grey suppressedGrey(const cv::Mat3f& bgr, int diameterPx) {
   cv::Mat1f luma;
-  cv::transform(bgr, luma, cv::Matx13f(0.0722f, 0.7152f, 0.2126f));
+  cv::transform(bgr, luma, cv::Matx13f(float(kRec709Blue), float(kRec709Green), float(kRec709Red)));
   const cv::Mat disk = cv::getStructuringElement(cv::MORPH_ELLIPSE, {diameterPx, diameterPx});
   Grey out;
   cv::morphologyEx(luma, out.codes, cv::MORPH_OPEN, disk);

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "derain/clean_plate.h"
+#include "image/luminance.h"
 #include "util/error.h"
 
 namespace pluvia::derain {
@@ -14,7 +15,7 @@ namespace {
 
 cv::Mat1f lumaOfBgr(const cv::Mat3f& bgr) {
   cv::Mat1f y(bgr.size());
-  cv::transform(bgr, y, cv::Matx13f(0.0722f, 0.7152f, 0.2126f));
+  cv::transform(bgr, y, cv::Matx13f(float(kRec709Blue), float(kRec709Green), float(kRec709Red)));
   return y;
 }
 

@@ -8,6 +8,7 @@
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "image/luminance.h"
 #include "util/error.h"
 #include "util/log.h"
 
@@ -36,7 +37,7 @@ cv::Mat featureImage(const cv::Mat& rgb) {
     const cv::Vec3f* row = rgb.ptr<cv::Vec3f>(y);
     uint8_t* out = gray.ptr<uint8_t>(y);
     for (int x = 0; x < rgb.cols; ++x) {
-      const float luminance = 0.2126f * row[x][0] + 0.7152f * row[x][1] + 0.0722f * row[x][2];
+      const float luminance = rec709LuminanceFloat(&row[x][0]);
       // Perceptual-ish encoding so dark areas keep their features.
       out[x] = cv::saturate_cast<uint8_t>(255.0f * std::sqrt(std::max(0.0f, luminance)));
     }

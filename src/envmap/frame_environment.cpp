@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "envmap/scene_albedo.h"
+#include "image/luminance.h"
 #include "image/ops.h"
 #include "image/resize.h"
 
@@ -45,7 +46,7 @@ SkySample sampleSky(const Image& frame, const Camera& camera, const std::vector<
     for (int x = 0; x < camera.width; ++x) {
       const float* p = frame.rgba.data() + (size_t(y) * camera.width + x) * 4;
       if (sky.empty() || !sky[size_t(y) * camera.width + x]) {
-        sceneSum += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+        sceneSum += rec709Luminance(p);
         scenePixels += 1.0;
         continue;
       }
@@ -77,8 +78,7 @@ void daySky(FrameEnvironment& result, std::vector<std::array<float, 3>>& profile
   double zenith = sceneZenith;
   std::array<double, 3> tint{1.0, 1.0, 1.0};  // the sky's colour at unit luminance
   if (framedSky) {
-    const double luminance =
-        0.2126 * seen.meanRgb[0] + 0.7152 * seen.meanRgb[1] + 0.0722 * seen.meanRgb[2];
+    const double luminance = rec709Luminance(seen.meanRgb);
     for (int c = 0; c < 3; ++c)
       tint[size_t(c)] = seen.meanRgb[size_t(c)] / std::max(1e-6, luminance);
     const double throughPlate =

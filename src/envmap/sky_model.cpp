@@ -10,6 +10,8 @@
 
 #include <fmt/format.h>
 
+#include "image/luminance.h"
+
 namespace pluvia::envmap {
 namespace {
 
@@ -35,10 +37,6 @@ Vec3 xyzToRec709(double x, double y, double z) {
   return {3.2404542 * x - 1.5371385 * y - 0.4985314 * z,
           -0.9692660 * x + 1.8760108 * y + 0.0415560 * z,
           0.0556434 * x - 0.2040259 * y + 1.0572252 * z};
-}
-
-double luminanceOf(const Vec3& rgb) {  // Rec.709
-  return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
 }
 
 // One Preetham sky: the coefficients and the zenith values (divided by F(0, theta_s)) for a
@@ -110,7 +108,7 @@ std::array<double, 3> shapeOf(const SkyFit& fit, const Vec3& view) {
     case SkyKind::Preetham: {
       const Vec3 rgb = PreethamSky(fit.turbidity, fit.sun).rgb(view);
       if (fit.grey) {
-        const double y = luminanceOf(rgb);
+        const double y = rec709Luminance(rgb);
         return {y, y, y};
       }
       return {rgb[0], rgb[1], rgb[2]};
@@ -141,7 +139,7 @@ SkyFit fitPreetham(const LogSamples& s, const std::optional<Vec3>& knownSun) {
     // not follow Preetham's chromaticity across the dome.
     fit.grey = true;
     const SkyFit grey = fitScale(s, fit, [&](const Vec3& v) {
-      const double y = luminanceOf(sky.rgb(v));
+      const double y = rec709Luminance(sky.rgb(v));
       return std::array<double, 3>{y, y, y};
     });
     return grey.residual < colour.residual ? grey : colour;

@@ -2,6 +2,7 @@
 #include "envmap/unseen_fill.h"
 
 #include "envmap/scene_albedo.h"
+#include "image/luminance.h"
 
 #include <tbb/parallel_for.h>
 
@@ -33,10 +34,6 @@ Vec3 texelDirection(int width, int height, int x, int y) {
   return equirectTexelDirection(width, height, x, y);
 }
 
-double luminanceOf(const float* rgb) {
-  return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
-}
-
 // The sky samples to fit: seen, unclipped texels above the horizon that are smooth (no
 // neighbour differs by more than kSmoothLog in log luminance: edges of buildings, branches and
 // leaves are not sky), on a regular subsample.
@@ -47,7 +44,7 @@ std::vector<SkySample> smoothSkyTexels(const EquirectMap& map, const cv::Mat& co
   for (int y = 0; y < h / 2; ++y) skyTexels += cv::countNonZero(coverage.row(y));
   const int step = std::max(1, int(std::ceil(std::sqrt(double(skyTexels) / kMaxSkySamples))));
   auto logLuminance = [&](int x, int y) {
-    return std::log(std::max(luminanceOf(map.texel((x + w) % w, y)), 1e-12));
+    return std::log(std::max(rec709Luminance(map.texel((x + w) % w, y)), 1e-12));
   };
   std::vector<SkySample> samples;
   for (int y = step / 2; y < h / 2; y += step) {
@@ -77,7 +74,7 @@ std::optional<SkyFit> fitSkyEnvelope(const std::vector<SkySample>& candidates,
                                      const SkyFitSettings& settings, double& used) {
   if (candidates.empty()) return std::nullopt;
   std::vector<double> luminances;
-  for (const SkySample& s : candidates) luminances.push_back(luminanceOf(s.rgb.data()));
+  for (const SkySample& s : candidates) luminances.push_back(rec709Luminance(s.rgb.data()));
   std::vector<double> sorted = luminances;
   std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
   const double median = sorted[sorted.size() / 2];
@@ -94,7 +91,7 @@ std::optional<SkyFit> fitSkyEnvelope(const std::vector<SkySample>& candidates,
     std::vector<SkySample> kept;
     for (size_t i = 0; i < candidates.size(); ++i) {
       const auto m = evaluateSky(*fit, candidates[i].direction);
-      const double modelLuminance = 0.2126 * m[0] + 0.7152 * m[1] + 0.0722 * m[2];
+      const double modelLuminance = rec709Luminance(m);
       if (luminances[i] >= modelLuminance / kEnvelope) kept.push_back(candidates[i]);
     }
     if (kept.size() < kMinSkySamples) break;
@@ -197,8 +194,7 @@ bool fillModel(EquirectMap& map, const cv::Mat& coverage, const cv::Mat& clipped
     const auto e = skyIrradiance(*sky);
     if (groundWeight > 0) {
       model += fmt::format(", ground albedo {:.2f}",
-                           CV_PI * (0.2126 * ground[0] + 0.7152 * ground[1] + 0.0722 * ground[2]) /
-                               (0.2126 * e[0] + 0.7152 * e[1] + 0.0722 * e[2]));
+                           CV_PI * rec709Luminance(ground) / rec709Luminance(e));
     } else {
       for (size_t k = 0; k < 3; ++k) ground[k] = kMeteredSceneAlbedo * e[k] / CV_PI;
       model += fmt::format(", ground it lights at albedo {}", kMeteredSceneAlbedo);
@@ -230,10 +226,10 @@ bool fillModel(EquirectMap& map, const cv::Mat& coverage, const cv::Mat& clipped
             std::acos(std::clamp(d[0] * nd[0] + d[1] * nd[1] + d[2] * nd[2], -1.0, 1.0));
         const std::array<double, 3> there = modelAt(nd);
         const float* seen = map.texel(nx, ny);
-        const double thereLuminance = 0.2126 * there[0] + 0.7152 * there[1] + 0.0722 * there[2];
+        const double thereLuminance = rec709Luminance(there);
         // Sky at the boundary fades into the model quickly; the ground, and whatever stands in
         // front of the sky there (darker than the sky's envelope), slowly.
-        const bool skyThere = d[1] > 0 && luminanceOf(seen) >= thereLuminance / kEnvelope;
+        const bool skyThere = d[1] > 0 && rec709Luminance(seen) >= thereLuminance / kEnvelope;
         const double blend = skyThere ? skyBlend : obstacleBlend;
         if ((nd[1] > 0) == (d[1] > 0) && angle < blend) {
           const double t = 1.0 - angle / blend;

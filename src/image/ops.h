@@ -5,12 +5,13 @@
 #include <limits>
 
 #include "image/image.h"
+#include "image/luminance.h"
 
 namespace pluvia::ops {
 
 // Rec.709 luminance of a linear RGB triple.
 inline float luminance(const float* rgb) {
-  return 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2];
+  return rec709LuminanceFloat(rgb);
 }
 
 // Starik–Werman darkening: blend each pixel toward its luminance by `amount` (desaturation)

@@ -16,6 +16,7 @@
 #include "derain/rain_direction.h"
 #include "derain/registration.h"
 #include "image/image_metrics.h"
+#include "image/luminance.h"
 #include "io/clip_reader.h"
 #include "lab/report_numbers.h"
 #include "lab/synthetic_rain.h"
@@ -110,10 +111,6 @@ std::vector<Background> loadBackgrounds(const DerainReportSettings& settings, cv
   return out;
 }
 
-double luminance(const cv::Vec3f& rgb) {
-  return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
-}
-
 // The median baseline's matte (derain_report.h): the positive luminance residual over the
 // headroom to white. 0 where `valid` (when given) is 0.
 cv::Mat impliedMatte(const cv::Mat& frame, const cv::Mat& background, const cv::Mat& valid) {
@@ -124,8 +121,8 @@ cv::Mat impliedMatte(const cv::Mat& frame, const cv::Mat& background, const cv::
     const uint8_t* v = valid.empty() ? nullptr : valid.ptr<uint8_t>(y);
     float* a = alpha.ptr<float>(y);
     for (int x = 0; x < frame.cols; ++x) {
-      const double headroom = std::max(1e-3, 1.0 - luminance(s[x]));
-      const double value = (luminance(i[x]) - luminance(s[x])) / headroom;
+      const double headroom = std::max(1e-3, 1.0 - rec709Luminance(s[x]));
+      const double value = (rec709Luminance(i[x]) - rec709Luminance(s[x])) / headroom;
       a[x] = (v && !v[x]) ? 0.0f : float(std::clamp(value, 0.0, 1.0));
     }
   }

@@ -17,6 +17,7 @@
 #include "envmap/panorama.h"
 #include "envmap/perspective_view.h"
 #include "image/equirect.h"
+#include "image/luminance.h"
 #include "image/srgb.h"
 #include "io/image_file_writer.h"
 #include "lab/log_grid.h"
@@ -45,10 +46,6 @@ constexpr double kTimeTarget = 30.0;   // seconds to stitch 24 frames of 720p
 constexpr double kSunFloor = 0.25;     // the sun: texels above this fraction of the peak
 constexpr uchar kPhotoClipCode = 250;  // a JPEG's channel at or above this counts as clipped
 const char* const kWeirFolder = "stitching/weir";
-
-double luminance(const float* rgb) {
-  return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
-}
 
 double maxChannel(const float* rgb) {
   return std::max({rgb[0], rgb[1], rgb[2]});
@@ -82,7 +79,7 @@ double meterExposure(const EquirectMap& env, const EnvmapReportSettings& setting
       const float clipped[3] = {float(std::min(1.0, s[0] * exposure)),
                                 float(std::min(1.0, s[1] * exposure)),
                                 float(std::min(1.0, s[2] * exposure))};
-      sum += luminance(clipped);
+      sum += rec709Luminance(clipped);
     }
     return sum / double(samples.size());
   };
@@ -114,7 +111,8 @@ void measureEnvironment(const EquirectMap& env, const EnvmapReportSettings& sett
     for (int x = 0; x < env.width; ++x) {
       const double m = maxChannel(env.texel(x, y));
       if (m >= clip) clipped += omega;
-      if (luminance(env.texel(x, y)) > info.peak) info.peak = luminance(env.texel(x, y));
+      if (rec709Luminance(env.texel(x, y)) > info.peak)
+        info.peak = rec709Luminance(env.texel(x, y));
       if (m > peakMax) peakMax = m, px = x, py = y;
     }
   }

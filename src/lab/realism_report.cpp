@@ -10,6 +10,7 @@
 
 #include "derain/clean_plate.h"
 #include "image/contact_sheet.h"
+#include "image/luminance.h"
 #include "io/clip_reader.h"
 #include "io/image_file_writer.h"
 #include "lab/report_numbers.h"
@@ -77,7 +78,7 @@ RealClip readRealClip(const std::string& path, int count, int widthPx) {
 
 cv::Mat1f luma(const cv::Mat3f& rgb) {
   cv::Mat1f y(rgb.size());
-  cv::transform(rgb, y, cv::Matx13f(0.2126f, 0.7152f, 0.0722f));
+  cv::transform(rgb, y, cv::Matx13f(float(kRec709Red), float(kRec709Green), float(kRec709Blue)));
   return y;
 }
 

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
+#include "image/luminance.h"
 #include "util/log.h"
 
 namespace pluvia {
@@ -33,7 +34,7 @@ PlateLuminance plateLuminance(const Image& still) {
   std::vector<float> luminance(static_cast<size_t>(still.width) * still.height);
   for (size_t i = 0; i < luminance.size(); ++i) {
     const float* p = &still.rgba[i * 4];
-    luminance[i] = 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];
+    luminance[i] = rec709LuminanceFloat(p);
   }
   if (luminance.empty()) return {};
   auto quantile = [&](double fraction) {
@@ -93,7 +94,7 @@ std::vector<PlateBlob> findClippedBlobs(const Image& still, double clipLevel, in
         const int x = box.x + bx, y = box.y + by;
         blob.rimPixels.push_back(y * width + x);
         const float* p = &still.rgba[(size_t(y) * width + x) * 4];
-        rimLuminance += 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+        rimLuminance += rec709Luminance(p);
         if (std::max({p[0], p[1], p[2]}) >= clipLevel) continue;
         for (int c = 0; c < 3; ++c) sum[size_t(c)] += std::max(0.0f, p[c]);
         ++unclipped;

@@ -2,14 +2,9 @@
 
 #include <cmath>
 
+#include "image/luminance.h"
+
 namespace pluvia {
-namespace {
-
-double luminance(const float* rgb) {
-  return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
-}
-
-}  // namespace
 
 Eigen::Vector3d sunDirection(double elevationDeg, double azimuthDeg) {
   const double e = elevationDeg * M_PI / 180.0, a = azimuthDeg * M_PI / 180.0;
@@ -24,7 +19,7 @@ std::optional<Sun> findSun(const EquirectMap& environment) {
   for (int y = 0; y < map.height; ++y) {
     const double omega = equirectTexelSolidAngle(map.width, map.height, y);
     for (int x = 0; x < map.width; ++x) {
-      const double l = luminance(map.texel(x, y));
+      const double l = rec709Luminance(map.texel(x, y));
       total += l * omega;
       if (l > peak) peak = l, px = x, py = y;
     }
