@@ -35,7 +35,7 @@ Image streetDepth(int width, int height) {
   for (size_t i = 0; i < frame.pixelCount(); ++i) {
     frame.rgba[i * 4 + 0] = 0.3f, frame.rgba[i * 4 + 1] = 0.3f, frame.rgba[i * 4 + 2] = 0.3f;
   }
-  std::vector<float>& depth = frame.plane("depth");
+  std::vector<float>& depth = frame.plane(kDepthPlane);
   for (int y = 0; y < height; ++y) {
     const float d = y < height / 3
                         ? INFINITY

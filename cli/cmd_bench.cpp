@@ -124,7 +124,7 @@ Image benchBackground(int width, int height, bool depthPlane) {
     }
   }
   if (depthPlane) {
-    std::vector<float>& depth = background.plane("depth");
+    std::vector<float>& depth = background.plane(kDepthPlane);
     for (int y = 0; y < height; ++y) {
       for (int x = 0; x < width; ++x) {
         depth[static_cast<size_t>(y) * width + x] = 3.0f + 47.0f * static_cast<float>(y) / height;
@@ -220,7 +220,7 @@ void runPassBench(const std::string& size, int frames) {
   for (size_t i = 0; i < plate.pixelCount(); ++i) {
     for (int c = 0; c < 3; ++c) plate.rgba[i * 4 + c] = std::round(255.0f * unit(random)) / 255.0f;
   }
-  std::vector<float>& depth = plate.plane("depth");
+  std::vector<float>& depth = plate.plane(kDepthPlane);
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
       depth[static_cast<size_t>(y) * width + x] =

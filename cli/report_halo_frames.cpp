@@ -24,7 +24,7 @@ double secondsSince(std::chrono::steady_clock::time_point t) {
 Image streetFrame(const Camera& camera) {
   Image image(camera.width, camera.height);
   std::fill(image.rgba.begin(), image.rgba.end(), 0.0f);
-  std::vector<float>& depth = image.plane("depth");
+  std::vector<float>& depth = image.plane(kDepthPlane);
   for (int y = 0; y < camera.height; ++y)
     for (int x = 0; x < camera.width; ++x) {
       const double below = (y + 0.5 - camera.cy) / camera.focalPx;

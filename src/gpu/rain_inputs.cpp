@@ -19,7 +19,7 @@ void validateFrame(const Image& frame) {
                                frame.width, frame.height, frame.rgba.size(),
                                frame.pixelCount() * 4));
   }
-  const std::vector<float>* depth = frame.findPlane("depth");
+  const std::vector<float>* depth = frame.findPlane(kDepthPlane);
   if (depth && depth->size() != frame.pixelCount()) {
     throwRainError(fmt::format("depth plane holds {} values for {}x{} pixels", depth->size(),
                                frame.width, frame.height));
@@ -127,7 +127,7 @@ void validateStreaks(const std::vector<rain::StreakInstance>& streaks, int strok
 
 void comparableSceneDepth(const Image& frame, std::vector<float>& depthMeters) {
   depthMeters.assign(frame.pixelCount(), kFarDepthMeters);
-  const std::vector<float>* depth = frame.findPlane("depth");
+  const std::vector<float>* depth = frame.findPlane(kDepthPlane);
   if (!depth) return;
   std::transform(depth->begin(), depth->end(), depthMeters.begin(),
                  [](float d) { return std::isfinite(d) ? d : kFarDepthMeters; });

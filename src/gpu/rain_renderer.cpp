@@ -109,7 +109,7 @@ void underlayFarLines(FarDropLines& lines, const std::vector<rain::StreakInstanc
                       std::vector<float>& rgba) {
   const size_t n = frame.pixelCount();
   std::vector<float> planes(4 * n, 0.0f);
-  const std::vector<float>* depth = frame.findPlane("depth");
+  const std::vector<float>* depth = frame.findPlane(kDepthPlane);
   lines.draw(farStreaks, shading,
              {planes.data(), planes.data() + n, planes.data() + 2 * n, planes.data() + 3 * n,
               depth ? depth->data() : nullptr, frame.width, frame.height});
@@ -129,7 +129,7 @@ void EglBackend::render(Image& frame, const OrderedStreaks& ordered,
   gpu->ensureTargets(frame.width, frame.height);
   // Without a depth plane every streak is in front (of kFarDepthMeters): the variant without
   // the depth fetch gives the same result.
-  const bool hasDepth = frame.findPlane("depth") != nullptr;
+  const bool hasDepth = frame.findPlane(kDepthPlane) != nullptr;
   if (hasDepth) comparableSceneDepth(frame, sceneDepth);
   gpu->targets->begin(hasDepth ? &sceneDepth : nullptr);
   gpu->streaks.upload(ordered.streaks);

@@ -161,7 +161,7 @@ void StreakRasterCpu::render(Image& frame, const std::vector<rain::StreakInstanc
     }
   });
 
-  const std::vector<float>* depth = frame.findPlane("depth");
+  const std::vector<float>* depth = frame.findPlane(kDepthPlane);
   // A frame from the reader has no rain planes: made now, they hold zeros already.
   const bool fresh = std::none_of(kRainPlaneNames.begin(), kRainPlaneNames.end(),
                                   [&](const char* name) { return frame.findPlane(name); });

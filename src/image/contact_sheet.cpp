@@ -29,7 +29,7 @@ Image rainOverBlack(const Image& frame, float gain) {
 
 Image depthPicture(const Image& frame) {
   Image out(frame.width, frame.height);
-  const std::vector<float>* depth = frame.findPlane("depth");
+  const std::vector<float>* depth = frame.findPlane(kDepthPlane);
   for (size_t i = 0; i < out.pixelCount(); ++i) {
     const float meters = depth ? (*depth)[i] : INFINITY;
     float* rgb = out.rgba.data() + i * 4;

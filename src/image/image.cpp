@@ -40,10 +40,6 @@ Image imageFromMat(const cv::Mat& rgbOrGray) {
   return image;
 }
 
-cv::Mat Image::planeMat(const std::string& name) {
-  return cv::Mat(height, width, CV_32FC1, plane(name).data());
-}
-
 std::array<double, 3> meanRgb(const Image& image) {
   std::array<double, 3> sum{0, 0, 0};
   size_t count = 0;

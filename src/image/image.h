@@ -16,6 +16,9 @@
 
 namespace pluvia {
 
+// The name of the z-depth plane (metres along the optical axis, +infinity for sky).
+inline constexpr const char* kDepthPlane = "depth";
+
 struct Image {
   int width = 0;
   int height = 0;
@@ -34,9 +37,8 @@ struct Image {
   std::vector<float>& plane(const std::string& name);  // created (zeros) if absent
   const std::vector<float>* findPlane(const std::string& name) const;
 
-  // Views sharing memory: CV_32FC4 over rgba, CV_32FC1 over a plane.
+  // A view sharing memory: CV_32FC4 over rgba.
   cv::Mat rgbaMat();
-  cv::Mat planeMat(const std::string& name);
 };
 
 // R, G, B as a CV_32FC3 copy (channel order R, G, B kept; alpha and planes dropped).

@@ -192,7 +192,7 @@ void gaussianBlur(Image& image, float sigmaPx) {
 void fog(Image& image, float densityPerMeter, const std::array<float, 3>& fogRgb,
          float maxDepthMeters) {
   if (densityPerMeter == 0.0f) return;
-  const std::vector<float>& depth = image.plane("depth");
+  const std::vector<float>& depth = image.plane(kDepthPlane);
   forRowBands(image, [&](size_t first, size_t count) {
     // Depth planes repeat values (a backdrop, the ground along a row): exp() only when the
     // depth changes.

@@ -68,7 +68,7 @@ std::string suffixOf(const std::string& output) {
 // output, go to EXR (Radiance holds RGB only).
 std::string aovPathFor(const FrameNaming& naming, const std::string& suffix,
                        const std::string& extension, const std::string& aov, int64_t frame) {
-  const bool asExr = aov == "depth" || extension == "hdr";
+  const bool asExr = aov == kDepthPlane || extension == "hdr";
   return naming.aov(aov, asExr ? withExtension(suffix, "exr") : suffix, frame);
 }
 
@@ -86,7 +86,7 @@ std::vector<OutputChannel> aovChannels(const std::string& aov, const Image& imag
     return plane;
   };
   if (const std::vector<float>* plane = checkedPlane(aov)) {
-    const bool isDepth = aov == "depth";
+    const bool isDepth = aov == kDepthPlane;
     return {{aov + (isDepth ? ".Z" : ".Y"), plane->data(), 1, isDepth}};
   }
   std::vector<OutputChannel> channels;
@@ -167,7 +167,7 @@ class ImageSequenceWriter final : public ClipWriter {
   std::pair<std::string, std::vector<OutputChannel>> aovFile(const std::string& aov,
                                                              const Image& image,
                                                              int64_t frame) const {
-    const bool asExr = aov == "depth" || extension_ == "hdr";
+    const bool asExr = aov == kDepthPlane || extension_ == "hdr";
     const std::string path = aovPathFor(naming_, suffix_, extension_, aov, frame);
     std::vector<OutputChannel> channels = aovChannels(aov, image, frame, path);
     // In a file of its own the AOV's channels drop its name: "rain.R" -> "R", "depth.Z" -> "Z".

@@ -248,7 +248,7 @@ DepthReportRow runSyntheticRow(lab::SyntheticSceneRenderer& renderer, const RowS
     if (frame % evaluationStep != 0) continue;
     const Camera camera = truth.cameraAt(frame);
     const Image image = renderer.render(camera);
-    const std::vector<float>& trueDepth = *image.findPlane("depth");
+    const std::vector<float>& trueDepth = *image.findPlane(kDepthPlane);
     const auto start = Clock::now();
     const std::vector<float> depth = trackedFrameDepth(sfm, frame, image);
     densifySeconds += secondsSince(start);

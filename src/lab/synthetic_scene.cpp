@@ -381,7 +381,7 @@ Image SyntheticSceneRenderer::render(const SyntheticView& view) {
   checkGl("drawing the synthetic scene");
 
   Image image(width, height);
-  std::vector<float>& depth = image.plane("depth");
+  std::vector<float>& depth = image.plane(kDepthPlane);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   glReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, image.rgba.data());

@@ -376,9 +376,9 @@ void RenderSession::processFrame(FrameContext& frame) {
       throw Error(e.what(), {name, frame.frame, {}});
     }
   }
-  if (!frame.image.findPlane("depth")) {
-    frame.image.plane("depth").assign(frame.image.pixelCount(),
-                                      std::numeric_limits<float>::infinity());
+  if (!frame.image.findPlane(kDepthPlane)) {
+    frame.image.plane(kDepthPlane)
+        .assign(frame.image.pixelCount(), std::numeric_limits<float>::infinity());
   }
   ensureAovPlanes(frame.image, request_.aovs);
 }

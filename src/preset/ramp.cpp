@@ -123,11 +123,4 @@ bool Ramp::animated() const {
                      [&](const RampKey& k) { return k.value != keys_.front().value; });
 }
 
-nlohmann::json Ramp::toJson() const {
-  if (keys_.size() == 1 && keys_.front().frame == 0.0) return keys_.front().value;
-  nlohmann::json keys = nlohmann::json::array();
-  for (const auto& k : keys_) keys.push_back({k.frame, k.value});
-  return {{"keys", keys}, {"interpolation", rampInterpolationName(interpolation_)}};
-}
-
 }  // namespace pluvia

@@ -52,9 +52,6 @@ class Ramp {
   const std::vector<RampKey>& keys() const { return keys_; }
   RampInterpolation interpolation() const { return interpolation_; }
 
-  // {"keys": [[f, v], ...], "interpolation": "..."}; a constant gives the plain number.
-  nlohmann::json toJson() const;
-
  private:
   std::vector<RampKey> keys_{RampKey{}};
   RampInterpolation interpolation_ = RampInterpolation::Linear;

@@ -9,7 +9,7 @@ namespace pluvia {
 
 std::vector<float> depthGradingWeights(const Image& image, double distanceMeters) {
   std::vector<float> weight(image.pixelCount(), 1.0f);
-  const std::vector<float>* depth = image.findPlane("depth");
+  const std::vector<float>* depth = image.findPlane(kDepthPlane);
   if (!depth || distanceMeters <= 0.0) return weight;
   // Depth planes repeat values (a backdrop, the ground along a row): exp() only on a change.
   float lastDepth = std::numeric_limits<float>::quiet_NaN(), lastWeight = 1.0f;

@@ -107,18 +107,20 @@ class DepthStage : public Stage {
 
   void process(ClipContext&, FrameContext& frame) override {
     if (file_ && !file_->singleFile()) {
-      frame.image.planes["depth"] = file_->read(frame.frame, frame.image.width, frame.image.height);
+      frame.image.planes[kDepthPlane] =
+          file_->read(frame.frame, frame.image.width, frame.image.height);
       return;
     }
     if (sfm_) {
-      frame.image.planes["depth"] = sfm::colmapFrameDepth(*sfm_, frame.frame, frame.image, dense_);
+      frame.image.planes[kDepthPlane] =
+          sfm::colmapFrameDepth(*sfm_, frame.frame, frame.image, dense_);
       return;
     }
     if (perFrame_) {
       const double at = static_cast<double>(frame.frame);
       depthMeters_ = rasterizeDepthLayers(path_.cameraAt(at), depth_.layers, at, rampValueAt);
     }
-    frame.image.planes["depth"] = depthMeters_;
+    frame.image.planes[kDepthPlane] = depthMeters_;
   }
 
  private:

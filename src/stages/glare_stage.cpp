@@ -67,7 +67,7 @@ class GlareStage : public Stage {
       cv::Vec3f value;
     };
     std::vector<Splat> splats;
-    const std::vector<float>* depth = image.findPlane("depth");
+    const std::vector<float>* depth = image.findPlane(kDepthPlane);
     const double f2 = camera.focalPx * camera.focalPx;
     for (const FrameLight& light : frame.lights) {
       if (light.photographed) continue;  // the plate holds it with the bloom its camera gave it

@@ -289,7 +289,7 @@ HaloResult addHalos(Image& image, const Camera& camera, const std::vector<FrameL
   const int width = image.width, height = image.height;
   const int tilesX = (width + kTilePx - 1) / kTilePx, tilesY = (height + kTilePx - 1) / kTilePx;
   const int gridW = tilesX + 1, gridH = tilesY + 1;
-  const std::vector<float>* depth = image.findPlane("depth");
+  const std::vector<float>* depth = image.findPlane(kDepthPlane);
   auto zAt = [&](int x, int y) {
     return depth ? double((*depth)[static_cast<size_t>(y) * width + x]) : HUGE_VAL;
   };

@@ -27,7 +27,7 @@ void addRainbow(Image& image, const Camera& camera, const Sun& sun,
                 const std::array<optics::RainbowProfile, 3>& profiles,
                 const RainbowVolume& volume) {
   if (sun.direction.y() <= 0.0 || volume.rainExtinctionPerMeter <= 0.0) return;
-  const std::vector<float>* depth = image.findPlane("depth");
+  const std::vector<float>* depth = image.findPlane(kDepthPlane);
   const double sigmaT = volume.rainExtinctionPerMeter + volume.fogExtinctionPerMeter;
   const double albedo = 0.5 * volume.rainExtinctionPerMeter / sigmaT;
   const int width = image.width, height = image.height;

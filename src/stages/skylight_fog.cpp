@@ -26,7 +26,7 @@ void applySkylightFog(Image& image, const Camera& camera, const optics::Skylight
                       const optics::SkylightMedium& medium, double maxPathMeters) {
   const double sigma = medium.extinctionPerMeter();
   if (!(sigma > 0.0)) return;
-  const std::vector<float>& depth = image.plane("depth");
+  const std::vector<float>& depth = image.plane(kDepthPlane);
   const int width = image.width, height = image.height;
   const int step = skylightNodeStepPx(camera, table);
   // Nodes at every step-th pixel centre and at the last row and column.

@@ -58,7 +58,7 @@ class SplashStage : public Stage {
 
   void process(ClipContext&, FrameContext& frame) override {
     std::vector<float>& alpha = frame.image.plane("splash");
-    const std::vector<float>* depth = frame.image.findPlane("depth");
+    const std::vector<float>* depth = frame.image.findPlane(kDepthPlane);
     const double f = double(frame.frame);
     const double rate = rain_.rateMmPerHour.valueAt(f);
     if (!depth || rate <= 0.0) return;
