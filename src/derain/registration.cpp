@@ -64,12 +64,13 @@ cv::Mat medianOf(const std::vector<cv::Mat>& images, size_t first, size_t last) 
 // phase-correlated in each quadrant of the frame, and no quadrant but at most one has moved by
 // kStillShiftPx (a pan, a zoom or a turn moves them all; a quadrant without a clear peak, a
 // featureless sky, is no evidence either way). Blank frames are left out of the medians.
-bool cameraIsStill(const std::vector<cv::Mat>& frames) {
+// `features`: the frames' featureImage.
+bool cameraIsStill(const std::vector<cv::Mat>& features) {
   std::vector<cv::Mat> all;
   std::vector<double> contrast;
-  for (const cv::Mat& frame : frames) {
+  for (const cv::Mat& feature : features) {
     cv::Mat image;
-    featureImage(frame).convertTo(image, CV_32F);
+    feature.convertTo(image, CV_32F);
     cv::Scalar mean, deviation;
     cv::meanStdDev(image, mean, deviation);
     all.push_back(image);
@@ -129,6 +130,19 @@ double temporalResidual(const std::vector<cv::Mat>& features, int reference,
   return count > 0.0 ? sum / count : 0.0;
 }
 
+// keepMotionThatExplains on the frames' featureImage.
+void keepMotionExplaining(const std::vector<cv::Mat>& features, int reference,
+                          Registration& registration) {
+  const std::vector<cv::Matx33d> identity(features.size(), cv::Matx33d::eye());
+  registration.identityResidual = temporalResidual(features, reference, identity);
+  registration.motionResidual =
+      temporalResidual(features, reference, registration.referenceToFrame);
+  if (!(registration.motionResidual < kClearlyLowerResidual * registration.identityResidual)) {
+    registration.motionRejected = true;  // maxShiftPx keeps the shift it would have made
+    registration.referenceToFrame = identity;
+  }
+}
+
 double cornerShift(const cv::Matx33d& h, cv::Size size) {
   double shift = 0.0;
   for (const cv::Point2d corner :
@@ -145,7 +159,10 @@ double cornerShift(const cv::Matx33d& h, cv::Size size) {
 Registration registerFrames(const std::vector<cv::Mat>& frames, int reference) {
   Registration registration;
   registration.referenceToFrame.assign(frames.size(), cv::Matx33d::eye());
-  if (cameraIsStill(frames)) {
+  // The rain-suppressed images, made once for the stillness test, the features and the residuals.
+  std::vector<cv::Mat> features;
+  for (const cv::Mat& frame : frames) features.push_back(featureImage(frame));
+  if (cameraIsStill(features)) {
     registration.lockedOff = true;
     return registration;
   }
@@ -153,7 +170,7 @@ Registration registerFrames(const std::vector<cv::Mat>& frames, int reference) {
   std::vector<std::vector<cv::KeyPoint>> keypoints(frames.size());
   std::vector<cv::Mat> descriptors(frames.size());
   for (size_t k = 0; k < frames.size(); ++k)
-    orb->detectAndCompute(featureImage(frames[k]), cv::noArray(), keypoints[k], descriptors[k]);
+    orb->detectAndCompute(features[k], cv::noArray(), keypoints[k], descriptors[k]);
   cv::BFMatcher matcher(cv::NORM_HAMMING);
   std::vector<bool> registered(frames.size(), false);
   registered[size_t(reference)] = true;
@@ -210,7 +227,7 @@ Registration registerFrames(const std::vector<cv::Mat>& frames, int reference) {
               cv::Matx33d::eye());
     return registration;
   }
-  keepMotionThatExplains(frames, reference, registration);
+  keepMotionExplaining(features, reference, registration);
   return registration;
 }
 
@@ -218,14 +235,7 @@ void keepMotionThatExplains(const std::vector<cv::Mat>& frames, int reference,
                             Registration& registration) {
   std::vector<cv::Mat> features;
   for (const cv::Mat& frame : frames) features.push_back(featureImage(frame));
-  const std::vector<cv::Matx33d> identity(frames.size(), cv::Matx33d::eye());
-  registration.identityResidual = temporalResidual(features, reference, identity);
-  registration.motionResidual =
-      temporalResidual(features, reference, registration.referenceToFrame);
-  if (!(registration.motionResidual < kClearlyLowerResidual * registration.identityResidual)) {
-    registration.motionRejected = true;  // maxShiftPx keeps the shift it would have made
-    registration.referenceToFrame = identity;
-  }
+  keepMotionExplaining(features, reference, registration);
 }
 
 FrameStack warpToReference(const std::vector<cv::Mat>& frames, const Registration& registration) {
