@@ -3,6 +3,7 @@
 // to a one-machine render, a movie assembled after its chunks is the one-machine movie, and a
 // failed chunk is listed with its log. Skipped where the cluster cannot start (no Slurm or munge
 // installed, not root, a container that forbids it).
+// ctest: one process (the suite's set-up runs once for all its tests)
 #include <gtest/gtest.h>
 
 #include <netinet/in.h>

@@ -2,6 +2,7 @@
 // from ../shared/data/sfm/opensfm_lund (a forward walk down a street), downscaled to 800 px
 // (at 640 px the mapper registered all 10 only some of the time): its registration, its sky, and
 // its gravity and scale against hand-checked façade verticals.
+// ctest: one process (the suite's set-up runs once for all its tests)
 #include <gtest/gtest.h>
 
 #include <algorithm>
