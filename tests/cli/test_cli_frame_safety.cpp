@@ -113,12 +113,17 @@ TEST(CliFrameSafety, FullDiskFailsAndLeavesOnlyWholeFrames) {
   stdfs::create_directories(disk);
   if (runProcess({"mount", "-t", "tmpfs", "-o", "size=16k", "tmpfs", disk.string()}).exitCode != 0)
     GTEST_SKIP() << "cannot mount a tmpfs here";
+  // Unmounted however the test ends (a failed assertion returns early), lazily so that a file
+  // still open cannot keep it mounted.
+  struct Unmount {
+    stdfs::path disk;
+    ~Unmount() { runProcess({"umount", "-l", disk.string()}); }
+  } unmount{disk};
   const std::string out = (disk / "o.####.png").string();
   auto r = runPluvia({"render", plate, "-p", "drizzle", "-o", out, "--threads", "1"});
   EXPECT_EQ(r.exitCode, 1) << r.output;
   EXPECT_NE(r.output.find("No space left on device"), std::string::npos) << r.output;
   expectOnlyWholeFrames(disk, 8);
-  runProcess({"umount", disk.string()});
 }
 
 TEST(CliFrameSafety, SkipExistingRendersEmptyTruncatedAndOtherPresetFramesAgain) {
