@@ -70,7 +70,7 @@ void addEnvmapCommand(CLI::App& app, Invocation& invocation) {
         for (int64_t f : keyFrames) panoramas.push_back(pattern->pathFor(f));
       refuseOverwritingInput(inputs, "--panorama-out", panoramas);
       // Made as -o's is, and before the work: an unwritable folder fails at once.
-      fs::ensureParentFolder(args->panorama);
+      fs::ensureParentFolder(args->panorama, fs::MakeFolders::LastLevel);
     };
     if (!args->hdr.empty()) {
       refuseOutputsOnto({args->hdr}, {0});

@@ -18,11 +18,13 @@
 #include "farm/slurm.h"
 #include "io/clip_reader.h"
 #include "io/sequence_pattern.h"
+#include "io/timecode.h"
 #include "pipeline/color_settings.h"
 #include "pipeline/frame_metadata.h"
 #include "pipeline/render_job.h"
 #include "stages/registry.h"
 #include "util/error.h"
+#include "util/fs.h"
 #include "util/interrupt.h"
 #include "util/log.h"
 #include "util/timer.h"
@@ -93,6 +95,10 @@ void addSlurmCommand(CLI::App* farm) {
         stdfs::exists(args->preset) ? stdfs::absolute(args->preset).string() : args->preset;
     job.sets = args->sets;
     job.output = stdfs::absolute(args->output).string();
+    // Made here, as a local render makes it (--mkdir for more than its last level): a chunk
+    // never finds it missing, and a mistyped path fails at submission, not on the farm.
+    fs::ensureParentFolder(
+        job.output, args->writes.makeFolders ? fs::MakeFolders::All : fs::MakeFolders::LastLevel);
     job.farmDir =
         stdfs::absolute(args->farmDir.empty() ? defaultFarmDir(args->output) : args->farmDir)
             .string();
@@ -127,6 +133,18 @@ void addSlurmCommand(CLI::App* farm) {
     }
     if (args->writes.proxy != 1.0)
       job.prepareOptions = {"--proxy", fmt::format("{}", args->writes.proxy)};
+    // The plate's timecode, counted on to the job's first frame, as a local render's movie has it.
+    if (const auto tc = clip.metadata.find("smpte:TimeCode"); movie && tc != clip.metadata.end())
+      if (const auto start = Timecode::parse(tc->second, job.fps))
+        job.assembleOptions.insert(
+            job.assembleOptions.end(),
+            {"--timecode", start->plus(job.firstFrame - clip.frames.front()).text()});
+    // The chunks write their frames in the space a tagged movie plate came in (a BT.709 plate
+    // stays BT.709): the assembly tags the movie with it, as a local render would.
+    if (const auto tagged = movieTaggedSpace(clip, colorSettings(preset).configPath);
+        movie && tagged && colorSettings(preset).outputSpace == "auto") {
+      job.assembleOptions.insert(job.assembleOptions.end(), {"--colorspace", *tagged});
+    }
     if (const char* ocio = std::getenv("OCIO"); ocio && *ocio)
       job.ocioConfig = stdfs::absolute(ocio).string();
     // The chunks' outputs must not be the plate's files (the render refuses it too, but only on
@@ -170,7 +188,7 @@ void addStatusCommand(CLI::App* farm, Invocation& invocation) {
   auto* cmd = farm->add_subcommand(
       "status",
       "the state of a farm job's jobs and tasks (squeue, sacct, task records); exit 1 "
-      "when a task failed");
+      "when a task failed, 3 when the failed tasks only ran out of time");
   struct Args {
     std::string farmDir;
     bool wait = false;
@@ -196,7 +214,8 @@ void addStatusCommand(CLI::App* farm, Invocation& invocation) {
       status = farm::slurmStatus(args->farmDir);
     }
     std::cout << status.text;
-    if (status.failed) invocation.exitCode = 1;
+    // 3 when every failed task only ran out of time (resubmit it with more), 1 for a failure.
+    if (status.failed) invocation.exitCode = status.timedOut == status.failed ? 3 : 1;
   });
 }
 
@@ -204,7 +223,8 @@ void addAssembleCommand(CLI::App* farm) {
   auto* cmd = farm->add_subcommand(
       "assemble", "encode a farm job's rendered frames into its movie (the assembly job)");
   struct Args {
-    std::string frames, output, preset, range, codec = RenderOutputOptions().codec;
+    std::string frames, output, preset, range, codec = RenderOutputOptions().codec, colorSpace,
+                                               timecode;
     std::vector<std::string> sets;
     double fps = 24;
   };
@@ -219,14 +239,28 @@ void addAssembleCommand(CLI::App* farm) {
   cmd->add_option("-p,--preset", args->preset, "the render's preset, recorded in the movie")
       ->required();
   cmd->add_option("--set", args->sets, "the render's overrides");
+  cmd->add_option("--timecode", args->timecode,
+                  "the plate's timecode at frame FIRST (HH:MM:SS:FF), carried into the movie");
+  cmd->add_option("--colorspace", args->colorSpace,
+                  "the colour space the chunks' frames are in, when the render took it from the "
+                  "plate's tags (default: as the render resolves color.output)");
   cmd->callback([=] {
     const auto [first, last] = parseFrameRange(args->range);
     const Preset preset = loadPreset(args->preset, args->sets);
     WriterOptions options;
     options.fps = args->fps;
     options.metadata = frameMetadata(preset, allStages());
-    options.color = outputColorTags(colorSettings(preset), args->output);
+    options.color = outputColorTags(
+        colorSettings(preset), args->output,
+        args->colorSpace.empty() ? std::nullopt : std::optional<std::string>(args->colorSpace));
     options.codec = args->codec;
+    if (!args->timecode.empty()) {
+      options.timecode = Timecode::parse(args->timecode, args->fps);
+      if (!options.timecode)
+        throw UsageError(
+            fmt::format("--timecode {}: not HH:MM:SS:FF at {:g} fps", args->timecode, args->fps));
+      options.firstFrame = first;
+    }
     InterruptHandlers stopCleanly;
     const auto started = std::chrono::steady_clock::now();
     const int frames = farm::assembleMovie(args->frames, first, last, args->output, options);

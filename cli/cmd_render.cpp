@@ -8,6 +8,7 @@
 #include "pipeline/render_job.h"
 #include "stages/registry.h"
 #include "util/error.h"
+#include "util/fs.h"
 #include "util/interrupt.h"
 #include "util/log.h"
 #include "util/thread_limit.h"
@@ -54,6 +55,8 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
     request.format.codec = args->writes.codec;
     request.format.exrSampleType = args->writes.exrType;
     request.format.exrCompression = args->writes.exrCompression;
+    request.format.makeFolders =
+        args->writes.makeFolders ? fs::MakeFolders::All : fs::MakeFolders::LastLevel;
     request.cacheDir = args->cache;
     if (args->requireCache && args->cache.empty())
       throw UsageError("--require-cache needs --cache DIR");

@@ -136,7 +136,7 @@ std::string joinCommandLine(int argc, char** argv) {
 void addRenderOutputOptions(CLI::App* cmd, RenderOutputOptions& options) {
   cmd->add_option("--codec", options.codec,
                   "movie codec: h264 (default), prores_4444, prores_422hq, dnxhr_hq, dnxhr_hqx, "
-                  "dnxhr_444 (ProRes and DNxHR in .mov or .mkv)");
+                  "dnxhr_444 (ProRes and DNxHR in .mov or .mkv, DNxHR also in .mxf)");
   cmd->add_option("--exr-type", options.exrType, "EXR samples: half (default) or float")
       ->check(CLI::IsMember({"half", "float"}));
   cmd->add_option("--exr-compression", options.exrCompression,
@@ -146,6 +146,9 @@ void addRenderOutputOptions(CLI::App* cmd, RenderOutputOptions& options) {
                   "extra outputs: rain,matte,depth,lights,splash,glare,darken,blur,fog");
   cmd->add_option("--proxy", options.proxy,
                   "render at this fraction of the plate's size, in (0, 1], for quick looks");
+  cmd->add_flag("--mkdir", options.makeFolders,
+                "make the output's folder and every missing folder above it (without it, only a "
+                "missing last folder is made)");
 }
 
 std::vector<std::string> RenderOutputOptions::aovs() const {
@@ -177,6 +180,7 @@ std::vector<std::string> RenderOutputOptions::renderArguments() const {
     arguments.insert(arguments.end(), {"--aov", fmt::format("{}", fmt::join(aovs(), ","))});
   if (proxy != defaults.proxy)
     arguments.insert(arguments.end(), {"--proxy", fmt::format("{}", proxy)});
+  if (makeFolders) arguments.push_back("--mkdir");
   return arguments;
 }
 

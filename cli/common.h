@@ -38,6 +38,7 @@ void checkProxyScale(double scale);
 struct RenderOutputOptions {
   std::string codec = "h264", exrType = "half", exrCompression = "piz", aov;
   double proxy = 1.0;
+  bool makeFolders = false;  // --mkdir
   // The --aov list, checked: each known output once, in the order given.
   std::vector<std::string> aovs() const;
   // These options as `pluvia render` arguments (those the user gave a value other than the

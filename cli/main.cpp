@@ -18,7 +18,8 @@
 namespace {
 constexpr const char* kExitCodes =
     "Exit codes: 0 success, 1 error (bad input file, invalid preset, failed write), 2 usage error "
-    "(bad command line), 130 and 143 a render stopped by SIGINT and SIGTERM.";
+    "(bad command line), 3 farm status: the failed tasks only ran out of time, 130 and 143 a "
+    "render stopped by SIGINT and SIGTERM.";
 }
 
 int main(int argc, char** argv) {

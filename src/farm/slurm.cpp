@@ -16,6 +16,9 @@
 namespace pluvia::farm {
 namespace stdfs = std::filesystem;
 
+// How long before a job's time limit Slurm warns its script (#SBATCH --signal).
+constexpr int kTimeLimitWarningSeconds = 60;
+
 namespace {
 
 // A value on an #SBATCH line: sbatch reads the line itself (no shell), splitting at blanks
@@ -46,21 +49,35 @@ std::string header(const FarmJob& job, const SlurmOptions& options, const std::s
         fmt::format("#SBATCH --partition={}\n", directiveValue("--partition", options.partition));
   if (options.cpusPerTask > 0)
     text += fmt::format("#SBATCH --cpus-per-task={}\n", options.cpusPerTask);
+  // Slurm signals the script (B:) with USR1 a minute before the time limit, so that it can
+  // stop the command cleanly and record a time-out, not a failure (recordedRun()).
+  text += fmt::format("#SBATCH --signal=B:USR1@{}\n", kTimeLimitWarningSeconds);
   for (const std::string& arg : options.sbatchArgs)
     text += fmt::format("#SBATCH {}\n", directiveValue("--sbatch-arg", arg));
   return text;
 }
 
-// Runs `command`, then records its exit code, the host and the log in tasks/RECORD.status, for
-// `pluvia farm status` to list failed tasks where Slurm keeps no accounting. The log's folder is
-// quoted for the shell and only its name, which holds Slurm's variables, is expanded.
+// Runs `command`, then records its exit code, the host, the log and why it ended in
+// tasks/RECORD.status, for `pluvia farm status` to list failed tasks where Slurm keeps no
+// accounting: "exit" (it ended by itself), "timeout" (Slurm's USR1 before the time limit,
+// header()) or "signal" (scancel, preemption: a SIGTERM). The command runs in the background
+// so that the script's traps run at once and pass a SIGTERM on to it (pluvia stops after its
+// current frame and removes its partial files); the loop waits until it has really ended. The
+// log's folder is quoted for the shell and only its name, which holds Slurm's variables, is
+// expanded.
 std::string recordedRun(const FarmJob& job, const std::string& command, const std::string& record,
                         const std::string& logName) {
   const std::string logs = shellQuote((stdfs::path(job.farmDir) / "logs").string());
   return fmt::format(
-      "{}\n"
+      "why=exit\n"
+      "trap 'why=timeout; kill -TERM \"$pid\" 2>/dev/null' USR1\n"
+      "trap 'why=signal; kill -TERM \"$pid\" 2>/dev/null' TERM\n"
+      "{} &\n"
+      "pid=$!\n"
+      "wait \"$pid\"\n"
       "code=$?\n"
-      "printf '%s %s %s\\n' \"$code\" \"$(hostname)\" {}/\"{}\" > {}/\"{}.status\"\n"
+      "while kill -0 \"$pid\" 2>/dev/null; do wait \"$pid\"; code=$?; done\n"
+      "printf '%s %s %s %s\\n' \"$code\" \"$(hostname)\" {}/\"{}\" \"$why\" > {}/\"{}.status\"\n"
       "exit $code\n",
       command, logs, logName, shellQuote((stdfs::path(job.farmDir) / "tasks").string()), record);
 }
@@ -239,6 +256,7 @@ struct UnitState {
   std::string state;   // "COMPLETED", "FAILED (exit 1)", "PENDING (Dependency)" ...
   std::string detail;  // host and log
   bool failed = false;
+  bool timedOut = false;  // stopped at the job's time limit (also counted as failed)
   bool done = false;
 };
 
@@ -305,9 +323,11 @@ UnitState unitState(const std::string& id, const std::map<std::string, std::stri
     const std::string text = fs::readTextFile(record);
     std::istringstream fields(text);
     int code = -1;
-    std::string host, log;
+    std::string host, log, why;
     unit.done = true;
-    if (!(fields >> code >> host >> log)) {
+    const bool read = bool(fields >> code >> host >> log);
+    if (!(fields >> why)) why = "exit";  // a record of an older pluvia: no reason
+    if (!read || (why != "exit" && why != "timeout" && why != "signal")) {
       // Not what recordedRun() writes (exit code, host, log): never counted as a success.
       unit.failed = true;
       unit.state = "UNREADABLE task record";
@@ -315,7 +335,12 @@ UnitState unitState(const std::string& id, const std::map<std::string, std::stri
       return unit;
     }
     unit.failed = code != 0;
-    unit.state = code == 0 ? "COMPLETED" : fmt::format("FAILED (exit {})", code);
+    unit.timedOut = unit.failed && why == "timeout";
+    unit.state = code == 0 ? "COMPLETED"
+                 : unit.timedOut
+                     ? fmt::format("TIMEOUT (stopped at the job's time limit, exit {})", code)
+                 : why == "signal" ? fmt::format("CANCELLED (stopped by a signal, exit {})", code)
+                                   : fmt::format("FAILED (exit {})", code);
     unit.detail = fmt::format("on {}, log {}", host, log);
     return unit;
   }
@@ -323,6 +348,7 @@ UnitState unitState(const std::string& id, const std::map<std::string, std::stri
   if (auto a = accounting.find(id); a != accounting.end()) {
     unit.state = a->second;
     unit.failed = a->second.rfind("COMPLETED", 0) != 0;
+    unit.timedOut = a->second.rfind("TIMEOUT", 0) == 0;
     return unit;
   }
   // Left the queue without running its script to the end: cancelled, killed, or its node lost.
@@ -372,6 +398,7 @@ FarmStatus slurmStatus(const std::string& farmDir) {
     status.finished = status.finished && unit.done;
     if (unit.failed) {
       ++status.failed;
+      status.timedOut += unit.timedOut ? 1 : 0;
       failedList += fmt::format("  {} {} {}: {}{}\n", what, id, frames, unit.state,
                                 unit.detail.empty() ? "" : ", " + unit.detail);
     }
@@ -387,8 +414,17 @@ FarmStatus slurmStatus(const std::string& farmDir) {
         fmt::format("render-{}", i));
   }
   if (isMovieJob(job)) row("assemble", true, ids.assemble, "", "assemble");
-  status.text += status.failed ? fmt::format("failed ({}):\n{}", status.failed, failedList)
-                               : std::string(status.finished ? "all done\n" : "");
+  if (status.failed && status.timedOut == status.failed)
+    status.text += fmt::format(
+        "timed out ({}; their frames so far are kept: resubmit with a longer --time, and "
+        "--skip-existing renders only the rest):\n{}",
+        status.failed, failedList);
+  else if (status.failed)
+    status.text += fmt::format(
+        "failed ({}{}):\n{}", status.failed,
+        status.timedOut ? fmt::format(", {} timed out", status.timedOut) : "", failedList);
+  else if (status.finished)
+    status.text += "all done\n";
   return status;
 }
 

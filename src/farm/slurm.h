@@ -42,6 +42,7 @@ SlurmJobIds submitSlurm(const FarmJob& job);
 struct FarmStatus {
   std::string text;
   int failed = 0;
+  int timedOut = 0;       // of the failed, those stopped at their job's time limit
   bool finished = false;  // every job done, successfully or not
 };
 FarmStatus slurmStatus(const std::string& farmDir);

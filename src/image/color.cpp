@@ -82,6 +82,22 @@ OCIO::ConstConfigRcPtr buildBuiltinConfig() {
   rec709->setTransform(transferCurve(1.0 / 0.45, 0.099), OCIO::COLORSPACE_DIR_TO_REFERENCE);
   config->addColorSpace(rec709);
 
+  // Video with BT.2020 primaries (the Rec.709 OETF, which BT.2020 keeps for SDR), to linear
+  // Rec.709 by ITU-R BT.2087's matrix.
+  OCIO::ColorSpaceRcPtr rec2020 =
+      makeColorSpace("rec2020", "display", "Rec.709/2020 camera OETF, BT.2020 primaries");
+  rec2020->setEncoding("sdr-video");
+  OCIO::GroupTransformRcPtr rec2020ToReference = OCIO::GroupTransform::Create();
+  rec2020ToReference->appendTransform(transferCurve(1.0 / 0.45, 0.099));
+  OCIO::MatrixTransformRcPtr bt2020ToBt709 = OCIO::MatrixTransform::Create();
+  const double bt2087[16] = {1.660491,  -0.587641, -0.072850, 0.0,       -0.124550, 1.132900,
+                             -0.008349, 0.0,       -0.018151, -0.100579, 1.118730,  0.0,
+                             0.0,       0.0,       0.0,       1.0};
+  bt2020ToBt709->setMatrix(bt2087);
+  rec2020ToReference->appendTransform(bt2020ToBt709);
+  rec2020->setTransform(rec2020ToReference, OCIO::COLORSPACE_DIR_TO_REFERENCE);
+  config->addColorSpace(rec2020);
+
   OCIO::ColorSpaceRcPtr raw = makeColorSpace("raw", "utility", "Data: never converted");
   raw->setIsData(true);
   config->addColorSpace(raw);
@@ -287,6 +303,19 @@ std::string srgbEncodedSpace(const std::string& configPath) {
                   " and the roles texture_paint, matte_paint): set color.input / color.output "
                   "(or --in-colorspace / --out-colorspace)",
               {"color", {}, chosenConfigPath(configPath)});
+}
+
+std::optional<std::string> videoEncodedSpace(const std::string& primaries,
+                                             const std::string& configPath) {
+  // The built-in config's names first, then those of the ACES and studio configs.
+  static const std::vector<const char*> kRec709{"rec709", "Utility - Rec.709 - Camera",
+                                                "Rec.709 - Camera", "rec709_camera"};
+  static const std::vector<const char*> kRec2020{"rec2020", "Utility - Rec.2020 - Camera",
+                                                 "Rec.2020 - Camera", "rec2020_camera"};
+  OCIO::ConstConfigRcPtr config = configFor(configPath);
+  for (const char* name : primaries == "bt2020" ? kRec2020 : kRec709)
+    if (OCIO::ConstColorSpaceRcPtr space = config->getColorSpace(name)) return space->getName();
+  return std::nullopt;
 }
 
 struct ColorConverter::Impl {

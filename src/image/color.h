@@ -10,6 +10,7 @@
 //   "rec709"         Rec.709 camera OETF, Rec.709 primaries
 //   "raw"            no conversion
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,12 @@ std::vector<std::string> colorSpaceNamesOf(const std::string& name,
 // The config's space for display-encoded sRGB files (PNG, JPEG, 8-bit movies): "sRGB" or its
 // usual names in the ACES configs, or the texture_paint role. Throws when there is none.
 std::string srgbEncodedSpace(const std::string& configPath = "");
+// The config's space for video encoded with the Rec.709 camera OETF (which BT.601 and SDR
+// BT.2020 share) on `primaries` as ffmpeg names them ("bt709", "bt2020"; others are taken as
+// Rec.709's): "rec709" / "rec2020" in the built-in config, their usual names in the ACES
+// configs; nothing when the config has no such space.
+std::optional<std::string> videoEncodedSpace(const std::string& primaries,
+                                             const std::string& configPath = "");
 
 // Names of the colour spaces available (built-in config or the given one).
 std::vector<std::string> colorSpaceNames(const std::string& configPath = "");

@@ -18,6 +18,10 @@ namespace pluvia {
 
 // The name of the z-depth plane (metres along the optical axis, +infinity for sky).
 inline constexpr const char* kDepthPlane = "depth";
+// The sky's depth as the render's depth AOV writes it: finite, so that a compositor's ZDefocus
+// and filters work on it, and the largest half float, so that it stays finite when a tool
+// converts the channel to half. depth.file reads it (and anything beyond) back as sky.
+inline constexpr float kSkyDepthInAovMeters = 65504.0f;
 
 struct Image {
   int width = 0;

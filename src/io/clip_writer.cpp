@@ -74,8 +74,10 @@ std::string aovPathFor(const FrameNaming& naming, const std::string& suffix,
 
 // The AOV's planes as channels: a single plane "matte" -> "matte.Y" ("depth" -> "depth.Z", in
 // full float), or the four planes "rain.R".."rain.A" -> channels of the same names.
+// The depth's sky, +inf in the render, goes out as kSkyDepthInAovMeters through `depthWritten`
+// (which must outlive the channels).
 std::vector<OutputChannel> aovChannels(const std::string& aov, const Image& image, int64_t frame,
-                                       const std::string& path) {
+                                       const std::string& path, std::vector<float>& depthWritten) {
   auto checkedPlane = [&](const std::string& name) {
     const std::vector<float>* plane = image.findPlane(name);
     if (plane && plane->size() != image.pixelCount()) {
@@ -86,8 +88,11 @@ std::vector<OutputChannel> aovChannels(const std::string& aov, const Image& imag
     return plane;
   };
   if (const std::vector<float>* plane = checkedPlane(aov)) {
-    const bool isDepth = aov == kDepthPlane;
-    return {{aov + (isDepth ? ".Z" : ".Y"), plane->data(), 1, isDepth}};
+    if (aov != kDepthPlane) return {{aov + ".Y", plane->data(), 1}};
+    depthWritten.resize(plane->size());
+    for (size_t i = 0; i < plane->size(); ++i)
+      depthWritten[i] = std::min((*plane)[i], kSkyDepthInAovMeters);
+    return {{aov + ".Z", depthWritten.data(), 1, true}};
   }
   std::vector<OutputChannel> channels;
   for (const char* component : {"R", "G", "B", "A"}) {
@@ -123,12 +128,13 @@ class ImageSequenceWriter final : public ClipWriter {
     // Every AOV plane is looked up before anything is written: a missing one leaves no files.
     std::vector<OutputChannel> channels = beautyChannels(image);
     std::vector<std::pair<std::string, std::vector<OutputChannel>>> aovFiles;
+    std::vector<float> depthWritten;
     for (const std::string& aov : options_.aovs) {
       if (extension_ == "exr") {
-        std::vector<OutputChannel> extra = aovChannels(aov, image, frame, path);
+        std::vector<OutputChannel> extra = aovChannels(aov, image, frame, path, depthWritten);
         channels.insert(channels.end(), extra.begin(), extra.end());
       } else {
-        aovFiles.push_back(aovFile(aov, image, frame));
+        aovFiles.push_back(aovFile(aov, image, frame, depthWritten));
       }
     }
     ImageFileOptions fileOptions;
@@ -164,12 +170,12 @@ class ImageSequenceWriter final : public ClipWriter {
   // that cannot hold it: depth is in metres and goes to EXR, and so do all AOVs of an HDR
   // output (Radiance holds RGB only). Formats without alpha drop an AOV's alpha as they drop
   // the beauty's.
-  std::pair<std::string, std::vector<OutputChannel>> aovFile(const std::string& aov,
-                                                             const Image& image,
-                                                             int64_t frame) const {
+  std::pair<std::string, std::vector<OutputChannel>> aovFile(
+      const std::string& aov, const Image& image, int64_t frame,
+      std::vector<float>& depthWritten) const {
     const bool asExr = aov == kDepthPlane || extension_ == "hdr";
     const std::string path = aovPathFor(naming_, suffix_, extension_, aov, frame);
-    std::vector<OutputChannel> channels = aovChannels(aov, image, frame, path);
+    std::vector<OutputChannel> channels = aovChannels(aov, image, frame, path, depthWritten);
     // In a file of its own the AOV's channels drop its name: "rain.R" -> "R", "depth.Z" -> "Z".
     for (OutputChannel& channel : channels)
       channel.name = channel.name.substr(channel.name.rfind('.') + 1);
@@ -216,7 +222,7 @@ std::unique_ptr<ClipWriter> openClipWriter(const std::string& output, int width,
         {"write", {}, output});
   }
   const std::string firstPath = isMovieFormat ? output : namingFor(output).beauty(0);
-  fs::ensureParentFolder(firstPath);
+  fs::ensureParentFolder(firstPath, options.makeFolders);
   if (isMovieFormat) return openMovieWriter(output, width, height, options);
   return std::make_unique<ImageSequenceWriter>(output, width, height, options);
 }

@@ -15,6 +15,7 @@
 #include "io/color_tags.h"
 #include "io/pixel_window.h"
 #include "io/timecode.h"
+#include "util/fs.h"
 
 namespace pluvia {
 
@@ -28,7 +29,7 @@ struct WriterOptions {
   // "<prefix>.<aov>.<frame><suffix>".
   std::vector<std::string> aovs;
   // Movies: "h264" (mp4/mov/mkv/m4v), "prores_4444", "prores_422hq", "dnxhr_hq", "dnxhr_hqx",
-  // "dnxhr_444" (mov/mkv). See movieCodecs().
+  // "dnxhr_444" (mov/mkv; DNxHR also mxf). See movieCodecs().
   std::string codec = "h264";
   // EXR: "half" or "float" samples, and the compression as OpenImageIO names it (see
   // exrCompressions()).
@@ -43,6 +44,8 @@ struct WriterOptions {
   // EXR: the data window to write, inside the frame (the input's, carried through); pixels
   // outside it are not stored. Empty: the whole frame.
   std::optional<PixelWindow> dataWindow;
+  // The output's folder: made when the folder above it exists, every missing level with --mkdir.
+  fs::MakeFolders makeFolders = fs::MakeFolders::LastLevel;
 };
 
 class ClipWriter {

@@ -11,6 +11,7 @@
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 
+#include "image/image.h"
 #include "util/error.h"
 
 namespace pluvia {
@@ -65,7 +66,8 @@ float decodeDepthValue(float value, const DepthDecoding& decoding) {
       meters = lerp(decoding.nearMeters, decoding.farMeters, value);
       break;
   }
-  if (!std::isfinite(meters) || meters <= 0.0) return kSky;
+  // The render's depth AOV writes its sky as kSkyDepthInAovMeters: read back, it is sky again.
+  if (!std::isfinite(meters) || meters <= 0.0 || meters >= kSkyDepthInAovMeters) return kSky;
   return static_cast<float>(meters);
 }
 

@@ -16,6 +16,7 @@
 
 #include "io/sequence_pattern.h"
 #include "io/ycbcr_frame.h"
+#include "util/log.h"
 
 #include "util/error.h"
 #include "util/fs.h"
@@ -83,6 +84,8 @@ struct MovieCodec {
 // 4:2:2) and 444 (10-bit 4:4:4) through dnxhd.
 std::vector<MovieCodec> makeCodecs() {
   const std::vector<std::string> movContainers{"mov", "mkv"};
+  // DNxHR also goes in MXF (OP1a), the Avid and broadcast container.
+  const std::vector<std::string> dnxhrContainers{"mov", "mkv", "mxf"};
   auto prores = [&](const char* name, const char* profile, YcbcrLayout layout,
                     const char* pixelFormat) {
     return MovieCodec{.name = name,
@@ -94,7 +97,7 @@ std::vector<MovieCodec> makeCodecs() {
   auto dnxhr = [&](const std::string& profile, YcbcrLayout layout, const char* pixelFormat) {
     return MovieCodec{.name = "dnxhr_" + profile,
                       .arguments = {"-c:v", "dnxhd", "-profile:v", "dnxhr_" + profile},
-                      .containers = movContainers,
+                      .containers = dnxhrContainers,
                       .layout = layout,
                       .pixelFormat = pixelFormat,
                       .minWidth = 256,
@@ -152,7 +155,13 @@ std::vector<std::string> colorArguments(const ColorTags& tags) {
   std::string filter = fmt::format("setparams=range=tv:colorspace={}", matrix);
   if (!tags.moviePrimaries.empty()) filter += ":color_primaries=" + tags.moviePrimaries;
   if (!tags.movieTransfer.empty()) filter += ":color_trc=" + tags.movieTransfer;
-  return {"-vf", filter};
+  // The encoder's own options too: MXF's descriptors take the tags from them, not the frames.
+  std::vector<std::string> arguments{"-vf", filter, "-colorspace", matrix, "-color_range", "tv"};
+  if (!tags.moviePrimaries.empty())
+    arguments.insert(arguments.end(), {"-color_primaries", tags.moviePrimaries});
+  if (!tags.movieTransfer.empty())
+    arguments.insert(arguments.end(), {"-color_trc", tags.movieTransfer});
+  return arguments;
 }
 
 class MovieWriter final : public ClipWriter {
@@ -194,6 +203,12 @@ class MovieWriter final : public ClipWriter {
     argv.insert(argv.end(), {"-threads", std::to_string(threadLimit())});
     const std::vector<std::string> color = colorArguments(options.color);
     argv.insert(argv.end(), color.begin(), color.end());
+    if (lowerExtension(path_) == "mxf" && options.color.movieTransfer == "iec61966-2-1")
+      log::warning(fmt::format(
+          "{}: MXF has no label for the sRGB transfer (ffmpeg's MXF writer leaves it unstated): "
+          "the movie states its primaries and matrix only; --out-colorspace rec709 writes a "
+          "BT.709 movie MXF readers take as such",
+          path_));
     if (options.timecode) {
       argv.insert(argv.end(), {"-timecode", options.timecode->text()});
     }
@@ -300,7 +315,7 @@ std::vector<std::string> movieCodecs() {
 }
 
 const std::vector<std::string>& movieOutputExtensions() {
-  static const std::vector<std::string> kExtensions{"mp4", "mov", "mkv", "m4v"};
+  static const std::vector<std::string> kExtensions{"mp4", "mov", "mkv", "m4v", "mxf"};
   return kExtensions;
 }
 

@@ -128,8 +128,8 @@ std::string lowerExtension(const std::string& path) {
 }
 
 bool isMovieExtension(const std::string& path) {
-  static const std::array<std::string, 6> kMovieExtensions{"mp4", "mov", "avi",
-                                                           "mkv", "m4v", "webm"};
+  static const std::array<std::string, 7> kMovieExtensions{"mp4", "mov",  "avi", "mkv",
+                                                           "m4v", "webm", "mxf"};
   std::string extension = lowerExtension(path);
   return std::find(kMovieExtensions.begin(), kMovieExtensions.end(), extension) !=
          kMovieExtensions.end();

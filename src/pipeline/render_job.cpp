@@ -30,12 +30,13 @@
 namespace pluvia {
 namespace {
 
-// "auto": float files are scene-linear (the config's scene_linear role), integer ones
-// display-encoded sRGB (the config's space for it: image/color.h).
+// "auto": float files are scene-linear (the config's scene_linear role), a movie what its colour
+// tags say (movieTaggedSpace), other integer files display-encoded sRGB (the config's space for
+// it: image/color.h).
 std::string resolveInputSpace(const ColorSettings& color, const ClipInfo& clip) {
-  if (color.inputSpace == "auto")
-    return clip.isFloat ? "scene_linear" : srgbEncodedSpace(color.configPath);
-  return color.inputSpace;
+  if (color.inputSpace != "auto") return color.inputSpace;
+  if (clip.isFloat) return "scene_linear";
+  return movieTaggedSpace(clip, color.configPath).value_or(srgbEncodedSpace(color.configPath));
 }
 
 std::vector<int64_t> selectFrames(const RenderRequest& request, const ClipInfo& clip) {
@@ -204,9 +205,10 @@ void addResumeIdentity(WriterOptions& options, const RenderRequest& request,
   config.add(describeConfig(color.configPath));
   const std::string configFile = chosenConfigPath(color.configPath);
   if (!configFile.empty()) config.add(fs::readTextFile(configFile));
-  options.metadata["pluvia:colour"] =
-      fmt::format("{} -> {} -> {}, config {}", resolveInputSpace(color, clip), color.workingSpace,
-                  resolveOutputSpace(color, request.output), config.hex());
+  options.metadata["pluvia:colour"] = fmt::format(
+      "{} -> {} -> {}, config {}", resolveInputSpace(color, clip), color.workingSpace,
+      resolveOutputSpace(color, request.output, movieTaggedSpace(clip, color.configPath)),
+      config.hex());
   options.metadata["pluvia:aovs"] =
       request.aovs.empty() ? "none" : fmt::format("{}", fmt::join(request.aovs, ","));
   options.metadata["pluvia:format"] =
@@ -224,7 +226,7 @@ WriterOptions writerOptionsFor(const RenderRequest& request, const Preset& prese
   options.aovs = request.aovs;
   options.metadata = frameMetadata(preset, stages);
   carryInputMetadata(options, clip, frames, request.proxyScale);
-  options.color = outputColorTags(color, request.output);
+  options.color = outputColorTags(color, request.output, movieTaggedSpace(clip, color.configPath));
   // A proxy frame must never pass for a final one: it says so in its header.
   if (request.proxyScale != 1.0)
     options.metadata["pluvia:proxy"] =
@@ -237,15 +239,59 @@ WriterOptions writerOptionsFor(const RenderRequest& request, const Preset& prese
 
 }  // namespace
 
-// "auto": EXR and HDR get the working space, other formats display-encoded sRGB.
-std::string resolveOutputSpace(const ColorSettings& color, const std::string& output) {
-  if (color.outputSpace == "auto")
-    return outputIsLinear(output) ? color.workingSpace : srgbEncodedSpace(color.configPath);
-  return color.outputSpace;
+std::optional<std::string> movieTaggedSpace(const ClipInfo& clip, const std::string& configPath,
+                                            std::string* note) {
+  if (!clip.isMovie || clip.isFloat) return std::nullopt;
+  auto tag = [&](const char* field) {
+    const auto found = clip.metadata.find(std::string("ffmpeg:") + field);
+    return found == clip.metadata.end() ? std::string() : found->second;
+  };
+  auto say = [&](std::string text) {
+    if (note) *note = std::move(text);
+  };
+  const std::string transfer = tag("color_transfer"), primaries = tag("color_primaries");
+  if (transfer.empty()) {
+    say("the movie has no colour transfer tag: read as sRGB (--in-colorspace says otherwise)");
+    return std::nullopt;
+  }
+  if (transfer == "iec61966-2-1") {
+    say("the movie is tagged sRGB (iec61966-2-1): read as sRGB");
+    return srgbEncodedSpace(configPath);
+  }
+  // BT.601 and SDR BT.2020 use the Rec.709 camera OETF too.
+  static const std::set<std::string> kRec709Oetf{"bt709", "smpte170m", "bt2020-10", "bt2020-12"};
+  if (kRec709Oetf.count(transfer)) {
+    if (std::optional<std::string> space = videoEncodedSpace(primaries, configPath)) {
+      say(fmt::format("the movie is tagged {} on {} primaries: read as {}", transfer,
+                      primaries.empty() ? "unstated" : primaries, *space));
+      return space;
+    }
+    say(
+        fmt::format("the movie is tagged {}, but the config has no space for it: read as sRGB "
+                    "(--in-colorspace says otherwise)",
+                    transfer));
+    return std::nullopt;
+  }
+  say(
+      fmt::format("the movie's colour transfer {} is not one pluvia reads (sRGB, BT.709, "
+                  "BT.601, BT.2020 SDR): read as sRGB (--in-colorspace says otherwise)",
+                  transfer));
+  return std::nullopt;
 }
 
-ColorTags outputColorTags(const ColorSettings& color, const std::string& output) {
-  return colorTagsFor(colorSpaceNamesOf(resolveOutputSpace(color, output), color.configPath));
+// "auto": EXR and HDR get the working space; other formats the space a tagged movie came in
+// (so that a BT.709 plate goes out BT.709), else display-encoded sRGB.
+std::string resolveOutputSpace(const ColorSettings& color, const std::string& output,
+                               const std::optional<std::string>& taggedInputSpace) {
+  if (color.outputSpace != "auto") return color.outputSpace;
+  if (outputIsLinear(output)) return color.workingSpace;
+  return taggedInputSpace.value_or(srgbEncodedSpace(color.configPath));
+}
+
+ColorTags outputColorTags(const ColorSettings& color, const std::string& output,
+                          const std::optional<std::string>& taggedInputSpace) {
+  return colorTagsFor(
+      colorSpaceNamesOf(resolveOutputSpace(color, output, taggedInputSpace), color.configPath));
 }
 
 RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
@@ -261,13 +307,21 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
       color_(colorSettings(preset)),
       camera_(cameraSettings(preset)),
       toWorking_(resolveInputSpace(color_, clip()), color_.workingSpace, color_.configPath),
-      toOutput_(color_.workingSpace, resolveOutputSpace(color_, request.output), color_.configPath),
+      toOutput_(
+          color_.workingSpace,
+          resolveOutputSpace(color_, request.output, movieTaggedSpace(clip(), color_.configPath)),
+          color_.configPath),
       writerOptions_(writerOptionsFor(request, preset, stages, camera_, color_, clip(), frames_)) {
   log::info("command: " + request.commandLine);
-  log::info(fmt::format("colour: {} -> {} (working) -> {}, config: {}",
-                        resolveInputSpace(color_, clip()), color_.workingSpace,
-                        resolveOutputSpace(color_, request.output),
-                        describeConfig(color_.configPath)));
+  log::info(fmt::format(
+      "colour: {} -> {} (working) -> {}, config: {}", resolveInputSpace(color_, clip()),
+      color_.workingSpace,
+      resolveOutputSpace(color_, request.output, movieTaggedSpace(clip(), color_.configPath)),
+      describeConfig(color_.configPath)));
+  if (std::string note; color_.inputSpace == "auto") {
+    movieTaggedSpace(clip(), color_.configPath, &note);
+    if (!note.empty()) log::info("colour: " + note);
+  }
   // The bounded copy the frames record: a preset with a 50 MB description stays out of the log.
   log::info("preset (resolved): " + writerOptions_.metadata.at("pluvia:preset"));
   log::info("plan:\n" + plan_.text());
@@ -399,6 +453,8 @@ Plan planJob(const std::string& input, const Preset& preset, const std::string& 
 
 RenderSummary renderJob(const RenderRequest& request, const Preset& preset,
                         const std::vector<StageInfo>& stageInfos, StageTimes& times) {
+  // The output's folder before any work (and before the lock beside the frames).
+  fs::ensureParentFolder(request.output, request.format.makeFolders);
   RenderSession session(request, preset, stageInfos, times);
   RenderSummary summary;
   summary.plan = session.plan();

@@ -121,11 +121,20 @@ Plan planJob(const std::string& input, const Preset& preset, const std::string& 
 // loop (pipeline/frame_threads.h). Throws pluvia::Error (naming stage, frame and file) on any
 // failure; frames already written stay valid, no partial frame is left behind, and no input file is
 // ever written. `stages` lists every stage in pipeline order (stages/registry.h: allStages()).
+// What a movie's colour tags say its RGB is in, for color.input "auto": the config's sRGB space
+// for the sRGB curve, its Rec.709 / Rec.2020 video space (image/color.h) for the Rec.709 OETF
+// (which BT.601 and SDR BT.2020 share) on those primaries. Nothing for a sequence, an untagged
+// movie, or tags pluvia does not read (HLG, PQ), which are read as sRGB; `note` says which.
+std::optional<std::string> movieTaggedSpace(const ClipInfo& clip, const std::string& configPath,
+                                            std::string* note = nullptr);
 // The colour space of the frames written to `output` (color.output; "auto": the working space
-// for EXR/HDR, the config's sRGB space otherwise), and the tags a file says it with: a render and
-// a farm's assembly of its frames into a movie tag alike.
-std::string resolveOutputSpace(const ColorSettings& color, const std::string& output);
-ColorTags outputColorTags(const ColorSettings& color, const std::string& output);
+// for EXR/HDR, the space a tagged movie came in (`taggedInputSpace`), else the config's sRGB
+// space), and the tags a file says it with: a render and a farm's assembly of its frames into a
+// movie tag alike.
+std::string resolveOutputSpace(const ColorSettings& color, const std::string& output,
+                               const std::optional<std::string>& taggedInputSpace = std::nullopt);
+ColorTags outputColorTags(const ColorSettings& color, const std::string& output,
+                          const std::optional<std::string>& taggedInputSpace = std::nullopt);
 
 RenderSummary renderJob(const RenderRequest& request, const Preset& preset,
                         const std::vector<StageInfo>& stages, StageTimes& times);

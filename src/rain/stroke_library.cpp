@@ -119,7 +119,7 @@ void saveStrokeLibrary(const StrokeLibrary& library, const std::string& jsonPath
       row[x] = uint16_t(std::lround(a * kQuantum));
     }
   }
-  fs::ensureParentFolder(json);
+  fs::ensureParentFolder(json, fs::MakeFolders::LastLevel);
   const stdfs::path tmp = fs::temporaryPathFor(png);
   bool written = false;
   try {

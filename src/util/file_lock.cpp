@@ -53,7 +53,7 @@ std::string thisHostName() {
 
 std::optional<FileRangeLock> FileRangeLock::tryLock(const std::string& path, off_t start,
                                                     off_t length, LockConflict* conflict) {
-  fs::ensureParentFolder(path);
+  fs::ensureParentFolder(path, fs::MakeFolders::All);
   while (true) {
     // Never through a link: a lock file that is a symlink (or a second name of another file)
     // would have its target's bytes overwritten by the holder's pid and host.

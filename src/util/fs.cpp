@@ -112,10 +112,18 @@ int removeStaleTemporaries(const stdfs::path& folder, const std::string& namePre
   return removed;
 }
 
-void ensureParentFolder(const stdfs::path& file) {
+void ensureParentFolder(const stdfs::path& file, MakeFolders make) {
   stdfs::path folder = file.parent_path();
   if (folder.empty()) return;
   std::error_code ec;
+  if (make == MakeFolders::LastLevel && !stdfs::exists(folder, ec)) {
+    const stdfs::path above = stdfs::absolute(folder, ec).parent_path();
+    if (!stdfs::is_directory(above, ec))
+      throw Error("the output folder " + folder.string() +
+                      " does not exist, nor the folder above it (" + above.string() +
+                      "): give --mkdir to make them",
+                  {"write", {}, folder.string()});
+  }
   stdfs::create_directories(folder, ec);
   if (ec)
     throw Error("cannot create output folder " + folder.string() + ": " + ec.message(),
@@ -141,7 +149,7 @@ std::string readTextFile(const stdfs::path& path) {
 }
 
 void writeTextFile(const stdfs::path& path, const std::string& text) {
-  ensureParentFolder(path);
+  ensureParentFolder(path, MakeFolders::All);
   writeFileAtomically(path, text.data(), text.size());
 }
 

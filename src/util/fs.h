@@ -34,9 +34,14 @@ bool isTemporaryOfDeadProcess(const std::string& name);
 // log. Returns how many files were removed.
 int removeStaleTemporaries(const std::filesystem::path& folder, const std::string& namePrefix);
 
-// Creates the folder (and parents) that will hold `file`; throws with the folder named if it
-// cannot.
-void ensureParentFolder(const std::filesystem::path& file);
+// How much of a missing folder ensureParentFolder may make. An output's folder is made only when
+// the folder above it exists (LastLevel): a mistyped path must not build a tree of folders
+// anywhere, even at /; `--mkdir` asks for every level (All), as pluvia's own cache folder does.
+enum class MakeFolders { LastLevel, All };
+
+// Creates the folder that will hold `file` (as `make` allows); throws with the folder named if it
+// cannot, or when a level above its last is missing under LastLevel.
+void ensureParentFolder(const std::filesystem::path& file, MakeFolders make);
 
 // True if two paths name the same existing file (follows links), or the same path when absent.
 bool samePath(const std::filesystem::path& a, const std::filesystem::path& b);

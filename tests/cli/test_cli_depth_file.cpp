@@ -74,6 +74,31 @@ std::string writeLayerDepth(const stdfs::path& dir, const std::string& plate) {
   return depth;
 }
 
+TEST(CliDepthFile, TheDepthAovWritesTheSkyFiniteAndReadsItBackAsSky) {
+  // All sky (depth.source none): the depth AOV holds 65504 m, the largest half float, never
+  // +inf, which a compositor's ZDefocus and filters cannot take; given back as depth.file, that
+  // value is sky again, and the frame is the all-sky render's.
+  const auto dir = freshTempDir("depth_file_sky");
+  const std::string plate = writePlate(dir);
+  auto sky =
+      runPluvia({"render", plate, "-p", "moderate", "-o", (dir / "out" / "sky.####.exr").string(),
+                 "--aov", "depth", "--set", "depth.source=none"});
+  ASSERT_EQ(sky.exitCode, 0) << sky.output;
+  const ExrPixels pixels = readAllChannels(dir / "out" / "sky.0001.exr");
+  const auto z = std::find(pixels.channels.begin(), pixels.channels.end(), "depth.Z");
+  ASSERT_NE(z, pixels.channels.end());
+  const size_t channel = z - pixels.channels.begin(), stride = pixels.channels.size();
+  for (size_t i = channel; i < pixels.samples.size(); i += stride)
+    ASSERT_EQ(pixels.samples[i], 65504.0f) << "sample " << i;
+
+  auto back =
+      runPluvia({"render", plate, "-p", "moderate", "-o", (dir / "out" / "back.####.exr").string(),
+                 "--frames", "1-1", "--aov", "depth", "--set", "depth.source=file", "--set",
+                 "depth.file=" + (dir / "out" / "sky.####.exr").string()});
+  ASSERT_EQ(back.exitCode, 0) << back.output;
+  EXPECT_LE(maxDifference(dir / "out" / "sky.0001.exr", dir / "out" / "back.0001.exr"), 1e-6);
+}
+
 }  // namespace
 
 TEST(CliDepthFile, RendersAsTheLayersItWasWrittenFrom) {

@@ -2,7 +2,8 @@
 // S1): `$()` and backticks in paths are data, a newline cannot become a command line (refused
 // where an #SBATCH line would have to carry it), a space is quoted for sbatch. A --farm-dir that
 // holds someone's files, or whose tasks folder is a link, is refused instead of emptied (S2).
-// The scripts are run with bash, as a Slurm node would run them; no cluster is needed.
+// A task stopped at its time limit is a time-out, not a failure. The scripts are run with bash,
+// as a Slurm node would run them; no cluster is needed.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -33,8 +34,9 @@ TEST(CliFarmScripts, NamesInTheScriptsAreDataNotCommands) {
   // the status line; neither runs.
   const stdfs::path out = dir / ("o$(touch " + marker.string() + ")") / "r.####.png";
   const stdfs::path farm = dir / ("f`touch " + marker.string() + "`");
+  // The names hold '/': their folders are several levels deep (--mkdir).
   auto r = runPluvia({"farm", "slurm", plate, "-p", "moderate", "-o", out.string(), "--chunk", "2",
-                      "--farm-dir", farm.string()});
+                      "--farm-dir", farm.string(), "--mkdir"});
   ASSERT_EQ(r.exitCode, 0) << r.output;
   runScript(farm / "prepare.sbatch");
   runScript(farm / "render.sbatch");
@@ -45,7 +47,7 @@ TEST(CliFarmScripts, NamesInTheScriptsAreDataNotCommands) {
   // A newline in the output path stays inside its quotes (and the comment that names it).
   const stdfs::path newline = dir / ("x\ntouch " + marker.string() + "\n.####.png");
   r = runPluvia({"farm", "slurm", plate, "-p", "moderate", "-o", newline.string(), "--chunk", "2",
-                 "--farm-dir", (dir / "f2").string()});
+                 "--farm-dir", (dir / "f2").string(), "--mkdir"});
   ASSERT_EQ(r.exitCode, 0) << r.output;
   runScript(dir / "f2" / "prepare.sbatch");
   runScript(dir / "f2" / "render.sbatch");
@@ -180,4 +182,113 @@ TEST(CliFarmScripts, TheChunksGetTheRendersOptionsThreadsAndColourConfig) {
   EXPECT_EQ(r.exitCode, 2) << r.output;
   EXPECT_NE(r.output.find("unknown output 'sparkle'"), std::string::npos) << r.output;
   EXPECT_FALSE(stdfs::exists(dir / "c" / "o.farm"));
+}
+
+// A task stopped at its job's time limit is told from a failure: Slurm sends the script USR1 a
+// minute before the limit (#SBATCH --signal=B:USR1@60); the script stops the render (SIGTERM:
+// it finishes its frame and writes no partial one) and records "timeout", which `farm status`
+// shows as TIMEOUT and exits 3 for (1 for a failure). A resubmitted task renders only the rest.
+TEST(CliFarmScripts, ATaskStoppedAtItsTimeLimitIsATimeOutNotAFailure) {
+  const stdfs::path dir = freshTempDir("farm_timeout");
+  const std::string plate = writeTexturedPlate(dir, 1, 60);
+  const stdfs::path farm = dir / "f";
+  auto r = runPluvia({"farm", "slurm", plate, "-p", "moderate", "-o",
+                      (dir / "out" / "r.####.png").string(), "--chunk", "60", "--farm-dir",
+                      farm.string(), "--cpus-per-task", "1"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const std::string render = fs::readTextFile(farm / "render.sbatch");
+  EXPECT_NE(render.find("#SBATCH --signal=B:USR1@60"), std::string::npos) << render;
+  ASSERT_EQ(runScript(farm / "prepare.sbatch"), 0);
+  // What Slurm does at the time limit, once the first frame is on disk.
+  const ProcessResult stopped = runProcess(
+      {"bash", "-c",
+       "SLURM_ARRAY_TASK_ID=0 SLURM_ARRAY_JOB_ID=8 SLURM_JOB_ID=8 bash \"$1\" & task=$!\n"
+       "until [ -e \"$2\" ]; do sleep 0.02; done\n"
+       "kill -USR1 $task; wait $task",
+       "-", (farm / "render.sbatch").string(), (dir / "out" / "r.0001.png").string()});
+  EXPECT_EQ(stopped.exitCode, 143) << stopped.output;  // pluvia's exit on SIGTERM
+  const std::string record = fs::readTextFile(farm / "tasks" / "render-0.status");
+  EXPECT_NE(record.find(" timeout"), std::string::npos) << record;
+  EXPECT_FALSE(stdfs::exists(dir / "out" / "r.0060.png"));
+
+  fs::writeTextFile(farm / "jobs.json", R"({"prepare": "7", "render": "8", "assemble": ""})");
+  r = runPluvia({"farm", "status", farm.string()});
+  EXPECT_EQ(r.exitCode, 3) << r.output;
+  EXPECT_NE(r.output.find("TIMEOUT (stopped at the job's time limit, exit 143)"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("timed out (1;"), std::string::npos) << r.output;
+
+  // A failure is still a failure.
+  fs::writeTextFile(farm / "tasks" / "render-0.status", "1 node1 /logs/render-8_0.log exit\n");
+  r = runPluvia({"farm", "status", farm.string()});
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_NE(r.output.find("FAILED (exit 1)"), std::string::npos) << r.output;
+
+  // Resubmitted, the task renders the frames the time-out left and completes.
+  ASSERT_EQ(runProcess({"env", "SLURM_ARRAY_TASK_ID=0", "SLURM_ARRAY_JOB_ID=9", "SLURM_JOB_ID=9",
+                        "bash", (farm / "render.sbatch").string()})
+                .exitCode,
+            0);
+  EXPECT_TRUE(stdfs::exists(dir / "out" / "r.0060.png"));
+  r = runPluvia({"farm", "status", farm.string()});
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("all done"), std::string::npos) << r.output;
+}
+
+// The movie a farm job assembles carries the plate's timecode and colour as the same render on
+// one machine does: a ProRes plate tagged BT.709 at 01:00:10:00, frames 2-5, gives a movie
+// tagged BT.709 starting at 01:00:10:02 either way.
+TEST(CliFarmScripts, TheAssembledMovieCarriesThePlatesTimecodeAndColourTags) {
+  const stdfs::path dir = freshTempDir("farm_timecode");
+  const stdfs::path plate = dir / "plate.mov";
+  ASSERT_EQ(runProcess({"ffmpeg",
+                        "-v",
+                        "error",
+                        "-f",
+                        "lavfi",
+                        "-i",
+                        "testsrc=size=96x64:rate=24",
+                        "-frames:v",
+                        "6",
+                        "-c:v",
+                        "prores_ks",
+                        "-profile:v",
+                        "hq",
+                        "-pix_fmt",
+                        "yuv422p10le",
+                        "-vf",
+                        "setparams=color_primaries=bt709:color_trc=bt709:colorspace=bt709",
+                        "-timecode",
+                        "01:00:10:00",
+                        plate.string()})
+                .exitCode,
+            0);
+  const stdfs::path farm = dir / "f";
+  auto r = runPluvia({"farm", "slurm", plate.string(), "-p", "drizzle", "-o",
+                      (dir / "farm.mov").string(), "--chunk", "2", "--frames", "2-5", "--farm-dir",
+                      farm.string(), "--codec", "prores_422hq"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const std::string assemble = fs::readTextFile(farm / "assemble.sbatch");
+  EXPECT_NE(assemble.find("--timecode 01:00:10:02 --colorspace rec709"), std::string::npos)
+      << assemble;
+  ASSERT_EQ(runScript(farm / "prepare.sbatch"), 0);
+  for (const char* task : {"0", "1"})
+    ASSERT_EQ(runProcess({"env", std::string("SLURM_ARRAY_TASK_ID=") + task, "SLURM_JOB_ID=7",
+                          "bash", (farm / "render.sbatch").string()})
+                  .exitCode,
+              0);
+  ASSERT_EQ(runScript(farm / "assemble.sbatch"), 0);
+  r = runPluvia({"render", plate.string(), "-p", "drizzle", "-o", (dir / "local.mov").string(),
+                 "--frames", "2-5", "--codec", "prores_422hq"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  for (const char* movie : {"farm.mov", "local.mov"}) {
+    const ProcessResult probe = runProcess(
+        {"ffprobe", "-v", "error", "-show_entries",
+         "stream=color_transfer,color_primaries:stream_tags=timecode:format_tags=timecode", "-of",
+         "default=nw=1", (dir / movie).string()});
+    EXPECT_NE(probe.output.find("timecode=01:00:10:02"), std::string::npos)
+        << movie << ": " << probe.output;
+    EXPECT_NE(probe.output.find("color_transfer=bt709"), std::string::npos)
+        << movie << ": " << probe.output;
+  }
 }

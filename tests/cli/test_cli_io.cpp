@@ -102,6 +102,76 @@ std::map<std::string, std::string> ffprobeStream(const stdfs::path& movie) {
 
 }  // namespace
 
+// A movie's colour tags say how its RGB is encoded (adversarial round: a ProRes tagged BT.709 was
+// read as sRGB and written back tagged sRGB): with color.input and color.output auto, a BT.709
+// plate is read through the Rec.709 OETF and goes out tagged BT.709, its picture kept; an
+// untagged one is read as sRGB, and the log says which.
+TEST(CliIo, AMoviesColourTagsAreReadAndWrittenBack) {
+  if (!programAvailable("ffprobe")) GTEST_SKIP() << "ffprobe not on PATH";
+  auto dir = freshTempDir("cli_io_tags_in");
+  auto makeMovie = [&](const stdfs::path& movie, bool tagged) {
+    std::vector<std::string> args{"ffmpeg",
+                                  "-v",
+                                  "error",
+                                  "-f",
+                                  "lavfi",
+                                  "-i",
+                                  "testsrc=size=256x144:rate=24",
+                                  "-frames:v",
+                                  "3",
+                                  "-c:v",
+                                  "prores_ks",
+                                  "-profile:v",
+                                  "hq",
+                                  "-pix_fmt",
+                                  "yuv422p10le"};
+    // setparams tags the frames; the muxer writes the tags into the movie.
+    if (tagged)
+      args.insert(args.end(),
+                  {"-vf", "setparams=color_primaries=bt709:color_trc=bt709:colorspace=bt709"});
+    args.push_back(movie.string());
+    ASSERT_EQ(runProcess(args).exitCode, 0);
+  };
+  const std::vector<std::string> plateOnly{"--set", "rain.rate_mm_h=0", "--set", "fog.density=0",
+                                           "--set", "blur.sigma_px=0",  "--set", "darken.amount=0"};
+  makeMovie(dir / "bt709.mov", true);
+  std::vector<std::string> args{"render", (dir / "bt709.mov").string(),  "-p",      "moderate",
+                                "-o",     (dir / "out709.mov").string(), "--codec", "prores_422hq"};
+  args.insert(args.end(), plateOnly.begin(), plateOnly.end());
+  auto r = runPluvia(args);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("the movie is tagged bt709 on bt709 primaries: read as rec709"),
+            std::string::npos)
+      << r.output;
+  auto fields = ffprobeStream(dir / "out709.mov");
+  EXPECT_EQ(fields["color_transfer"], "bt709");
+  EXPECT_EQ(fields["color_primaries"], "bt709");
+  EXPECT_EQ(fields["color_space"], "bt709");
+  // The picture went through the Rec.709 curve and back: the plate's codes (ProRes twice).
+  for (const char* name : {"bt709.mov", "out709.mov"})
+    ASSERT_EQ(runProcess({"ffmpeg", "-v", "error", "-i", (dir / name).string(), "-frames:v", "1",
+                          "-pix_fmt", "rgb48be", (dir / (std::string(name) + ".png")).string()})
+                  .exitCode,
+              0);
+  Image before = readImageFile(dir / "bt709.mov.png"),
+        after = readImageFile(dir / "out709.mov.png");
+  ASSERT_EQ(before.rgba.size(), after.rgba.size());
+  double sum = 0;
+  for (size_t i = 0; i < after.rgba.size(); ++i) sum += std::abs(after.rgba[i] - before.rgba[i]);
+  // ProRes 4:2:2 twice: measured 1.5 codes.
+  EXPECT_LT(sum / after.rgba.size() * 255, 2.0);
+
+  makeMovie(dir / "untagged.mov", false);
+  args = {"render", (dir / "untagged.mov").string(), "-p",      "moderate",
+          "-o",     (dir / "out.mov").string(),      "--codec", "prores_422hq"};
+  args.insert(args.end(), plateOnly.begin(), plateOnly.end());
+  r = runPluvia(args);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("the movie has no colour transfer tag: read as sRGB"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(ffprobeStream(dir / "out.mov")["color_transfer"], "iec61966-2-1");
+}
+
 TEST(CliIo, ProResAndDnxhrOutputCarryTheirColourTags) {
   if (!programAvailable("ffprobe")) GTEST_SKIP() << "ffprobe not on PATH";
   auto dir = freshTempDir("cli_io_prores");
@@ -110,15 +180,15 @@ TEST(CliIo, ProResAndDnxhrOutputCarryTheirColourTags) {
   stdfs::create_directories(dir / "large");
   const std::string largePlate = writePlate(dir / "large", 1, 2, 256, 120);
   struct Case {
-    std::string codec, name, profile, pixelFormat;
+    std::string codec, name, profile, pixelFormat, extension = ".mov";
   };
   for (const Case& c : {Case{"prores_4444", "prores", "4444", "yuv444p12le"},
                         Case{"prores_422hq", "prores", "HQ", "yuv422p10le"},
                         Case{"dnxhr_hqx", "dnxhd", "DNXHR HQX", "yuv422p10le"},
                         // 8-bit: Y'CbCr made by pluvia, only tagged by ffmpeg.
                         Case{"dnxhr_hq", "dnxhd", "DNXHR HQ", "yuv422p"},
-                        Case{"h264", "h264", "High", "yuv420p"}}) {
-    const stdfs::path movie = dir / (c.codec + (c.codec == "h264" ? ".mp4" : ".mov"));
+                        Case{"h264", "h264", "High", "yuv420p", ".mp4"}}) {
+    const stdfs::path movie = dir / (c.codec + c.extension);
     auto r = runPluvia({"render", c.name == "dnxhd" ? largePlate : plate, "-p", "drizzle", "-o",
                         movie.string(), "--codec", c.codec});
     ASSERT_EQ(r.exitCode, 0) << r.output;
@@ -132,10 +202,24 @@ TEST(CliIo, ProResAndDnxhrOutputCarryTheirColourTags) {
     EXPECT_EQ(fields["color_space"], "bt709") << c.codec;
     EXPECT_EQ(fields["color_range"], "tv") << c.codec;
   }
+  // DNxHR in MXF, as Avid and broadcast take it: MXF has no label for the sRGB transfer (the log
+  // says so), so a BT.709 output is what it tags fully.
+  auto r = runPluvia({"render", largePlate, "-p", "drizzle", "-o", (dir / "dnxhr.mxf").string(),
+                      "--codec", "dnxhr_hq"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_NE(r.output.find("MXF has no label for the sRGB transfer"), std::string::npos) << r.output;
+  r = runPluvia({"render", largePlate, "-p", "drizzle", "-o", (dir / "dnxhr709.mxf").string(),
+                 "--codec", "dnxhr_hq", "--out-colorspace", "rec709"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  auto mxf = ffprobeStream(dir / "dnxhr709.mxf");
+  EXPECT_EQ(mxf["codec_name"], "dnxhd");
+  EXPECT_EQ(mxf["color_primaries"], "bt709");
+  EXPECT_EQ(mxf["color_transfer"], "bt709");
+  EXPECT_EQ(mxf["color_space"], "bt709");
   // The decoded frame is the plate (rain aside): RGB went through the tagged matrix and back.
-  auto r = runPluvia({"render", plate, "-p", "moderate", "-o", (dir / "still.mov").string(),
-                      "--codec", "prores_4444", "--set", "rain.rate_mm_h=0", "--set",
-                      "fog.density=0", "--set", "blur.sigma_px=0", "--set", "darken.amount=0"});
+  r = runPluvia({"render", plate, "-p", "moderate", "-o", (dir / "still.mov").string(), "--codec",
+                 "prores_4444", "--set", "rain.rate_mm_h=0", "--set", "fog.density=0", "--set",
+                 "blur.sigma_px=0", "--set", "darken.amount=0"});
   ASSERT_EQ(r.exitCode, 0) << r.output;
   ASSERT_EQ(runProcess({"ffmpeg", "-v", "error", "-i", (dir / "still.mov").string(), "-frames:v",
                         "1", "-pix_fmt", "rgb48be", (dir / "back.png").string()})
