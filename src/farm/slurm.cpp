@@ -57,7 +57,7 @@ std::string header(const FarmJob& job, const SlurmOptions& options, const std::s
   return text;
 }
 
-// Runs `command`, then records its exit code, the host, the log and why it ended in
+// Runs `command`, then records its exit code, the host, why it ended and the log in
 // tasks/RECORD.status, for `pluvia farm status` to list failed tasks where Slurm keeps no
 // accounting: "exit" (it ended by itself), "timeout" (Slurm's USR1 before the time limit,
 // header()) or "signal" (scancel, preemption: a SIGTERM). The command runs in the background
@@ -77,7 +77,7 @@ std::string recordedRun(const FarmJob& job, const std::string& command, const st
       "wait \"$pid\"\n"
       "code=$?\n"
       "while kill -0 \"$pid\" 2>/dev/null; do wait \"$pid\"; code=$?; done\n"
-      "printf '%s %s %s %s\\n' \"$code\" \"$(hostname)\" {}/\"{}\" \"$why\" > {}/\"{}.status\"\n"
+      "printf '%s %s %s %s\\n' \"$code\" \"$(hostname)\" \"$why\" {}/\"{}\" > {}/\"{}.status\"\n"
       "exit $code\n",
       command, logs, logName, shellQuote((stdfs::path(job.farmDir) / "tasks").string()), record);
 }
@@ -323,12 +323,18 @@ UnitState unitState(const std::string& id, const std::map<std::string, std::stri
     const std::string text = fs::readTextFile(record);
     std::istringstream fields(text);
     int code = -1;
-    std::string host, log, why;
+    // "CODE HOST WHY LOG": the log last, since its path may hold blanks; a record of an older
+    // pluvia has no WHY ("CODE HOST LOG"), and ended by itself.
+    std::string host, why, log;
     unit.done = true;
-    const bool read = bool(fields >> code >> host >> log);
-    if (!(fields >> why)) why = "exit";  // a record of an older pluvia: no reason
-    if (!read || (why != "exit" && why != "timeout" && why != "signal")) {
-      // Not what recordedRun() writes (exit code, host, log): never counted as a success.
+    const bool read = bool(fields >> code >> host >> why);
+    std::getline(fields >> std::ws, log);
+    if (why != "exit" && why != "timeout" && why != "signal") {
+      log = why + (log.empty() ? "" : " " + log);
+      why = "exit";
+    }
+    if (!read || log.empty()) {
+      // Not what recordedRun() writes (exit code, host, why, log): never counted as a success.
       unit.failed = true;
       unit.state = "UNREADABLE task record";
       unit.detail = fmt::format("{} reads '{}'", record.string(), printable(text));

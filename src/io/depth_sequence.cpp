@@ -67,7 +67,8 @@ float decodeDepthValue(float value, const DepthDecoding& decoding) {
       break;
   }
   // The render's depth AOV writes its sky as kSkyDepthInAovMeters: read back, it is sky again.
-  if (!std::isfinite(meters) || meters <= 0.0 || meters >= kSkyDepthInAovMeters) return kSky;
+  const bool aovSky = decoding.encoding == DepthEncoding::ZMeters && value == kSkyDepthInAovMeters;
+  if (!std::isfinite(meters) || meters <= 0.0 || aovSky) return kSky;
   return static_cast<float>(meters);
 }
 

@@ -219,7 +219,7 @@ TEST(CliFarmScripts, ATaskStoppedAtItsTimeLimitIsATimeOutNotAFailure) {
   EXPECT_NE(r.output.find("timed out (1;"), std::string::npos) << r.output;
 
   // A failure is still a failure.
-  fs::writeTextFile(farm / "tasks" / "render-0.status", "1 node1 /logs/render-8_0.log exit\n");
+  fs::writeTextFile(farm / "tasks" / "render-0.status", "1 node1 exit /logs/render-8_0.log\n");
   r = runPluvia({"farm", "status", farm.string()});
   EXPECT_EQ(r.exitCode, 1) << r.output;
   EXPECT_NE(r.output.find("FAILED (exit 1)"), std::string::npos) << r.output;

@@ -70,6 +70,19 @@ TEST(Color, Rec709Curve) {
   EXPECT_NEAR(image.rgba[8], 1.0, 1e-5);
 }
 
+// BT.2020 video: the Rec.709 curve, then BT.2087's matrix to Rec.709 primaries. Encoded 1 in
+// green alone is linear BT.2020 green, whose Rec.709 coordinates are the matrix's second
+// column; encoded white stays white (the matrix's rows sum to 1).
+TEST(Color, Rec2020VideoToLinearRec709) {
+  Image image = singleRow({0.0f, 1.0f});
+  image.rgba[1] = 1.0f;
+  ColorConverter("rec2020", "linear-rec709").apply(image);
+  EXPECT_NEAR(image.rgba[0], -0.587641, 1e-4);
+  EXPECT_NEAR(image.rgba[1], 1.132900, 1e-4);
+  EXPECT_NEAR(image.rgba[2], -0.100579, 1e-4);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(image.rgba[4 + c], 1.0, 1e-4) << c;
+}
+
 TEST(Color, AcescgPrimariesAndRoundTrip) {
   Image red = singleRow({0.0f});
   red.rgba[0] = 1.0f;
@@ -166,8 +179,8 @@ TEST(Color, UnknownColourSpaceIsNamed) {
 }
 
 TEST(Color, BuiltinNames) {
-  EXPECT_EQ(colorSpaceNames(),
-            (std::vector<std::string>{"linear-rec709", "ACEScg", "sRGB", "rec709", "raw"}));
+  EXPECT_EQ(colorSpaceNames(), (std::vector<std::string>{"linear-rec709", "ACEScg", "sRGB",
+                                                         "rec709", "rec2020", "raw"}));
 }
 
 TEST(Color, SavedBuiltinConfigLoadsBack) {
