@@ -10,8 +10,9 @@ namespace pluvia {
 
 // --set overrides that put every day-time stage to work on the bench clip: fog.model =
 // skylight (the preset's fog density; the model scatters through the rain even without fog), a
-// sun behind the camera 30 deg up (rainbow), and a camera 1.6 m above the ground tilted 10 deg down, so that
-// the ground within the splashes' level of detail is in view. Given before the user's own
+// sun behind the camera 30 deg up (rainbow), and a camera 1.6 m above the ground tilted 10 deg
+// down, so that the ground within the splashes' level of detail is in view. Given before the user's
+// own
 // --set, which win.
 std::vector<std::string> dayBenchOverrides();
 

@@ -11,6 +11,8 @@ packages=(
   libegl-dev libgles-dev libgl-dev libepoxy-dev libegl-mesa0 libgl1-mesa-dri
   nlohmann-json3-dev libcli11-dev libeigen3-dev libtbb-dev libfmt-dev
   libgtest-dev libgmock-dev
+  # The test suite's `format` check: every source as the project's .clang-format lays it out.
+  clang-format
   ffmpeg
   colmap
   # For `pluvia farm slurm`'s test, which starts its own throw-away cluster (and skips where it

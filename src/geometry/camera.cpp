@@ -6,7 +6,8 @@
 
 namespace pluvia {
 
-Camera Camera::fromFieldOfView(int width, int height, double hfovDeg, double tiltDownDeg, double heightMeters) {
+Camera Camera::fromFieldOfView(int width, int height, double hfovDeg, double tiltDownDeg,
+                               double heightMeters) {
   Camera camera;
   camera.width = width;
   camera.height = height;
@@ -14,7 +15,8 @@ Camera Camera::fromFieldOfView(int width, int height, double hfovDeg, double til
   camera.cx = 0.5 * width;
   camera.cy = 0.5 * height;
   // Pitching down is a negative rotation about +X (looking along -Z, +Y up).
-  camera.worldFromCamera = Eigen::AngleAxisd(-tiltDownDeg * M_PI / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  camera.worldFromCamera =
+      Eigen::AngleAxisd(-tiltDownDeg * M_PI / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
   camera.positionMeters = Eigen::Vector3d(0.0, heightMeters, 0.0);
   return camera;
 }

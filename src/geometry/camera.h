@@ -17,7 +17,8 @@ struct Camera {
 
   // Camera at height `heightMeters` above the ground plane y = 0, pitched down by tiltDownDeg,
   // with horizontal field of view hfovDeg.
-  static Camera fromFieldOfView(int width, int height, double hfovDeg, double tiltDownDeg, double heightMeters);
+  static Camera fromFieldOfView(int width, int height, double hfovDeg, double tiltDownDeg,
+                                double heightMeters);
 
   // Direction in camera space through pixel position (px, py), scaled so that z = -1.
   Eigen::Vector3d rayCamera(double px, double py) const;

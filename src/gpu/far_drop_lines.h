@@ -10,7 +10,8 @@
 //   - the samples share the streak's coverage mass m = alpha * meanMatte(stroke) * width *
 //     (length + width) (px^2: its matte integrated over its quad), so a pixel takes alpha =
 //     min(1, share of m), and blends alpha * C "over" the layer, C the streak's radiance (plus
-//     the local lights' term at its mean bead factor over the streak), where the streak is in front of the scene.
+//     the local lights' term at its mean bead factor over the streak), where the streak is in front
+//     of the scene.
 // What it keeps: each far streak's place, direction, length, depth test, radiance and coverage;
 // what it loses: its matte's texture and its width (one to two pixels instead of widthPx).
 // Far drops are the narrowest streaks, which the renderers draw first anyway (streak_batches.h),

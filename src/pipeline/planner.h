@@ -21,7 +21,7 @@ struct Plan {
   std::vector<PlanEntry> entries;  // pipeline order, "write" last
   bool runs(const std::string& stage) const;
   bool available(const std::string& stage) const;  // runs or cached
-  std::string text() const;  // human-readable, one line per stage
+  std::string text() const;                        // human-readable, one line per stage
 };
 
 Plan makePlan(const Preset& preset, const ClipInfo& clip, const ArtifactCache* cache,

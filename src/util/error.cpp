@@ -11,7 +11,8 @@ std::string Error::describe() const {
   std::string where;
   if (!context_.stage.empty() || context_.frame) {
     where = "[" + context_.stage;
-    if (context_.frame) where += fmt::format("{}frame {}", context_.stage.empty() ? "" : " @ ", *context_.frame);
+    if (context_.frame)
+      where += fmt::format("{}frame {}", context_.stage.empty() ? "" : " @ ", *context_.frame);
     where += "] ";
   }
   std::string text = where + what();

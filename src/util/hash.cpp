@@ -1,7 +1,7 @@
 #include "util/hash.h"
 
-#include <cstring>
 #include <fmt/format.h>
+#include <cstring>
 
 namespace pluvia {
 
@@ -28,7 +28,9 @@ Hasher& Hasher::add(double value) {
   return add(bits);
 }
 
-std::string Hasher::hex() const { return fmt::format("{:016x}", state_); }
+std::string Hasher::hex() const {
+  return fmt::format("{:016x}", state_);
+}
 
 uint64_t mix64(uint64_t x) {
   x += 0x9e3779b97f4a7c15ull;
@@ -42,6 +44,8 @@ uint64_t CounterRng::nextU64() {
   return mix64(state_);
 }
 
-double CounterRng::uniform() { return static_cast<double>(nextU64() >> 11) * 0x1.0p-53; }
+double CounterRng::uniform() {
+  return static_cast<double>(nextU64() >> 11) * 0x1.0p-53;
+}
 
 }  // namespace pluvia

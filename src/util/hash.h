@@ -26,7 +26,8 @@ uint64_t mix64(uint64_t x);
 // Deterministic stream of uniform numbers for one (seed, stream) pair.
 class CounterRng {
  public:
-  CounterRng(uint64_t seed, uint64_t stream) : state_(mix64(seed ^ mix64(stream + 0x9e3779b97f4a7c15ull))) {}
+  CounterRng(uint64_t seed, uint64_t stream)
+      : state_(mix64(seed ^ mix64(stream + 0x9e3779b97f4a7c15ull))) {}
   uint64_t nextU64();
   double uniform();  // [0, 1)
  private:

@@ -99,10 +99,9 @@ TEST(CliHostileInputs, AnOcioLutThatIsADeviceIsRefusedBeforeReading) {
                       "lin}\ncolorspaces:\n  - !<ColorSpace>\n    name: lin\n  - !<ColorSpace>\n"
                       "    name: zero\n    from_scene_reference: !<FileTransform> {src: " +
                           lut + ", interpolation: linear}\n");
-    const auto r = runPluvia({"render", plate, "-p", "moderate", "-o",
-                              (dir / "o" / "r.####.exr").string(), "--frames", "1", "--ocio",
-                              config.string(), "--in-colorspace", "lin", "--out-colorspace",
-                              "zero"});
+    const auto r = runPluvia(
+        {"render", plate, "-p", "moderate", "-o", (dir / "o" / "r.####.exr").string(), "--frames",
+         "1", "--ocio", config.string(), "--in-colorspace", "lin", "--out-colorspace", "zero"});
     EXPECT_EQ(r.exitCode, 1) << r.output;
     EXPECT_NE(r.output.find("the LUT '" + lut + "'"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("is not a regular file"), std::string::npos) << r.output;

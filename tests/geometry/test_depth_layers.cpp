@@ -34,7 +34,7 @@ TEST(DepthLayers, CardsAndSkyPaintInOrder) {
       {"type":"card","distance_m":7,"x0":0,"x1":0.5,"y0":0,"y1":1},
       {"type":"sky","x0":0,"x1":1,"y0":0,"y1":0.2}])"));
   EXPECT_FLOAT_EQ(depth[5 * 10 + 2], 7.0f);
-  EXPECT_TRUE(std::isinf(depth[1 * 10 + 2]));  // sky painted over the card
+  EXPECT_TRUE(std::isinf(depth[1 * 10 + 2]));     // sky painted over the card
   EXPECT_TRUE(std::isfinite(depth[9 * 10 + 8]));  // ground
   EXPECT_THROW(rasterizeDepthLayers(camera, nlohmann::json::parse(R"([{"type":"wall"}])")), Error);
 }
