@@ -27,6 +27,9 @@ namespace pluvia {
 namespace stdfs = std::filesystem;
 namespace {
 
+// ffmpeg's log beside the movie's temporary: the temporary's name plus this.
+constexpr const char* kLogSuffix = ".log";
+
 constexpr int kLogLinesInErrors = 8;
 
 // "24", or "24000/1001" for the NTSC rates (23.976, 29.97, 59.94), which are not decimals.
@@ -173,8 +176,8 @@ class MovieWriter final : public ClipWriter {
         codec_(movieCodec(options.codec, path)),
         encodedWidth_(codec_.layout.chromaColumns == 2 ? width + width % 2 : width),
         encodedHeight_(codec_.layout.chromaRows == 2 ? height + height % 2 : height),
-        tmp_(fs::temporaryPathFor(path)),
-        log_(tmp_.string() + ".log") {
+        tmp_(fs::temporaryPathFor(path, std::string(kLogSuffix).size())),
+        log_(tmp_.string() + kLogSuffix) {
     matrix_ = ycbcrMatrix(options.color.movieMatrix, path);
     if (!(options.fps > 0) || !std::isfinite(options.fps)) {
       throw Error(

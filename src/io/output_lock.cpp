@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
+#include <string_view>
 #include <thread>
 
 #include <fmt/format.h>
@@ -13,6 +14,7 @@
 #include "io/sequence_pattern.h"
 #include "util/error.h"
 #include "util/fs.h"
+#include "util/hash.h"
 
 namespace pluvia {
 namespace {
@@ -77,11 +79,22 @@ int64_t frameOfTemporary(const std::string& name, const std::string& prefix) {
 }  // namespace
 
 std::string outputLockPath(const std::string& output) {
+  std::string path = output;
   if (std::optional<SequencePattern> pattern = SequencePattern::parse(output)) {
     const size_t digits = static_cast<size_t>(std::max(pattern->padding, 1));
-    return pattern->prefix + std::string(digits, '#') + pattern->suffix + ".pluvia-lock";
+    path = pattern->prefix + std::string(digits, '#') + pattern->suffix;
   }
-  return output + ".pluvia-lock";
+  constexpr std::string_view kSuffix = ".pluvia-lock";
+  const std::filesystem::path named(path);
+  std::string name = named.filename().string();
+  // A legal output name near the 255-byte limit still gets a lock: its name is cut and the
+  // whole name's hash keeps two such outputs apart (every render of one output agrees on it).
+  if (name.size() + kSuffix.size() > fs::kNameMaxBytes) {
+    const std::string hash = "-" + Hasher().add(name).hex();
+    name.resize(fs::kNameMaxBytes - kSuffix.size() - hash.size());
+    name += hash;
+  }
+  return (named.parent_path() / (name + std::string(kSuffix))).string();
 }
 
 OutputLock::OutputLock(const std::string& output, int64_t firstFrame, int64_t lastFrame)

@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstring>
@@ -17,15 +18,15 @@
 namespace pluvia::fs {
 namespace stdfs = std::filesystem;
 
-stdfs::path temporaryPathFor(const stdfs::path& target) {
+stdfs::path temporaryPathFor(const stdfs::path& target, size_t reserveBytes) {
   static std::atomic<uint64_t> counter{0};
   const std::string tail = ".pluvia-tmp-" + std::to_string(getpid()) + "-" +
                            std::to_string(counter++) + target.extension().string();
   // A legal name near the 255-byte limit must still get a temporary: its stem is cut short
   // (the start, which names the output, is kept).
   std::string stem = target.stem().string();
-  if (stem.size() + tail.size() > kNameMaxBytes)
-    stem.resize(kNameMaxBytes > tail.size() ? kNameMaxBytes - tail.size() : 0);
+  const size_t room = kNameMaxBytes - std::min(kNameMaxBytes, tail.size() + reserveBytes);
+  if (stem.size() > room) stem.resize(room);
   return target.parent_path() / (stem + tail);
 }
 

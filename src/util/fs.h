@@ -11,8 +11,10 @@ constexpr size_t kNameMaxBytes = 255;
 
 // A temporary path beside `target` (same folder, so rename is atomic), keeping the extension
 // so that format-sniffing writers still see it: "a.0001.exr" -> "a.0001.pluvia-tmp-<pid>-<n>.exr"
-// (a stem too long for that is cut short, so any legal name can be written).
-std::filesystem::path temporaryPathFor(const std::filesystem::path& target);
+// (a stem too long for that is cut short, so any legal name can be written). `reserveBytes`
+// keeps room for a suffix the caller adds to the temporary's name (a movie's ".log").
+std::filesystem::path temporaryPathFor(const std::filesystem::path& target,
+                                       size_t reserveBytes = 0);
 
 // Renames tmp over target atomically; removes tmp and throws pluvia::Error on failure.
 void commitTemporary(const std::filesystem::path& tmp, const std::filesystem::path& target);

@@ -77,6 +77,11 @@ TEST(CliHostileInputs, AFrameNameNearTheFileSystemLimitIsWritten) {
       {"render", plate, "-p", "moderate", "-o", (dir / "o" / (stem + ".####.png")).string(), "-q"});
   EXPECT_EQ(r.exitCode, 0) << r.output;
   EXPECT_TRUE(stdfs::exists(dir / "o" / (stem + ".0001.png")));
+  // A movie's too (adversarial S20): its temporary and ffmpeg's log beside it are cut to fit.
+  const std::string movie = std::string(251, 'm') + ".mp4";  // 255 bytes
+  const auto m = runPluvia({"render", plate, "-p", "moderate", "-o", (dir / "o" / movie).string()});
+  EXPECT_EQ(m.exitCode, 0) << m.output;
+  EXPECT_TRUE(stdfs::exists(dir / "o" / movie));
   // Over the limit: refused before any work, naming it.
   const auto over = runPluvia({"render", plate, "-p", "moderate", "-o",
                                (dir / "o2" / (std::string(250, 'n') + ".####.png")).string()});
