@@ -103,8 +103,9 @@ StageInfo lightsStageInfo() {
              return fmt::format(
                  "{} point lights, {} spotlights{}; halos {}, drops {}",
                  int(lights.lights.size()) - spots, spots,
-                 lights.find ? ", and lamps looked for in the plate at render time (lights.find "
-                               "auto: clipped blobs; none clipped, no light work)"
+                 lights.find ? ", and lamps looked for in the plate when the render prepares "
+                               "(lights.find auto: clipped blobs, on a night plate only; the "
+                               "render's log says how many it found)"
                              : "",
                  lights.halos ? "on" : "off", lights.drops ? "on" : "off");
            },

@@ -89,6 +89,11 @@ StageInfo rainbowStageInfo() {
          return rainbowHiddenReason(camera.path(camera.base(kPlanWidth, kPlanHeight)).cameraAt(0.0),
                                     sunDirection(bow.sunElevationDeg, bow.sunAzimuthDeg));
        },
+       .note = [](const RainbowSettings& bow, const Preset&) -> std::string {
+         if (bow.sunSource != "environment") return "";
+         return "the sun is looked for in the environment when the render prepares: left "
+                "out there if none stands out of its mean (the render's log says which)";
+       },
        .reads =
            [](const RainbowSettings& bow, const Preset&) {
              std::vector<std::string> reads{"image", "depth"};

@@ -128,7 +128,7 @@ TEST(CliPlateLights, NothingClippedFindsNoLights) {
   EXPECT_NE(rendered.output.find("the light work is skipped"), std::string::npos);
   const auto plan = runPluvia({"plan", plate, "-p", preset(dir).string()});
   ASSERT_EQ(plan.exitCode, 0) << plan.output;
-  EXPECT_NE(plan.output.find("looked for in the plate at render time"), std::string::npos)
+  EXPECT_NE(plan.output.find("looked for in the plate when the render prepares"), std::string::npos)
       << plan.output;
 }
 
