@@ -141,7 +141,7 @@ void addSlurmCommand(CLI::App* farm) {
             {"--timecode", start->plus(job.firstFrame - clip.frames.front()).text()});
     // The chunks write their frames in the space a tagged movie plate came in (a BT.709 plate
     // stays BT.709): the assembly tags the movie with it, as a local render would.
-    if (const auto tagged = movieTaggedSpace(clip, colorSettings(preset).configPath);
+    if (const auto tagged = taggedInputSpace(colorSettings(preset), clip);
         movie && tagged && colorSettings(preset).outputSpace == "auto") {
       job.assembleOptions.insert(job.assembleOptions.end(), {"--colorspace", *tagged});
     }

@@ -36,7 +36,7 @@ namespace {
 std::string resolveInputSpace(const ColorSettings& color, const ClipInfo& clip) {
   if (color.inputSpace != "auto") return color.inputSpace;
   if (clip.isFloat) return "scene_linear";
-  return movieTaggedSpace(clip, color.configPath).value_or(srgbEncodedSpace(color.configPath));
+  return taggedInputSpace(color, clip).value_or(srgbEncodedSpace(color.configPath));
 }
 
 std::vector<int64_t> selectFrames(const RenderRequest& request, const ClipInfo& clip) {
@@ -207,8 +207,7 @@ void addResumeIdentity(WriterOptions& options, const RenderRequest& request,
   if (!configFile.empty()) config.add(fs::readTextFile(configFile));
   options.metadata["pluvia:colour"] = fmt::format(
       "{} -> {} -> {}, config {}", resolveInputSpace(color, clip), color.workingSpace,
-      resolveOutputSpace(color, request.output, movieTaggedSpace(clip, color.configPath)),
-      config.hex());
+      resolveOutputSpace(color, request.output, taggedInputSpace(color, clip)), config.hex());
   options.metadata["pluvia:aovs"] =
       request.aovs.empty() ? "none" : fmt::format("{}", fmt::join(request.aovs, ","));
   options.metadata["pluvia:format"] =
@@ -226,7 +225,7 @@ WriterOptions writerOptionsFor(const RenderRequest& request, const Preset& prese
   options.aovs = request.aovs;
   options.metadata = frameMetadata(preset, stages);
   carryInputMetadata(options, clip, frames, request.proxyScale);
-  options.color = outputColorTags(color, request.output, movieTaggedSpace(clip, color.configPath));
+  options.color = outputColorTags(color, request.output, taggedInputSpace(color, clip));
   // A proxy frame must never pass for a final one: it says so in its header.
   if (request.proxyScale != 1.0)
     options.metadata["pluvia:proxy"] =
@@ -279,6 +278,11 @@ std::optional<std::string> movieTaggedSpace(const ClipInfo& clip, const std::str
   return std::nullopt;
 }
 
+std::optional<std::string> taggedInputSpace(const ColorSettings& color, const ClipInfo& clip) {
+  if (color.inputSpace != "auto") return std::nullopt;
+  return movieTaggedSpace(clip, color.configPath);
+}
+
 // "auto": EXR and HDR get the working space; other formats the space a tagged movie came in
 // (so that a BT.709 plate goes out BT.709), else display-encoded sRGB.
 std::string resolveOutputSpace(const ColorSettings& color, const std::string& output,
@@ -307,17 +311,16 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
       color_(colorSettings(preset)),
       camera_(cameraSettings(preset)),
       toWorking_(resolveInputSpace(color_, clip()), color_.workingSpace, color_.configPath),
-      toOutput_(
-          color_.workingSpace,
-          resolveOutputSpace(color_, request.output, movieTaggedSpace(clip(), color_.configPath)),
-          color_.configPath),
+      toOutput_(color_.workingSpace,
+                resolveOutputSpace(color_, request.output, taggedInputSpace(color_, clip())),
+                color_.configPath),
       writerOptions_(writerOptionsFor(request, preset, stages, camera_, color_, clip(), frames_)) {
   log::info("command: " + request.commandLine);
-  log::info(fmt::format(
-      "colour: {} -> {} (working) -> {}, config: {}", resolveInputSpace(color_, clip()),
-      color_.workingSpace,
-      resolveOutputSpace(color_, request.output, movieTaggedSpace(clip(), color_.configPath)),
-      describeConfig(color_.configPath)));
+  log::info(
+      fmt::format("colour: {} -> {} (working) -> {}, config: {}", resolveInputSpace(color_, clip()),
+                  color_.workingSpace,
+                  resolveOutputSpace(color_, request.output, taggedInputSpace(color_, clip())),
+                  describeConfig(color_.configPath)));
   if (std::string note; color_.inputSpace == "auto") {
     movieTaggedSpace(clip(), color_.configPath, &note);
     if (!note.empty()) log::info("colour: " + note);

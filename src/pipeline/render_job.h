@@ -127,6 +127,9 @@ Plan planJob(const std::string& input, const Preset& preset, const std::string& 
 // movie, or tags pluvia does not read (HLG, PQ), which are read as sRGB; `note` says which.
 std::optional<std::string> movieTaggedSpace(const ClipInfo& clip, const std::string& configPath,
                                             std::string* note = nullptr);
+// The same where color.input is "auto", else nothing: a space the user gave for the plate
+// overrides its tags, and its outputs are not taken into the tagged space either.
+std::optional<std::string> taggedInputSpace(const ColorSettings& color, const ClipInfo& clip);
 // The colour space of the frames written to `output` (color.output; "auto": the working space
 // for EXR/HDR, the space a tagged movie came in (`taggedInputSpace`), else the config's sRGB
 // space), and the tags a file says it with: a render and a farm's assembly of its frames into a

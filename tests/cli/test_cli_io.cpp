@@ -161,6 +161,22 @@ TEST(CliIo, AMoviesColourTagsAreReadAndWrittenBack) {
   // ProRes 4:2:2 twice: measured 1.5 codes.
   EXPECT_LT(sum / after.rgba.size() * 255, 2.0);
 
+  // A space the user gives for the plate overrides its tags, for the output too.
+  args = {"render",
+          (dir / "bt709.mov").string(),
+          "-p",
+          "moderate",
+          "-o",
+          (dir / "given.mov").string(),
+          "--codec",
+          "prores_422hq",
+          "--in-colorspace",
+          "sRGB"};
+  args.insert(args.end(), plateOnly.begin(), plateOnly.end());
+  r = runPluvia(args);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(ffprobeStream(dir / "given.mov")["color_transfer"], "iec61966-2-1");
+
   makeMovie(dir / "untagged.mov", false);
   args = {"render", (dir / "untagged.mov").string(), "-p",      "moderate",
           "-o",     (dir / "out.mov").string(),      "--codec", "prores_422hq"};
