@@ -84,7 +84,14 @@ void addSlurmCommand(CLI::App* farm) {
       ->excludes(submit);
   cmd->callback([=] {
     checkProxyScale(args->writes.proxy);
-    args->writes.aovs();  // an unknown AOV refused here, not on the farm
+    // An unknown AOV refused here, not on the farm; a farm movie is assembled from the chunks'
+    // beauty frames alone, so its AOVs would be lost.
+    if (!args->writes.aovs().empty() && isMovieExtension(args->output))
+      throw UsageError(
+          fmt::format("--aov {}: a farm render assembles the movie {} from its "
+                      "frames without their AOVs; render an image sequence such as "
+                      "out.####.exr, whose AOVs the chunks write",
+                      fmt::join(args->writes.aovs(), ","), args->output));
     const Preset preset = loadPreset(args->preset, args->sets);  // refused here, not on the farm
     const std::unique_ptr<ClipReader> reader = openClip(args->input);
     const ClipInfo& clip = reader->info();

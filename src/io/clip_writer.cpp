@@ -191,6 +191,72 @@ class ImageSequenceWriter final : public ClipWriter {
   WriterOptions options_;
 };
 
+// The AOV's channels as one RGBA image for a movie: R, G, B, A as they are, or a single plane
+// as grey with alpha 1.
+Image aovImage(const std::string& aov, const Image& image, int64_t frame, const std::string& path) {
+  std::vector<float> unused;
+  const std::vector<OutputChannel> channels = aovChannels(aov, image, frame, path, unused);
+  Image out(image.width, image.height);
+  for (size_t i = 0; i < image.pixelCount(); ++i) {
+    for (int c = 0; c < 4; ++c) {
+      const OutputChannel& from = channels[channels.size() == 4 ? c : 0];
+      out.rgba[i * 4 + c] =
+          channels.size() == 4 || c < 3 ? from.samples[i * from.strideFloats] : 1.0f;
+    }
+  }
+  return out;
+}
+
+// A movie and one movie per AOV beside it ("out.mov" -> "out.rain.mov"), each with its alpha,
+// so that the rain element alone reaches an editor or a comp as ProRes 4444 with its matte.
+class MovieWithAovsWriter final : public ClipWriter {
+ public:
+  MovieWithAovsWriter(const std::string& output, int width, int height,
+                      const WriterOptions& options)
+      : beauty_(openMovieWriter(output, width, height, options, false)) {
+    const FrameNaming naming = namingFor(output);
+    // AOV movies hold rain, mattes and light alone: only the beauty is tagged with its space.
+    WriterOptions aovOptions = options;
+    aovOptions.color = ColorTags{};
+    for (const std::string& aov : options.aovs) {
+      aovs_.push_back({aov, openMovieWriter(naming.aov(aov, suffixOf(output), 0), width, height,
+                                            aovOptions, true)});
+    }
+  }
+
+  void write(int64_t frame, const Image& image) override {
+    beauty_->write(frame, image);
+    for (const auto& [aov, writer] : aovs_)
+      writer->write(frame, aovImage(aov, image, frame, writer->pathFor(frame)));
+  }
+
+  // Every movie is finished even when one fails; the first failure is then thrown.
+  void close() override {
+    std::exception_ptr failure;
+    for (ClipWriter* writer : writers()) {
+      try {
+        writer->close();
+      } catch (...) {
+        if (!failure) failure = std::current_exception();
+      }
+    }
+    if (failure) std::rethrow_exception(failure);
+  }
+
+  bool isMovie() const override { return true; }
+  std::string pathFor(int64_t frame) const override { return beauty_->pathFor(frame); }
+
+ private:
+  std::vector<ClipWriter*> writers() const {
+    std::vector<ClipWriter*> all{beauty_.get()};
+    for (const auto& [aov, writer] : aovs_) all.push_back(writer.get());
+    return all;
+  }
+
+  std::unique_ptr<ClipWriter> beauty_;
+  std::vector<std::pair<std::string, std::unique_ptr<ClipWriter>>> aovs_;
+};
+
 }  // namespace
 
 std::unique_ptr<ClipWriter> openClipWriter(const std::string& output, int width, int height,
@@ -214,17 +280,28 @@ std::unique_ptr<ClipWriter> openClipWriter(const std::string& output, int width,
                             options.exrSampleType, output),
                 {"write", {}, output});
   }
-  if (isMovieFormat && !options.aovs.empty()) {
-    throw Error(
-        fmt::format(
-            "AOVs ({}) cannot go into the movie {}: write an image sequence such as out.####.exr",
-            joined(options.aovs), output),
-        {"write", {}, output});
-  }
+  if (isMovieFormat) checkMovieAovs(output, options);
   const std::string firstPath = isMovieFormat ? output : namingFor(output).beauty(0);
   fs::ensureParentFolder(firstPath, options.makeFolders);
-  if (isMovieFormat) return openMovieWriter(output, width, height, options);
+  if (isMovieFormat && !options.aovs.empty())
+    return std::make_unique<MovieWithAovsWriter>(output, width, height, options);
+  if (isMovieFormat) return openMovieWriter(output, width, height, options, false);
   return std::make_unique<ImageSequenceWriter>(output, width, height, options);
+}
+
+void checkMovieAovs(const std::string& output, const WriterOptions& options) {
+  if (options.aovs.empty()) return;
+  if (contains(options.aovs, kDepthPlane))
+    throw Error(fmt::format("the depth AOV is in metres and cannot go into the movie {}: write "
+                            "an EXR sequence such as out.####.exr",
+                            output),
+                {"write", {}, output});
+  const std::vector<std::string> withAlpha = codecsWithAlpha();
+  if (!contains(withAlpha, options.codec))
+    throw Error(fmt::format("AOVs ({}) go into movies of their own beside {} only with their "
+                            "alpha: --codec {}, or write an image sequence such as out.####.exr",
+                            joined(options.aovs), output, joined(withAlpha)),
+                {"write", {}, output});
 }
 
 std::vector<std::string> framePaths(const std::string& output, const std::vector<std::string>& aovs,
@@ -232,7 +309,11 @@ std::vector<std::string> framePaths(const std::string& output, const std::vector
   const FrameNaming naming = namingFor(output);
   std::vector<std::string> paths = {naming.beauty(frame)};
   const std::string extension = lowerExtension(output);
-  if (isMovieExtension(output) || extension == "exr") return paths;
+  if (extension == "exr") return paths;
+  if (isMovieExtension(output)) {
+    for (const std::string& aov : aovs) paths.push_back(naming.aov(aov, suffixOf(output), 0));
+    return paths;
+  }
   for (const std::string& aov : aovs)
     paths.push_back(aovPathFor(naming, suffixOf(output), extension, aov, frame));
   return paths;

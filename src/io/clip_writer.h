@@ -68,9 +68,14 @@ class ClipWriter {
 std::unique_ptr<ClipWriter> openClipWriter(const std::string& output, int width, int height,
                                            const WriterOptions& options);
 
+// AOVs into a movie output go into movies of their own beside it, with their alpha: an error
+// naming `output` when the codec has no alpha or the depth (metres) is asked for. Called by
+// openClipWriter, and by a render before any work.
+void checkMovieAovs(const std::string& output, const WriterOptions& options);
+
 // Every file a sequence or image output writes for `frame`: the beauty and, for formats that
 // cannot hold AOVs as channels, each AOV's own file ("out.####.png" with rain ->
-// "out.0001.png", "out.rain.0001.png"). A movie: its own path.
+// "out.0001.png", "out.rain.0001.png"). A movie: its own path and its AOVs' ("out.rain.mov").
 std::vector<std::string> framePaths(const std::string& output, const std::vector<std::string>& aovs,
                                     int64_t frame);
 

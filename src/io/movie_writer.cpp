@@ -79,6 +79,8 @@ struct MovieCodec {
   // The Y'CbCr pluvia makes for it (io/ycbcr_frame.h) and ffmpeg's name for that layout.
   YcbcrLayout layout;
   std::string pixelFormat;
+  // The layout with an alpha plane, for codecs that carry one (ProRes 4444); empty for others.
+  std::string alphaPixelFormat;
   int minWidth = 1, minHeight = 1;  // DNxHR's smallest frame is 256x120
 };
 
@@ -90,12 +92,13 @@ std::vector<MovieCodec> makeCodecs() {
   // DNxHR also goes in MXF (OP1a), the Avid and broadcast container.
   const std::vector<std::string> dnxhrContainers{"mov", "mkv", "mxf"};
   auto prores = [&](const char* name, const char* profile, YcbcrLayout layout,
-                    const char* pixelFormat) {
+                    const char* pixelFormat, const char* alphaPixelFormat) {
     return MovieCodec{.name = name,
                       .arguments = {"-c:v", "prores_ks", "-profile:v", profile, "-vendor", "apl0"},
                       .containers = movContainers,
                       .layout = layout,
-                      .pixelFormat = pixelFormat};
+                      .pixelFormat = pixelFormat,
+                      .alphaPixelFormat = alphaPixelFormat};
   };
   auto dnxhr = [&](const std::string& profile, YcbcrLayout layout, const char* pixelFormat) {
     return MovieCodec{.name = "dnxhr_" + profile,
@@ -103,6 +106,7 @@ std::vector<MovieCodec> makeCodecs() {
                       .containers = dnxhrContainers,
                       .layout = layout,
                       .pixelFormat = pixelFormat,
+                      .alphaPixelFormat = "",
                       .minWidth = 256,
                       .minHeight = 120};
   };
@@ -116,9 +120,10 @@ std::vector<MovieCodec> makeCodecs() {
        .arguments = {"-c:v", "libx264", "-preset", "medium", "-crf", "16"},
        .containers = {"mp4", "mov", "mkv", "m4v"},
        .layout = eightBit420,
-       .pixelFormat = "yuv420p"},
-      prores("prores_4444", "4444", twelveBit444, "yuv444p12le"),
-      prores("prores_422hq", "hq", tenBit422, "yuv422p10le"),
+       .pixelFormat = "yuv420p",
+       .alphaPixelFormat = ""},
+      prores("prores_4444", "4444", twelveBit444, "yuv444p12le", "yuva444p12le"),
+      prores("prores_422hq", "hq", tenBit422, "yuv422p10le", ""),
       dnxhr("hq", eightBit422, "yuv422p"),
       dnxhr("hqx", tenBit422, "yuv422p10le"),
       dnxhr("444", tenBit444, "yuv444p10le"),
@@ -169,16 +174,25 @@ std::vector<std::string> colorArguments(const ColorTags& tags) {
 
 class MovieWriter final : public ClipWriter {
  public:
-  MovieWriter(const std::string& path, int width, int height, const WriterOptions& options)
+  MovieWriter(const std::string& path, int width, int height, const WriterOptions& options,
+              bool withAlpha)
       : path_(path),
         width_(width),
         height_(height),
         codec_(movieCodec(options.codec, path)),
+        layout_(codec_.layout),
+        pixelFormat_(withAlpha ? codec_.alphaPixelFormat : codec_.pixelFormat),
         encodedWidth_(codec_.layout.chromaColumns == 2 ? width + width % 2 : width),
         encodedHeight_(codec_.layout.chromaRows == 2 ? height + height % 2 : height),
         tmp_(fs::temporaryPathFor(path, std::string(kLogSuffix).size())),
         log_(tmp_.string() + kLogSuffix) {
     matrix_ = ycbcrMatrix(options.color.movieMatrix, path);
+    if (withAlpha && pixelFormat_.empty()) {
+      throw Error(fmt::format("the codec {} has no alpha channel, which {} needs: use {}",
+                              codec_.name, path, fmt::join(codecsWithAlpha(), " or ")),
+                  {"write", {}, path});
+    }
+    layout_.alpha = withAlpha;
     if (!(options.fps > 0) || !std::isfinite(options.fps)) {
       throw Error(
           fmt::format("cannot write the movie {} at {} frames per second", path, options.fps),
@@ -197,12 +211,12 @@ class MovieWriter final : public ClipWriter {
     std::vector<std::string> argv{"ffmpeg",   "-y",
                                   "-v",       "error",
                                   "-f",       "rawvideo",
-                                  "-pix_fmt", codec_.pixelFormat,
+                                  "-pix_fmt", pixelFormat_,
                                   "-s",       fmt::format("{}x{}", encodedWidth_, encodedHeight_),
                                   "-r",       frameRateArgument(options.fps),
                                   "-i",       "-"};
     argv.insert(argv.end(), codec.arguments.begin(), codec.arguments.end());
-    argv.insert(argv.end(), {"-pix_fmt", codec.pixelFormat});  // encoded as piped
+    argv.insert(argv.end(), {"-pix_fmt", pixelFormat_});  // encoded as piped
     argv.insert(argv.end(), {"-threads", std::to_string(threadLimit())});
     const std::vector<std::string> color = colorArguments(options.color);
     argv.insert(argv.end(), color.begin(), color.end());
@@ -244,11 +258,11 @@ class MovieWriter final : public ClipWriter {
     }
     const void* bytes = nullptr;
     size_t byteCount = 0;
-    if (codec_.layout.bits == 8) {
-      packYcbcr(image, encodedWidth_, encodedHeight_, codec_.layout, matrix_, packed8_);
+    if (layout_.bits == 8) {
+      packYcbcr(image, encodedWidth_, encodedHeight_, layout_, matrix_, packed8_);
       bytes = packed8_.data(), byteCount = packed8_.size();
     } else {
-      packYcbcr(image, encodedWidth_, encodedHeight_, codec_.layout, matrix_, packed16_);
+      packYcbcr(image, encodedWidth_, encodedHeight_, layout_, matrix_, packed16_);
       bytes = packed16_.data(), byteCount = packed16_.size() * sizeof(uint16_t);
     }
     try {
@@ -296,7 +310,9 @@ class MovieWriter final : public ClipWriter {
   int width_;
   int height_;
   const MovieCodec& codec_;
-  int encodedWidth_;  // even for codecs that share chroma between columns
+  YcbcrLayout layout_;       // the codec's, with the alpha plane when asked for
+  std::string pixelFormat_;  // ffmpeg's name of that layout
+  int encodedWidth_;         // even for codecs that share chroma between columns
   int encodedHeight_;
   stdfs::path tmp_;  // encoded here, renamed to path_ by close()
   stdfs::path log_;  // ffmpeg's output, quoted in errors
@@ -322,9 +338,16 @@ const std::vector<std::string>& movieOutputExtensions() {
   return kExtensions;
 }
 
+std::vector<std::string> codecsWithAlpha() {
+  std::vector<std::string> names;
+  for (const MovieCodec& codec : codecs())
+    if (!codec.alphaPixelFormat.empty()) names.push_back(codec.name);
+  return names;
+}
+
 std::unique_ptr<ClipWriter> openMovieWriter(const std::string& path, int width, int height,
-                                            const WriterOptions& options) {
-  return std::make_unique<MovieWriter>(path, width, height, options);
+                                            const WriterOptions& options, bool withAlpha) {
+  return std::make_unique<MovieWriter>(path, width, height, options, withAlpha);
 }
 
 }  // namespace pluvia

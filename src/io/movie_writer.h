@@ -14,8 +14,12 @@ namespace pluvia {
 const std::vector<std::string>& movieOutputExtensions();
 // Codecs WriterOptions::codec may name.
 std::vector<std::string> movieCodecs();
+// Those that carry an alpha channel (ProRes 4444).
+std::vector<std::string> codecsWithAlpha();
 
+// `withAlpha`: the frames' alpha goes into the movie too (a codec of codecsWithAlpha(), else an
+// error naming `path`).
 std::unique_ptr<ClipWriter> openMovieWriter(const std::string& path, int width, int height,
-                                            const WriterOptions& options);
+                                            const WriterOptions& options, bool withAlpha);
 
 }  // namespace pluvia

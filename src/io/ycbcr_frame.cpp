@@ -90,7 +90,7 @@ void packYcbcr(const Image& image, int encodedWidth, int encodedHeight, const Yc
   const int chromaHeight = encodedHeight / layout.chromaRows;
   const size_t lumaSize = static_cast<size_t>(encodedWidth) * encodedHeight;
   const size_t chromaSize = static_cast<size_t>(chromaWidth) * chromaHeight;
-  planes.resize(lumaSize + 2 * chromaSize);
+  planes.resize(lumaSize * (layout.alpha ? 2 : 1) + 2 * chromaSize);
   const Weights k{matrix.kr, 1.0f - matrix.kr - matrix.kb, matrix.kb};
   const float scale = static_cast<float>(1 << (layout.bits - 8));
   // Codes from the colour differences B' - E'y and R' - E'y (ITU-R BT.709 section 3), of the
@@ -101,6 +101,8 @@ void packYcbcr(const Image& image, int encodedWidth, int encodedHeight, const Yc
   Sample* luma = planes.data();
   Sample* cb = luma + lumaSize;
   Sample* cr = cb + chromaSize;
+  Sample* alpha = layout.alpha ? cr + chromaSize : nullptr;
+  const float alphaScale = static_cast<float>((1 << layout.bits) - 1);
   cv::parallel_for_(cv::Range(0, chromaHeight), [&](const cv::Range& rows) {
     std::vector<float> sums(static_cast<size_t>(chromaWidth) * 3);  // R', G', B' planes
     std::vector<float> row(static_cast<size_t>(image.width) * 4);   // quantised
@@ -114,6 +116,12 @@ void packYcbcr(const Image& image, int encodedWidth, int encodedHeight, const Yc
         Sample* lumaOut = luma + static_cast<size_t>(y) * encodedWidth;
         lumaRow(row.data(), image.width, k, scale, lumaOut);
         if (encodedWidth > image.width) lumaOut[image.width] = lumaOut[image.width - 1];
+        if (alpha) {
+          Sample* alphaOut = alpha + static_cast<size_t>(y) * encodedWidth;
+          for (int x = 0; x < image.width; ++x)
+            alphaOut[x] = rounded<Sample>(row[static_cast<size_t>(x) * 4 + 3] * alphaScale);
+          if (encodedWidth > image.width) alphaOut[image.width] = alphaOut[image.width - 1];
+        }
         addChromaSums(row.data(), image.width, layout.chromaColumns, chromaWidth, sums.data());
       }
       Sample* cbRow = cb + static_cast<size_t>(cy) * chromaWidth;

@@ -27,11 +27,13 @@ struct YcbcrLayout {
   int bits = 8;           // 8 (codes in uint8_t), 10 or 12 (in the low bits of uint16_t)
   int chromaColumns = 2;  // 2: 4:2:2 and 4:2:0 (an even width); 1: 4:4:4
   int chromaRows = 2;     // 2: 4:2:0 (an even height); 1: 4:2:2 and 4:4:4
+  bool alpha = false;     // an alpha plane after Cr (ffmpeg's yuva...: full range, 0 to 2^bits - 1)
 };
 
 // Writes `image` (RGB in [0, 1], clamped, NaN as 0, and rounded to 16 bits) into `planes` as
 // video-range Y'CbCr of layout.bits: the Y' plane of encodedWidth x encodedHeight, then Cb and
-// Cr of encodedWidth / chromaColumns x encodedHeight / chromaRows. Codes round to nearest:
+// Cr of encodedWidth / chromaColumns x encodedHeight / chromaRows, then with layout.alpha the
+// image's alpha as a full plane (A = (2^bits - 1) alpha). Codes round to nearest:
 // Y' = (16 + 219 E'y) 2^(bits-8), Cb/Cr = (128 + 224 E'c) 2^(bits-8) (ITU-R BT.709/BT.2020). A
 // chroma sample is the mean of the pixels it covers, as swscale's RGB input averages them. An
 // encoded size beyond the image's (odd frames made even) repeats its last column and row.

@@ -157,6 +157,11 @@ std::vector<int64_t> framesToRender(const RenderRequest& request, const ClipInfo
   std::vector<int64_t> frames = selectFrames(request, clip);
   refuseOverwritingInput(clip, request, frames);
   refuseNamesTooLongToWrite(request, frames.back());
+  if (isMovieExtension(request.output)) {
+    WriterOptions options = request.format;
+    options.aovs = request.aovs;
+    checkMovieAovs(request.output, options);
+  }
   return frames;
 }
 
@@ -471,7 +476,7 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset,
   std::vector<int64_t> frames = session.frames();
   if (request.skipExisting) {
     FramesToRender todo =
-        framesStillToRender(request.output, frames, session.writerOptions().metadata);
+        framesStillToRender(request.output, frames, session.writerOptions().metadata, request.aovs);
     summary.framesSkipped = todo.kept;
     summary.framesRedone = todo.redone;
     if (todo.frames.empty()) return summary;

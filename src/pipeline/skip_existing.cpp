@@ -11,12 +11,28 @@
 
 namespace pluvia {
 
+namespace {
+
+// Why a movie and its AOV movies must be rendered again, empty when each is whole.
+std::string reasonToRenderMoviesAgain(const std::string& output,
+                                      const std::vector<std::string>& aovs, size_t frames) {
+  for (const std::string& path : framePaths(output, aovs, 0)) {
+    if (!std::filesystem::exists(path)) return path + " is missing";
+    const std::string reason = reasonToRenderMovieAgain(path, frames);
+    if (!reason.empty()) return path == output ? reason : path + ": " + reason;
+  }
+  return "";
+}
+
+}  // namespace
+
 FramesToRender framesStillToRender(const std::string& output, const std::vector<int64_t>& frames,
-                                   const std::map<std::string, std::string>& metadata) {
+                                   const std::map<std::string, std::string>& metadata,
+                                   const std::vector<std::string>& aovs) {
   FramesToRender result;
   result.frames = frames;
   if (isMovieExtension(output) && std::filesystem::exists(output)) {
-    const std::string reason = reasonToRenderMovieAgain(output, frames.size());
+    const std::string reason = reasonToRenderMoviesAgain(output, aovs, frames.size());
     if (reason.empty()) {
       log::info("--skip-existing: " + output + " exists, nothing to do");
       result.kept = int(frames.size());

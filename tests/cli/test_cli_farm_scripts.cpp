@@ -182,6 +182,12 @@ TEST(CliFarmScripts, TheChunksGetTheRendersOptionsThreadsAndColourConfig) {
   EXPECT_EQ(r.exitCode, 2) << r.output;
   EXPECT_NE(r.output.find("unknown output 'sparkle'"), std::string::npos) << r.output;
   EXPECT_FALSE(stdfs::exists(dir / "c" / "o.farm"));
+  // A farm movie is assembled from the chunks' beauty frames: AOVs asked of it would be lost.
+  r = runPluvia({"farm", "slurm", plate, "-p", "moderate", "-o", (dir / "d" / "o.mov").string(),
+                 "--chunk", "2", "--codec", "prores_4444", "--aov", "rain"});
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find("without their AOVs"), std::string::npos) << r.output;
+  EXPECT_FALSE(stdfs::exists(dir / "d" / "o.farm"));
 }
 
 // A task stopped at its job's time limit is told from a failure: Slurm sends the script USR1 a
