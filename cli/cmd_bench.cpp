@@ -378,7 +378,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     RenderSummary summary;
     try {
       ClipInfo clip;
-      planJob(input, preset, "", allStages(), &clip);
+      planJob(input, std::nullopt, preset, "", allStages(), &clip);
       request.lastFrame = clip.frames.front() + args->frames - 1;
       summary = renderJob(request, preset, allStages(), times);
     } catch (...) {

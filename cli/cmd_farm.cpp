@@ -21,6 +21,7 @@
 #include "io/timecode.h"
 #include "pipeline/color_settings.h"
 #include "pipeline/frame_metadata.h"
+#include "pipeline/numbered_clip_reader.h"
 #include "pipeline/render_job.h"
 #include "stages/registry.h"
 #include "util/error.h"
@@ -57,6 +58,7 @@ void addSlurmCommand(CLI::App* farm) {
     RenderOutputOptions writes;
     int chunk = 0, threads = 0, cpus = 0;
     bool submit = false, dryRun = false;
+    std::optional<int64_t> startFrame;
   };
   auto args = std::make_shared<Args>();
   addClipPresetOptions(cmd, args->input, args->preset, args->sets);
@@ -79,6 +81,7 @@ void addSlurmCommand(CLI::App* farm) {
                   "threads per chunk (default: --cpus-per-task, else the node's Slurm allocation)")
       ->check(CLI::Range(1, 64));
   addRenderOutputOptions(cmd, args->writes);
+  addStartFrameOption(cmd, args->startFrame);
   auto* submit = cmd->add_flag("--submit", args->submit, "submit the jobs through sbatch");
   cmd->add_flag("--dry-run", args->dryRun, "print the scripts, write and submit nothing")
       ->excludes(submit);
@@ -93,7 +96,7 @@ void addSlurmCommand(CLI::App* farm) {
                       "out.####.exr, whose AOVs the chunks write",
                       fmt::join(args->writes.aovs(), ","), args->output));
     const Preset preset = loadPreset(args->preset, args->sets);  // refused here, not on the farm
-    const std::unique_ptr<ClipReader> reader = openClip(args->input);
+    const std::unique_ptr<ClipReader> reader = openNumberedClip(args->input, args->startFrame);
     const ClipInfo& clip = reader->info();
     farm::FarmJob job;
     job.pluvia = stdfs::read_symlink("/proc/self/exe").string();
@@ -140,6 +143,10 @@ void addSlurmCommand(CLI::App* farm) {
     }
     if (args->writes.proxy != 1.0)
       job.prepareOptions = {"--proxy", fmt::format("{}", args->writes.proxy)};
+    // The prepare job and the chunks number the movie's frames as this job does.
+    if (args->startFrame)
+      for (auto* options : {&job.prepareOptions, &job.renderOptions})
+        options->insert(options->end(), {"--start-frame", std::to_string(*args->startFrame)});
     // The plate's timecode, counted on to the job's first frame, as a local render's movie has it.
     if (const auto tc = clip.metadata.find("smpte:TimeCode"); movie && tc != clip.metadata.end())
       if (const auto start = Timecode::parse(tc->second, job.fps))

@@ -17,11 +17,13 @@ namespace {
 // preset's JSON, for a script to load) (they are
 // found in the clip's still and placed at the depth the depth stage gives its first frame, as a
 // render does once per clip). Only the depth and lights stages are prepared.
-void printFoundLamps(const std::string& input, const Preset& preset, const std::string& cache) {
+void printFoundLamps(const std::string& input, std::optional<int64_t> movieFirstFrame,
+                     const Preset& preset, const std::string& cache) {
   const LightsSettings lights = lightsSettings(preset);
   if (!lights.find) return;
   RenderRequest request;
   request.input = input;
+  request.movieFirstFrame = movieFirstFrame;
   request.cacheDir = cache;
   request.progress = false;
   StageTimes times;
@@ -57,22 +59,24 @@ void addPlanCommand(CLI::App& app, Invocation& invocation) {
     std::string input, preset, cache;
     std::vector<std::string> sets;
     bool resolved = false;
+    std::optional<int64_t> startFrame;
   };
   auto args = std::make_shared<Args>();
   addClipPresetOptions(cmd, args->input, args->preset, args->sets);
   cmd->add_option("--cache", args->cache, "cache folder for per-clip analysis");
+  addStartFrameOption(cmd, args->startFrame);
   cmd->add_flag("--resolved", args->resolved,
                 "print the fully resolved preset as JSON instead (stdout), and the lamps found "
                 "in the plate (lights.find), one line each, on stderr");
   cmd->callback([=] {
     Preset preset = loadPreset(args->preset, args->sets);
     if (args->resolved) {
-      printFoundLamps(args->input, preset, args->cache);
+      printFoundLamps(args->input, args->startFrame, preset, args->cache);
       std::cout << preset.json().dump(2) << "\n";
       return;
     }
     ClipInfo clip;
-    Plan plan = planJob(args->input, preset, args->cache, allStages(), &clip);
+    Plan plan = planJob(args->input, args->startFrame, preset, args->cache, allStages(), &clip);
     std::cout << fmt::format(
         "plan for {} ({}x{}, {} frames {}-{}, {} fps) with preset {} (hash {}):\n", clip.path,
         clip.width, clip.height, clip.frames.size(), clip.frames.front(), clip.frames.back(),

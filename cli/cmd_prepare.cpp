@@ -22,16 +22,19 @@ void addPrepareCommand(CLI::App& app, Invocation& invocation) {
     std::string input, preset, cache;
     std::vector<std::string> sets;
     double proxy = 1.0;
+    std::optional<int64_t> startFrame;
   };
   auto args = std::make_shared<Args>();
   addClipPresetOptions(cmd, args->input, args->preset, args->sets);
   cmd->add_option("--cache", args->cache, "cache folder for per-clip analysis")->required();
   cmd->add_option("--proxy", args->proxy,
                   "for renders at this fraction of the plate's size, in (0, 1]");
+  addStartFrameOption(cmd, args->startFrame);
   cmd->callback([=, &invocation] {
     checkProxyScale(args->proxy);
     RenderRequest request;
     request.input = args->input;
+    request.movieFirstFrame = args->startFrame;
     request.cacheDir = args->cache;
     request.commandLine = invocation.commandLine;
     request.proxyScale = args->proxy;

@@ -62,6 +62,7 @@ void addPreviewCommand(CLI::App& app, Invocation& invocation) {
     std::vector<std::string> sets;
     int count = 3;
     std::optional<double> proxy;
+    std::optional<int64_t> startFrame;
   };
   auto args = std::make_shared<Args>();
   addClipPresetOptions(cmd, args->input, args->preset, args->sets);
@@ -74,6 +75,7 @@ void addPreviewCommand(CLI::App& app, Invocation& invocation) {
                               "columns at most {} px wide)",
                               kMaxColumnWidthPx));
   cmd->add_option("--cache", args->cache, "cache folder for per-clip analysis");
+  addStartFrameOption(cmd, args->startFrame);
   cmd->callback([=, &invocation] {
     if (args->count < 1)
       throw UsageError(fmt::format("--count {}: the sheet needs 1 frame or more", args->count));
@@ -82,6 +84,7 @@ void addPreviewCommand(CLI::App& app, Invocation& invocation) {
       throw UsageError(fmt::format("-o {}: the contact sheet is a PNG (SHEET.png)", args->output));
     RenderRequest request;
     request.input = args->input;
+    request.movieFirstFrame = args->startFrame;
     request.output = args->output;  // refused when it names an input file; sets the colour-out
     if (!args->frames.empty()) {
       setFrames(request, args->frames);

@@ -23,6 +23,7 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
     std::vector<std::string> sets;
     int threads = 2;
     bool skipExisting = false, stats = false, requireCache = false;
+    std::optional<int64_t> startFrame;
   };
   auto args = std::make_shared<Args>();
   addClipPresetOptions(cmd, args->input, args->preset, args->sets);
@@ -43,10 +44,12 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
                 "leave frames that already exist (resume a job)");
   cmd->add_flag("--stats", args->stats, "print a per-stage timing summary");
   addRenderOutputOptions(cmd, args->writes);
+  addStartFrameOption(cmd, args->startFrame);
   cmd->callback([=, &invocation] {
     checkProxyScale(args->writes.proxy);
     RenderRequest request;
     request.input = args->input;
+    request.movieFirstFrame = args->startFrame;
     request.output = args->output;
     if (!args->frames.empty()) {
       setFrames(request, args->frames);

@@ -133,6 +133,12 @@ std::string joinCommandLine(int argc, char** argv) {
   return line;
 }
 
+void addStartFrameOption(CLI::App* cmd, std::optional<int64_t>& movieFirstFrame) {
+  cmd->add_option("--start-frame", movieFirstFrame,
+                  "the number of a movie's first frame (movies count from 0 otherwise), such as "
+                  "1001: --frames, the rain and the output's frame numbers and timecode follow it");
+}
+
 void addRenderOutputOptions(CLI::App* cmd, RenderOutputOptions& options) {
   cmd->add_option("--codec", options.codec,
                   "movie codec: h264 (default), prores_4444, prores_422hq, dnxhr_hq, dnxhr_hqx, "

@@ -32,6 +32,9 @@ std::pair<int, int> parseFrameSize(const std::string& size, int minSidePx,
 void setFrames(RenderRequest& request, const std::string& text);
 // --proxy: throws UsageError unless `scale` is in (0, 1].
 void checkProxyScale(double scale);
+// --start-frame, of every command that reads a clip as a render does (render, plan, prepare,
+// preview, farm slurm): the number of a movie's first frame.
+void addStartFrameOption(CLI::App* cmd, std::optional<int64_t>& movieFirstFrame);
 
 // What a render writes besides its frames' pixels: shared by `render` and `farm slurm` (which
 // passes them on to its chunks and its assembly) so that the two commands cannot drift.

@@ -19,6 +19,7 @@
 #include "pipeline/clip_analysis.h"
 #include "pipeline/frame_metadata.h"
 #include "pipeline/frame_threads.h"
+#include "pipeline/numbered_clip_reader.h"
 #include "pipeline/proxy_clip_reader.h"
 #include "pipeline/skip_existing.h"
 #include "util/fs.h"
@@ -147,7 +148,7 @@ void ensureAovPlanes(Image& image, const std::vector<std::string>& aovs) {
 
 // The input, read at the proxy size when the request asks for one.
 std::unique_ptr<ClipReader> openInput(const RenderRequest& request) {
-  std::unique_ptr<ClipReader> reader = openClip(request.input);
+  std::unique_ptr<ClipReader> reader = openNumberedClip(request.input, request.movieFirstFrame);
   if (request.proxyScale == 1.0) return reader;
   return std::make_unique<ProxyClipReader>(std::move(reader), request.proxyScale);
 }
@@ -449,9 +450,9 @@ void RenderSession::toOutput(Image& image) const {
   toOutput_.apply(image);
 }
 
-Plan planJob(const std::string& input, const Preset& preset, const std::string& cacheDir,
-             const std::vector<StageInfo>& stages, ClipInfo* clipOut) {
-  auto reader = openClip(input);
+Plan planJob(const std::string& input, std::optional<int64_t> movieFirstFrame, const Preset& preset,
+             const std::string& cacheDir, const std::vector<StageInfo>& stages, ClipInfo* clipOut) {
+  auto reader = openNumberedClip(input, movieFirstFrame);
   std::optional<ArtifactCache> cache;
   if (!cacheDir.empty()) cache.emplace(cacheDir);
   Plan plan = makePlan(preset, reader->info(), cache ? &*cache : nullptr, stages);

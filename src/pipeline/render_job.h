@@ -24,6 +24,8 @@ namespace pluvia {
 struct RenderRequest {
   std::string input;
   std::string output;
+  // --start-frame: the number of a movie's first frame (movies count from 0 otherwise).
+  std::optional<int64_t> movieFirstFrame;
   std::optional<int64_t> firstFrame;  // inclusive, clip frame numbers
   std::optional<int64_t> lastFrame;
   // A stepped or comma list ("1001-1100x2", "1,5,9"), ascending; every one must be in the clip.
@@ -113,8 +115,9 @@ class RenderSession {
 };
 
 // Opens the input and plans the job for it, without rendering.
-Plan planJob(const std::string& input, const Preset& preset, const std::string& cacheDir,
-             const std::vector<StageInfo>& stages, ClipInfo* clipOut = nullptr);
+Plan planJob(const std::string& input, std::optional<int64_t> movieFirstFrame, const Preset& preset,
+             const std::string& cacheDir, const std::vector<StageInfo>& stages,
+             ClipInfo* clipOut = nullptr);
 
 // Renders: refuses one image file for many frames, locks the output, keeps the frames
 // --skip-existing finds done (pipeline/skip_existing.h), prepares the stages and runs the frame

@@ -1,0 +1,49 @@
+#include "pipeline/numbered_clip_reader.h"
+
+#include <fmt/format.h>
+
+#include "util/error.h"
+
+namespace pluvia {
+namespace {
+
+class NumberedClipReader final : public ClipReader {
+ public:
+  NumberedClipReader(std::unique_ptr<ClipReader> movie, int64_t firstFrame)
+      : movie_(std::move(movie)), info_(movie_->info()), offset_(firstFrame) {
+    for (int64_t& frame : info_.frames) frame += offset_;
+  }
+  const ClipInfo& info() const override { return info_; }
+  // The movie's own reader names the frame by its position; the number asked for is added.
+  Image read(int64_t frame) override {
+    try {
+      return movie_->read(frame - offset_);
+    } catch (const Error& e) {
+      throw Error(fmt::format("frame {} (the movie's frame {} from 0): {}", frame, frame - offset_,
+                              e.what()),
+                  {"read", frame, info_.path});
+    }
+  }
+
+ private:
+  std::unique_ptr<ClipReader> movie_;
+  ClipInfo info_;
+  int64_t offset_;
+};
+
+}  // namespace
+
+std::unique_ptr<ClipReader> openNumberedClip(const std::string& input,
+                                             std::optional<int64_t> movieFirstFrame) {
+  std::unique_ptr<ClipReader> reader = openClip(input);
+  if (!movieFirstFrame) return reader;
+  if (!reader->info().isMovie)
+    throw UsageError(
+        fmt::format("--start-frame {}: {} is not a movie; a sequence or image keeps "
+                    "its own frame numbers",
+                    *movieFirstFrame, input));
+  if (*movieFirstFrame == 0) return reader;
+  return std::make_unique<NumberedClipReader>(std::move(reader), *movieFirstFrame);
+}
+
+}  // namespace pluvia
