@@ -9,6 +9,7 @@
 
 #include "commands.h"
 #include "common.h"
+#include "io/oiio_debug.h"
 #include "pluvia/version.h"
 #include "preset/param_table.h"
 #include "util/error.h"
@@ -58,6 +59,7 @@ int main(int argc, char** argv) {
   cli::addDepthCommand(app, invocation);
   app.parse_complete_callback([&] {
     log::setLevel(quiet ? log::Level::Warning : verbose ? log::Level::Debug : log::Level::Info);
+    showOiioDebugMessages(verbose);
     if (!logFile.empty()) log::setFile(logFile);
     cli::protectNamedInputs(app);
   });

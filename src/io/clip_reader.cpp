@@ -56,6 +56,7 @@ void describeFirstFrame(ClipInfo& info, const std::string& path, int64_t frame) 
   info.channels = header.channels;
   info.isFloat = header.isFloat;
   info.bitsPerSample = header.bitsPerSample;
+  info.displayWindow = header.displayWindow;
   info.dataWindow = header.dataWindow;
   info.metadata = header.metadata;
 }

@@ -28,7 +28,10 @@ struct ClipInfo {
   // What the input says about itself, to be carried to the output, in OpenImageIO's names:
   // "smpte:TimeCode", "Make", "Model", ... (see io/movie_probe.h, io/image_file_reader.h).
   std::map<std::string, std::string> metadata;
-  // The first frame's data window where it is not the whole frame (EXR), clipped to the frame.
+  // An EXR's windows, from its first frame. The frame is the display window grown to hold a
+  // data window that reaches past it (overscan, kept); displayWindow is then where the picture
+  // the camera frames lies in it. dataWindow: the pixels stored, where not the whole frame.
+  std::optional<PixelWindow> displayWindow;
   std::optional<PixelWindow> dataWindow;
   std::vector<std::string> files;  // the files read (one for a movie or a still); for hashing
 };

@@ -141,6 +141,7 @@ class ImageSequenceWriter final : public ClipWriter {
     fileOptions.exrFullFloat = options_.exrSampleType == "float";
     fileOptions.exrCompression = options_.exrCompression;
     fileOptions.dataWindow = options_.dataWindow;
+    fileOptions.displayWindow = options_.displayWindow;
     if (options_.timecode)
       fileOptions.timecode = options_.timecode->plus(frame - options_.firstFrame);
     // AOV files hold mattes, depth and rain alone: only the beauty is tagged with a colour space.
@@ -257,6 +258,41 @@ class MovieWithAovsWriter final : public ClipWriter {
   std::vector<std::pair<std::string, std::unique_ptr<ClipWriter>>> aovs_;
 };
 
+// The picture of a frame that holds overscan around it, its planes too.
+Image croppedTo(const Image& image, const PixelWindow& window) {
+  Image out(window.width, window.height);
+  for (int y = 0; y < window.height; ++y) {
+    const float* from = image.pixel(window.x, window.y + y);
+    std::copy(from, from + size_t(window.width) * 4, out.pixel(0, y));
+  }
+  for (const auto& [name, plane] : image.planes) {
+    std::vector<float>& to = out.plane(name);
+    for (int y = 0; y < window.height; ++y) {
+      const auto from = plane.begin() + ptrdiff_t((window.y + y) * image.width + window.x);
+      std::copy(from, from + window.width, to.begin() + ptrdiff_t(y) * window.width);
+    }
+  }
+  return out;
+}
+
+// Formats other than EXR hold the picture alone: a frame with overscan is cropped to its
+// display window before it is written.
+class PictureWriter final : public ClipWriter {
+ public:
+  PictureWriter(std::unique_ptr<ClipWriter> writer, PixelWindow picture)
+      : writer_(std::move(writer)), picture_(picture) {}
+  void write(int64_t frame, const Image& image) override {
+    writer_->write(frame, croppedTo(image, picture_));
+  }
+  void close() override { writer_->close(); }
+  bool isMovie() const override { return writer_->isMovie(); }
+  std::string pathFor(int64_t frame) const override { return writer_->pathFor(frame); }
+
+ private:
+  std::unique_ptr<ClipWriter> writer_;
+  PixelWindow picture_;
+};
+
 }  // namespace
 
 std::unique_ptr<ClipWriter> openClipWriter(const std::string& output, int width, int height,
@@ -281,6 +317,20 @@ std::unique_ptr<ClipWriter> openClipWriter(const std::string& output, int width,
                 {"write", {}, output});
   }
   if (isMovieFormat) checkMovieAovs(output, options);
+  if (options.displayWindow && extension != "exr") {
+    const PixelWindow picture = *options.displayWindow;
+    if (picture.x < 0 || picture.y < 0 || picture.width <= 0 || picture.height <= 0 ||
+        picture.x + picture.width > width || picture.y + picture.height > height)
+      throw Error(
+          fmt::format("the picture {}x{} at ({}, {}) is not inside the {}x{} frame of {}",
+                      picture.width, picture.height, picture.x, picture.y, width, height, output),
+          {"write", {}, output});
+    WriterOptions pictureOnly = options;
+    pictureOnly.displayWindow.reset();
+    pictureOnly.dataWindow.reset();
+    return std::make_unique<PictureWriter>(
+        openClipWriter(output, picture.width, picture.height, pictureOnly), picture);
+  }
   const std::string firstPath = isMovieFormat ? output : namingFor(output).beauty(0);
   fs::ensureParentFolder(firstPath, options.makeFolders);
   if (isMovieFormat && !options.aovs.empty())

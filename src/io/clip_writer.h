@@ -44,6 +44,10 @@ struct WriterOptions {
   // EXR: the data window to write, inside the frame (the input's, carried through); pixels
   // outside it are not stored. Empty: the whole frame.
   std::optional<PixelWindow> dataWindow;
+  // The picture inside a frame that holds overscan around it (the input's display window,
+  // carried through): an EXR keeps the overscan beyond its display window; every other format
+  // holds the picture alone, cropped to it. Empty: the frame is the picture.
+  std::optional<PixelWindow> displayWindow;
   // The output's folder: made when the folder above it exists, every missing level with --mkdir.
   fs::MakeFolders makeFolders = fs::MakeFolders::LastLevel;
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <system_error>
@@ -46,7 +47,24 @@ std::unique_ptr<OIIO::ImageInput> openImage(const std::string& path, std::option
   }
   checkFrameSize(spec.full_width, spec.full_height, path, readContext(path, frame));
   checkFrameSize(spec.width, spec.height, path, readContext(path, frame));  // the data window
+  // The two windows together (a hostile header may set them far apart).
+  const int64_t x0 = std::min(spec.x, spec.full_x), y0 = std::min(spec.y, spec.full_y);
+  const int64_t x1 =
+      std::max<int64_t>(int64_t(spec.x) + spec.width, int64_t(spec.full_x) + spec.full_width);
+  const int64_t y1 =
+      std::max<int64_t>(int64_t(spec.y) + spec.height, int64_t(spec.full_y) + spec.full_height);
+  checkFrameSize(int(std::min<int64_t>(x1 - x0, INT32_MAX)),
+                 int(std::min<int64_t>(y1 - y0, INT32_MAX)), path, readContext(path, frame));
   return input;
+}
+
+// The frame pluvia works on, in the file's coordinates: the display window grown to hold the
+// data window (overscan is kept, not cropped). openImage() checked its size.
+PixelWindow frameOf(const OIIO::ImageSpec& spec) {
+  const int x0 = std::min(spec.x, spec.full_x), y0 = std::min(spec.y, spec.full_y);
+  const int x1 = std::max(spec.x + spec.width, spec.full_x + spec.full_width);
+  const int y1 = std::max(spec.y + spec.height, spec.full_y + spec.full_height);
+  return {x0, y0, x1 - x0, y1 - y0};
 }
 
 bool isFloatFormat(const OIIO::ImageSpec& spec) {
@@ -93,20 +111,19 @@ ImageFileHeader readImageHeader(const std::string& path, std::optional<int64_t> 
   std::unique_ptr<OIIO::ImageInput> input = openImage(path, frame);
   const OIIO::ImageSpec& spec = input->spec();
   ImageFileHeader header;
-  header.width = spec.full_width;
-  header.height = spec.full_height;
+  const PixelWindow frameWindow = frameOf(spec);
+  header.width = frameWindow.width;
+  header.height = frameWindow.height;
   header.channels = spec.nchannels;
   header.isFloat = isFloatFormat(spec);
   header.bitsPerSample =
       spec.get_int_attribute("oiio:BitsPerSample", static_cast<int>(spec.format.size() * 8));
-  const int x0 = std::max(spec.x, spec.full_x), y0 = std::max(spec.y, spec.full_y);
-  const int x1 = std::min(spec.x + spec.width, spec.full_x + spec.full_width);
-  const int y1 = std::min(spec.y + spec.height, spec.full_y + spec.full_height);
-  const PixelWindow window{x0 - spec.full_x, y0 - spec.full_y, x1 - x0, y1 - y0};
-  if (window.width > 0 && window.height > 0 &&
-      !(window == PixelWindow{0, 0, spec.full_width, spec.full_height})) {
-    header.dataWindow = window;
-  }
+  const PixelWindow display{spec.full_x - frameWindow.x, spec.full_y - frameWindow.y,
+                            spec.full_width, spec.full_height};
+  const PixelWindow data{spec.x - frameWindow.x, spec.y - frameWindow.y, spec.width, spec.height};
+  const PixelWindow whole{0, 0, frameWindow.width, frameWindow.height};
+  if (!(display == whole)) header.displayWindow = display;
+  if (!(data == whole)) header.dataWindow = data;
   for (const std::string& name : carriedMetadataNames()) {
     const OIIO::ParamValue* value = spec.find_attribute(name);
     if (!value) continue;
@@ -125,46 +142,24 @@ Image readImageFile(const std::string& path, std::optional<int64_t> frame) {
   std::unique_ptr<OIIO::ImageInput> input = openImage(path, frame);
   const OIIO::ImageSpec& spec = input->spec();
   const int channelsRead = std::min(spec.nchannels, 4);
-  Image image(spec.full_width, spec.full_height);
+  const PixelWindow frameWindow = frameOf(spec);
+  Image image(frameWindow.width, frameWindow.height);
   const OIIO::stride_t pixelBytes = 4 * sizeof(float);
-  // The data window (EXR) may differ from the display window, which is the frame. Pixels
-  // outside the data window stay black, transparent where the file has alpha.
-  const bool windowIsFrame = spec.x == spec.full_x && spec.y == spec.full_y &&
-                             spec.width == spec.full_width && spec.height == spec.full_height;
+  // The data window (EXR) may differ from the frame. Pixels outside it stay black, transparent
+  // where the file has alpha.
+  const bool windowIsFrame = spec.x == frameWindow.x && spec.y == frameWindow.y &&
+                             spec.width == frameWindow.width && spec.height == frameWindow.height;
   if (!windowIsFrame && (channelsRead == 2 || channelsRead == 4)) {
     for (size_t i = 0; i < image.pixelCount(); ++i) image.rgba[i * 4 + 3] = 0.0f;
   }
-  const bool windowInsideFrame = spec.x >= spec.full_x && spec.y >= spec.full_y &&
-                                 spec.x + spec.width <= spec.full_x + spec.full_width &&
-                                 spec.y + spec.height <= spec.full_y + spec.full_height;
   // Straight into the frame's RGBA slots: no intermediate buffer (a 1080p one costs more to
-  // allocate than to fill). Only a data window reaching outside the frame needs one.
-  std::vector<float> overscan;
-  float* target = nullptr;
-  OIIO::stride_t rowBytes = 0;
-  if (windowInsideFrame) {
-    target = image.pixel(spec.x - spec.full_x, spec.y - spec.full_y);
-    rowBytes = pixelBytes * image.width;
-  } else {
-    overscan.resize(spec.image_pixels() * 4);
-    target = overscan.data();
-    rowBytes = pixelBytes * spec.width;
-  }
-  if (!input->read_image(0, 0, 0, channelsRead, OIIO::TypeDesc::FLOAT, target, pixelBytes,
-                         rowBytes)) {
+  // allocate than to fill).
+  if (!input->read_image(0, 0, 0, channelsRead, OIIO::TypeDesc::FLOAT,
+                         image.pixel(spec.x - frameWindow.x, spec.y - frameWindow.y), pixelBytes,
+                         pixelBytes * image.width)) {
     throw Error("cannot decode image " + path +
                     " (corrupt or truncated?): " + oiioMessage(input->geterror()),
                 readContext(path, frame));
-  }
-  if (!windowInsideFrame) {
-    const int x0 = std::max(spec.x, spec.full_x);
-    const int x1 = std::min(spec.x + spec.width, spec.full_x + spec.full_width);
-    for (int y = std::max(spec.y, spec.full_y);
-         y < std::min(spec.y + spec.height, spec.full_y + spec.full_height) && x0 < x1; ++y) {
-      const float* src =
-          overscan.data() + (static_cast<size_t>(y - spec.y) * spec.width + (x0 - spec.x)) * 4;
-      std::copy(src, src + (x1 - x0) * 4, image.pixel(x0 - spec.full_x, y - spec.full_y));
-    }
   }
   expandChannels(image, channelsRead);
   return image;

@@ -17,7 +17,11 @@ struct ImageFileHeader {
   int channels = 0;      // as stored
   bool isFloat = false;  // half or float samples
   int bitsPerSample = 8;
-  // The data window, clipped to the frame, where it is not the whole frame.
+  // The frame is the display window, grown to hold a data window that reaches past it
+  // (overscan, EXR); width and height are the frame's. Where it grew, the display window's
+  // place in it: the picture the camera frames.
+  std::optional<PixelWindow> displayWindow;
+  // The data window, in the frame, where it is not the whole frame.
   std::optional<PixelWindow> dataWindow;
   // Metadata to carry to the output (see carriedMetadataNames()): timecode as
   // "smpte:TimeCode" = "HH:MM:SS:FF", camera and lens fields as text.

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <set>
 
 #include <Imath/half.h>
 #include <OpenImageIO/filesystem.h>
@@ -151,6 +153,22 @@ void describe(OIIO::ImageSpec& spec, const std::string& extension,
   }
 }
 
+// A metadata value as its field's type: the exposure fields a plate carries are numbers in
+// EXIF and EXR (written as text, OpenEXR's writer drops them with a debug line), the rest text.
+void setAttribute(OIIO::ImageSpec& spec, const std::string& key, const std::string& value) {
+  static const std::set<std::string> kReals{"ExposureTime", "FNumber", "Exif:FocalLength"};
+  char* end = nullptr;
+  const double number = std::strtod(value.c_str(), &end);
+  const bool isNumber = !value.empty() && end == value.c_str() + value.size();
+  if (isNumber && kReals.count(key)) {
+    spec.attribute(key, float(number));
+  } else if (isNumber && key == "Exif:ISOSpeedRatings" && number == std::floor(number)) {
+    spec.attribute(key, int(number));
+  } else {
+    spec.attribute(key, value);
+  }
+}
+
 OIIO::ImageSpec makeSpec(const std::string& extension, Encoding encoding, int width, int height,
                          const std::vector<OutputChannel>& channels,
                          const std::map<std::string, std::string>& metadata,
@@ -189,18 +207,24 @@ OIIO::ImageSpec makeSpec(const std::string& extension, Encoding encoding, int wi
   // 32 characters and HDR none: they go without.)
   std::string description;
   for (const auto& [key, value] : metadata) {
-    spec.attribute(key, value);
+    setAttribute(spec, key, value);
     description += (description.empty() ? "" : "; ") + key + "=" + value;
   }
   const bool describes =
       extension == "tif" || extension == "tiff" || extension == "jpg" || extension == "jpeg";
   if (describes && !description.empty()) spec.attribute("ImageDescription", description);
   describe(spec, extension, options);
-  if (extension == "exr" && options.dataWindow) {
-    spec.x = options.dataWindow->x;
-    spec.y = options.dataWindow->y;
-    spec.width = options.dataWindow->width;
-    spec.height = options.dataWindow->height;
+  if (extension == "exr") {
+    // File coordinates have the display window at the origin.
+    const PixelWindow display = options.displayWindow.value_or(PixelWindow{0, 0, width, height});
+    const PixelWindow data = options.dataWindow.value_or(PixelWindow{0, 0, width, height});
+    spec.full_x = spec.full_y = 0;
+    spec.full_width = display.width;
+    spec.full_height = display.height;
+    spec.x = data.x - display.x;
+    spec.y = data.y - display.y;
+    spec.width = data.width;
+    spec.height = data.height;
   }
   return spec;
 }
@@ -232,11 +256,12 @@ void writeImageFile(const std::string& path, int width, int height,
                             options.exrCompression, path, fmt::join(compressions, ", ")),
                 context);
   }
-  if (const auto& window = options.dataWindow) {
-    if (window->width <= 0 || window->height <= 0 || window->x < 0 || window->y < 0 ||
-        window->x + window->width > width || window->y + window->height > height) {
+  for (const auto& [name, window] :
+       {std::pair{"data", options.dataWindow}, std::pair{"display", options.displayWindow}}) {
+    if (window && (window->width <= 0 || window->height <= 0 || window->x < 0 || window->y < 0 ||
+                   window->x + window->width > width || window->y + window->height > height)) {
       throw Error(
-          fmt::format("data window {}x{} at ({}, {}) is not inside the {}x{} frame of {}",
+          fmt::format("{} window {}x{} at ({}, {}) is not inside the {}x{} frame of {}", name,
                       window->width, window->height, window->x, window->y, width, height, path),
           context);
     }
@@ -248,8 +273,11 @@ void writeImageFile(const std::string& path, int width, int height,
       encode(encoding, static_cast<size_t>(width) * height, channels);
   // The data window's first pixel and the frame's row length: only the window is stored.
   const size_t pixelBytes = pixels.size() / (static_cast<size_t>(width) * height);
+  const PixelWindow stored = extension == "exr" && options.dataWindow
+                                 ? *options.dataWindow
+                                 : PixelWindow{0, 0, width, height};
   const unsigned char* first =
-      pixels.data() + (static_cast<size_t>(spec.y) * width + spec.x) * pixelBytes;
+      pixels.data() + (static_cast<size_t>(stored.y) * width + stored.x) * pixelBytes;
 
   // Encoded into memory, then written by fs::writeFileAtomically, which checks every step down
   // to the disk: OIIO's own file writers miss some failures (a PNG on a full disk came out

@@ -32,6 +32,9 @@ struct ImageFileOptions {
   std::optional<Timecode> timecode;    // EXR and DPX headers
   // EXR: the data window (inside the frame); only its pixels are stored. Others: ignored.
   std::optional<PixelWindow> dataWindow;
+  // EXR: the display window (inside the frame) where the frame holds overscan around it: the
+  // file's display window is it, and its data window reaches past it. Others: ignored.
+  std::optional<PixelWindow> displayWindow;
 };
 
 // EXR compressions ImageFileOptions::exrCompression may name.

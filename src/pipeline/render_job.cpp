@@ -196,6 +196,20 @@ void carryInputMetadata(WriterOptions& options, const ClipInfo& clip,
     }
   }
   if (clip.dataWindow && proxyScale == 1.0) options.dataWindow = clip.dataWindow;
+  options.displayWindow = clip.displayWindow;  // a proxy's, scaled with its frames
+}
+
+// The camera of the plate's picture (its field of view spans the display window), its frame
+// grown to the overscan around it: the principal point moves with the picture's place.
+Camera cameraOfFrame(const CameraSettings& settings, const ClipInfo& clip) {
+  if (!clip.displayWindow) return settings.base(clip.width, clip.height);
+  const PixelWindow& picture = *clip.displayWindow;
+  Camera camera = settings.base(picture.width, picture.height);
+  camera.width = clip.width;
+  camera.height = clip.height;
+  camera.cx += picture.x;
+  camera.cy += picture.y;
+  return camera;
 }
 
 // What a frame's pixels and file depend on besides the preset, recorded in its header so that
@@ -338,7 +352,10 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
       "input: {}x{}, {} bits a sample, {:g} fps; output tagged '{}'{}{}", clip().width,
       clip().height, clip().bitsPerSample, writerOptions_.fps, writerOptions_.color.name,
       writerOptions_.timecode ? ", timecode " + writerOptions_.timecode->text() : std::string(),
-      writerOptions_.dataWindow ? ", the input's data window" : ""));
+      writerOptions_.dataWindow ? ", the input's data window" : "",
+      clip().displayWindow ? fmt::format(", overscan around a {}x{} picture",
+                                         clip().displayWindow->width, clip().displayWindow->height)
+                           : std::string()));
   if (request.proxyScale != 1.0)
     log::info(fmt::format("proxy render (not a final): {}x{}, {:g} of the plate's size",
                           clip().width, clip().height, request.proxyScale));
@@ -350,7 +367,7 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
   context_.fps = writerOptions_.fps;
   // From the clip's size as read: a proxy's smaller frames get a proportionally shorter focal
   // length in pixels, so the rain and the depth land where they would on the full frame.
-  context_.camera = camera_.base(clip().width, clip().height);
+  context_.camera = cameraOfFrame(camera_, clip());
   context_.cameraPath = camera_.path(context_.camera);
   context_.readWorking = [this](int64_t frame) {
     Image image = reader_->read(frame);

@@ -306,6 +306,63 @@ TEST(CliIo, ExrDataWindowTimecodeAndCameraPassThrough) {
   }
 }
 
+// Overscan kept (issue 30): a plate whose data window reaches 8 and 6 px past its 64x36 display
+// window renders the overscan too, rain included, and an EXR output keeps both windows; a PNG
+// holds the picture alone.
+TEST(CliIo, ExrOverscanIsRenderedAndKept) {
+  auto dir = freshTempDir("cli_io_exr_overscan");
+  constexpr int kWidth = 80, kHeight = 48;
+  for (int f = 1; f <= 2; ++f) {
+    const OIIO::ImageSpec spec =
+        windowedSpec(kWidth, kHeight, 3, OIIO::TypeDesc::HALF, -8, -6, 64, 36);
+    std::vector<float> pixels(size_t(kWidth) * kHeight * 3);
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x)
+        for (int c = 0; c < 3; ++c)
+          pixels[(size_t(y) * kWidth + x) * 3 + c] = 0.05f + 0.002f * float(x + y) + 0.02f * c;
+    ASSERT_NO_FATAL_FAILURE(
+        writeWithSpec(dir / fmt::format("plate.{}.exr", f), spec, pixels.data()));
+  }
+  auto r = runPluvia({"render", (dir / "plate.#.exr").string(), "-p", "heavy", "-o",
+                      (dir / "out.#.exr").string(), "--exr-type", "float", "--aov", "rain", "--set",
+                      "fog.enabled=false", "--set", "darken.enabled=false", "--set",
+                      "blur.enabled=false"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  auto in = OIIO::ImageInput::open((dir / "out.1.exr").string());
+  ASSERT_TRUE(in);
+  const OIIO::ImageSpec& spec = in->spec();
+  EXPECT_EQ(spec.full_x, 0);
+  EXPECT_EQ(spec.full_y, 0);
+  EXPECT_EQ(spec.full_width, 64);
+  EXPECT_EQ(spec.full_height, 36);
+  EXPECT_EQ(spec.x, -8);
+  EXPECT_EQ(spec.y, -6);
+  EXPECT_EQ(spec.width, kWidth);
+  EXPECT_EQ(spec.height, kHeight);
+  std::vector<float> out(spec.image_pixels() * size_t(spec.nchannels));
+  ASSERT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, out.data()));
+  const int alpha = spec.channelindex("rain.A"), red = spec.channelindex("R");
+  ASSERT_GE(alpha, 0);
+  // The overscan holds the plate (its first column, file x = -8) and rain, as the picture does.
+  double overscanRain = 0.0, pictureRain = 0.0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const float* p = out.data() + (size_t(y) * kWidth + x) * size_t(spec.nchannels);
+      const bool inPicture = x >= 8 && x < 72 && y >= 6 && y < 42;
+      (inPicture ? pictureRain : overscanRain) += p[alpha];
+      if (x == 0) EXPECT_GE(p[red], 0.05f + 0.002f * float(y) - 1e-3f) << y;
+    }
+  EXPECT_GT(overscanRain, 0.0);
+  EXPECT_GT(pictureRain, 0.0);
+
+  r = runPluvia({"render", (dir / "plate.#.exr").string(), "-p", "heavy", "-o",
+                 (dir / "out.#.png").string(), "--frames", "1"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const Image png = readImageFile(dir / "out.1.png");
+  EXPECT_EQ(png.width, 64);
+  EXPECT_EQ(png.height, 36);
+}
+
 // A small ACES-style config (ACES2065-1 reference; ACEScg, linear Rec.709 and sRGB texture
 // spaces with aliases; scene_linear = ACEScg), as a facility's $OCIO names it.
 static std::string acesStyleConfig() {

@@ -343,21 +343,28 @@ TEST(ClipReaderImages, ExrDataWindowIsPlacedInTheDisplayWindow) {
   EXPECT_EQ(image.pixel(3, 3)[3], 1.0f);
 }
 
-TEST(ClipReaderImages, ExrOverscanIsCropped) {
+// Overscan is kept: the frame is the display window grown to the data window, and the clip says
+// where the picture lies in it.
+TEST(ClipReaderImages, ExrOverscanIsKeptAroundThePicture) {
   const stdfs::path path = test::freshTempDir("reader_overscan") / "overscan.exr";
   std::vector<float> samples(4 * 3 * 4);
   for (size_t i = 0; i < samples.size(); ++i) samples[i] = static_cast<float>(i);
-  // Data window -1..2 x -1..1 in a 2 x 2 frame.
+  // Data window -1..2 x -1..1 around a 2 x 2 display window at the origin.
   test::writeWithSpec(path, test::windowedSpec(4, 3, 4, OIIO::TypeDesc::FLOAT, -1, -1, 2, 2),
                       samples.data());
-  Image image = openClip(path.string())->read(0);
-  ASSERT_EQ(image.width, 2);
-  ASSERT_EQ(image.height, 2);
-  // Frame pixel (0, 0) is data pixel (1, 1); frame (1, 1) is data (2, 2).
-  for (int c = 0; c < 4; ++c) {
-    EXPECT_EQ(image.pixel(0, 0)[c], samples[(1 * 4 + 1) * 4 + c]);
-    EXPECT_EQ(image.pixel(1, 1)[c], samples[(2 * 4 + 2) * 4 + c]);
-  }
+  auto clip = openClip(path.string());
+  EXPECT_EQ(clip->info().width, 4);
+  EXPECT_EQ(clip->info().height, 3);
+  ASSERT_TRUE(clip->info().displayWindow);
+  EXPECT_EQ(*clip->info().displayWindow, (PixelWindow{1, 1, 2, 2}));
+  EXPECT_FALSE(clip->info().dataWindow);  // the data window is the whole frame
+  Image image = clip->read(0);
+  ASSERT_EQ(image.width, 4);
+  ASSERT_EQ(image.height, 3);
+  // Every data pixel in its place: frame (x, y) is data (x, y).
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 4; ++x)
+      for (int c = 0; c < 4; ++c) EXPECT_EQ(image.pixel(x, y)[c], samples[(y * 4 + x) * 4 + c]);
 }
 
 // A sequence whose pixels carry their frame number.
