@@ -44,7 +44,7 @@ TEST(CliMovieNumbering, StartFrameRendersTheFramesOfASequenceOfThoseNumbers) {
   if (!programAvailable("ffmpeg")) GTEST_SKIP() << "ffmpeg not on PATH";
   const stdfs::path dir = freshTempDir("cli_movie_numbering");
   const TwoPlates plates = writeTwoPlates(dir);
-  const std::vector<std::string> common{"-p", "moderate", "--frames", "1002-1003", "--aov", "rain"};
+  const std::vector<std::string> common{"-p", "moderate", "--frames", "1003", "--aov", "rain"};
   auto args = [&](const std::string& input, const std::string& output) {
     std::vector<std::string> a{"render", input, "-o", (dir / output).string()};
     a.insert(a.end(), common.begin(), common.end());
@@ -56,7 +56,7 @@ TEST(CliMovieNumbering, StartFrameRendersTheFramesOfASequenceOfThoseNumbers) {
   ASSERT_EQ(r.exitCode, 0) << r.output;
   r = runPluvia(args(plates.sequence, "s.####.exr"));
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  for (int frame : {1002, 1003}) {
+  for (int frame : {1003}) {
     const ExrPixels movie = readAllChannels(dir / fmt::format("m.{}.exr", frame));
     const ExrPixels sequence = readAllChannels(dir / fmt::format("s.{}.exr", frame));
     ASSERT_EQ(movie.channels, sequence.channels) << frame;
@@ -66,12 +66,12 @@ TEST(CliMovieNumbering, StartFrameRendersTheFramesOfASequenceOfThoseNumbers) {
   EXPECT_FALSE(stdfs::exists(dir / "m.0001.exr"));
   EXPECT_FALSE(stdfs::exists(dir / "m.1001.exr"));
 
-  // Unnumbered, the movie's frames 1-2 are the same pictures under other numbers: other rain.
+  // Unnumbered, the movie's frame 2 is the same picture under another number: other rain.
   r = runPluvia({"render", plates.movie, "-o", (dir / "u.####.exr").string(), "-p", "moderate",
-                 "--frames", "1-2", "--aov", "rain"});
+                 "--frames", "2", "--aov", "rain"});
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  EXPECT_NE(readAllChannels(dir / "u.0001.exr").samples,
-            readAllChannels(dir / "m.1002.exr").samples);
+  EXPECT_NE(readAllChannels(dir / "u.0002.exr").samples,
+            readAllChannels(dir / "m.1003.exr").samples);
 
   // plan counts the movie's frames from there; a frame before it is not in the clip.
   r = runPluvia({"plan", plates.movie, "-p", "moderate", "--start-frame", "1001"});
