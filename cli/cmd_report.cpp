@@ -17,7 +17,7 @@
 #include "lab/lights_report.h"
 #include "lab/optics_report.h"
 #include "lab/realism_report.h"
-#include "lab/report_depth.h"
+#include "lab/depth_report.h"
 #include "lab/test_environment.h"
 #include "optics/environment_file.h"
 #include "optics/skylight_scattering.h"

@@ -7,7 +7,7 @@ namespace pluvia {
 
 const std::vector<StageInfo>& allStages() {
   static const std::vector<StageInfo> stages{
-      derainStageInfo(), environmentStageInfo(), depthStageInfo(),   darkenStageInfo(),
+      derainStageInfo(), lightingStageInfo(), depthStageInfo(),   darkenStageInfo(),
       blurStageInfo(),   fogStageInfo(),         rainbowStageInfo(), lightsStageInfo(),
       rainStageInfo(),   splashStageInfo(),      glareStageInfo()};
   return stages;

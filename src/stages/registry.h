@@ -21,7 +21,7 @@ Schema presetSchema();
 // Each stage's StageInfo (stages/<name>_stage.cpp); its section's table and settings are in
 // stages/<section>_settings.h.
 StageInfo derainStageInfo();
-StageInfo environmentStageInfo();
+StageInfo lightingStageInfo();
 StageInfo depthStageInfo();
 StageInfo darkenStageInfo();
 StageInfo blurStageInfo();

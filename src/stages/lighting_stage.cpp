@@ -275,7 +275,7 @@ class EnvironmentStage : public Stage {
 
 }  // namespace
 
-StageInfo environmentStageInfo() {
+StageInfo lightingStageInfo() {
   return makeStageInfo(
       lightingTable().section(), lightingSettings,
       {.perClip = true,

@@ -1,6 +1,6 @@
 // `pluvia report depth`: SfM poses and depth against the synthetic street's ground truth, and
-// the real opensfm_lund photos (report_depth.h says what is measured).
-#include "lab/report_depth.h"
+// the real opensfm_lund photos (depth_report.h says what is measured).
+#include "lab/depth_report.h"
 
 #include <unistd.h>
 
