@@ -8,8 +8,8 @@ namespace pluvia {
 const std::vector<StageInfo>& allStages() {
   static const std::vector<StageInfo> stages{
       derainStageInfo(), lightingStageInfo(), depthStageInfo(),   darkenStageInfo(),
-      blurStageInfo(),   fogStageInfo(),         rainbowStageInfo(), lightsStageInfo(),
-      rainStageInfo(),   splashStageInfo(),      glareStageInfo()};
+      blurStageInfo(),   fogStageInfo(),      rainbowStageInfo(), lightsStageInfo(),
+      rainStageInfo(),   splashStageInfo(),   glareStageInfo()};
   return stages;
 }
 
