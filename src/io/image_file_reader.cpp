@@ -21,6 +21,19 @@ ErrorContext readContext(const std::string& path, std::optional<int64_t> frame) 
   return ErrorContext{"read", frame, path};
 }
 
+// The frame pluvia works on, in the file's coordinates: the display window grown to hold the
+// data window (overscan is kept, not cropped). In 64 bits, a size past 2^31 held as INT32_MAX:
+// a hostile header may set the windows far apart, and openImage() refuses that size.
+PixelWindow frameOf(const OIIO::ImageSpec& spec) {
+  const int x0 = std::min(spec.x, spec.full_x), y0 = std::min(spec.y, spec.full_y);
+  const int64_t x1 =
+      std::max<int64_t>(int64_t(spec.x) + spec.width, int64_t(spec.full_x) + spec.full_width);
+  const int64_t y1 =
+      std::max<int64_t>(int64_t(spec.y) + spec.height, int64_t(spec.full_y) + spec.full_height);
+  return {x0, y0, int(std::min<int64_t>(x1 - x0, INT32_MAX)),
+          int(std::min<int64_t>(y1 - y0, INT32_MAX))};
+}
+
 std::unique_ptr<OIIO::ImageInput> openImage(const std::string& path, std::optional<int64_t> frame) {
   std::error_code ec;
   const std::filesystem::file_status status = std::filesystem::status(path, ec);
@@ -48,23 +61,9 @@ std::unique_ptr<OIIO::ImageInput> openImage(const std::string& path, std::option
   checkFrameSize(spec.full_width, spec.full_height, path, readContext(path, frame));
   checkFrameSize(spec.width, spec.height, path, readContext(path, frame));  // the data window
   // The two windows together (a hostile header may set them far apart).
-  const int64_t x0 = std::min(spec.x, spec.full_x), y0 = std::min(spec.y, spec.full_y);
-  const int64_t x1 =
-      std::max<int64_t>(int64_t(spec.x) + spec.width, int64_t(spec.full_x) + spec.full_width);
-  const int64_t y1 =
-      std::max<int64_t>(int64_t(spec.y) + spec.height, int64_t(spec.full_y) + spec.full_height);
-  checkFrameSize(int(std::min<int64_t>(x1 - x0, INT32_MAX)),
-                 int(std::min<int64_t>(y1 - y0, INT32_MAX)), path, readContext(path, frame));
+  const PixelWindow frameWindow = frameOf(spec);
+  checkFrameSize(frameWindow.width, frameWindow.height, path, readContext(path, frame));
   return input;
-}
-
-// The frame pluvia works on, in the file's coordinates: the display window grown to hold the
-// data window (overscan is kept, not cropped). openImage() checked its size.
-PixelWindow frameOf(const OIIO::ImageSpec& spec) {
-  const int x0 = std::min(spec.x, spec.full_x), y0 = std::min(spec.y, spec.full_y);
-  const int x1 = std::max(spec.x + spec.width, spec.full_x + spec.full_width);
-  const int y1 = std::max(spec.y + spec.height, spec.full_y + spec.full_height);
-  return {x0, y0, x1 - x0, y1 - y0};
 }
 
 bool isFloatFormat(const OIIO::ImageSpec& spec) {
