@@ -3,13 +3,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <numeric>
 
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/video/tracking.hpp>
 
+#include "derain/dense_flow.h"
 #include "image/luminance.h"
 #include "util/error.h"
 
@@ -46,71 +45,6 @@ std::pair<int, int> windowOf(int t, int frames, int radius) {
   return {begin, begin + size};
 }
 
-// Not the plain mean: camera motion moves every pixel, while a moving object (or rain the
-// opening left) moves a few; their differences, the largest, would let them buy the flow, which
-// then follows the object instead of masking it. Not the median either: on a mostly flat scene
-// it does not see a sub-pixel shift of the textured part.
-constexpr double kResidualTrimFraction = 0.10;
-
-// The mean |a - b| over `mask` with the largest kResidualTrimFraction left out.
-double trimmedMeanAbsDifference(const cv::Mat1f& a, const cv::Mat1f& b, const cv::Mat1b& mask) {
-  std::vector<float> differences;
-  for (int y = 0; y < a.rows; ++y) {
-    for (int x = 0; x < a.cols; ++x) {
-      if (mask(y, x)) differences.push_back(std::abs(a(y, x) - b(y, x)));
-    }
-  }
-  const size_t kept = size_t(std::ceil((1.0 - kResidualTrimFraction) * differences.size()));
-  if (kept == 0) return std::numeric_limits<double>::infinity();
-  std::nth_element(differences.begin(), differences.begin() + (kept - 1), differences.end());
-  double sum = 0.0;
-  for (size_t i = 0; i < kept; ++i) sum += differences[i];
-  return sum / double(kept);
-}
-
-// Where each pixel of the reference lands in the neighbour: x + flow(x).
-cv::Mat2f landingPoints(const cv::Mat2f& flow) {
-  cv::Mat2f out(flow.size());
-  for (int y = 0; y < flow.rows; ++y) {
-    for (int x = 0; x < flow.cols; ++x) out(y, x) = flow(y, x) + cv::Vec2f(float(x), float(y));
-  }
-  return out;
-}
-
-cv::Mat1b inBounds(const cv::Mat2f& points) {
-  cv::Mat1b out(points.size());
-  const float maxX = float(points.cols - 1), maxY = float(points.rows - 1);
-  for (int y = 0; y < points.rows; ++y) {
-    for (int x = 0; x < points.cols; ++x) {
-      const cv::Vec2f p = points(y, x);
-      out(y, x) = (p[0] >= 0.0f && p[0] <= maxX && p[1] >= 0.0f && p[1] <= maxY) ? 255 : 0;
-    }
-  }
-  return out;
-}
-
-// 255 where following the forward flow and then the backward one returns within `tolerancePx`.
-cv::Mat1b forwardBackwardConsistent(const cv::Mat2f& forward, const cv::Mat2f& backward,
-                                    const cv::Mat2f& points, double tolerancePx) {
-  cv::Mat2f back;
-  cv::remap(backward, back, points, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
-  cv::Mat1b out(forward.size());
-  for (int y = 0; y < forward.rows; ++y) {
-    for (int x = 0; x < forward.cols; ++x) {
-      out(y, x) = cv::norm(forward(y, x) + back(y, x)) < tolerancePx ? 255 : 0;
-    }
-  }
-  return out;
-}
-
-// Cubic: linear interpolation at half-pixel offsets blurs fine texture by several codes.
-template <typename M>
-M warped(const M& image, const cv::Mat2f& points) {
-  M out;
-  cv::remap(image, out, points, cv::noArray(), cv::INTER_CUBIC, cv::BORDER_REPLICATE);
-  return out;
-}
-
 // Neighbour s on frame t's grid, by identity or by flow, whichever the residuals favour.
 Registered registerNeighbour(const cv::Mat3f& colour, const Grey& neighbour, const Grey& reference,
                              cv::DISOpticalFlow& dis, const CleanPlateSettings& settings,
@@ -122,7 +56,7 @@ Registered registerNeighbour(const cv::Mat3f& colour, const Grey& neighbour, con
   dis.calc(reference.bytes, neighbour.bytes, forward);
   const cv::Mat2f points = landingPoints(forward);
   const cv::Mat1b covered = inBounds(points);
-  const cv::Mat1f warpedGrey = warped(neighbour.codes, points);
+  const cv::Mat1f warpedGrey = remapCubic(neighbour.codes, points);
   record.flowResidualCodes = trimmedMeanAbsDifference(reference.codes, warpedGrey, covered);
   const double gain = record.identityResidualCodes - record.flowResidualCodes;
   record.flowUsed = gain > settings.flowGainCodes &&
@@ -133,7 +67,7 @@ Registered registerNeighbour(const cv::Mat3f& colour, const Grey& neighbour, con
   dis.calc(neighbour.bytes, reference.bytes, backward);
   const cv::Mat1b consistent =
       forwardBackwardConsistent(forward, backward, points, settings.consistencyPx);
-  return {warped(colour, points), warpedGrey, covered & consistent};
+  return {remapCubic(colour, points), warpedGrey, covered & consistent};
 }
 
 // The median of the first `count` values (mean of the middle two when even); reorders them.
@@ -199,8 +133,7 @@ std::vector<CleanPlate> cleanPlatesAt(const std::vector<cv::Mat3f>& frames,
   for (const cv::Mat3f& frame : frames) {
     greys.push_back(suppressedGrey(frame, settings.suppressDiameterPx));
   }
-  const cv::Ptr<cv::DISOpticalFlow> dis =
-      cv::DISOpticalFlow::create(cv::DISOpticalFlow::PRESET_MEDIUM);
+  const cv::Ptr<cv::DISOpticalFlow> dis = makeDenseFlow();
   std::vector<CleanPlate> plates(at.size());
   for (size_t k = 0; k < at.size(); ++k) {
     const int t = at[k];

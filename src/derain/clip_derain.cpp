@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include <fmt/format.h>
+#include <opencv2/imgproc.hpp>
 
 #include "derain/registration.h"
 #include "io/clip_reader.h"
@@ -107,9 +108,15 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
     else if (registration.moving())
       log::info(fmt::format(
           "derain: frames {}-{}: registered: the fitted motion leaves a residual of {:.2f} codes "
-          "against {:.2f} without it",
+          "against {:.2f} without it{}",
           frames[start], frames[start + window - 1], registration.motionResidual,
-          registration.identityResidual));
+          registration.identityResidual,
+          registration.denseFrames() == 0
+              ? std::string("; no frame left a parallax residual for dense flow")
+              : fmt::format("; dense flow on {} of {} frames where the homography left parallax "
+                            "(residual {:.2f} codes after it, {:.2f} after the flow)",
+                            registration.denseFrames(), window - 1, registration.homographyResidual,
+                            registration.flowResidual)));
     DerainSettings solver = settings.solver;
     if (registration.moving()) solver.registrationErrorPx = kResidualMisregistrationPx;
     const DerainResult result = solveDerain(warpToReference(originals, registration), solver);
@@ -120,10 +127,13 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
     stats.maxShiftPx = registration.moving() ? registration.maxShiftPx : 0.0;
     stats.identityResidual = registration.identityResidual;
     stats.motionResidual = registration.motionResidual;
-    stats.registration = registration.lockedOff        ? "locked off"
-                         : registration.motionRejected ? "identity (the motion explained less)"
-                         : registration.moving()       ? "motion"
-                                                       : "identity";
+    stats.registration =
+        registration.lockedOff        ? "locked off"
+        : registration.motionRejected ? "identity (the motion explained less)"
+        : registration.denseFrames() > 0
+            ? fmt::format("motion, dense flow on {} frames", registration.denseFrames())
+        : registration.moving() ? "motion"
+                                : "identity";
     stats.angleDeg = result.angleDeg;
     stats.iterations = result.iterations;
     stats.residual = result.residual;
@@ -144,7 +154,9 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
       out.frame = frames[i];
       out.original = originals[size_t(k)];
       const cv::Mat background = warpToFrame(result.background, registration, k, &out.covered);
-      out.clean = out.original.clone();
+      // What the reference frame did not see (outside it, or disoccluded by parallax) keeps the
+      // frame's own value, median-filtered so that its rain goes too: never another frame's.
+      cv::medianBlur(out.original, out.clean, 5);
       background.copyTo(out.clean, out.covered);
       out.matte = warpToFrame(result.alpha[size_t(k)], registration, k);
       out.rainColor = result.rainColor[size_t(k)];

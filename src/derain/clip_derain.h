@@ -22,9 +22,11 @@ struct ClipDerainSettings {
 };
 
 struct ClipDerainFrame {
-  int64_t frame = 0;      // the clip's frame number
-  cv::Mat original;       // the frame as read, CV_32FC3 RGB
-  cv::Mat clean;          // S on this frame's grid; outside the window's reference frame: original
+  int64_t frame = 0;  // the clip's frame number
+  cv::Mat original;   // the frame as read, CV_32FC3 RGB
+  // S on this frame's grid; where the window's reference frame did not see the pixel, the frame
+  // itself median-filtered (5 px)
+  cv::Mat clean;
   cv::Mat matte;          // alpha on this frame's grid, CV_32FC1 (0 outside the reference frame)
   cv::Mat covered;        // CV_8UC1, nonzero where the window's reference frame saw this pixel
   cv::Vec3f rainColor;    // C^k
@@ -37,7 +39,8 @@ struct ClipDerainWindow {
   int64_t firstFrame = 0, lastFrame = 0;
   double maxShiftPx = 0.0;  // registration: 0 when not registered
   // Which registration was taken ("locked off", "identity", "identity (the motion explained
-  // less)" or "motion") and the residuals it was chosen by (Registration; 0 when not measured).
+  // less)", "motion" or "motion, dense flow on N frames") and the residuals it was chosen by
+  // (Registration; 0 when not measured).
   std::string registration;
   double identityResidual = 0.0, motionResidual = 0.0;
   double angleDeg = 0.0;

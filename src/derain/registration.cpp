@@ -8,6 +8,7 @@
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "derain/dense_flow.h"
 #include "image/luminance.h"
 #include "util/error.h"
 #include "util/log.h"
@@ -113,8 +114,12 @@ double temporalResidual(const std::vector<cv::Mat>& features, int reference,
   const cv::Mat ones(target.size(), CV_8U, cv::Scalar(255));
   for (size_t k = 0; k < features.size(); ++k) {
     if (int(k) == reference) continue;
-    cv::Mat warped = features[k], covered = ones;
-    if (referenceToFrame[k] != cv::Matx33d::eye()) {
+    // Headers of the frame's own image, or new images: a warp must not write into its source.
+    cv::Mat warped, covered;
+    if (referenceToFrame[k] == cv::Matx33d::eye()) {
+      warped = features[k];
+      covered = ones;
+    } else {
       const cv::Mat h(referenceToFrame[k]);
       const int flags = cv::INTER_LINEAR | cv::WARP_INVERSE_MAP;
       cv::warpPerspective(features[k], warped, h, target.size(), flags, cv::BORDER_CONSTANT);
@@ -154,9 +159,107 @@ double cornerShift(const cv::Matx33d& h, cv::Size size) {
   return shift;
 }
 
+// Dense flow after the homography is taken when it lowers the frame's residual by more than
+// this many codes of featureImage and by more than this share of it (a pan the homography
+// explains leaves resampling noise, which flow would fit too).
+constexpr double kFlowGainCodes = 0.5;
+constexpr double kFlowGainFraction = 0.10;
+// Forward-backward flow disagreement above which a pixel counts as occluded or mismatched.
+constexpr double kFlowConsistencyPx = 1.0;
+// A pixel the flow brings within this many codes of featureImage of the reference's (both rain-
+// suppressed) joins the solve; beyond it the flow matched the wrong thing there.
+constexpr double kFlowAgreementCodes = 12.0;
+
+// The positions of `points` mapped by the homography h.
+cv::Mat2f mapped(const cv::Mat2f& points, const cv::Matx33d& h) {
+  cv::Mat2f out;
+  cv::perspectiveTransform(points, out, cv::Mat(h));
+  return out;
+}
+
+// The pixel centres' own coordinates on a grid of `size`.
+cv::Mat2f gridPoints(cv::Size size) {
+  return landingPoints(cv::Mat2f(size, cv::Vec2f(0, 0)));
+}
+
+// Frame k refined by dense flow after its homography h, when the flow explains clearly more
+// (`residuals` gets the two residuals either way); empty otherwise.
+DenseMotion denseMotion(const cv::Mat& reference, const cv::Mat& frame, const cv::Matx33d& h,
+                        cv::DISOpticalFlow& flow, std::pair<double, double>& residuals) {
+  const cv::Size size = reference.size();
+  cv::Mat warped, covered;
+  const int inverse = cv::WARP_INVERSE_MAP;
+  cv::warpPerspective(frame, warped, cv::Mat(h), size, cv::INTER_LINEAR | inverse,
+                      cv::BORDER_REPLICATE);
+  cv::warpPerspective(cv::Mat(frame.size(), CV_8U, cv::Scalar(255)), covered, cv::Mat(h), size,
+                      cv::INTER_NEAREST | inverse, cv::BORDER_CONSTANT, cv::Scalar(0));
+  cv::Mat2f forward, backward;
+  flow.calc(reference, warped, forward);
+  const cv::Mat2f points = landingPoints(forward);
+  cv::Mat1f referenceCodes, warpedCodes;
+  reference.convertTo(referenceCodes, CV_32F);
+  warped.convertTo(warpedCodes, CV_32F);
+  cv::Mat1b flowCovered;
+  cv::remap(covered, flowCovered, points, cv::noArray(), cv::INTER_NEAREST, cv::BORDER_CONSTANT,
+            cv::Scalar(0));
+  flowCovered &= inBounds(points);
+  residuals.first = trimmedMeanAbsDifference(referenceCodes, warpedCodes, covered);
+  const cv::Mat1f flowCodes = remapCubic(warpedCodes, points);
+  residuals.second = trimmedMeanAbsDifference(referenceCodes, flowCodes, flowCovered);
+  const double gain = residuals.first - residuals.second;
+  if (!(gain > kFlowGainCodes && gain > kFlowGainFraction * residuals.first)) return {};
+
+  flow.calc(warped, reference, backward);
+  DenseMotion motion;
+  motion.toFrame = mapped(points, h);
+  cv::Mat1f difference;
+  cv::absdiff(flowCodes, referenceCodes, difference);
+  motion.validOnReference =
+      flowCovered & (difference < kFlowAgreementCodes) &
+      forwardBackwardConsistent(forward, backward, points, kFlowConsistencyPx);
+  // Back from the frame: its pixel p is q = h^-1 p on the homography-warped grid, which the
+  // backward flow takes to q + backward(q) on the reference grid.
+  const cv::Mat2f backPoints = landingPoints(backward);
+  const cv::Mat1b backConsistent =
+      forwardBackwardConsistent(backward, forward, backPoints, kFlowConsistencyPx);
+  const cv::Mat2f onWarped = mapped(gridPoints(frame.size()), h.inv());
+  cv::remap(backPoints, motion.toReference, onWarped, cv::noArray(), cv::INTER_LINEAR,
+            cv::BORDER_REPLICATE);
+  cv::Mat1b consistentThere;
+  cv::remap(backConsistent, consistentThere, onWarped, cv::noArray(), cv::INTER_NEAREST,
+            cv::BORDER_CONSTANT, cv::Scalar(0));
+  motion.validOnFrame = inBounds(onWarped) & consistentThere & inBounds(motion.toReference);
+  return motion;
+}
+
+// Registration::dense for a registration that keeps its motion.
+void refineByFlow(const std::vector<cv::Mat>& features, int reference, Registration& registration) {
+  registration.dense.assign(features.size(), DenseMotion{});
+  const cv::Ptr<cv::DISOpticalFlow> flow = makeDenseFlow();
+  double before = 0.0, after = 0.0;
+  for (size_t k = 0; k < features.size(); ++k) {
+    if (int(k) == reference) continue;
+    std::pair<double, double> residuals;
+    registration.dense[k] = denseMotion(features[size_t(reference)], features[k],
+                                        registration.referenceToFrame[k], *flow, residuals);
+    if (registration.dense[k].empty()) continue;
+    before += residuals.first;
+    after += residuals.second;
+  }
+  const int refined = registration.denseFrames();
+  if (refined == 0) return;
+  registration.homographyResidual = before / refined;
+  registration.flowResidual = after / refined;
+}
+
 }  // namespace
 
-Registration registerFrames(const std::vector<cv::Mat>& frames, int reference) {
+int Registration::denseFrames() const {
+  return int(std::count_if(dense.begin(), dense.end(),
+                           [](const DenseMotion& motion) { return !motion.empty(); }));
+}
+
+Registration registerFrames(const std::vector<cv::Mat>& frames, int reference, bool denseFlow) {
   Registration registration;
   registration.referenceToFrame.assign(frames.size(), cv::Matx33d::eye());
   // The rain-suppressed images, made once for the stillness test, the features and the residuals.
@@ -228,6 +331,7 @@ Registration registerFrames(const std::vector<cv::Mat>& frames, int reference) {
     return registration;
   }
   keepMotionExplaining(features, reference, registration);
+  if (denseFlow && registration.moving()) refineByFlow(features, reference, registration);
   return registration;
 }
 
@@ -245,6 +349,11 @@ FrameStack warpToReference(const std::vector<cv::Mat>& frames, const Registratio
     return stack;
   }
   for (size_t k = 0; k < frames.size(); ++k) {
+    if (k < registration.dense.size() && !registration.dense[k].empty()) {
+      stack.frames.push_back(remapCubic(frames[k], registration.dense[k].toFrame));
+      stack.valid.push_back(registration.dense[k].validOnReference.clone());
+      continue;
+    }
     const cv::Mat h(registration.referenceToFrame[k]);
     cv::Mat warped, valid;
     cv::warpPerspective(frames[k], warped, h, frames[k].size(),
@@ -266,6 +375,15 @@ cv::Mat warpToFrame(const cv::Mat& onReference, const Registration& registration
   if (!registration.moving()) {
     if (covered) *covered = cv::Mat(onReference.size(), CV_8U, cv::Scalar(255));
     return onReference.clone();
+  }
+  if (size_t(index) < registration.dense.size() && !registration.dense[size_t(index)].empty()) {
+    const DenseMotion& motion = registration.dense[size_t(index)];
+    cv::Mat warped;
+    cv::remap(onReference, warped, motion.toReference, cv::noArray(), cv::INTER_LINEAR,
+              cv::BORDER_CONSTANT, cv::Scalar::all(0));
+    warped.setTo(cv::Scalar::all(0), ~motion.validOnFrame);
+    if (covered) *covered = motion.validOnFrame.clone();
+    return warped;
   }
   cv::Mat warped;
   cv::warpPerspective(onReference, warped, cv::Mat(h), onReference.size(), cv::INTER_LINEAR,

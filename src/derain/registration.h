@@ -14,6 +14,16 @@ namespace pluvia::derain {
 // frames registered by warpToReference.
 constexpr double kResidualMisregistrationPx = 0.5;
 
+// A frame's motion where a homography leaves parallax (a camera moving past things at several
+// depths): dense flow on the rain-suppressed greys, after the homography.
+struct DenseMotion {
+  cv::Mat2f toFrame;           // on the reference grid: each pixel's position in the frame
+  cv::Mat1b validOnReference;  // 255 where that position is inside the frame and consistent
+  cv::Mat2f toReference;       // on the frame's grid: each pixel's position on the reference grid
+  cv::Mat1b validOnFrame;      // 255 where the reference saw the pixel, consistently
+  bool empty() const { return toFrame.empty(); }
+};
+
 struct Registration {
   // Per frame: the homography taking reference-frame pixel coordinates to that frame's pixel
   // coordinates (identity for the reference frame itself).
@@ -31,6 +41,13 @@ struct Registration {
   double identityResidual = 0.0;
   double motionResidual = 0.0;
   bool motionRejected = false;
+  // Per frame (empty where the homography alone is kept, and for a camera not moving()): the
+  // dense refinement, taken where it lowers the frame's rain-suppressed residual after the
+  // homography clearly (registration.cpp says by how much). `homographyResidual` and
+  // `flowResidual` are those residuals over the refined frames (0 when none was).
+  std::vector<DenseMotion> dense;
+  int denseFrames() const;
+  double homographyResidual = 0.0, flowResidual = 0.0;
   bool moving() const { return !motionRejected && maxShiftPx >= 0.25; }
 };
 
@@ -44,8 +61,11 @@ struct Registration {
 // explains: it is kept only where it lowers the rain-suppressed temporal residual to under
 // kClearlyLowerResidual of the residual of the frames as they are (repeated texture, a façade's
 // windows, can fit a motion on a camera that never moved).
+// Last, where the motion is kept: each frame's dense refinement (Registration::dense), unless
+// `denseFlow` is false (the homography alone, as `pluvia report derain` compares).
 inline constexpr double kClearlyLowerResidual = 0.8;
-Registration registerFrames(const std::vector<cv::Mat>& frames, int reference);
+Registration registerFrames(const std::vector<cv::Mat>& frames, int reference,
+                            bool denseFlow = true);
 
 // The last step of registerFrames: measures registration's identityResidual and motionResidual
 // on `frames` and, unless the motion leaves under kClearlyLowerResidual of the residual without
@@ -54,13 +74,15 @@ Registration registerFrames(const std::vector<cv::Mat>& frames, int reference);
 void keepMotionThatExplains(const std::vector<cv::Mat>& frames, int reference,
                             Registration& registration);
 
-// The frames resampled onto the reference frame's pixel grid, with validity masks. When the
+// The frames resampled onto the reference frame's pixel grid, with validity masks (by the dense
+// motion where a frame has one: occluded and inconsistent pixels are invalid). When the
 // registration is not moving() the frames are passed through untouched (no resampling blur).
 FrameStack warpToReference(const std::vector<cv::Mat>& frames, const Registration& registration);
 
-// An image on the reference grid resampled onto frame `index`'s grid (bilinear); pixels of that
-// frame outside the reference frame come back as 0, and `covered` (CV_8UC1, when given) says
-// which pixels were inside.
+// An image on the reference grid resampled onto frame `index`'s grid (bilinear; by the dense
+// motion where the frame has one); pixels of that frame outside the reference frame (or, with
+// dense motion, not seen consistently by it: disoccluded) come back as 0, and `covered`
+// (CV_8UC1, when given) says which pixels were inside.
 cv::Mat warpToFrame(const cv::Mat& onReference, const Registration& registration, int index,
                     cv::Mat* covered = nullptr);
 

@@ -7,6 +7,10 @@
 //      angles: the median baseline and solveDerain on the same 20 frames.
 //  (b) Error against run time: the solver stopped after 0 (the median initialisation), 1, 2,
 //      4, 8 EM iterations (tolerance 0), and over windows of 3, 5, 10, 20 frames.
+//  (a') A camera moving past two depths (lab/parallax_clip.h) with synthetic rain, against the
+//      middle frame's clean image: the flow-registered median (derain/clean_plate.h), the solve
+//      after a homography alone, and the default (dense flow where the homography leaves
+//      parallax).
 //  (c) Real rain footage of a panning camera, registered onto its middle frame, then solved:
 //      the objective, data residual and rain angle per iteration (no ground truth there).
 //
@@ -39,10 +43,12 @@ struct DerainReportSettings {
 };
 
 struct DerainReportRow {
-  std::string section;  // "synthetic", "iterations", "window"
+  std::string section;  // "synthetic", "moving", "iterations", "window"
   std::string scene;    // background: "street", "lund", "weir"
   double trueAngleDeg = 0.0;
-  std::string method;  // "input" (no derain: frame 0 as S), "median", "solver"
+  // "input" (no derain: frame 0 as S; moving: the middle frame), "median", "solver", "default"
+  // (registration decided from evidence), "homography" (moving: no dense flow)
+  std::string method;
   int frames = 0;
   int iterations = 0;   // EM iterations run (solver rows)
   double psnrDb = 0.0;  // display encoding

@@ -92,8 +92,19 @@ void drawStreak(cv::Mat& transmission, const Streak& s, double dx, double dy) {
 }  // namespace
 
 SyntheticRain makeSyntheticRain(const cv::Mat& background, const SyntheticRainSettings& settings) {
-  if (background.empty() || background.type() != CV_32FC3)
-    throw Error("synthetic rain: the background must be a non-empty CV_32FC3 image");
+  return makeSyntheticRainOver(
+      std::vector<cv::Mat>(size_t(std::max(settings.frames, 0)), background), settings);
+}
+
+SyntheticRain makeSyntheticRainOver(const std::vector<cv::Mat>& backgrounds,
+                                    const SyntheticRainSettings& settings) {
+  if (backgrounds.empty() || int(backgrounds.size()) != settings.frames)
+    throw Error("synthetic rain: one background per frame");
+  for (const cv::Mat& background : backgrounds)
+    if (background.empty() || background.type() != CV_32FC3 ||
+        background.size() != backgrounds.front().size())
+      throw Error("synthetic rain: the backgrounds must be non-empty CV_32FC3 images of one size");
+  const cv::Mat& background = backgrounds.front();
   if (settings.frames < 1 || settings.minLengthPx <= 0.0 ||
       settings.maxLengthPx < settings.minLengthPx || settings.minWidthPx <= 0.0 ||
       settings.maxWidthPx < settings.minWidthPx || settings.minAlpha < 0.0 ||
@@ -103,6 +114,7 @@ SyntheticRain makeSyntheticRain(const cv::Mat& background, const SyntheticRainSe
   }
   SyntheticRain out;
   out.background = background.clone();
+  for (const cv::Mat& each : backgrounds) out.backgrounds.push_back(each.clone());
   // The angle folded into (-90, 90].
   out.angleDeg = settings.angleDeg - 180.0 * std::ceil((settings.angleDeg - 90.0) / 180.0);
   const double radians = settings.angleDeg * M_PI / 180.0;
@@ -143,7 +155,7 @@ SyntheticRain makeSyntheticRain(const cv::Mat& background, const SyntheticRainSe
     const float sigma = float(settings.noiseSigma);
     cv::Mat frame(height, width, CV_32FC3);
     for (int y = 0; y < height; ++y) {
-      const cv::Vec3f* s = background.ptr<cv::Vec3f>(y);
+      const cv::Vec3f* s = backgrounds[size_t(k)].ptr<cv::Vec3f>(y);
       const float* a = alpha.ptr<float>(y);
       cv::Vec3f* o = frame.ptr<cv::Vec3f>(y);
       for (int x = 0; x < width; ++x) {

@@ -25,7 +25,8 @@ struct SyntheticRainSettings {
 };
 
 struct SyntheticRain {
-  cv::Mat background;                // S, CV_32FC3 (the input image)
+  cv::Mat background;                // S, CV_32FC3 (the input image; the first frame's)
+  std::vector<cv::Mat> backgrounds;  // per frame (all the same for a still background)
   derain::FrameStack stack;          // the rained, noisy frames
   std::vector<cv::Mat> alpha;        // true alpha per frame, CV_32FC1
   std::vector<cv::Vec3f> rainColor;  // true C per frame
@@ -40,5 +41,8 @@ struct SyntheticRain {
 // not on the frame count. Throws pluvia::Error on an empty or non-CV_32FC3 background or
 // inconsistent settings.
 SyntheticRain makeSyntheticRain(const cv::Mat& background, const SyntheticRainSettings& settings);
+// The same rain over a moving background: frame k over backgrounds[k] (one per frame, one size).
+SyntheticRain makeSyntheticRainOver(const std::vector<cv::Mat>& backgrounds,
+                                    const SyntheticRainSettings& settings);
 
 }  // namespace pluvia::lab
