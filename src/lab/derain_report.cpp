@@ -13,13 +13,13 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "derain/clean_plate.h"
 #include "derain/rain_direction.h"
 #include "derain/registration.h"
 #include "image/image_metrics.h"
 #include "image/luminance.h"
 #include "io/clip_reader.h"
 #include "lab/parallax_clip.h"
+#include "lab/real_rain_clip.h"
 #include "lab/report_numbers.h"
 #include "lab/synthetic_rain.h"
 #include "util/error.h"
@@ -268,18 +268,12 @@ void writeMattePreview(const fs::path& path, const cv::Mat& alpha) {
     throw Error("cannot write an image", {"report", {}, path});
 }
 
-// The flow-registered temporal median of clean_plate.h (BGR codes) for frame `reference`, as
-// RGB 0..1 like the solver's frames.
+// The flow-registered temporal median of clean_plate.h for frame `reference`, in the solver's
+// values (RGB 0..1).
 cv::Mat flowRegisteredMedian(const std::vector<cv::Mat>& frames, int reference) {
   std::vector<cv::Mat3f> codes;
-  for (const cv::Mat& frame : frames) {
-    cv::Mat bgr;
-    cv::cvtColor(frame * 255.0, bgr, cv::COLOR_RGB2BGR);
-    codes.push_back(bgr);
-  }
-  cv::Mat rgb;
-  cv::cvtColor(cleanPlatesAt(codes, {reference}).front().plate / 255.0, rgb, cv::COLOR_BGR2RGB);
-  return rgb;
+  for (const cv::Mat& frame : frames) codes.push_back(cv::Mat3f(frame * 255.0));
+  return cleanPlatesRgb(codes, {reference}).front().plate / 255.0;
 }
 
 // (a') A camera moving past two depths (parallax_clip.h) with rain, its answer the middle

@@ -13,6 +13,7 @@
 #include "image/luminance.h"
 #include "io/clip_reader.h"
 #include "io/image_file_writer.h"
+#include "lab/real_rain_clip.h"
 #include "lab/report_numbers.h"
 #include "util/error.h"
 #include "util/log.h"
@@ -25,80 +26,10 @@ using namespace derain;
 namespace {
 
 constexpr int kQuickWidthPx = 320, kQuickFrames = 8;
-// Real rain footage whose frame rate is not stored (NTURain's JPEGs) is taken at this rate.
-constexpr double kUnknownFps = 25.0;
 // The contact sheet's crops, at the report's width: where the real rain shows most.
 constexpr int kCropWidthPx = 240, kCropHeightPx = 180;
 // The rain layers on the sheet are shown times this over mid grey.
 constexpr float kLayerGain = 3.0f;
-
-struct RealClip {
-  std::string name;
-  double fps = kUnknownFps;
-  std::vector<cv::Mat3f> frames;  // RGB, 8-bit display codes, at the report's width
-};
-
-std::string defaultClip(const std::string& sharedData) {
-  if (sharedData.empty()) return "";
-  const std::string pattern = sharedData + "/rain_real/nturain_ra1_real_rain_panning/%05d.jpg";
-  return std::filesystem::exists(sharedData + "/rain_real/nturain_ra1_real_rain_panning/00001.jpg")
-             ? pattern
-             : "";
-}
-
-// The clip's first `count` frames (all when fewer), in display codes, scaled to `widthPx`.
-RealClip readRealClip(const std::string& path, int count, int widthPx) {
-  std::unique_ptr<ClipReader> reader = openClip(path);
-  const ClipInfo& info = reader->info();
-  RealClip clip;
-  // A sequence is named by its folder when its file names are only the frame number.
-  const std::filesystem::path file(path);
-  const std::string stem = file.stem().string();
-  const bool numbersOnly = stem.find_first_not_of("%0123456789d#@") == std::string::npos;
-  clip.name = numbersOnly && file.has_parent_path() ? file.parent_path().filename().string()
-                                                    : file.filename().string();
-  if (info.isMovie) clip.fps = info.fps;
-  const double scale = double(widthPx) / info.width;
-  const size_t n = std::min(info.frames.size(), size_t(count));
-  if (n < 3)
-    throw Error(fmt::format("report realism: {} has {} frames; a clean plate needs 3 or more", path,
-                            info.frames.size()),
-                {"report", {}, path});
-  for (size_t i = 0; i < n; ++i) {
-    const Image image = reader->read(info.frames[i]);
-    cv::Mat rgba(image.height, image.width, CV_32FC4, const_cast<float*>(image.rgba.data()));
-    cv::Mat rgb, small;
-    cv::cvtColor(rgba, rgb, cv::COLOR_RGBA2RGB);
-    cv::resize(rgb, small, cv::Size(widthPx, int(std::lround(info.height * scale))), 0, 0,
-               cv::INTER_AREA);
-    clip.frames.push_back(cv::Mat3f(small * 255.0));
-  }
-  return clip;
-}
-
-cv::Mat1f luma(const cv::Mat3f& rgb) {
-  cv::Mat1f y(rgb.size());
-  cv::transform(rgb, y, cv::Matx13f(float(kRec709Red), float(kRec709Green), float(kRec709Blue)));
-  return y;
-}
-
-// The statistics of the layers frame - plate over the clip.
-StreakStats measureLayers(const std::vector<cv::Mat3f>& frames,
-                          const std::vector<CleanPlate>& plates,
-                          std::vector<cv::Mat1f>* layersOut) {
-  StreakStatsAccumulator accumulator;
-  RainLayerFrame previous;
-  for (size_t i = 0; i < frames.size(); ++i) {
-    RainLayerFrame layer;
-    layer.plateLuma = luma(plates[i].plate);
-    layer.layer = luma(frames[i]) - layer.plateLuma;
-    layer.valid = plates[i].valid;
-    accumulator.add(layer, i > 0 ? &previous : nullptr);
-    if (layersOut) layersOut->push_back(layer.layer);
-    previous = layer;
-  }
-  return accumulator.result();
-}
 
 // The crop of the frame where the real layer holds the most streak pixels.
 cv::Rect busiestCrop(const cv::Mat1f& layer, const cv::Mat1b& valid, cv::Size crop) {
@@ -134,16 +65,6 @@ Image layerTile(const cv::Mat1f& layer) {
   cv::Mat1f shown = layer * kLayerGain + 128.0f;
   cv::merge(std::vector<cv::Mat>{shown, shown, shown}, grey);
   return tileOf(grey);
-}
-
-// clean_plate.h works on BGR frames: the same plates for RGB ones.
-std::vector<CleanPlate> cleanPlatesRgb(const std::vector<cv::Mat3f>& rgbFrames) {
-  std::vector<cv::Mat3f> bgr(rgbFrames.size());
-  for (size_t i = 0; i < rgbFrames.size(); ++i)
-    cv::cvtColor(rgbFrames[i], bgr[i], cv::COLOR_RGB2BGR);
-  std::vector<CleanPlate> plates = cleanPlates(bgr);
-  for (CleanPlate& plate : plates) cv::cvtColor(plate.plate, plate.plate, cv::COLOR_BGR2RGB);
-  return plates;
 }
 
 struct SheetColumn {

@@ -8,11 +8,11 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "derain/clean_plate.h"
 #include "derain/clip_derain.h"
 #include "derain/derain_solver.h"
 #include "derain/registration.h"
 #include "lab/parallax_clip.h"
+#include "lab/real_rain_clip.h"
 #include "lab/synthetic_rain.h"
 #include "test_support.h"
 
@@ -188,17 +188,11 @@ cv::Mat solvedBackground(const std::vector<cv::Mat>& frames, const Registration&
   return solveDerain(warpToReference(frames, registration), settings).background;
 }
 
-// The flow-registered temporal median of clean_plate.h (BGR codes) as RGB 0..1.
+// The flow-registered temporal median of clean_plate.h, in the solver's values (RGB 0..1).
 cv::Mat flowMedian(const std::vector<cv::Mat>& frames, int reference) {
   std::vector<cv::Mat3f> codes;
-  for (const cv::Mat& frame : frames) {
-    cv::Mat bgr;
-    cv::cvtColor(frame * 255.0, bgr, cv::COLOR_RGB2BGR);
-    codes.push_back(bgr);
-  }
-  cv::Mat rgb;
-  cv::cvtColor(cleanPlatesAt(codes, {reference}).front().plate / 255.0, rgb, cv::COLOR_BGR2RGB);
-  return rgb;
+  for (const cv::Mat& frame : frames) codes.push_back(cv::Mat3f(frame * 255.0));
+  return lab::cleanPlatesRgb(codes, {reference}).front().plate / 255.0;
 }
 
 // Pillars near the camera cross the frame 3.5 times as fast as the street behind them: the
