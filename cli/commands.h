@@ -32,6 +32,7 @@ void addShadeDropCommand(CLI::App& app, Invocation& invocation);
 void addReportCommand(CLI::App& app, Invocation& invocation);
 void addDerainCommand(CLI::App& app, Invocation& invocation);
 void addStrokesCommand(CLI::App& app, Invocation& invocation);
+void addMatchCommand(CLI::App& app, Invocation& invocation);
 void addEnvmapCommand(CLI::App& app, Invocation& invocation);
 void addDepthCommand(CLI::App& app, Invocation& invocation);
 

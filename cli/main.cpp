@@ -55,6 +55,7 @@ int main(int argc, char** argv) {
   cli::addReportCommand(app, invocation);
   cli::addDerainCommand(app, invocation);
   cli::addStrokesCommand(app, invocation);
+  cli::addMatchCommand(app, invocation);
   cli::addEnvmapCommand(app, invocation);
   cli::addDepthCommand(app, invocation);
   app.parse_complete_callback([&] {

@@ -1,0 +1,112 @@
+// `pluvia match REFERENCE -o PRESET.json [-p BASE]`: a preset fitted to a clip of real rain
+// (lab/rain_match.h): candidates rendered on the reference's own clean plates until their streaks'
+// statistics match its rain's, the best written as a preset extending BASE.
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "common.h"
+#include "io/clip_reader.h"
+#include "lab/rain_match.h"
+#include "preset/preset.h"
+#include "realism_render.h"
+#include "stages/auto_exposure.h"
+#include "util/error.h"
+#include "util/fs.h"
+
+namespace pluvia::cli {
+namespace {
+
+// How the preset names its base: a shipped preset by name, anything else by absolute path.
+std::string baseReference(const std::string& base) {
+  for (const std::string& name : shippedPresetNames())
+    if (name == base) return base;
+  return std::filesystem::absolute(findPreset(base)).string();
+}
+
+nlohmann::json matchedPreset(const lab::RainMatch& match, const std::string& base,
+                             const std::string& reference) {
+  const lab::RainMatchStep& best = match.steps[match.best];
+  const lab::RainLook& look = best.look;
+  std::string ratios;
+  for (const auto& [name, ratio] : best.ratios)
+    ratios += fmt::format("{}{} x{:.2f}", ratios.empty() ? "" : ", ", name, ratio);
+  nlohmann::json preset = {
+      {"pluvia", 1},
+      {"extends", baseReference(base)},
+      {"description",
+       fmt::format("Matched by pluvia match to the rain of {} (streaks rendered on its own clean "
+                   "plates, darken, blur and fog off): typical x{:.2f} ({})",
+                   reference, best.typical, ratios)}};
+  preset["rain"]["rate_mm_h"] = std::round(look.rateMmPerHour * 1000.0) / 1000.0;
+  preset["rain"]["opacity"] = std::round(look.opacity * 1000.0) / 1000.0;
+  preset["rain"]["wind"]["speed_m_s"] =
+      std::round(std::abs(look.windRightMetersPerSecond) * 1000.0) / 1000.0;
+  preset["rain"]["wind"]["dir_deg"] = look.windRightMetersPerSecond < 0.0 ? 180 : 0;
+  preset["camera"]["exposure_s"] = std::round(look.exposureSeconds * 1e6) / 1e6;
+  return preset;
+}
+
+}  // namespace
+
+void addMatchCommand(CLI::App& app, Invocation& invocation) {
+  auto* cmd = app.add_subcommand(
+      "match",
+      "a preset fitted to a clip of real rain: rate, shutter, opacity and wind, rendered on its "
+      "clean plates until the streaks match");
+  struct Args {
+    std::string reference, output, base = "moderate";
+    lab::RainMatchSettings settings;
+  };
+  auto args = std::make_shared<Args>();
+  cmd->add_option("REFERENCE", args->reference,
+                  "real rain footage to match: movie or image sequence (rain.%05d.jpg)")
+      ->required();
+  cmd->add_option("-o,--output", args->output, "the preset to write, PRESET.json")->required();
+  cmd->add_option("-p,--preset", args->base,
+                  "the preset the match extends (its look: lens, lights, grading, splashes)")
+      ->capture_default_str();
+  cmd->add_option("--frames", args->settings.frames, "frames of the reference measured")
+      ->check(CLI::Range(3, 10000))
+      ->capture_default_str();
+  cmd->add_option("--steps", args->settings.steps, "candidates rendered")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  cmd->add_option("--width", args->settings.widthPx, "measuring width in pixels")
+      ->check(CLI::Range(64, 8192))
+      ->capture_default_str();
+  cmd->callback([=, &invocation] {
+    refuseOverwritingInput(openClip(args->reference)->info().files, "-o", {args->output});
+    refuseOverwritingInput({findPreset(args->base).string()}, "-o", {args->output});
+    // The base's own rain is where the search starts (its automatic shutter: a day's).
+    const Preset base = loadPreset(args->base, {});
+    lab::RainMatchSettings settings = args->settings;
+    settings.clip = args->reference;
+    settings.start.rateMmPerHour = base.number("rain.rate_mm_h");
+    settings.start.opacity = base.number("rain.opacity");
+    const double exposure = base.number("camera.exposure_s");
+    settings.start.exposureSeconds = exposure > 0.0 ? exposure : kDaylightExposureSeconds;
+    // The base's wind across the view (dir_deg 0 is the camera's right, 90 away from it).
+    settings.start.windRightMetersPerSecond =
+        base.number("rain.wind.speed_m_s") *
+        std::cos(base.number("rain.wind.dir_deg") * M_PI / 180.0);
+    const lab::RainMatch match =
+        lab::matchRain(settings, [&](const std::vector<cv::Mat3f>& plates, double fps,
+                                     const std::vector<std::string>& overrides) {
+          return renderOnPlates(plates, fps, args->base, overrides);
+        });
+    std::cout << lab::formatRainMatch(match);
+    fs::writeTextFile(args->output,
+                      matchedPreset(match, args->base, args->reference).dump(2) + "\n");
+    loadPreset(args->output, {});  // what was written resolves
+    std::cout << fmt::format("match: typical x{:.3f} -> {}\n", match.steps[match.best].typical,
+                             args->output);
+    invocation.exitCode = 0;
+  });
+}
+
+}  // namespace pluvia::cli

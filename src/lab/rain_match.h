@@ -1,0 +1,73 @@
+#pragma once
+// `pluvia match`: what a preset needs to reproduce the rain of a reference clip of real rain.
+// The reference's clean plates are made once (lab/real_rain_clip.h); candidates are rendered on
+// them, and their streaks measured as the reference's are: frames minus clean plates estimated
+// from those frames, then the statistics of `pluvia report realism`. Each step moves the four
+// numbers that set the streaks' statistics toward the reference's:
+//  - the shutter (camera.exposure_s) sets the streaks' length: length grows about as
+//    exposure^0.4 at video scales (a drop's streak is its fall during the exposure plus its
+//    width, and longer streaks are fainter, so fewer of their ends pass the threshold);
+//  - the opacity (rain.opacity) their brightness (dI p90 and peak p90);
+//  - the rate (rain.rate_mm_h) their number per megapixel;
+//  - the wind across the view (rain.wind, toward the camera's right or left) their angle, by the
+//    secant through the steps with the most different winds (at first about 13 degrees of streak
+//    per m/s, a 4.5 m/s fall).
+// Each step starts from the best so far, corrects the wind for the angle, and moves one of the
+// other three, in turn, part of the way the model asks for: further after a move that did better,
+// half as far the other way after one that did worse (the numbers interact: a longer shutter also
+// dims the streaks). Steps are scored by the typical factor (derain::typicalFactor, which leaves
+// the angle out) times exp(|angle error| / 10 deg); the best is the match.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "derain/streak_stats.h"
+
+namespace pluvia::lab {
+
+struct RainLook {
+  double rateMmPerHour = 8.0;
+  double exposureSeconds = 1.0 / 250.0;
+  double opacity = 1.0;
+  double windRightMetersPerSecond = 0.0;  // toward the camera's right; negative: its left
+};
+
+// The preset overrides ("rain.rate_mm_h=...") that render `look`.
+std::vector<std::string> lookOverrides(const RainLook& look);
+
+struct RainMatchSettings {
+  std::string clip;  // real rain footage
+  int frames = 24;   // its first frames measured
+  int widthPx = 640;
+  int steps = 6;  // renders
+  RainLook start;
+};
+
+// Renders the reference's clean plates (RGB codes) at `fps` with the base preset and these
+// overrides; returns the rained frames in the same encoding.
+using RenderLook = std::function<std::vector<cv::Mat3f>(
+    const std::vector<cv::Mat3f>& plates, double fps, const std::vector<std::string>& overrides)>;
+
+struct RainMatchStep {
+  RainLook look;
+  derain::StreakStats stats;
+  std::vector<std::pair<std::string, double>> ratios;  // to the reference
+  double typical = 0.0;
+  double seconds = 0.0;
+};
+
+struct RainMatch {
+  std::string clip;  // its name
+  derain::StreakStats reference;
+  std::vector<RainMatchStep> steps;
+  size_t best = 0;  // index into steps
+};
+
+// Throws pluvia::Error naming the clip when it cannot be read or shows no rain streaks.
+RainMatch matchRain(const RainMatchSettings& settings, const RenderLook& render);
+
+std::string formatRainMatch(const RainMatch& match);
+
+}  // namespace pluvia::lab

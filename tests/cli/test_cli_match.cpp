@@ -1,0 +1,87 @@
+// `pluvia match` on pluvia's own rain of known settings: the example plate rained at 12 mm/h with
+// a 1/400 s shutter and 2 m/s of wind to the right (darken, blur and fog off, as the match compares
+// streaks alone), then matched from `moderate` (8 mm/h, 1/1000 s, no wind across). The rate and
+// the streaks' angle are recovered; the shutter only within a factor of 2 (measured: 1/695 s: on
+// the clean plates estimated from rained frames the longer shutter's streaks come out dimmer than
+// the reference's, which the typical factor counts against it). The preset written extends the
+// base and resolves. Bad input loses nothing.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <regex>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "test_support.h"
+#include "util/fs.h"
+
+using namespace pluvia;
+using namespace pluvia::test;
+namespace stdfs = std::filesystem;
+
+namespace {
+
+// The number after `label` in the output (the reference's angle: "angle -22.9 deg").
+double numberAfter(const std::string& output, const std::string& label) {
+  const std::regex pattern(label + " ([-+0-9.]+)");
+  std::smatch found;
+  if (!std::regex_search(output, found, pattern)) return NAN;
+  return std::stod(found[1]);
+}
+
+}  // namespace
+
+TEST(CliMatch, RecoversTheRateAndTheAngleOfKnownRain) {
+  const auto dir = freshTempDir("match");
+  const stdfs::path truth = writeTextFile(
+      dir, "truth.json",
+      R"({"pluvia": 1, "extends": "moderate", "rain": {"rate_mm_h": 12, "wind": )"
+      R"({"speed_m_s": 2, "dir_deg": 0}}, "camera": {"exposure_s": 0.0025}, "darken": )"
+      R"({"enabled": false}, "blur": {"enabled": false}, "fog": {"enabled": false}})");
+  const CommandResult rendered =
+      runPluvia({"render", exampleClip().string(), "-p", truth.string(), "--frames", "0-7",
+                 "--proxy", "0.3334", "-o", (dir / "rain.####.png").string(), "-q"});
+  ASSERT_EQ(rendered.exitCode, 0) << rendered.output;
+  const stdfs::path preset = dir / "matched.json";
+  const CommandResult r =
+      runPluvia({"match", (dir / "rain.####.png").string(), "-o", preset.string(), "-p", "moderate",
+                 "--width", "256", "--frames", "8", "--steps", "8"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const nlohmann::json matched = nlohmann::json::parse(fs::readTextFile(preset));
+  EXPECT_EQ(matched["extends"], "moderate");
+  // The rate within 25 % of 12 mm/h (measured 9.96), the shutter within a factor of 2 of 1/400 s.
+  const double rate = matched["rain"]["rate_mm_h"];
+  EXPECT_NEAR(rate, 12.0, 0.25 * 12.0) << r.output;
+  const double exposure = matched["camera"]["exposure_s"];
+  EXPECT_GT(exposure, 0.0025 / 2.0) << r.output;
+  EXPECT_LT(exposure, 0.0025 * 2.0) << r.output;
+  // The wind blows to the camera's right, and the match's streaks lean as the reference's do.
+  EXPECT_EQ(matched["rain"]["wind"]["dir_deg"], 0) << r.output;
+  const double referenceAngle = numberAfter(r.output, "angle");
+  std::smatch best;
+  ASSERT_TRUE(std::regex_search(r.output, best, std::regex("([-+0-9.]+)  <- the match")))
+      << r.output;
+  EXPECT_NEAR(std::stod(best[1]), referenceAngle, 2.0) << r.output;
+  EXPECT_LT(referenceAngle, -10.0) << r.output;
+  // What was written renders: a plan with it resolves.
+  const CommandResult plan = runPluvia({"plan", exampleClip().string(), "-p", preset.string()});
+  EXPECT_EQ(plan.exitCode, 0) << plan.output;
+}
+
+TEST(CliMatch, ABaseOrAReferenceIsNeverWrittenOver) {
+  const auto dir = freshTempDir("match_refuse");
+  const stdfs::path base = writeTextFile(dir, "base.json", R"({"pluvia": 1, "extends": "gentle"})");
+  const std::string before = fs::readTextFile(base);
+  const CommandResult overBase = runPluvia(
+      {"match", exampleClip().string(), "-o", base.string(), "-p", base.string(), "--steps", "1"});
+  EXPECT_EQ(overBase.exitCode, 2) << overBase.output;
+  expectOutputHas(overBase.output, {"base.json"});
+  EXPECT_EQ(fs::readTextFile(base), before);
+  const CommandResult missing =
+      runPluvia({"match", (dir / "no_such_rain.mp4").string(), "-o", (dir / "out.json").string()});
+  EXPECT_EQ(missing.exitCode, 1) << missing.output;
+  expectOutputHas(missing.output, {"no_such_rain.mp4"});
+  EXPECT_FALSE(stdfs::exists(dir / "out.json"));
+}
