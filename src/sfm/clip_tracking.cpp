@@ -16,12 +16,16 @@
 #include "sfm/colmap_model.h"
 #include "sfm/dense_import.h"
 #include "sfm/parallax_check.h"
+#include "sfm/scale_cues.h"
 #include "util/error.h"
 #include "util/log.h"
 #include "util/timer.h"
 
 namespace pluvia::sfm {
 namespace {
+
+// A remapped model replaces a bent one when its bentness is under this share of the first's.
+constexpr double kClearlyStraighter = 0.8;
 
 // The registered frame nearest to `frame`: its sparse points are the ones a frame between
 // keyframes most likely sees (points hidden from every nearby view are left out).
@@ -107,6 +111,20 @@ void logGravityAndScale(const SfmReconstruction& sfm) {
 }
 
 }  // namespace
+
+bool keepSecondModel(const SfmReconstruction& first, const SfmReconstruction& second,
+                     const SfmOptions& options, std::string& why) {
+  const double before = bentness(first, options);
+  const double after = second.ok() ? bentness(second, options) : INFINITY;
+  const bool keep = after < kClearlyStraighter * before;
+  why = second.ok() ? fmt::format(
+                          "bentness {:.2f} against the first model's {:.2f} (1: the bound); "
+                          "kept the {} model",
+                          after, before, keep ? "second" : "first")
+                    : fmt::format("the second mapping gave no usable model ({}); kept the first",
+                                  second.message);
+  return keep;
+}
 
 std::vector<int64_t> trackingFrames(const std::vector<int64_t>& frames, int step) {
   std::vector<int64_t> used;
@@ -255,6 +273,27 @@ ClipTracking trackClip(const std::vector<int64_t>& frames,
       tracking = before;
       log::info(fmt::format("depth: mapping again failed: {}", e.what()));
     }
+  }
+  // A model that built bent (the mapper's threads sum in their own order, and a different start
+  // can straighten it): mapped once more, on one thread with other seeds, the straighter kept.
+  std::string bent;
+  if (settings.remapBent && tracking.sfm.ok() &&
+      bentness(tracking.sfm, settings.sfm, &bent) > 1.0) {
+    log::info(fmt::format("depth: the model looks bent ({}); mapping again on one thread", bent));
+    const ClipTracking first = tracking;
+    request.remapOnly = true;
+    request.threads = 1;
+    request.firstMapperSeed = (settings.remapAttempts + 1) * request.mapperAttempts;
+    std::string why;
+    try {
+      map();
+    } catch (const Error& e) {
+      tracking.sfm.status = SfmStatus::TooFewRegistered;
+      tracking.sfm.message = e.what();
+    }
+    const bool keep = keepSecondModel(first.sfm, tracking.sfm, settings.sfm, why);
+    if (!keep) tracking = first;
+    log::info("depth: mapped again: " + why);
   }
   tracking.seconds = secondsSince(started);
   logGravityAndScale(tracking.sfm);

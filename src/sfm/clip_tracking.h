@@ -29,10 +29,13 @@ struct ClipTrackingSettings {
   std::filesystem::path workspace;  // COLMAP's folder (frames/, images/, database, log)
   // Every Nth frame goes to COLMAP; 0 chooses them by parallax (parallax_check.h selectKeyframes).
   int frameStep = 0;
-  int maxFrames = 200;         // at most this many go to COLMAP (evenly thinned)
-  int minFrames = 12;          // frames chosen by parallax: at least this many (or all the clip's)
-  int remapAttempts = 2;       // mapper reruns after no ground plane or an implausible focal length
-  double maxFocalRatio = 2.0;  // COLMAP's focal length within this factor of the preset's
+  int maxFrames = 200;    // at most this many go to COLMAP (evenly thinned)
+  int minFrames = 12;     // frames chosen by parallax: at least this many (or all the clip's)
+  int remapAttempts = 2;  // mapper reruns after no ground plane or an implausible focal length
+  // A model that built but looks bent (scale_cues.h bentness above 1) is mapped once more on one
+  // thread with another seed, and the straighter of the two kept; false: kept as it is, warned.
+  bool remapBent = true;
+  double maxFocalRatio = 2.0;      // COLMAP's focal length within this factor of the preset's
   double horizontalFovDeg = 60.0;  // COLMAP's starting focal length
   int maxImageSizePx = 1600;       // SIFT on frames downscaled to this longest side
   std::string colmapBinary;        // empty: $PLUVIA_COLMAP, else "colmap"
@@ -45,6 +48,12 @@ struct ClipTracking {
   std::vector<int64_t> framesUsed;  // handed to COLMAP
   double seconds = 0.0;             // frame export and COLMAP
 };
+
+// Of two models of the same clip, the one to keep: `second` (a remap of a bent `first`) only when
+// it built with status Ok and is clearly straighter (bentness under 0.8 of the first's); `why`
+// gets the two bentness figures and the choice.
+bool keepSecondModel(const SfmReconstruction& first, const SfmReconstruction& second,
+                     const SfmOptions& options, std::string& why);
 
 // Every step-th of `frames` from the first, and the last.
 std::vector<int64_t> trackingFrames(const std::vector<int64_t>& frames, int step);

@@ -26,6 +26,7 @@ void checkHeights(SfmReconstruction& sfm, const SfmOptions& options) {
   for (double h : heights) mean += h;
   mean /= static_cast<double>(heights.size());
   const double spread = (*hi - *lo) / mean;
+  sfm.cameraHeightSpread = spread;
   if (spread > options.maxCameraHeightSpread)
     sfm.warnings.push_back(fmt::format(
         "camera heights above the fitted ground range from {:.2f} to {:.2f} m ({:.0f} % of their "
@@ -78,6 +79,22 @@ void checkScaleCues(SfmReconstruction& sfm, const SfmOptions& options) {
         options.maxGroundTiltFromVerticalDeg));
   if (sfm.groundAtYZero) checkHeights(sfm, options);
   checkSpeed(sfm, options);
+}
+
+double bentness(const SfmReconstruction& sfm, const SfmOptions& options, std::string* reason) {
+  const double tilt = std::isfinite(sfm.groundTiltFromVerticalDeg)
+                          ? sfm.groundTiltFromVerticalDeg / options.maxGroundTiltFromVerticalDeg
+                          : 0.0;
+  const double spread = std::isfinite(sfm.cameraHeightSpread)
+                            ? sfm.cameraHeightSpread / options.maxCameraHeightSpread
+                            : 0.0;
+  const double worst = std::max(tilt, spread);
+  if (reason && worst > 1.0)
+    *reason = tilt >= spread ? fmt::format("the ground tilts {:.1f} deg from the façades' vertical",
+                                           sfm.groundTiltFromVerticalDeg)
+                             : fmt::format("the camera heights spread {:.0f} % of their mean",
+                                           100.0 * sfm.cameraHeightSpread);
+  return worst;
 }
 
 }  // namespace pluvia::sfm

@@ -109,9 +109,10 @@ struct SfmReconstruction {
   double groundOffsetMeters = 0.0;
   // Where +Y comes from: "facade lines", "ground plane" or "camera up" (the cameras' mean up).
   std::string gravitySource = "camera up";
-  int verticalLineCount = 0;                      // façade lines that agree on the vertical
-  double groundTiltFromVerticalDeg = NAN;         // the ground's normal from the lines' vertical
-  double structureHeightMeters = NAN;             // points' 95th-percentile height above the ground
+  int verticalLineCount = 0;               // façade lines that agree on the vertical
+  double groundTiltFromVerticalDeg = NAN;  // the ground's normal from the lines' vertical
+  double structureHeightMeters = NAN;      // points' 95th-percentile height above the ground
+  double cameraHeightSpread = NAN;  // (highest - lowest) / mean camera height above the ground
   double medianCameraSpeedMetersPerSecond = NAN;  // with SfmOptions::framesPerSecond
   // Cues that disagree with the gravity or the scale, each with its numbers (scale_cues.h).
   std::vector<std::string> warnings;
