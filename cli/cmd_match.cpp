@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -94,10 +95,13 @@ void addMatchCommand(CLI::App& app, Invocation& invocation) {
     settings.start.windRightMetersPerSecond =
         base.number("rain.wind.speed_m_s") *
         std::cos(base.number("rain.wind.dir_deg") * M_PI / 180.0);
+    // The candidates share the reference's plates: written once, their per-clip analysis cached.
+    std::unique_ptr<PlateRenderer> renderer;
     const lab::RainMatch match =
         lab::matchRain(settings, [&](const std::vector<cv::Mat3f>& plates, double fps,
                                      const std::vector<std::string>& overrides) {
-          return renderOnPlates(plates, fps, args->base, overrides);
+          if (!renderer) renderer = std::make_unique<PlateRenderer>(plates, fps);
+          return renderer->render(args->base, overrides);
         });
     std::cout << lab::formatRainMatch(match);
     fs::writeTextFile(args->output,

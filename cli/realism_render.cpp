@@ -15,27 +15,6 @@
 namespace pluvia::cli {
 namespace {
 
-// A folder for one render's plates, removed when it goes out of scope.
-class ScratchFolder {
- public:
-  ScratchFolder() {
-    static int serial = 0;
-    path_ = std::filesystem::temp_directory_path() /
-            fmt::format("pluvia-realism-{}-{}", getpid(), serial++);
-    std::filesystem::create_directories(path_);
-  }
-  ~ScratchFolder() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  ScratchFolder(const ScratchFolder&) = delete;
-  ScratchFolder& operator=(const ScratchFolder&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
-
 void writePlate(const std::string& path, const cv::Mat3f& codes) {
   const cv::Mat3f unit = codes / 255.0f;
   std::vector<OutputChannel> channels;
@@ -57,20 +36,31 @@ cv::Mat3f codesOf(const Image& image) {
 
 }  // namespace
 
-std::vector<cv::Mat3f> renderOnPlates(const std::vector<cv::Mat3f>& plates, double fps,
-                                      const std::string& preset,
-                                      const std::vector<std::string>& sets) {
-  ScratchFolder folder;
+PlateRenderer::PlateRenderer(const std::vector<cv::Mat3f>& plates, double fps) : fps_(fps) {
+  static int serial = 0;
+  folder_ = std::filesystem::temp_directory_path() /
+            fmt::format("pluvia-realism-{}-{}", getpid(), serial++);
+  std::filesystem::create_directories(folder_);
   for (size_t i = 0; i < plates.size(); ++i)
-    writePlate((folder.path() / fmt::format("plate.{:04d}.png", i)).string(), plates[i]);
+    writePlate((folder_ / fmt::format("plate.{:04d}.png", i)).string(), plates[i]);
+}
+
+PlateRenderer::~PlateRenderer() {
+  std::error_code ignored;
+  std::filesystem::remove_all(folder_, ignored);
+}
+
+std::vector<cv::Mat3f> PlateRenderer::render(const std::string& preset,
+                                             const std::vector<std::string>& sets) const {
   RenderRequest request;
-  request.input = (folder.path() / "plate.####.png").string();
-  request.output = (folder.path() / "rained.####.png").string();
+  request.input = (folder_ / "plate.####.png").string();
+  request.output = (folder_ / "rained.####.png").string();
+  request.cacheDir = (folder_ / "cache").string();
   request.progress = false;
   std::vector<std::string> overrides = sets;
   for (const char* off : {"darken.enabled=false", "blur.enabled=false", "fog.enabled=false"})
     overrides.push_back(off);
-  overrides.push_back(fmt::format("camera.fps={:g}", fps));
+  overrides.push_back(fmt::format("camera.fps={:g}", fps_));
   const Preset resolved = loadPreset(preset, overrides);
   StageTimes times;
   RenderSession session(request, resolved, allStages(), times);
@@ -83,6 +73,12 @@ std::vector<cv::Mat3f> renderOnPlates(const std::vector<cv::Mat3f>& plates, doub
     rendered.push_back(codesOf(context.image));
   }
   return rendered;
+}
+
+std::vector<cv::Mat3f> renderOnPlates(const std::vector<cv::Mat3f>& plates, double fps,
+                                      const std::string& preset,
+                                      const std::vector<std::string>& sets) {
+  return PlateRenderer(plates, fps).render(preset, sets);
 }
 
 }  // namespace pluvia::cli

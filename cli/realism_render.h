@@ -3,12 +3,32 @@
 // render's own session (the same stages and preset resolution as `pluvia render`), with darken,
 // blur and fog off so that the streaks alone are compared. Here in cli, not lab: rendering is the
 // stages' work.
+#include <filesystem>
 #include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
 namespace pluvia::cli {
+
+// Plates written once as a temporary PNG sequence (removed with the object), with a per-clip
+// analysis cache beside them (--cache), so that renders of several looks on the same plates
+// (`pluvia match`'s candidates) make the lighting, the depth guess and the lamps search once.
+class PlateRenderer {
+ public:
+  // `plates`: RGB, 8-bit display codes as float 0-255, frames 0.. of a clip at `fps`.
+  PlateRenderer(const std::vector<cv::Mat3f>& plates, double fps);
+  ~PlateRenderer();
+  PlateRenderer(const PlateRenderer&) = delete;
+  PlateRenderer& operator=(const PlateRenderer&) = delete;
+  // The rained frames in the plates' encoding, rounded to codes; darken, blur and fog off.
+  std::vector<cv::Mat3f> render(const std::string& preset,
+                                const std::vector<std::string>& sets) const;
+
+ private:
+  std::filesystem::path folder_;
+  double fps_;
+};
 
 // `plates`: RGB, 8-bit display codes as float 0-255, frames 0.. of a clip at `fps`. Returns the
 // rained frames in the same encoding, rounded to codes. The plates go through a temporary PNG
