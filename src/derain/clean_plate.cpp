@@ -9,7 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "derain/dense_flow.h"
-#include "image/luminance.h"
+#include "derain/streak_stats.h"
 #include "util/error.h"
 
 namespace pluvia::derain {
@@ -29,8 +29,7 @@ struct Registered {
 };
 
 Grey suppressedGrey(const cv::Mat3f& bgr, int diameterPx) {
-  cv::Mat1f luma;
-  cv::transform(bgr, luma, cv::Matx13f(float(kRec709Blue), float(kRec709Green), float(kRec709Red)));
+  const cv::Mat1f luma = lumaOf(bgr, ChannelOrder::bgr);
   const cv::Mat disk = cv::getStructuringElement(cv::MORPH_ELLIPSE, {diameterPx, diameterPx});
   Grey out;
   cv::morphologyEx(luma, out.codes, cv::MORPH_OPEN, disk);

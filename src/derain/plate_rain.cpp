@@ -7,20 +7,10 @@
 #include <opencv2/imgproc.hpp>
 
 #include "derain/clean_plate.h"
-#include "image/luminance.h"
+#include "derain/streak_stats.h"
 #include "util/error.h"
 
 namespace pluvia::derain {
-namespace {
-
-cv::Mat1f lumaOfBgr(const cv::Mat3f& bgr) {
-  cv::Mat1f y(bgr.size());
-  cv::transform(bgr, y, cv::Matx13f(float(kRec709Blue), float(kRec709Green), float(kRec709Red)));
-  return y;
-}
-
-}  // namespace
-
 std::string PlateRain::summary() const {
   std::string angle = std::isfinite(stats.angleDeg)
                           ? fmt::format(", falling at {:.1f} deg", stats.angleDeg)
@@ -42,8 +32,8 @@ PlateRain measurePlateRain(const std::vector<cv::Mat3f>& bgrFrames,
   StreakStatsAccumulator accumulator;
   for (size_t k = 0; k < at.size(); ++k) {
     RainLayerFrame layer;
-    layer.plateLuma = lumaOfBgr(plates[k].plate);
-    layer.layer = lumaOfBgr(bgrFrames[size_t(at[k])]) - layer.plateLuma;
+    layer.plateLuma = lumaOf(plates[k].plate, ChannelOrder::bgr);
+    layer.layer = lumaOf(bgrFrames[size_t(at[k])], ChannelOrder::bgr) - layer.plateLuma;
     layer.valid = plates[k].valid;
     accumulator.add(layer);
   }

@@ -8,6 +8,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "image/luminance.h"
 #include "util/error.h"
 
 namespace pluvia::derain {
@@ -383,6 +384,13 @@ std::vector<std::pair<std::string, double>> ratiosToReal(const StreakStats& rend
           {"lengthP50Px", rendered.lengthP50Px / real.lengthP50Px},
           {"widthP50Px", rendered.widthP50Px / real.widthP50Px},
           {"peakP90", rendered.peakP90 / real.peakP90}};
+}
+
+cv::Mat1f lumaOf(const cv::Mat3f& image, ChannelOrder order) {
+  const float r = float(kRec709Red), g = float(kRec709Green), b = float(kRec709Blue);
+  cv::Mat1f y(image.size());
+  cv::transform(image, y, order == ChannelOrder::rgb ? cv::Matx13f(r, g, b) : cv::Matx13f(b, g, r));
+  return y;
 }
 
 }  // namespace pluvia::derain

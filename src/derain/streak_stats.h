@@ -110,6 +110,11 @@ struct StreakStats {
   double temporalCorrelation = 0.0;
 };
 
+// The luma of the layers' convention (0.2126 R' + 0.7152 G' + 0.0722 B' of the encoded values),
+// in the image's own units, of an RGB image or of a BGR one (OpenCV's order).
+enum class ChannelOrder { rgb, bgr };
+cv::Mat1f lumaOf(const cv::Mat3f& image, ChannelOrder order);
+
 // One frame of a rain layer; all three the same size.
 struct RainLayerFrame {
   cv::Mat1f layer;      // dI, codes

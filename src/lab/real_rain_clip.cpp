@@ -8,7 +8,6 @@
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
-#include "image/luminance.h"
 #include "io/clip_reader.h"
 #include "util/error.h"
 
@@ -53,16 +52,6 @@ RealClip readRealClip(const std::string& path, int count, int widthPx) {
   return clip;
 }
 
-namespace {
-
-cv::Mat1f luma(const cv::Mat3f& rgb) {
-  cv::Mat1f y(rgb.size());
-  cv::transform(rgb, y, cv::Matx13f(float(kRec709Red), float(kRec709Green), float(kRec709Blue)));
-  return y;
-}
-
-}  // namespace
-
 StreakStats measureLayers(const std::vector<cv::Mat3f>& frames,
                           const std::vector<CleanPlate>& plates,
                           std::vector<cv::Mat1f>* layersOut) {
@@ -70,8 +59,8 @@ StreakStats measureLayers(const std::vector<cv::Mat3f>& frames,
   RainLayerFrame previous;
   for (size_t i = 0; i < frames.size(); ++i) {
     RainLayerFrame layer;
-    layer.plateLuma = luma(plates[i].plate);
-    layer.layer = luma(frames[i]) - layer.plateLuma;
+    layer.plateLuma = lumaOf(plates[i].plate, ChannelOrder::rgb);
+    layer.layer = lumaOf(frames[i], ChannelOrder::rgb) - layer.plateLuma;
     layer.valid = plates[i].valid;
     accumulator.add(layer, i > 0 ? &previous : nullptr);
     if (layersOut) layersOut->push_back(layer.layer);
