@@ -11,16 +11,12 @@
 
 #include <fmt/format.h>
 
+#include "bench_timing.h"
 #include "rain/drop_simulation.h"
 #include "util/timer.h"
 
 namespace pluvia {
 namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
 
 struct DropTimes {
   double stepMs = 0.0, streaksMs = 0.0;

@@ -7,8 +7,6 @@
 // and the layer's mean radiance and mean coverage (rain.A) over those of drawing every drop.
 #include "bench_lod.h"
 
-#include <time.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -17,6 +15,7 @@
 
 #include <fmt/format.h>
 
+#include "bench_timing.h"
 #include "common.h"
 #include "geometry/camera.h"
 #include "gpu/rain_renderer.h"
@@ -53,14 +52,6 @@ struct Layer {
 Layer layerOf(const Image& frame) {
   return {*frame.findPlane("rain.R"), *frame.findPlane("rain.G"), *frame.findPlane("rain.B"),
           *frame.findPlane("rain.A")};
-}
-
-// CPU time of the whole process (every thread), in ms: on a shared machine it varies less than
-// the wall time.
-double processCpuMs() {
-  timespec now{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
-  return 1000.0 * static_cast<double>(now.tv_sec) + 1e-6 * static_cast<double>(now.tv_nsec);
 }
 
 double mean(const std::vector<float>& v) {
@@ -126,14 +117,12 @@ void runLodBench(const std::string& lodList, const std::string& size, int frames
         cpuMs.push_back(processCpuMs() - cpuStarted);
       }
     }
-    std::sort(ms.begin(), ms.end());
-    std::sort(cpuMs.begin(), cpuMs.end());
-    const double median = ms[ms.size() / 2], cpuMedian = cpuMs[cpuMs.size() / 2];
+    const double wallMedian = median(ms), cpuMedian = median(cpuMs);
     const Layer layer = layerOf(frame);
     if (k == 0) {
       if (lods[0] != 0.0) throw UsageError("--lod must start with 0 (every drop, the reference)");
       reference = layer;
-      referenceMs = median;
+      referenceMs = wallMedian;
       referenceCpuMs = cpuMedian;
     }
     double sumDiff = 0.0, maxDiff = 0.0;
@@ -150,7 +139,7 @@ void runLodBench(const std::string& lodList, const std::string& size, int frames
     std::cout << fmt::format(
         "{:>7.2f} {:>8} {:>8} {:>9.2f} {:>7.2f}x {:>7.1f} {:>7.2f}x {:>11.2e} {:>10.4f} {:>10.4f} "
         "{:>10.4f}\n",
-        lods[k], near.size(), far.size(), median, referenceMs / median, cpuMedian,
+        lods[k], near.size(), far.size(), wallMedian, referenceMs / wallMedian, cpuMedian,
         referenceCpuMs / cpuMedian, sumDiff / (3.0 * static_cast<double>(layer.r.size())), maxDiff,
         radiance / referenceRadiance, mean(layer.a) / mean(reference.a));
     std::cout.flush();

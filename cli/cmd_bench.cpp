@@ -1,9 +1,8 @@
 // `pluvia bench`: frames per second of a full render split by stage, against ffmpeg's own
 // decode + encode of the same clip with the same encoder settings, measured in the same run.
 // `pluvia bench --strokes 10000,...,80000`: the GPU rain insertion alone (Table 3 of Wang et al.):
-// frames per second of RainRenderer::render for a synthetic, deterministic streak population.
+// frames per second of RainRenderer::render alone (cli/bench_strokes.h).
 #include <sys/resource.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -19,18 +18,18 @@
 #include "bench_day.h"
 #include "bench_drops.h"
 #include "bench_lod.h"
-#include "bench_streaks.h"
+#include "bench_strokes.h"
+#include "bench_timing.h"
 #include "commands.h"
 #include "common.h"
-#include "gpu/rain_renderer.h"
 #include "image/color.h"
 #include "image/ops.h"
 #include "io/clip_reader.h"
-#include "lab/test_environment.h"
 #include "pipeline/render_job.h"
 #include "rain/stroke_library.h"
 #include "stages/registry.h"
 #include "util/error.h"
+#include "util/fs.h"
 #include "util/log.h"
 #include "util/subprocess.h"
 #include "util/thread_limit.h"
@@ -55,21 +54,6 @@ std::string makeBenchClip(const stdfs::path& folder, int frames) {
   return clip.string();
 }
 
-// ---- stroke benchmark -----------------------------------------------------------------------
-
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  const size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
-// CPU time of the whole process (every thread, llvmpipe's rasteriser threads included), in ms.
-double processCpuMs() {
-  timespec now{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
-  return 1000.0 * static_cast<double>(now.tv_sec) + 1e-6 * static_cast<double>(now.tv_nsec);
-}
-
 // CPU seconds of this process and of its children that have been waited for (ffmpeg's encoder
 // and decoder once closed): the work a run costs, which a machine shared with other jobs
 // changes less than the wall time.
@@ -85,128 +69,12 @@ double cpuSecondsWithChildren() {
   return seconds(RUSAGE_SELF) + seconds(RUSAGE_CHILDREN);
 }
 
-struct RenderTiming {
-  double wallMs = 0.0;  // median
-  double cpuMs = 0.0;   // median, all threads
-};
-
-// Median milliseconds of `frames` renders after 3 warm-up renders. Each render starts from the
-// same background (copied outside the timed region) and includes everything render() does:
-// streak upload, draw, read-back and the CPU-side planes. The process CPU time is reported too:
-// on a shared machine it varies less than the wall time.
-RenderTiming timeRenders(gpu::RainRenderer& renderer, const Image& background,
-                         const std::vector<rain::StreakInstance>& streaks,
-                         const rain::ShadingParams& shading, int frames) {
-  std::vector<double> wall, cpu;
-  Image frame;
-  for (int i = 0; i < 3 + frames; ++i) {
-    frame = background;
-    const auto started = std::chrono::steady_clock::now();
-    const double cpuStarted = processCpuMs();
-    renderer.render(frame, streaks, shading);
-    const double elapsed = 1000.0 * secondsSince(started);
-    if (i >= 3) {
-      wall.push_back(elapsed);
-      cpu.push_back(processCpuMs() - cpuStarted);
-    }
-  }
-  return {median(wall), median(cpu)};
-}
-
-Image benchBackground(int width, int height, bool depthPlane) {
-  Image background(width, height);
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      float* p = background.pixel(x, y);
-      p[0] = 0.2f + 0.6f * static_cast<float>(x) / static_cast<float>(width);
-      p[1] = 0.3f + 0.4f * static_cast<float>(y) / static_cast<float>(height);
-      p[2] = 0.5f;
-    }
-  }
-  if (depthPlane) {
-    std::vector<float>& depth = background.plane(kDepthPlane);
-    for (int y = 0; y < height; ++y) {
-      for (int x = 0; x < width; ++x) {
-        depth[static_cast<size_t>(y) * width + x] = 3.0f + 47.0f * static_cast<float>(y) / height;
-      }
-    }
-  }
-  return background;
-}
-
-gpu::RainBackend parseBackend(const std::string& name) {
-  if (name == "egl") return gpu::RainBackend::Egl;
-  if (name == "cpu") return gpu::RainBackend::Cpu;
-  return gpu::RainBackend::Auto;
-}
-
-// Each backend asked for ("both": EGL, then the CPU rasteriser) times every count on both
-// populations in this one run; with two backends a last table gives the CPU's frames per second
-// over EGL's.
-void runStrokeBench(const std::string& strokeList, const std::string& size, int frames,
-                    bool depthPlane, const std::string& backends) {
-  const std::vector<int> counts =
-      parseNumberList(strokeList, "--strokes", 1, 10000000, "counts", "count");
-  const auto [width, height] = parseFrameSize(size, 1, "720x480");
-  const rain::StrokeLibrary library = rain::loadStrokeLibrary(rain::builtinStrokeLibraryPath());
-  const int strokeCount = static_cast<int>(library.atlas.rects.size());
-  rain::ShadingParams shading;  // pluvia's default: the map term alone, c = 0
-  shading.radianceMap = lab::builtinTestEnvironment(128);
-  const Image background = benchBackground(width, height, depthPlane);
-
-  std::cout << fmt::format("bench strokes: {}x{}, {} frames each (median, after 3 warm-up)\n",
-                           width, height, frames);
-  std::cout << fmt::format("atlas: {} strokes ({}x{}); radiance map {}x{}; scene depth: {}\n",
-                           strokeCount, library.atlas.width, library.atlas.height,
-                           shading.radianceMap.width, shading.radianceMap.height,
-                           depthPlane ? "plane 3-50 m" : "none (far)");
-  std::cout << "timing: RainRenderer::render end to end (streak upload, draw, read-back, planes)\n";
-
-  std::vector<StreakPopulation> populations[2];
-  for (int count : counts) {
-    populations[0].push_back(syntheticStreaks(count, width, height, strokeCount));
-    populations[1].push_back(simulatedStreaks(count, width, height, library.atlas));
-  }
-  const std::vector<std::string> names =
-      backends == "both" ? std::vector<std::string>{"egl", "cpu"} : std::vector{backends};
-  std::vector<std::vector<double>> fps(names.size());  // [backend][population * counts + i]
-  for (size_t b = 0; b < names.size(); ++b) {
-    gpu::RainRenderer renderer(width, height, parseBackend(names[b]));
-    renderer.setStrokeAtlas(library.atlas);
-    std::cout << fmt::format("\nbackend {}: {}\n", names[b], renderer.deviceDescription());
-    const RenderTiming overhead =
-        timeRenders(renderer, background, syntheticStreaks(1, width, height, strokeCount).streaks,
-                    shading, frames);
-    std::cout << fmt::format(
-        "fixed cost per frame (1 streak: uploads, read-back, planes): {:.2f} ms ({:.2f} ms CPU)\n",
-        overhead.wallMs, overhead.cpuMs);
-    for (int simulated = 0; simulated < 2; ++simulated) {
-      std::cout << fmt::format("{:>9} {:>10} {:>9} {:>12} {:>9} {:>12}  {}\n", "strokes",
-                               "ms/frame", "fps", "Mpx covered", "Mpx/s", "CPU ms/frame",
-                               simulated ? "simulated rain" : "synthetic stress test");
-      for (const StreakPopulation& population : populations[simulated]) {
-        const RenderTiming t =
-            timeRenders(renderer, background, population.streaks, shading, frames);
-        const double megapixels = population.pixelsCovered / 1e6;
-        fps[b].push_back(1000.0 / t.wallMs);
-        std::cout << fmt::format("{:>9} {:>10.2f} {:>9.1f} {:>12.2f} {:>9.1f} {:>12.2f}\n",
-                                 population.streaks.size(), t.wallMs, 1000.0 / t.wallMs, megapixels,
-                                 megapixels / (t.wallMs / 1000.0), t.cpuMs);
-        std::cout.flush();
-      }
-      std::cout << "  (" << populations[simulated].front().description << ")\n";
-    }
-  }
-  if (names.size() == 2) {
-    std::cout << fmt::format("\n{:>9} {:>16} {:>16}  (frames/s, {} over {}, same run)\n", "strokes",
-                             "synthetic", "simulated", names[1], names[0]);
-    for (size_t i = 0; i < counts.size(); ++i) {
-      std::cout << fmt::format("{:>9} {:>16.2f} {:>16.2f}\n", counts[i], fps[1][i] / fps[0][i],
-                               fps[1][counts.size() + i] / fps[0][counts.size() + i]);
-    }
-  }
-  std::cout << "(CPU ms/frame: all threads of the process, llvmpipe's included; on a shared "
-               "machine it varies less than the wall time)\n";
+// The atlas as pluvia-bench-strokes reads it; an existing file is left alone.
+void saveAtlasJson(const rain::StrokeAtlas& atlas, const std::string& path) {
+  if (stdfs::exists(path))
+    throw UsageError(fmt::format("--save-atlas {}: the file exists; give a new name", path));
+  const std::string text = rain::strokeAtlasToJson(atlas).dump();
+  fs::writeFileAtomically(path, text.data(), text.size());
 }
 
 // The per-pixel passes of a render on one frame of `size`: colour in (sRGB to linear), darken,
@@ -288,7 +156,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     std::string input, preset = "moderate";
     std::vector<std::string> sets;
     int frames = 48;
-    std::string strokes, size = "720x480", backend = "both", lod;
+    std::string strokes, size = "720x480", backend = "both", lod, saveAtlas;
     int64_t drops = 0;
     double rate = 8.0;
     bool depthPlane = false, passes = false, day = false;
@@ -304,6 +172,9 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
       "--strokes", args->strokes,
       "bench the GPU rain insertion alone: streak counts, e.g. 10000,20000,40000,80000");
   cmd->add_option("--size", args->size, "with --strokes: frame size WIDTHxHEIGHT (720x480)");
+  cmd->add_option("--save-atlas", args->saveAtlas,
+                  "with --strokes: also write the stroke atlas benched, as JSON, for "
+                  "pluvia-bench-strokes --atlas on a machine without pluvia's image libraries");
   cmd->add_option("--lod", args->lod,
                   "bench rain.lod_px: time and rain AOV error of each size against 0 (every "
                   "drop), e.g. 0,0.5,1,1.5 at --size (default 1920x1080)");
@@ -341,8 +212,10 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     }
     if (!args->strokes.empty()) {
       const bool framesGiven = cmd->count("--frames") > 0;
-      runStrokeBench(args->strokes, args->size, framesGiven ? args->frames : 30, args->depthPlane,
-                     args->backend);
+      const rain::StrokeLibrary library = rain::loadStrokeLibrary(rain::builtinStrokeLibraryPath());
+      if (!args->saveAtlas.empty()) saveAtlasJson(library.atlas, args->saveAtlas);
+      runStrokeBench(library.atlas, args->strokes, args->size, framesGiven ? args->frames : 30,
+                     args->depthPlane, args->backend);
       return;
     }
     stdfs::path folder = stdfs::temp_directory_path() / fmt::format("pluvia-bench-{}", ::getpid());

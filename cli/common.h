@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "option_values.h"
 #include "pipeline/render_job.h"
 #include "preset/preset.h"
 
@@ -16,17 +17,6 @@ namespace pluvia::cli {
 
 // "1001-1048" or "12" -> (first, last). Throws UsageError naming the text.
 std::pair<int64_t, int64_t> parseFrameRange(const std::string& text);
-// A comma-separated list of numbers, each from `min` to `max` (--lod 0,0.5,1; --strokes
-// 1000,10000), for T int or double. Throws UsageError naming `option`, `items` and the bad item
-// ("--strokes takes counts from 1 to 10000000 separated by commas, got '1e3'"), or `item` for an
-// empty list ("--strokes needs at least one count").
-template <class T>
-std::vector<T> parseNumberList(const std::string& list, const std::string& option, T min, T max,
-                               const std::string& items, const std::string& item);
-// WIDTHxHEIGHT (--size 720x480), each side from `minSidePx` to 16384. Throws UsageError quoting
-// `example` and the text.
-std::pair<int, int> parseFrameSize(const std::string& size, int minSidePx,
-                                   const std::string& example);
 // --frames of render and preview: a range sets the request's first and last frame, a stepped or
 // comma list ("1001-1100x2", "1,5,9") its frame list (io/frame_list.h). Throws UsageError.
 void setFrames(RenderRequest& request, const std::string& text);

@@ -27,4 +27,5 @@ set(PLUVIA_LAYER_farm io image util)
 set(PLUVIA_LAYER_cli farm lab stages pipeline gpu derain rain envmap optics sfm preset geometry io
                      image util)
 # Headers of gpu/ (the renderer and its GL helpers) are for these files and folders only.
-set(PLUVIA_GPU_USERS src/gpu/ src/lab/ src/stages/rain_stage.cpp cli/cmd_bench.cpp cli/bench_lod.cpp)
+set(PLUVIA_GPU_USERS src/gpu/ src/lab/ src/stages/rain_stage.cpp cli/bench_strokes.cpp
+                     cli/bench_lod.cpp)

@@ -7,10 +7,25 @@
 #include <cstdint>
 
 #include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "gpu/rain_error.h"
 
 namespace pluvia::gpu {
+
+namespace {
+
+// Runs body(first, end) over the frame's pixels in blocks on every core: the per-pixel passes
+// around the GPU's draw are the fixed cost of a frame, and on a GPU they are most of it.
+template <class Body>
+void forEachPixelBlock(size_t pixels, const Body& body) {
+  constexpr size_t kBlockPixels = 16384;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, kBlockPixels),
+                    [&](const tbb::blocked_range<size_t>& r) { body(r.begin(), r.end()); });
+}
+
+}  // namespace
 
 void validateFrame(const Image& frame) {
   if (frame.empty()) throwRainError("cannot draw rain on an empty frame");
@@ -126,11 +141,13 @@ void validateStreaks(const std::vector<rain::StreakInstance>& streaks, int strok
 }
 
 void comparableSceneDepth(const Image& frame, std::vector<float>& depthMeters) {
-  depthMeters.assign(frame.pixelCount(), kFarDepthMeters);
+  depthMeters.resize(frame.pixelCount());
   const std::vector<float>* depth = frame.findPlane(kDepthPlane);
-  if (!depth) return;
-  std::transform(depth->begin(), depth->end(), depthMeters.begin(),
-                 [](float d) { return std::isfinite(d) ? d : kFarDepthMeters; });
+  forEachPixelBlock(frame.pixelCount(), [&](size_t first, size_t end) {
+    for (size_t i = first; i < end; ++i) {
+      depthMeters[i] = depth && std::isfinite((*depth)[i]) ? (*depth)[i] : kFarDepthMeters;
+    }
+  });
 }
 
 void storeRainLayer(const std::vector<float>& rainRgba, Image& frame) {
@@ -144,27 +161,28 @@ void storeRainLayer(const std::vector<float>& rainRgba, Image& frame) {
 
 void compositeRainLayer(const std::vector<float>& radianceLayer, float backgroundWeight,
                         Image& frame) {
-  float* planes[4] = {frame.plane("rain.R").data(), frame.plane("rain.G").data(),
-                      frame.plane("rain.B").data(), frame.plane("rain.A").data()};
-  const size_t pixels = frame.pixelCount();
+  float* planes[5] = {frame.plane("rain.R").data(), frame.plane("rain.G").data(),
+                      frame.plane("rain.B").data(), frame.plane("rain.A").data(),
+                      frame.plane("matte").data()};
   const float c = backgroundWeight;
-  for (size_t i = 0; i < pixels; ++i) {
-    const float* layer = radianceLayer.data() + i * 4;
-    float* background = frame.rgba.data() + i * 4;
-    const float coverage = layer[3];
-    for (int ch = 0; ch < 3; ++ch) {
-      // c = 0 (the default shading) adds nothing, not even 0 * an infinite background.
-      const float rain = c == 0.0f ? layer[ch] : layer[ch] + c * background[ch] * coverage;
-      planes[ch][i] = rain;
-      if (coverage != 0.0f || rain != 0.0f) {
-        background[ch] = rain + (1.0f - coverage) * background[ch];
+  forEachPixelBlock(frame.pixelCount(), [&](size_t first, size_t end) {
+    for (size_t i = first; i < end; ++i) {
+      const float* layer = radianceLayer.data() + i * 4;
+      float* background = frame.rgba.data() + i * 4;
+      const float coverage = layer[3];
+      for (int ch = 0; ch < 3; ++ch) {
+        // c = 0 (the default shading) adds nothing, not even 0 * an infinite background.
+        const float rain = c == 0.0f ? layer[ch] : layer[ch] + c * background[ch] * coverage;
+        planes[ch][i] = rain;
+        if (coverage != 0.0f || rain != 0.0f) {
+          background[ch] = rain + (1.0f - coverage) * background[ch];
+        }
       }
+      planes[3][i] = coverage;
+      planes[4][i] = coverage;
     }
-    planes[3][i] = coverage;
-  }
-  frame.planes["matte"] = frame.planes["rain.A"];
+  });
 }
-
 namespace {
 
 // Whether every bit of the layer is zero over pixels [first, first + count) and, when c enters,

@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rain/streak_types.h"
+#include "rain/stroke_atlas.h"
 
 namespace pluvia::rain {
 
@@ -45,20 +46,5 @@ void saveStrokeLibrary(const StrokeLibrary& library, const std::string& jsonPath
 StrokeLibrary loadStrokeLibrary(const std::string& jsonPath);
 // The library shipped with pluvia (assets/strokes/builtin.json in the source tree).
 std::string builtinStrokeLibraryPath();
-
-// Mean matte value over all strokes' rectangles (1 for an empty atlas).
-double meanMatte(const StrokeAtlas& atlas);
-
-// Per stroke, how much larger than the matte's own equivalent width and length (half-maximum,
-// rain/stroke_profile.h) its rectangle is: {across, along}. A matte cut from footage keeps its
-// soft sides and ends, so its rectangle is wider and longer than the stroke it holds; the
-// renderer grows each quad by these factors so that the stroke itself is the drop's streak.
-// {1, 1} for an empty rectangle.
-std::vector<std::array<float, 2>> strokeQuadScales(const StrokeAtlas& atlas);
-
-// A whole atlas as one JSON value (alpha inline), for the artifact cache.
-nlohmann::json strokeAtlasToJson(const StrokeAtlas& atlas);
-// Throws pluvia::Error naming `source` when the JSON is not a valid atlas.
-StrokeAtlas strokeAtlasFromJson(const nlohmann::json& json, const std::string& source);
 
 }  // namespace pluvia::rain
