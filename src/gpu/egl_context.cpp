@@ -131,6 +131,24 @@ std::vector<CandidateDisplay> candidateDisplays(std::vector<std::string>& failur
 
 }  // namespace
 
+bool eglDevicesAreAllSoftware() {
+  const char* clientExtensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+  if (!hasExtension(clientExtensions, "EGL_EXT_device_query") ||
+      !(hasExtension(clientExtensions, "EGL_EXT_device_enumeration") ||
+        hasExtension(clientExtensions, "EGL_EXT_device_base")))
+    return false;
+  EGLint count = 0;
+  if (!eglQueryDevicesEXT(0, nullptr, &count) || count <= 0) return false;
+  std::vector<EGLDeviceEXT> devices(static_cast<size_t>(count));
+  if (!eglQueryDevicesEXT(count, devices.data(), &count)) return false;
+  for (EGLint i = 0; i < count; ++i) {
+    if (!hasExtension(eglQueryDeviceStringEXT(devices[size_t(i)], EGL_EXTENSIONS),
+                      "EGL_MESA_device_software"))
+      return false;
+  }
+  return true;
+}
+
 HeadlessGlContext::HeadlessGlContext() {
   std::vector<std::string> failures;
   for (const CandidateDisplay& candidate : candidateDisplays(failures)) {

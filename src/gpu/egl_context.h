@@ -8,6 +8,11 @@
 
 namespace pluvia::gpu {
 
+// True when EGL enumerates devices and every one is a software rasteriser (Mesa marks those
+// with EGL_MESA_device_software): then a context would draw on the CPU. Asks EGL only, without
+// making a display or a context (a fifth of a second).
+bool eglDevicesAreAllSoftware();
+
 class HeadlessGlContext {
  public:
   // Creates the context and makes it current on this thread. Throws pluvia::Error naming what

@@ -188,6 +188,12 @@ RainRenderer::RainRenderer(int width, int height, RainBackend backend)
   const bool fromEnvironment = backend == RainBackend::Auto;
   if (fromEnvironment) backend = rainBackendFromEnvironment();
   std::string why = fromEnvironment && backend != RainBackend::Auto ? "PLUVIA_RAIN_BACKEND" : "";
+  if (backend == RainBackend::Auto && eglDevicesAreAllSoftware()) {
+    why =
+        "EGL's only devices are software ones (EGL_MESA_device_software); "
+        "PLUVIA_RAIN_BACKEND=egl draws with them";
+    backend = RainBackend::Cpu;
+  }
   if (backend != RainBackend::Cpu) {
     try {
       impl_->egl = std::make_unique<EglBackend>();

@@ -1,5 +1,7 @@
 #include "pipeline/cache.h"
 
+#include <fstream>
+
 #include "util/fs.h"
 #include "util/log.h"
 
@@ -32,6 +34,41 @@ std::optional<nlohmann::json> ArtifactCache::load(const std::string& stage,
 void ArtifactCache::store(const std::string& stage, const std::string& key,
                           const nlohmann::json& value) const {
   fs::writeTextFile(pathFor(stage, key), value.dump(1));
+}
+
+namespace {
+
+std::filesystem::path blobPathOf(const std::filesystem::path& entry) {
+  return std::filesystem::path(entry).replace_extension(".bin");
+}
+
+}  // namespace
+
+void ArtifactCache::storeBlob(const std::string& stage, const std::string& key,
+                              const nlohmann::json& header, const void* bytes, size_t size) const {
+  const std::filesystem::path entry = pathFor(stage, key);
+  fs::writeFileAtomically(blobPathOf(entry), bytes, size);
+  store(stage, key, {{"header", header}, {"bytes", size}});
+}
+
+std::optional<ArtifactCache::Blob> ArtifactCache::loadBlob(const std::string& stage,
+                                                           const std::string& key) const {
+  const std::optional<nlohmann::json> entry = load(stage, key);
+  if (!entry) return std::nullopt;
+  const std::filesystem::path path = blobPathOf(pathFor(stage, key));
+  try {
+    const size_t size = entry->at("bytes").get<size_t>();
+    std::ifstream in(path, std::ios::binary);
+    Blob blob{entry->at("header"), std::string(size, '\0')};
+    if (!in.read(blob.bytes.data(), std::streamsize(size)) || in.peek() != EOF) {
+      log::warning("ignoring cache entry " + path.string() + ": not the size its entry says");
+      return std::nullopt;
+    }
+    return blob;
+  } catch (const std::exception&) {
+    log::warning("ignoring unreadable cache entry " + pathFor(stage, key).string());
+    return std::nullopt;
+  }
 }
 
 }  // namespace pluvia

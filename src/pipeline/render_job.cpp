@@ -212,6 +212,15 @@ Camera cameraOfFrame(const CameraSettings& settings, const ClipInfo& clip) {
   return camera;
 }
 
+// The colour config as a hash of its description and, for a file, its text.
+std::string configIdentity(const ColorSettings& color) {
+  Hasher config;
+  config.add(describeConfig(color.configPath));
+  const std::string configFile = chosenConfigPath(color.configPath);
+  if (!configFile.empty()) config.add(fs::readTextFile(configFile));
+  return config.hex();
+}
+
 // What a frame's pixels and file depend on besides the preset, recorded in its header so that
 // --skip-existing keeps only a frame this render would write alike (io/written_frame.h): the
 // plate (pipeline/stage.h's clipIdentity), the output size, the colour config and spaces, the
@@ -221,13 +230,10 @@ void addResumeIdentity(WriterOptions& options, const RenderRequest& request,
                        const ColorSettings& color, const ClipInfo& clip) {
   options.metadata["pluvia:plate"] = clipIdentity(clip);
   options.metadata["pluvia:size"] = fmt::format("{}x{}", clip.width, clip.height);
-  Hasher config;
-  config.add(describeConfig(color.configPath));
-  const std::string configFile = chosenConfigPath(color.configPath);
-  if (!configFile.empty()) config.add(fs::readTextFile(configFile));
-  options.metadata["pluvia:colour"] = fmt::format(
-      "{} -> {} -> {}, config {}", resolveInputSpace(color, clip), color.workingSpace,
-      resolveOutputSpace(color, request.output, taggedInputSpace(color, clip)), config.hex());
+  options.metadata["pluvia:colour"] =
+      fmt::format("{} -> {} -> {}, config {}", resolveInputSpace(color, clip), color.workingSpace,
+                  resolveOutputSpace(color, request.output, taggedInputSpace(color, clip)),
+                  configIdentity(color));
   options.metadata["pluvia:aovs"] =
       request.aovs.empty() ? "none" : fmt::format("{}", fmt::join(request.aovs, ","));
   options.metadata["pluvia:format"] =
@@ -369,6 +375,14 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
   // length in pixels, so the rain and the depth land where they would on the full frame.
   context_.camera = cameraOfFrame(camera_, clip());
   context_.cameraPath = camera_.path(context_.camera);
+  context_.framesKey = Hasher()
+                           .add(clipIdentity(clip()))
+                           .add(uint64_t(clip().width))
+                           .add(uint64_t(clip().height))
+                           .add(resolveInputSpace(color_, clip()))
+                           .add(color_.workingSpace)
+                           .add(configIdentity(color_))
+                           .hex();
   context_.readWorking = [this](int64_t frame) {
     Image image = reader_->read(frame);
     ops::replaceNonFinite(image);

@@ -66,6 +66,11 @@ struct ClipContext {
   const ClipInfo* clip = nullptr;
   ClipReader* reader = nullptr;               // frames in the file's encoding
   std::function<Image(int64_t)> readWorking;  // a frame converted to the working space
+  // What readWorking gives, as part of a cache key: the plate (clipIdentity), the size it is
+  // read at and the conversion into the working space. The per-clip results made from the
+  // frames alone (the still, the sky, whether the plate was shot in rain) are cached under it,
+  // so a --set change that touches none of these finds them.
+  std::string framesKey;
   Camera camera;
   double fps = 24.0;
   ArtifactCache* cache = nullptr;  // null without --cache

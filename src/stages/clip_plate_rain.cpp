@@ -9,6 +9,9 @@
 
 #include "derain/plate_rain.h"
 #include "image/srgb.h"
+#include "pipeline/cache.h"
+#include "pluvia/version.h"
+#include "util/hash.h"
 #include "util/log.h"
 #include "util/timer.h"
 
@@ -41,6 +44,27 @@ const PlateRainFinding& clipPlateRain(ClipContext& clip) {
     finding.summary = "fewer than 3 frames to measure: taken as dry";
     return clip.plateRain.emplace(finding);
   }
+  const std::string key = clip.framesKey.empty() ? ""
+                                                 : Hasher()
+                                                       .add("plate-rain")
+                                                       .add(kVersion)
+                                                       .add(clip.framesKey)
+                                                       .add(uint64_t(kFramesRead))
+                                                       .add(uint64_t(kMeasureWidthPx))
+                                                       .hex();
+  if (clip.cache && !key.empty()) {
+    if (auto cached = clip.cache->load("plate-rain", key)) {
+      try {
+        finding.rained = cached->at("rained").get<bool>();
+        finding.summary = cached->at("summary").get<std::string>();
+        log::info(fmt::format("plate: {} in rain: {}, from cache",
+                              finding.rained ? "shot" : "not shot", finding.summary));
+        return clip.plateRain.emplace(finding);
+      } catch (const nlohmann::json::exception&) {
+        // Malformed: measured again and stored over it.
+      }
+    }
+  }
   const std::vector<int64_t>& frames = clip.clip->frames;
   const auto start = std::chrono::steady_clock::now();
   const size_t count = std::min(frames.size(), kFramesRead);
@@ -53,6 +77,9 @@ const PlateRainFinding& clipPlateRain(ClipContext& clip) {
   finding.summary = rain.summary();
   log::info(fmt::format("plate: {} in rain: {}, in {:.1f} s", rain.rained ? "shot" : "not shot",
                         finding.summary, secondsSince(start)));
+  if (clip.cache && !key.empty())
+    clip.cache->store("plate-rain", key,
+                      {{"rained", finding.rained}, {"summary", finding.summary}});
   return clip.plateRain.emplace(finding);
 }
 

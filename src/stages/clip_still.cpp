@@ -1,11 +1,20 @@
 #include "stages/clip_still.h"
 
 #include <algorithm>
+#include <chrono>
+#include <cstring>
 
 #include <opencv2/imgproc.hpp>
 
+#include <fmt/format.h>
+
 #include "image/resize.h"
+#include "pipeline/cache.h"
+#include "pluvia/version.h"
 #include "sfm/sparse_densify.h"
+#include "util/hash.h"
+#include "util/log.h"
+#include "util/timer.h"
 
 namespace pluvia {
 namespace {
@@ -15,6 +24,41 @@ constexpr int kStillFrames = 5;
 // seed and speck sizes are in pixels, so a proxy render and the full one find the same sky,
 // and a 4K plate does not cost seconds for a mask that needs no such detail.
 constexpr int kSkySidePx = 480;
+
+// The still's entry: the frames it is made of and how many it takes. Empty (not cached) when
+// the session gives no key for its frames.
+std::string stillKey(const ClipContext& clip) {
+  if (clip.framesKey.empty()) return "";
+  return Hasher().add("still").add(kVersion).add(clip.framesKey).add(uint64_t(kStillFrames)).hex();
+}
+
+// The sky's: the still's, and the camera that places the horizon.
+std::string skyKey(const ClipContext& clip, const Camera& camera) {
+  const std::string still = stillKey(clip);
+  if (still.empty()) return "";
+  Hasher hasher;
+  hasher.add("sky").add(still).add(uint64_t(kSkySidePx));
+  hasher.add(uint64_t(camera.width)).add(uint64_t(camera.height));
+  for (double value : {camera.focalPx, camera.cx, camera.cy}) hasher.add(value);
+  for (int i = 0; i < 9; ++i) hasher.add(camera.worldFromCamera(i / 3, i % 3));
+  for (int i = 0; i < 3; ++i) hasher.add(camera.positionMeters(i));
+  return hasher.hex();
+}
+
+bool imageFromBlob(const ArtifactCache::Blob& blob, Image& image) {
+  try {
+    const int width = blob.header.at("width").get<int>();
+    const int height = blob.header.at("height").get<int>();
+    if (width <= 0 || height <= 0 ||
+        blob.bytes.size() != size_t(width) * size_t(height) * 4 * sizeof(float))
+      return false;
+    image = Image(width, height);
+    std::memcpy(image.rgba.data(), blob.bytes.data(), blob.bytes.size());
+    return true;
+  } catch (const nlohmann::json::exception&) {
+    return false;
+  }
+}
 
 }  // namespace
 
@@ -35,12 +79,40 @@ Image medianOfFrames(ClipContext& clip, const std::vector<int64_t>& frames, int 
 }
 
 const Image& clipStill(ClipContext& clip) {
-  if (!clip.still) clip.still = medianOfFrames(clip, clip.clip->frames, kStillFrames);
+  if (clip.still) return *clip.still;
+  const std::string key = stillKey(clip);
+  if (clip.cache && !key.empty()) {
+    if (auto blob = clip.cache->loadBlob("still", key)) {
+      Image still;
+      if (imageFromBlob(*blob, still)) {
+        log::info("still: the median of the clip's frames, from cache");
+        return clip.still.emplace(std::move(still));
+      }
+    }
+  }
+  const auto started = std::chrono::steady_clock::now();
+  clip.still = medianOfFrames(clip, clip.clip->frames, kStillFrames);
+  log::debug(fmt::format("still: the median of {} frames in {:.2f} s", kStillFrames,
+                         secondsSince(started)));
+  if (clip.cache && !key.empty())
+    clip.cache->storeBlob("still", key,
+                          {{"width", clip.still->width}, {"height", clip.still->height}},
+                          clip.still->rgba.data(), clip.still->rgba.size() * sizeof(float));
   return *clip.still;
 }
 
 const std::vector<uint8_t>& clipSky(ClipContext& clip, const Camera& camera) {
   if (clip.stillSky) return *clip.stillSky;
+  const std::string key = skyKey(clip, camera);
+  if (clip.cache && !key.empty()) {
+    if (auto blob = clip.cache->loadBlob("sky", key)) {
+      const Image& still = clipStill(clip);
+      if (blob->bytes.size() == still.pixelCount()) {
+        log::info("sky: found in the still, from cache");
+        return clip.stillSky.emplace(blob->bytes.begin(), blob->bytes.end());
+      }
+    }
+  }
   const Image& still = clipStill(clip);
   const double scale = double(kSkySidePx) / std::max(still.width, still.height);
   cv::Mat small, bgr;
@@ -56,6 +128,9 @@ const std::vector<uint8_t>& clipSky(ClipContext& clip, const Camera& camera) {
     for (int x = 0; x < still.width; ++x)
       mask[size_t(y) * still.width + x] = sky.at<uchar>(y, x) ? 1 : 0;
   clip.stillSky = std::move(mask);
+  if (clip.cache && !key.empty())
+    clip.cache->storeBlob("sky", key, {{"width", still.width}, {"height", still.height}},
+                          clip.stillSky->data(), clip.stillSky->size());
   return *clip.stillSky;
 }
 

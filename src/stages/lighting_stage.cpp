@@ -147,6 +147,16 @@ void ignoreMalformedEntry(const ClipContext& clip, const std::string& key, const
                            clip.cache->pathFor("lighting", key).string(), why));
 }
 
+// What of the camera the environment is made with: where it looks (the stitch's field of view,
+// the first frame's pose), not how it exposes or focuses, so that a --set of the shutter or
+// the lens's aperture finds the environment in the cache.
+nlohmann::json lightingCamera(const CameraSettings& camera) {
+  nlohmann::json used;
+  for (const char* key : {"fov_deg", "tilt_deg", "height_m", "path"})
+    if (camera.resolved.contains(key)) used[key] = camera.resolved.at(key);
+  return used;
+}
+
 // What the environment depends on: the lighting, the colour spaces, the camera and the clip.
 std::string environmentCacheKey(const LightingSettings& lighting, const ColorSettings& color,
                                 const CameraSettings& camera, const ClipInfo& clip) {
@@ -156,7 +166,7 @@ std::string environmentCacheKey(const LightingSettings& lighting, const ColorSet
       .add(kVersion)
       .add(lighting.resolved.dump())
       .add(color.resolved.dump())
-      .add(camera.resolved.dump())
+      .add(lightingCamera(camera).dump())
       .add(clipIdentity(clip))
       .hex();
 }

@@ -43,7 +43,9 @@ class LightsStage : public Stage {
     }
     if (clip.foundLamps)
       for (const FoundLamp& lamp : *clip.foundLamps) lights_.lights.push_back(foundLampLight(lamp));
-    if (lights_.halos) tables_ = std::make_unique<optics::ScatteringTables>();
+    // The halos' tables (a quarter of a second) only when there is a light to scatter.
+    if (lights_.halos && !lights_.lights.empty())
+      tables_ = std::make_unique<optics::ScatteringTables>();
     log::info(fmt::format("lights: {} lights{}", lights_.lights.size(),
                           clip.cameraTracked ? ", following the tracked camera" : ""));
   }

@@ -14,6 +14,7 @@
 #include "rain/stroke_library.h"
 #include "rain/thin_lens.h"
 #include "stages/auto_exposure.h"
+#include "stages/cached_drop_radiance.h"
 #include "stages/fog_settings.h"
 #include "stages/lights_settings.h"
 #include "stages/local_lights.h"
@@ -89,7 +90,8 @@ rain::RainAtFrame rainAt(const RainSettings& rain, double frame) {
 // How the drops are shaded (src/optics/drop_shading.h): "default" looks the drop's radiance up
 // in the environment convolved with the drop's transfer function; "paper" is Wang et al.'s 16
 // SH coefficients plus c * B.
-rain::ShadingParams dropShading(const RainSettings& rain, const EquirectMap& environment) {
+rain::ShadingParams dropShading(ClipContext& clip, const RainSettings& rain,
+                                const EquirectMap& environment) {
   const std::array<double, 3> eta =
       rain.dispersion
           ? optics::kWaterEtaDispersion
@@ -97,8 +99,8 @@ rain::ShadingParams dropShading(const RainSettings& rain, const EquirectMap& env
   rain::ShadingParams shading;
   const auto started = std::chrono::steady_clock::now();
   if (rain.shading == "default") {
-    shading.radianceMap = optics::buildDropRadianceMap(
-        environment, optics::channelOptics(eta, optics::kDefaultTerms));
+    shading.radianceMap =
+        cachedDropRadianceMap(clip, environment, optics::channelOptics(eta, optics::kDefaultTerms));
     shading.backgroundWeight = 0.0f;
   } else {
     const optics::PaperShading paper = optics::preparePaperShading(environment, eta);
@@ -166,9 +168,10 @@ class RainStage : public Stage {
     streakParams_.strokeQuadScale = rain::strokeQuadScales(atlas_);
     if (!clip.environment) throw Error("rain needs the lighting stage's environment", {"rain"});
     // One shading for the clip, or one per key environment of a looming camera.
-    if (clip.environment->keys.empty()) shading_ = dropShading(rain_, clip.environment->radiance);
+    if (clip.environment->keys.empty())
+      shading_ = dropShading(clip, rain_, clip.environment->radiance);
     for (const auto& [keyFrame, radiance] : clip.environment->keys)
-      keyShading_.emplace_back(keyFrame, dropShading(rain_, radiance));
+      keyShading_.emplace_back(keyFrame, dropShading(clip, rain_, radiance));
     renderer_ = std::make_unique<gpu::RainRenderer>(clip.camera.width, clip.camera.height);
     renderer_->setStrokeAtlas(atlas_);
     log::info(fmt::format("rain: {} drops in a {:.0f} m^3 box, {} strokes, GPU: {}",

@@ -20,6 +20,7 @@
 #include "rain/splashes.h"
 #include "rain/splatter.h"
 #include "stages/auto_exposure.h"
+#include "stages/cached_drop_radiance.h"
 #include "stages/rain_settings.h"
 #include "stages/registry.h"
 #include "stages/splash_settings.h"
@@ -51,8 +52,8 @@ class SplashStage : public Stage {
     map.outputWidth = 64;
     map.inputWidth = 128;
     environment_ = clip.environment->radiance;
-    radiance_ = optics::buildDropRadianceMap(
-        clip.environment->radiance,
+    radiance_ = cachedDropRadianceMap(
+        clip, clip.environment->radiance,
         optics::channelOptics(optics::kWaterEtaDispersion, optics::kDefaultTerms), map);
   }
 
