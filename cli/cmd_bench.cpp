@@ -17,7 +17,9 @@
 
 #include "bench_day.h"
 #include "bench_drops.h"
+#include "bench_floors.h"
 #include "bench_lod.h"
+#include "bench_lookdev.h"
 #include "bench_strokes.h"
 #include "bench_timing.h"
 #include "commands.h"
@@ -159,7 +161,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     std::string strokes, size = "720x480", backend = "both", lod, saveAtlas;
     int64_t drops = 0;
     double rate = 8.0;
-    bool depthPlane = false, passes = false, day = false;
+    bool depthPlane = false, passes = false, day = false, lookdev = false;
   };
   auto args = std::make_shared<Args>();
   cmd->add_option("INPUT", args->input, "clip to bench; default: the example scaled to 1080p");
@@ -193,9 +195,17 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
   cmd->add_flag("--day", args->day,
                 "put the day-time stages to work (skylight fog, a sun behind the camera, the "
                 "ground in view: cli/bench_day.h) and print their cost over the rain stage's");
+  cmd->add_flag("--lookdev", args->lookdev,
+                "bench the look-dev loop: one frame at --proxy 0.5 with a cold --cache, then after "
+                "each of five look changes (--set of rate, wind, opacity, fog, darken) with the "
+                "cache warm; INPUT or a 1080p PNG sequence of the bundled example");
   cmd->add_flag("--depth-plane", args->depthPlane,
                 "with --strokes: give the frame a scene depth plane (3-50 m)");
   cmd->callback([=, &invocation] {
+    if (args->lookdev) {
+      (void)runLookdevBench(args->input, args->preset);
+      return;
+    }
     if (args->drops > 0) {
       runDropBench(args->drops, cmd->count("--frames") > 0 ? args->frames : 30);
       return;
@@ -329,6 +339,25 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
         encodeCpuSeconds / pluviaCpuSeconds);
     std::cout << "(stage times overlap: decode and encode run on their own threads)\n";
     if (args->day) printDayStageRatios(times, frames);
+    if (args->input.empty()) {
+      std::cout << "\nthe other floors, on 1080p sequences of the example:\n";
+      const ExrFloor exr = measureExrFloor(folder / "exr", args->preset);
+      const TimecodeFloor timecode = measureTimecodeFloor(folder / "timecode", args->preset);
+      const LookdevTimes lookdev = runLookdevBench("", args->preset);
+      std::cout << fmt::format(
+          "\nfloors, pluvia against each in this run (frames per second, or time for the last "
+          "two):\n"
+          "  movie:    pluvia / x264 alone on pluvia's output        {:6.3f}  (goal >= 0.8)\n"
+          "  EXR:      pluvia / oiiotool copying the {} frames       {:6.3f}  (goal >= 0.5; "
+          "warm --cache, {:.1f} s against {:.1f} s; cold {:.3f}, {:.1f} s)\n"
+          "  timecode: frames 86401-86404 / frames 1-4, time        {:6.3f}  (goal <= 1.5)\n"
+          "  look-dev: a warm look change / the cold render, time  {:6.3f}  (warm {:.2f} s; "
+          "goal <= 2 s)\n",
+          pluviaFps / encodeFps, exr.frames, exr.oiiotoolSeconds / exr.warmSeconds, exr.warmSeconds,
+          exr.oiiotoolSeconds, exr.oiiotoolSeconds / exr.coldSeconds, exr.coldSeconds,
+          timecode.fromTimecodeSeconds / timecode.fromOneSeconds,
+          lookdev.warmSeconds / lookdev.coldSeconds, lookdev.warmSeconds);
+    }
     stdfs::remove_all(folder);
   });
 }
