@@ -18,7 +18,10 @@ PrepareSummary prepareJob(const RenderRequest& request, const Preset& preset,
   const ArtifactCache& cache = *session.cache();
   PrepareSummary summary;
   summary.entries = clipAnalysisEntries(session.plan(), preset, session.clip(), stages, cache);
-  session.prepareStages(/*analysisOnly=*/true);
+  // Every stage, not only those with an entry of their own: their per-clip work goes into the
+  // cache too (the still, the sky, the plate's rain, the drop's radiance maps), so that the
+  // chunks after a prepare make none of it.
+  session.prepareStages();
   for (const AnalysisEntry& entry : summary.entries) {
     if (!cache.contains(entry.stage, entry.key))
       throw Error(fmt::format("{}: the per-clip analysis was not stored in {}", entry.stage,

@@ -391,15 +391,12 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
   };
 }
 
-void RenderSession::prepareStages(bool analysisOnly) {
+void RenderSession::prepareStages() {
   if (request_.requireCache && cache_)
     requireCachedAnalysis(clipAnalysisEntries(plan_, preset_, clip(), stageInfos_, *cache_),
                           request_.input, request_.cacheDir);
   for (const auto& info : stageInfos_) {
     if (!plan_.available(info.spec.name)) continue;
-    // `pluvia prepare`: the stages whose cache entry is missing.
-    if (analysisOnly && !cacheEntryMissing(cache_ ? &*cache_ : nullptr, info, preset_, clip()))
-      continue;
     stages_.emplace_back(&info, info.create(preset_));
   }
   for (auto& [info, stage] : stages_) {

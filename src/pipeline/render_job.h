@@ -79,9 +79,8 @@ class RenderSession {
 
   // Builds the stages the plan keeps and prepares them (per-clip analysis, GPU set-up). Once,
   // before processFrame(). A per-clip cache entry missing from the cache is computed by one
-  // process, the others waiting for it (pipeline/clip_analysis.h). `analysisOnly` (`pluvia
-  // prepare`): only the stages whose analysis goes into the cache, and no frame after.
-  void prepareStages(bool analysisOnly = false);
+  // process, the others waiting for it (pipeline/clip_analysis.h).
+  void prepareStages();
   // Builds and prepares only the named stages the plan keeps, in pipeline order (`pluvia plan
   // --resolved`: the depth and the lamps found in the plate, without the rest's analysis).
   void prepareStagesNamed(const std::vector<std::string>& names);

@@ -78,9 +78,14 @@ TEST(CliPrepare, FillsTheCacheSoThatARenderWithRequireCacheOnlyReadsIt) {
   EXPECT_NE(again.output.find("cached    lighting"), std::string::npos) << again.output;
 
   auto render = runPluvia({"render", input, "-p", "drizzle", "--cache", cache, "--require-cache",
-                           "-o", out, "--frames", "1-2"});
+                           "-o", out, "--frames", "1-2", "-v"});
   ASSERT_EQ(render.exitCode, 0) << render.output;
-  EXPECT_NE(render.output.find("lighting: from the plate, from cache"), std::string::npos)
+  // The per-clip work without an entry of its own stage came from the prepare too: the chunk
+  // made none of it.
+  expectOutputHas(render.output, {"lighting: from the plate, from cache",
+                                  "still: the median of the clip's frames, from cache",
+                                  "sky: found in the still, from cache"});
+  EXPECT_EQ(render.output.find("still: the median of 5 frames in"), std::string::npos)
       << render.output;
   EXPECT_TRUE(stdfs::exists(dir / "out" / "o.0002.png"));
   // --require-cache without a cache is a usage error.
