@@ -319,8 +319,7 @@ std::unique_ptr<ClipWriter> openClipWriter(const std::string& output, int width,
   if (isMovieFormat) checkMovieAovs(output, options);
   if (options.displayWindow && extension != "exr") {
     const PixelWindow picture = *options.displayWindow;
-    if (picture.x < 0 || picture.y < 0 || picture.width <= 0 || picture.height <= 0 ||
-        picture.x + picture.width > width || picture.y + picture.height > height)
+    if (!picture.fitsInside(width, height))
       throw Error(
           fmt::format("the picture {}x{} at ({}, {}) is not inside the {}x{} frame of {}",
                       picture.width, picture.height, picture.x, picture.y, width, height, output),

@@ -258,8 +258,7 @@ void writeImageFile(const std::string& path, int width, int height,
   }
   for (const auto& [name, window] :
        {std::pair{"data", options.dataWindow}, std::pair{"display", options.displayWindow}}) {
-    if (window && (window->width <= 0 || window->height <= 0 || window->x < 0 || window->y < 0 ||
-                   window->x + window->width > width || window->y + window->height > height)) {
+    if (window && !window->fitsInside(width, height)) {
       throw Error(
           fmt::format("{} window {}x{} at ({}, {}) is not inside the {}x{} frame of {}", name,
                       window->width, window->height, window->x, window->y, width, height, path),

@@ -8,6 +8,11 @@ struct PixelWindow {
   int width = 0;
   int height = 0;
   bool operator==(const PixelWindow&) const = default;
+  // Not empty, and wholly inside a frame of frameWidth x frameHeight pixels.
+  bool fitsInside(int frameWidth, int frameHeight) const {
+    return width > 0 && height > 0 && x >= 0 && y >= 0 && x + width <= frameWidth &&
+           y + height <= frameHeight;
+  }
 };
 
 }  // namespace pluvia
