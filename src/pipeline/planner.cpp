@@ -69,6 +69,10 @@ Plan makePlan(const Preset& preset, const ClipInfo& clip, const ArtifactCache* c
     entry.reason = fmt::format("writes {}", fmt::join(readers, ", "));
     if (std::string note = info.note ? info.note(preset) : ""; !note.empty())
       entry.reason += "; " + note;
+    if (cache && info.cachedWork) {
+      if (std::string cached = info.cachedWork(preset, clip, *cache); !cached.empty())
+        entry.reason += "; " + cached;
+    }
     // A per-frame stage with per-clip analysis (depth from COLMAP): say whether that is done.
     if (!info.perClip && !key.empty()) {
       entry.reason += inCache ? fmt::format("; per-clip analysis cached ({})",

@@ -264,6 +264,18 @@ WriterOptions writerOptionsFor(const RenderRequest& request, const Preset& prese
 
 }  // namespace
 
+std::string workingFramesKey(const Preset& preset, const ClipInfo& clip) {
+  const ColorSettings color = colorSettings(preset);
+  return Hasher()
+      .add(clipIdentity(clip))
+      .add(uint64_t(clip.width))
+      .add(uint64_t(clip.height))
+      .add(resolveInputSpace(color, clip))
+      .add(color.workingSpace)
+      .add(configIdentity(color))
+      .hex();
+}
+
 std::optional<std::string> movieTaggedSpace(const ClipInfo& clip, const std::string& configPath,
                                             std::string* note) {
   if (!clip.isMovie || clip.isFloat) return std::nullopt;
@@ -375,14 +387,7 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
   // length in pixels, so the rain and the depth land where they would on the full frame.
   context_.camera = cameraOfFrame(camera_, clip());
   context_.cameraPath = camera_.path(context_.camera);
-  context_.framesKey = Hasher()
-                           .add(clipIdentity(clip()))
-                           .add(uint64_t(clip().width))
-                           .add(uint64_t(clip().height))
-                           .add(resolveInputSpace(color_, clip()))
-                           .add(color_.workingSpace)
-                           .add(configIdentity(color_))
-                           .hex();
+  context_.framesKey = workingFramesKey(preset_, clip());
   context_.readWorking = [this](int64_t frame) {
     Image image = reader_->read(frame);
     ops::replaceNonFinite(image);

@@ -132,6 +132,9 @@ std::optional<std::string> movieTaggedSpace(const ClipInfo& clip, const std::str
 // The same where color.input is "auto", else nothing: a space the user gave for the plate
 // overrides its tags, and its outputs are not taken into the tagged space either.
 std::optional<std::string> taggedInputSpace(const ColorSettings& color, const ClipInfo& clip);
+// What ClipContext::readWorking gives for this preset and clip, as a cache key (the session's
+// ClipContext::framesKey): the plate, the size read, the conversion into the working space.
+std::string workingFramesKey(const Preset& preset, const ClipInfo& clip);
 // The colour space of the frames written to `output` (color.output; "auto": the working space
 // for EXR/HDR, the space a tagged movie came in (`taggedInputSpace`), else the config's sRGB
 // space), and the tags a file says it with: a render and a farm's assembly of its frames into a

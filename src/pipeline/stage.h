@@ -143,6 +143,9 @@ struct StageInfo {
   // The cache key of the stage's per-clip result for this preset and clip ("" when these
   // parameters cache nothing). A per-frame stage may have one for its per-clip analysis.
   std::function<std::string(const Preset&, const ClipInfo&)> cacheKey;
+  // The per-clip work besides its own entry that the stage will find in `cache` ("the still
+  // ... from the cache"), for `pluvia plan`; "" for none.
+  std::function<std::string(const Preset&, const ClipInfo&, const ArtifactCache&)> cachedWork;
   // What every written frame records of these parameters ({"pluvia:seed", "1"}), or none.
   std::function<std::map<std::string, std::string>(const Preset&)> frameMetadata;
   // The stage, holding its section's settings (and those of the sections it reads), read from
@@ -160,6 +163,8 @@ struct StageCallbacks {
   std::function<std::string(const Settings&, const Preset&)> note = {};
   std::function<std::vector<std::string>(const Settings&, const Preset&)> reads = {};
   std::function<std::string(const Settings&, const Preset&, const ClipInfo&)> cacheKey = {};
+  std::function<std::string(const Settings&, const Preset&, const ClipInfo&, const ArtifactCache&)>
+      cachedWork = {};
   std::function<std::map<std::string, std::string>(const Settings&, const Preset&)> frameMetadata =
       {};
   std::function<std::unique_ptr<Stage>(const Settings&, const Preset&)> create = {};
@@ -193,6 +198,7 @@ StageInfo makeStageInfo(SectionSpec spec, Settings (*read)(const Preset&),
   info.note = withSettings(read, std::move(callbacks.note));
   info.reads = withSettings(read, std::move(callbacks.reads));
   info.cacheKey = withSettings(read, std::move(callbacks.cacheKey));
+  info.cachedWork = withSettings(read, std::move(callbacks.cachedWork));
   info.frameMetadata = withSettings(read, std::move(callbacks.frameMetadata));
   info.create = withSettings(read, std::move(callbacks.create));
   return info;

@@ -23,6 +23,11 @@ StageInfo blurStageInfo() {
              return blur.distanceMeters > 0.0 ? std::vector<std::string>{"image", "depth"}
                                               : std::vector<std::string>{"image"};
            },
+       .cachedWork =
+           [](const BlurSettings& blur, const Preset& p, const ClipInfo& clip,
+              const ArtifactCache& cache) {
+             return cachedPlateRainNote(p, clip, cache, blur.overRain);
+           },
        .create =
            [](const BlurSettings& blur, const Preset&) {
              return std::make_unique<DepthGradingStage>(

@@ -10,6 +10,7 @@
 #include "derain/plate_rain.h"
 #include "image/srgb.h"
 #include "pipeline/cache.h"
+#include "pipeline/render_job.h"
 #include "pluvia/version.h"
 #include "util/hash.h"
 #include "util/log.h"
@@ -35,6 +36,18 @@ cv::Mat3f displayCodes(const Image& image) {
   return codes;
 }
 
+// The finding's cache entry: the frames it is measured on. "" (not cached) without them.
+std::string plateRainKey(const std::string& framesKey) {
+  if (framesKey.empty()) return "";
+  return Hasher()
+      .add("plate-rain")
+      .add(kVersion)
+      .add(framesKey)
+      .add(uint64_t(kFramesRead))
+      .add(uint64_t(kMeasureWidthPx))
+      .hex();
+}
+
 }  // namespace
 
 const PlateRainFinding& clipPlateRain(ClipContext& clip) {
@@ -44,14 +57,7 @@ const PlateRainFinding& clipPlateRain(ClipContext& clip) {
     finding.summary = "fewer than 3 frames to measure: taken as dry";
     return clip.plateRain.emplace(finding);
   }
-  const std::string key = clip.framesKey.empty() ? ""
-                                                 : Hasher()
-                                                       .add("plate-rain")
-                                                       .add(kVersion)
-                                                       .add(clip.framesKey)
-                                                       .add(uint64_t(kFramesRead))
-                                                       .add(uint64_t(kMeasureWidthPx))
-                                                       .hex();
+  const std::string key = plateRainKey(clip.framesKey);
   if (clip.cache && !key.empty()) {
     if (auto cached = clip.cache->load("plate-rain", key)) {
       try {
@@ -98,6 +104,14 @@ std::string rainedPlateNote(const std::string& stage, bool overRain) {
                         "left out at render time on a plate shot in rain (its own "
                         "streaks; {}.over_rain = true adds it anyway)",
                         stage);
+}
+
+std::string cachedPlateRainNote(const Preset& preset, const ClipInfo& clip,
+                                const ArtifactCache& cache, bool overRain) {
+  if (overRain || clip.frames.size() < 3) return "";
+  return cache.contains("plate-rain", plateRainKey(workingFramesKey(preset, clip)))
+             ? "the plate's rain check from the cache"
+             : "";
 }
 
 ParamSpec overRainParam() {

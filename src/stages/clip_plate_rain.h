@@ -21,6 +21,12 @@ bool leaveOutOnRainedPlate(ClipContext& clip, const std::string& stage, bool ove
 // The plan's note for a grading stage: what it does on a plate shot in rain.
 std::string rainedPlateNote(const std::string& stage, bool overRain);
 
+// For the plan (StageInfo::cachedWork of a grading stage): "the plate's rain check from the
+// cache" when `cache` holds it for this preset's frames of `clip` and the stage needs it (not
+// `overRain`), else "".
+std::string cachedPlateRainNote(const Preset& preset, const ClipInfo& clip,
+                                const ArtifactCache& cache, bool overRain);
+
 // The over_rain key every grading stage has.
 ParamSpec overRainParam();
 

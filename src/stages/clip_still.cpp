@@ -10,6 +10,7 @@
 
 #include "image/resize.h"
 #include "pipeline/cache.h"
+#include "pipeline/render_job.h"
 #include "pluvia/version.h"
 #include "sfm/sparse_densify.h"
 #include "util/hash.h"
@@ -27,9 +28,13 @@ constexpr int kSkySidePx = 480;
 
 // The still's entry: the frames it is made of and how many it takes. Empty (not cached) when
 // the session gives no key for its frames.
+std::string stillKeyOf(const std::string& framesKey) {
+  if (framesKey.empty()) return "";
+  return Hasher().add("still").add(kVersion).add(framesKey).add(uint64_t(kStillFrames)).hex();
+}
+
 std::string stillKey(const ClipContext& clip) {
-  if (clip.framesKey.empty()) return "";
-  return Hasher().add("still").add(kVersion).add(clip.framesKey).add(uint64_t(kStillFrames)).hex();
+  return stillKeyOf(clip.framesKey);
 }
 
 // The sky's: the still's, and the camera that places the horizon.
@@ -132,6 +137,13 @@ const std::vector<uint8_t>& clipSky(ClipContext& clip, const Camera& camera) {
     clip.cache->storeBlob("sky", key, {{"width", still.width}, {"height", still.height}},
                           clip.stillSky->data(), clip.stillSky->size());
   return *clip.stillSky;
+}
+
+std::string cachedStillNote(const Preset& preset, const ClipInfo& clip,
+                            const ArtifactCache& cache) {
+  return cache.contains("still", stillKeyOf(workingFramesKey(preset, clip)))
+             ? "the still from the cache"
+             : "";
 }
 
 }  // namespace pluvia

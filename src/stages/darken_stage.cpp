@@ -22,6 +22,11 @@ StageInfo darkenStageInfo() {
              return darken.distanceMeters > 0.0 ? std::vector<std::string>{"image", "depth"}
                                                 : std::vector<std::string>{"image"};
            },
+       .cachedWork =
+           [](const DarkenSettings& darken, const Preset& p, const ClipInfo& clip,
+              const ArtifactCache& cache) {
+             return cachedPlateRainNote(p, clip, cache, darken.overRain);
+           },
        .create =
            [](const DarkenSettings& darken, const Preset&) {
              return std::make_unique<DepthGradingStage>(

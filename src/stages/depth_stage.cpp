@@ -202,6 +202,11 @@ StageInfo depthStageInfo() {
            [](const DepthSettings& depth, const Preset& p, const ClipInfo& clip) {
              return depthTrackingCacheKey(depth, cameraSettings(p), clip);
            },
+       .cachedWork =
+           [](const DepthSettings& depth, const Preset& p, const ClipInfo& clip,
+              const ArtifactCache& cache) {
+             return depth.source == "auto" ? cachedStillNote(p, clip, cache) : std::string();
+           },
        .create =
            [](const DepthSettings& depth, const Preset& p) {
              return std::make_unique<DepthStage>(depth, cameraSettings(p), p.source());

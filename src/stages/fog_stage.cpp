@@ -112,6 +112,11 @@ StageInfo fogStageInfo() {
                reads.push_back("environment");
              return reads;
            },
+       .cachedWork =
+           [](const FogSettings& fog, const Preset& p, const ClipInfo& clip,
+              const ArtifactCache& cache) {
+             return cachedPlateRainNote(p, clip, cache, fog.overRain);
+           },
        .create = [](const FogSettings& fog,
                     const Preset& p) { return std::make_unique<FogStage>(fog, rainSettings(p)); }});
 }

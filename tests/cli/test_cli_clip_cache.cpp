@@ -68,7 +68,18 @@ TEST(CliClipCache, ALookChangeRedoesNoneOfThePerClipWorkAndTheFrameIsTheSame) {
                                               "sky: found in the still, from cache", ", from cache",
                                               "lighting: from the plate, from cache"};
 
+  // `plan` says what the render will find in the cache: nothing before the first render.
+  auto plan = [&] {
+    return runPluvia({"plan", input, "-p", "moderate", "--cache", cache.string()});
+  };
+  const CommandResult planBefore = plan();
+  ASSERT_EQ(planBefore.exitCode, 0) << planBefore.output;
+  EXPECT_EQ(planBefore.output.find("from the cache"), std::string::npos) << planBefore.output;
+
   const Rendered cold = render({});
+  const CommandResult planAfter = plan();
+  expectOutputHas(planAfter.output,
+                  {"the still from the cache", "the plate's rain check from the cache"});
   for (const std::string& line : fromCache)
     EXPECT_EQ(cold.result.output.find(line), std::string::npos) << line << " in a cold run";
   EXPECT_NE(cold.result.output.find("still: the median of 5 frames in"), std::string::npos)
