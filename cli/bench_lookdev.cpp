@@ -3,7 +3,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <vector>
@@ -13,9 +12,6 @@
 #include "bench_floors.h"
 #include "bench_timing.h"
 #include "io/clip_reader.h"
-#include "util/error.h"
-#include "util/subprocess.h"
-#include "util/timer.h"
 
 namespace pluvia::cli {
 namespace stdfs = std::filesystem;
@@ -36,7 +32,6 @@ LookdevTimes runLookdevBench(const std::string& input, const std::string& preset
   stdfs::create_directories(folder);
   try {
     const std::string plate = input.empty() ? exampleSequence(folder, 24, 1001, "png") : input;
-    const std::string pluvia = stdfs::read_symlink("/proc/self/exe").string();
     const std::string cache = (folder / "cache").string();
     // The plate's middle frame (a render from there pays no pre-roll: rain at any frame costs
     // the same).
@@ -44,17 +39,12 @@ LookdevTimes runLookdevBench(const std::string& input, const std::string& preset
     const std::string frame = std::to_string(frames[frames.size() / 2]);
     int run = 0;
     auto render = [&](const std::string& set) {
-      std::vector<std::string> command = {
-          pluvia, "render",  plate, "-p",
-          preset, "--proxy", "0.5", "--cache",
-          cache,  "-q",      "-o",  (folder / fmt::format("out{}.####.exr", ++run)).string()};
-      command.insert(command.end(), {"--frames", frame + "-" + frame});
-      if (!set.empty()) command.insert(command.end(), {"--set", set});
-      const auto started = std::chrono::steady_clock::now();
-      const auto r = runProcess(command);
-      const double seconds = secondsSince(started);
-      if (r.exitCode != 0) throw Error("bench --lookdev: the render failed: " + r.output);
-      return seconds;
+      std::vector<std::string> args = {"--proxy", "0.5",      "--cache",
+                                       cache,     "--frames", frame + "-" + frame};
+      if (!set.empty()) args.insert(args.end(), {"--set", set});
+      const stdfs::path out = folder / fmt::format("run{}", ++run);
+      stdfs::create_directories(out);
+      return timedRender(out, plate, preset, args);
     };
     std::cout << fmt::format("bench lookdev: {} with preset {}, one frame at --proxy 0.5\n",
                              input.empty() ? "a 1080p PNG sequence of the bundled example" : plate,

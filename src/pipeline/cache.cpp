@@ -51,6 +51,18 @@ void ArtifactCache::storeBlob(const std::string& stage, const std::string& key,
   store(stage, key, {{"header", header}, {"bytes", size}});
 }
 
+std::optional<std::pair<int, int>> ArtifactCache::Blob::pixelSize(size_t bytesPerPixel) const {
+  const auto dimension = [&](const char* name) {
+    const auto it = header.find(name);
+    return it != header.end() && it->is_number_integer() ? it->get<int64_t>() : int64_t(0);
+  };
+  const int64_t width = dimension("width"), height = dimension("height");
+  if (width <= 0 || height <= 0 || width > (1 << 20) || height > (1 << 20) ||
+      bytes.size() != size_t(width) * size_t(height) * bytesPerPixel)
+    return std::nullopt;
+  return std::pair{int(width), int(height)};
+}
+
 std::optional<ArtifactCache::Blob> ArtifactCache::loadBlob(const std::string& stage,
                                                            const std::string& key) const {
   const std::optional<nlohmann::json> entry = load(stage, key);

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -28,6 +29,9 @@ class ArtifactCache {
   struct Blob {
     nlohmann::json header;
     std::string bytes;
+    // The header's "width" and "height" when both are positive and the bytes are exactly
+    // width * height pixels of `bytesPerPixel`; nullopt otherwise (an entry edited or cut short).
+    std::optional<std::pair<int, int>> pixelSize(size_t bytesPerPixel) const;
   };
   std::optional<Blob> loadBlob(const std::string& stage, const std::string& key) const;
 

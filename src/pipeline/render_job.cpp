@@ -387,7 +387,8 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
   // length in pixels, so the rain and the depth land where they would on the full frame.
   context_.camera = cameraOfFrame(camera_, clip());
   context_.cameraPath = camera_.path(context_.camera);
-  context_.framesKey = workingFramesKey(preset_, clip());
+  // Only a cache reads it, and it reads samples of the plate's files.
+  if (cache_) context_.framesKey = workingFramesKey(preset_, clip());
   context_.readWorking = [this](int64_t frame) {
     Image image = reader_->read(frame);
     ops::replaceNonFinite(image);

@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include <fmt/format.h>
+
 #include "pipeline/cache.h"
 #include "pluvia/version.h"
 #include "util/hash.h"
@@ -34,19 +36,13 @@ EquirectMap cachedDropRadianceMap(ClipContext& clip, const EquirectMap& environm
   if (!clip.cache) return optics::buildDropRadianceMap(environment, optics, settings);
   const std::string key = radianceMapKey(environment, optics, settings);
   if (auto blob = clip.cache->loadBlob("drop-radiance", key)) {
-    EquirectMap map;
-    try {
-      map.width = blob->header.at("width").get<int>();
-      map.height = blob->header.at("height").get<int>();
-    } catch (const nlohmann::json::exception&) {
-      map.width = map.height = 0;
-    }
-    if (map.width > 0 && map.height > 0 &&
-        blob->bytes.size() == size_t(map.width) * size_t(map.height) * 3 * sizeof(float)) {
-      map.rgb.resize(size_t(map.width) * size_t(map.height) * 3);
+    if (const auto size = blob->pixelSize(3 * sizeof(float))) {
+      EquirectMap map;
+      map.width = size->first;
+      map.height = size->second;
+      map.rgb.resize(blob->bytes.size() / sizeof(float));
       std::memcpy(map.rgb.data(), blob->bytes.data(), blob->bytes.size());
-      log::debug("drop radiance map " + std::to_string(map.width) + "x" +
-                 std::to_string(map.height) + ": from cache");
+      log::debug(fmt::format("drop radiance map {}x{}: from cache", map.width, map.height));
       return map;
     }
   }

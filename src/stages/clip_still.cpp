@@ -50,21 +50,6 @@ std::string skyKey(const ClipContext& clip, const Camera& camera) {
   return hasher.hex();
 }
 
-bool imageFromBlob(const ArtifactCache::Blob& blob, Image& image) {
-  try {
-    const int width = blob.header.at("width").get<int>();
-    const int height = blob.header.at("height").get<int>();
-    if (width <= 0 || height <= 0 ||
-        blob.bytes.size() != size_t(width) * size_t(height) * 4 * sizeof(float))
-      return false;
-    image = Image(width, height);
-    std::memcpy(image.rgba.data(), blob.bytes.data(), blob.bytes.size());
-    return true;
-  } catch (const nlohmann::json::exception&) {
-    return false;
-  }
-}
-
 }  // namespace
 
 Image medianOfFrames(ClipContext& clip, const std::vector<int64_t>& frames, int maxFrames) {
@@ -88,10 +73,11 @@ const Image& clipStill(ClipContext& clip) {
   const std::string key = stillKey(clip);
   if (clip.cache && !key.empty()) {
     if (auto blob = clip.cache->loadBlob("still", key)) {
-      Image still;
-      if (imageFromBlob(*blob, still)) {
+      if (const auto size = blob->pixelSize(4 * sizeof(float))) {
+        Image& still = clip.still.emplace(size->first, size->second);
+        std::memcpy(still.rgba.data(), blob->bytes.data(), blob->bytes.size());
         log::info("still: the median of the clip's frames, from cache");
-        return clip.still.emplace(std::move(still));
+        return still;
       }
     }
   }
@@ -112,7 +98,7 @@ const std::vector<uint8_t>& clipSky(ClipContext& clip, const Camera& camera) {
   if (clip.cache && !key.empty()) {
     if (auto blob = clip.cache->loadBlob("sky", key)) {
       const Image& still = clipStill(clip);
-      if (blob->bytes.size() == still.pixelCount()) {
+      if (blob->pixelSize(1) == std::pair{still.width, still.height}) {
         log::info("sky: found in the still, from cache");
         return clip.stillSky.emplace(blob->bytes.begin(), blob->bytes.end());
       }
