@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
 
 #include "derain/dense_flow.h"
@@ -128,13 +129,14 @@ std::vector<CleanPlate> cleanPlatesAt(const std::vector<cv::Mat3f>& frames,
   for (int t : at)
     if (t < 0 || t >= count)
       throw Error(fmt::format("clean plate: frame {} is outside the {} frames given", t, count));
-  std::vector<Grey> greys;
-  for (const cv::Mat3f& frame : frames) {
-    greys.push_back(suppressedGrey(frame, settings.suppressDiameterPx));
-  }
-  const cv::Ptr<cv::DISOpticalFlow> dis = makeDenseFlow();
+  // Frames, then targets, in parallel: each target's plate is its own (its own flow solver).
+  std::vector<Grey> greys(frames.size());
+  tbb::parallel_for(size_t(0), frames.size(), [&](size_t i) {
+    greys[i] = suppressedGrey(frames[i], settings.suppressDiameterPx);
+  });
   std::vector<CleanPlate> plates(at.size());
-  for (size_t k = 0; k < at.size(); ++k) {
+  tbb::parallel_for(size_t(0), at.size(), [&](size_t k) {
+    const cv::Ptr<cv::DISOpticalFlow> dis = makeDenseFlow();
     const int t = at[k];
     const auto [begin, end] = windowOf(t, count, settings.radiusFrames);
     std::vector<Registered> stack{
@@ -146,7 +148,7 @@ std::vector<CleanPlate> cleanPlatesAt(const std::vector<cv::Mat3f>& frames,
       stack.push_back(registerNeighbour(frames[s], greys[s], greys[t], *dis, settings, record));
     }
     stackMedian(stack, greys[t], settings, plates[k]);
-  }
+  });
   return plates;
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include <tbb/parallel_invoke.h>
 #include <opencv2/imgproc.hpp>
 
 #include "image/luminance.h"
@@ -285,8 +286,10 @@ void StreakStatsAccumulator::add(const RainLayerFrame& frame, const RainLayerFra
   requireSameSize(frame.valid, frame.layer, "validity mask");
   requireSameSize(frame.plateLuma, frame.layer, "plate luma");
   const auto [darkBelow, brightAbove] = terciles(frame.plateLuma, frame.valid);
-  addSide(positive_, frame.layer, frame, darkBelow, brightAbove);
-  addSide(negative_, -frame.layer, frame, darkBelow, brightAbove);
+  // The two signs in parallel: each side has its own sums.
+  const cv::Mat1f negated = -frame.layer;
+  tbb::parallel_invoke([&] { addSide(positive_, frame.layer, frame, darkBelow, brightAbove); },
+                       [&] { addSide(negative_, negated, frame, darkBelow, brightAbove); });
   frames_ += 1;
   validPixels_ += cv::countNonZero(frame.valid);
   if (previous) {

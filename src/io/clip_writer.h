@@ -50,6 +50,9 @@ struct WriterOptions {
   std::optional<PixelWindow> displayWindow;
   // The output's folder: made when the folder above it exists, every missing level with --mkdir.
   fs::MakeFolders makeFolders = fs::MakeFolders::LastLevel;
+  // Movies: also append the Y'CbCr frames piped to the encoder, byte for byte, to this raw file
+  // (`pluvia bench` times the encoder alone on exactly what pluvia gave it). Empty: none.
+  std::string ycbcrCopy;
 };
 
 class ClipWriter {

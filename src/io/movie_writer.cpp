@@ -234,6 +234,11 @@ class MovieWriter final : public ClipWriter {
     // "file:" keeps a name that starts with "-" from reading as an option, and one such as
     // "pipe:1.mp4" from reading as another protocol.
     argv.push_back("file:" + tmp_.string());
+    if (!options.ycbcrCopy.empty()) {
+      ycbcrCopy_.open(options.ycbcrCopy, std::ios::binary | std::ios::trunc);
+      if (!ycbcrCopy_)
+        throw Error("cannot write the Y'CbCr copy " + options.ycbcrCopy, {"write", {}, path});
+    }
     encoder_.emplace(argv, log_.string());
   }
 
@@ -265,6 +270,10 @@ class MovieWriter final : public ClipWriter {
       packYcbcr(image, encodedWidth_, encodedHeight_, layout_, matrix_, packed16_);
       bytes = packed16_.data(), byteCount = packed16_.size() * sizeof(uint16_t);
     }
+    if (ycbcrCopy_.is_open() &&
+        !ycbcrCopy_.write(static_cast<const char*>(bytes), std::streamsize(byteCount)))
+      throw Error(fmt::format("cannot write frame {} to the Y'CbCr copy of {}", frame, path_),
+                  context);
     try {
       encoder_->write(bytes, byteCount);
     } catch (const Error&) {
@@ -294,6 +303,10 @@ class MovieWriter final : public ClipWriter {
     }
     fs::commitTemporary(tmp_, path_);
     removeTemporaries();
+    if (ycbcrCopy_.is_open()) {
+      ycbcrCopy_.close();
+      if (ycbcrCopy_.fail()) throw Error("cannot finish the Y'CbCr copy of " + path_, context);
+    }
   }
 
   bool isMovie() const override { return true; }
@@ -321,6 +334,7 @@ class MovieWriter final : public ClipWriter {
   YcbcrMatrix matrix_;
   std::vector<uint8_t> packed8_;    // planar Y', Cb, Cr of 8-bit codecs
   std::vector<uint16_t> packed16_;  // and of 10- and 12-bit ones (ffmpeg's ...le formats)
+  std::ofstream ycbcrCopy_;         // WriterOptions::ycbcrCopy, when asked for
   static_assert(std::endian::native == std::endian::little, "16-bit samples are piped as ...le");
   std::mutex mutex_;
 };

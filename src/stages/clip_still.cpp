@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstring>
 
+#include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
 
 #include <fmt/format.h>
@@ -59,12 +60,17 @@ Image medianOfFrames(ClipContext& clip, const std::vector<int64_t>& frames, int 
     images.push_back(clip.readWorking(frames[frames.size() * size_t(s) / size_t(count)]));
   Image median = images.front();
   if (count < 3) return median;
-  std::vector<float> values(static_cast<size_t>(count));
-  for (size_t i = 0; i < median.rgba.size(); ++i) {
-    for (int s = 0; s < count; ++s) values[size_t(s)] = images[size_t(s)].rgba[i];
-    std::nth_element(values.begin(), values.begin() + count / 2, values.end());
-    median.rgba[i] = values[size_t(count / 2)];
-  }
+  // Samples in parallel blocks (a 1080p still is 8 million of them).
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, median.rgba.size(), 1 << 16),
+                    [&](const tbb::blocked_range<size_t>& block) {
+                      std::vector<float> values(static_cast<size_t>(count));
+                      for (size_t i = block.begin(); i < block.end(); ++i) {
+                        for (int s = 0; s < count; ++s)
+                          values[size_t(s)] = images[size_t(s)].rgba[i];
+                        std::nth_element(values.begin(), values.begin() + count / 2, values.end());
+                        median.rgba[i] = values[size_t(count / 2)];
+                      }
+                    });
   return median;
 }
 
