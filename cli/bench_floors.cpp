@@ -7,6 +7,7 @@
 
 #include "common.h"
 #include "util/error.h"
+#include "util/executable.h"
 #include "util/subprocess.h"
 #include "util/timer.h"
 
@@ -44,14 +45,9 @@ std::string exampleSequence(const stdfs::path& folder, int frames, int first,
 
 double timedRender(const stdfs::path& folder, const std::string& plate, const std::string& preset,
                    const std::vector<std::string>& extraArgs) {
-  std::vector<std::string> command = {stdfs::read_symlink("/proc/self/exe").string(),
-                                      "render",
-                                      plate,
-                                      "-p",
-                                      preset,
-                                      "-q",
-                                      "-o",
-                                      (folder / "out.####.exr").string()};
+  std::vector<std::string> command = {
+      executablePath().string(),         "render", plate, "-p", preset, "-q", "-o",
+      (folder / "out.####.exr").string()};
   command.insert(command.end(), extraArgs.begin(), extraArgs.end());
   const auto started = std::chrono::steady_clock::now();
   run(command, "pluvia render " + plate);

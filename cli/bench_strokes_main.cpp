@@ -8,12 +8,14 @@
 #include <nlohmann/json.hpp>
 
 #include "bench_strokes.h"
+#include "process_memory.h"
 #include "rain/stroke_atlas.h"
 #include "util/error.h"
 #include "util/fs.h"
 
 int main(int argc, char** argv) {
   using namespace pluvia;
+  keepFreedBlocksForTheNextFrame();
   CLI::App app{"pluvia-bench-strokes: frames per second of the rain insertion alone.",
                "pluvia-bench-strokes"};
   std::string atlasPath, strokes = "10000,20000,40000,80000", size = "720x480", backend = "both";

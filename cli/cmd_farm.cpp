@@ -25,6 +25,7 @@
 #include "pipeline/render_job.h"
 #include "stages/registry.h"
 #include "util/error.h"
+#include "util/executable.h"
 #include "util/fs.h"
 #include "util/interrupt.h"
 #include "util/log.h"
@@ -99,7 +100,9 @@ void addSlurmCommand(CLI::App* farm) {
     const std::unique_ptr<ClipReader> reader = openNumberedClip(args->input, args->startFrame);
     const ClipInfo& clip = reader->info();
     farm::FarmJob job;
-    job.pluvia = stdfs::read_symlink("/proc/self/exe").string();
+    job.pluvia = executablePath().string();
+    if (job.pluvia.empty())
+      throw Error("cannot find pluvia's own binary for the farm's tasks (/proc/self/exe)");
     job.input = stdfs::absolute(args->input).string();
     job.preset =
         stdfs::exists(args->preset) ? stdfs::absolute(args->preset).string() : args->preset;

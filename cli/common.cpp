@@ -12,6 +12,7 @@
 #include "stages/lighting_settings.h"
 #include "stages/registry.h"
 #include "util/error.h"
+#include "util/executable.h"
 #include "util/fs.h"
 #include "util/input_guard.h"
 #include "util/log.h"
@@ -177,10 +178,9 @@ void refuseOverwritingInput(const std::vector<std::string>& inputFiles, const st
 }
 
 std::string findBesideInstall(const std::filesystem::path& relative) {
-  std::error_code ec;
-  const std::filesystem::path binary = std::filesystem::read_symlink("/proc/self/exe", ec);
   std::vector<std::filesystem::path> roots = {std::filesystem::current_path()};
-  if (!ec) roots.insert(roots.begin(), binary.parent_path().parent_path());
+  if (!executablePath().empty())
+    roots.insert(roots.begin(), executablePath().parent_path().parent_path());
   for (const auto& root : roots) {
     if (std::filesystem::exists(root / relative))
       return (root / relative).lexically_normal().string();

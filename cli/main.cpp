@@ -12,6 +12,7 @@
 #include "io/oiio_debug.h"
 #include "pluvia/version.h"
 #include "preset/param_table.h"
+#include "process_memory.h"
 #include "util/error.h"
 #include "util/interrupt.h"
 #include "util/log.h"
@@ -28,6 +29,7 @@ int main(int argc, char** argv) {
   // Past a file size limit (ulimit -f) a write fails with EFBIG and pluvia reports it, instead
   // of being killed by SIGXFSZ with the file half written.
   std::signal(SIGXFSZ, SIG_IGN);
+  keepFreedBlocksForTheNextFrame();
   CLI::App app{"pluvia: adds physically based rain to real footage.", "pluvia"};
   app.footer(kExitCodes);
   app.set_version_flag("--version", std::string("pluvia ") + kVersion);

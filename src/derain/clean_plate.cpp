@@ -12,6 +12,7 @@
 #include "derain/dense_flow.h"
 #include "derain/streak_stats.h"
 #include "util/error.h"
+#include "util/median.h"
 
 namespace pluvia::derain {
 namespace {
@@ -70,15 +71,6 @@ Registered registerNeighbour(const cv::Mat3f& colour, const Grey& neighbour, con
   return {remapCubic(colour, points), warpedGrey, covered & consistent};
 }
 
-// The median of the first `count` values (mean of the middle two when even); reorders them.
-float medianOf(float* values, int count) {
-  const int half = count / 2;
-  std::nth_element(values, values + half, values + count);
-  const float upper = values[half];
-  if (count % 2 == 1) return upper;
-  return 0.5f * (upper + *std::max_element(values, values + half));
-}
-
 // The stack's median colour everywhere, and its validity (clean_plate.h).
 void stackMedian(const std::vector<Registered>& stack, const Grey& reference,
                  const CleanPlateSettings& settings, CleanPlate& out) {
@@ -98,11 +90,12 @@ void stackMedian(const std::vector<Registered>& stack, const Grey& reference,
         count += 1;
       }
       // The reference itself always covers, so count >= 1.
-      out.plate(y, x) = {medianOf(b.data(), count), medianOf(g.data(), count),
-                         medianOf(r.data(), count)};
-      const float greyMedian = medianOf(grey.data(), count);
+      out.plate(y, x) = {medianInPlace(b.data(), size_t(count)),
+                         medianInPlace(g.data(), size_t(count)),
+                         medianInPlace(r.data(), size_t(count))};
+      const float greyMedian = medianInPlace(grey.data(), size_t(count));
       for (int i = 0; i < count; ++i) grey[i] = std::abs(grey[i] - greyMedian);
-      const float deviation = medianOf(grey.data(), count);
+      const float deviation = medianInPlace(grey.data(), size_t(count));
       const float own = std::abs(reference.codes(y, x) - greyMedian);
       const bool agrees = deviation < settings.agreementCodes && own < settings.agreementCodes;
       out.valid(y, x) = count >= needed && agrees ? 255 : 0;

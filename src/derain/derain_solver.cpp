@@ -10,6 +10,7 @@
 #include "derain/rain_direction.h"
 #include "derain/sparse_solve.h"
 #include "util/error.h"
+#include "util/median.h"
 
 namespace pluvia::derain {
 namespace {
@@ -101,23 +102,11 @@ std::vector<float> medianPlane(const Problem& problem, int channel) {
                         values.clear();
                         for (const auto& frame : problem.frames)
                           if (frame.valid[p] > 0) values.push_back(frame.rgb[channel][p]);
-                        if (values.empty()) continue;
-                        const size_t mid = values.size() / 2;
-                        std::nth_element(values.begin(), values.begin() + mid, values.end());
-                        float m = values[mid];
-                        if (values.size() % 2 == 0)
-                          m = 0.5f * (m + *std::max_element(values.begin(), values.begin() + mid));
-                        median[p] = m;
+                        if (!values.empty())
+                          median[p] = medianInPlace(values.data(), values.size());
                       }
                     });
   return median;
-}
-
-double medianOf(std::vector<float> values) {
-  if (values.empty()) return 0.0;
-  const size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + mid, values.end());
-  return values[mid];
 }
 
 // Sensor noise from the residual against the median: 1.4826 * MAD, over a sparse sample of
@@ -132,9 +121,10 @@ double estimateNoiseSigma(const Problem& problem, const State& state) {
       for (size_t p = 0; p < n; ++p)
         if (frame.valid[p] > 0 && counter++ % stride == 0)
           residuals.push_back(frame.rgb[c][p] - state.background[c][p]);
-  const double centre = medianOf(residuals);
-  for (float& r : residuals) r = std::abs(r - float(centre));
-  return 1.4826 * medianOf(residuals);
+  if (residuals.empty()) return 0.0;
+  const float centre = median(residuals);
+  for (float& r : residuals) r = std::abs(r - centre);
+  return 1.4826 * double(median(residuals));
 }
 
 // The initial rain colour of a frame: the bright end (99.5th percentile) of its valid pixels
@@ -249,7 +239,7 @@ std::vector<cv::Mat> transientMattes(const Problem& problem, const State& state)
           values.clear();
           for (size_t k = 0; k < problem.frames.size(); ++k)
             if (problem.frames[k].valid[p] > 0) values.push_back(state.alpha[k][p]);
-          const float persistent = values.empty() ? 0.0f : float(medianOf(values));
+          const float persistent = values.empty() ? 0.0f : median(values);
           for (size_t k = 0; k < problem.frames.size(); ++k)
             mattes[k].ptr<float>()[p] = std::max(0.0f, state.alpha[k][p] - persistent);
         }

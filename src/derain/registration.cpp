@@ -12,6 +12,7 @@
 #include "image/luminance.h"
 #include "util/error.h"
 #include "util/log.h"
+#include "util/median.h"
 
 namespace pluvia::derain {
 namespace {
@@ -54,8 +55,7 @@ cv::Mat medianOf(const std::vector<cv::Mat>& images, size_t first, size_t last) 
   for (int y = 0; y < median.rows; ++y)
     for (int x = 0; x < median.cols; ++x) {
       for (size_t k = first; k < last; ++k) values[k - first] = images[k].at<float>(y, x);
-      std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-      median.at<float>(y, x) = values[values.size() / 2];
+      median.at<float>(y, x) = medianInPlace(values.data(), values.size());
     }
   return median;
 }
@@ -78,9 +78,7 @@ bool cameraIsStill(const std::vector<cv::Mat>& features) {
     contrast.push_back(deviation[0]);
   }
   // Blank frames (a flash, a cut to black, a lens cap) say nothing of the camera's motion.
-  std::vector<double> sorted = contrast;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  const double typical = sorted[sorted.size() / 2];
+  const double typical = median(contrast);
   std::vector<cv::Mat> images;
   for (size_t k = 0; k < all.size(); ++k)
     if (contrast[k] >= kBlankContrast * typical) images.push_back(all[k]);

@@ -9,6 +9,7 @@
 #include "image/color.h"
 #include "util/error.h"
 #include "util/log.h"
+#include "util/median.h"
 #include "util/timer.h"
 
 namespace pluvia::envmap {
@@ -80,8 +81,7 @@ double medianAbsDifference(const cv::Mat& a, const cv::Mat& b) {
   cv::Mat difference = cv::abs(a - b);
   std::vector<float> values(difference.begin<float>(), difference.end<float>());
   if (values.empty()) return 0.0;
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
+  return medianInPlace(values.data(), values.size());
 }
 
 }  // namespace

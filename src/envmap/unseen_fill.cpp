@@ -3,6 +3,7 @@
 
 #include "envmap/scene_albedo.h"
 #include "image/luminance.h"
+#include "util/median.h"
 
 #include <tbb/parallel_for.h>
 
@@ -75,12 +76,10 @@ std::optional<SkyFit> fitSkyEnvelope(const std::vector<SkySample>& candidates,
   if (candidates.empty()) return std::nullopt;
   std::vector<double> luminances;
   for (const SkySample& s : candidates) luminances.push_back(rec709Luminance(s.rgb.data()));
-  std::vector<double> sorted = luminances;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  const double median = sorted[sorted.size() / 2];
+  const double middle = median(luminances);
   std::vector<SkySample> subset;
   for (size_t i = 0; i < candidates.size(); ++i)
-    if (luminances[i] >= median) subset.push_back(candidates[i]);
+    if (luminances[i] >= middle) subset.push_back(candidates[i]);
   std::optional<SkyFit> fit;
   for (int iteration = 0; iteration < kEnvelopeIterations; ++iteration) {
     const std::optional<SkyFit> next = fitSky(subset, settings);

@@ -2,8 +2,6 @@
 // every frame (re-made only when the size changes), so a long clip holds steady memory.
 #include "gpu/rain_renderer.h"
 
-#include <malloc.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
@@ -83,24 +81,6 @@ struct RainRenderer::Impl {
 };
 
 namespace {
-
-// llvmpipe mallocs and frees its vertex and binning buffers (megabytes) on every draw. glibc
-// gives a block above its mmap threshold back to the kernel when it is freed, so every frame
-// faulted those pages in again: 20 ms of a 720x480 frame of 80k streaks, and most of the
-// fixed cost of a frame. Raising the thresholds keeps freed blocks in the heap for the next
-// frame; the heap then holds its high-water mark, which a clip of steady rain reaches on its
-// first frame (memory stays flat). Process-wide, once: it only changes when memory returns to
-// the kernel.
-void keepFreedBlocksForTheNextFrame() {
-  static const bool once = [] {
-    constexpr int kMmapThresholdBytes = 32 << 20;  // glibc's largest on 64-bit
-    constexpr int kTrimThresholdBytes = 512 << 20;
-    mallopt(M_MMAP_THRESHOLD, kMmapThresholdBytes);
-    mallopt(M_TRIM_THRESHOLD, kTrimThresholdBytes);
-    return true;
-  }();
-  (void)once;
-}
 
 // The far streaks' lines (far_drop_lines.h) under an interleaved premultiplied layer read back
 // from the GPU: layer = layer + (1 - layer.A) * lines, as drawing the lines first would give.
@@ -211,12 +191,10 @@ RainRenderer::RainRenderer(int width, int height, RainBackend backend)
     }
   }
   if (impl_->egl) {
-    keepFreedBlocksForTheNextFrame();
     impl_->egl->gpu->ensureTargets(width, height);
     log::debug("rain renderer: EGL, " + impl_->description);
     return;
   }
-  keepFreedBlocksForTheNextFrame();  // the rain planes of a frame are megabytes too
   impl_->cpu = std::make_unique<StreakRasterCpu>();
   impl_->description =
       fmt::format("CPU streak rasteriser, {} threads{}", tbb::info::default_concurrency(),

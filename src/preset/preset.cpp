@@ -12,6 +12,7 @@
 #include "pluvia/version.h"
 #include "preset/json_text.h"
 #include "preset/ramp.h"
+#include "util/executable.h"
 #include "util/fs.h"
 #include "util/hash.h"
 
@@ -25,12 +26,6 @@ std::string joinLines(const std::vector<std::string>& lines) {
   std::string text;
   for (const auto& l : lines) text += "\n  " + l;
   return text;
-}
-
-stdfs::path executableDir() {
-  std::error_code ec;
-  stdfs::path exe = stdfs::read_symlink("/proc/self/exe", ec);
-  return ec ? stdfs::path() : exe.parent_path();
 }
 
 std::vector<std::string> splitDots(const std::string& path) {
@@ -547,7 +542,7 @@ PresetError::PresetError(const std::string& source, std::vector<std::string> pro
 std::vector<stdfs::path> presetSearchPath() {
   std::vector<stdfs::path> dirs;
   if (const char* env = std::getenv("PLUVIA_PRESET_DIR")) dirs.emplace_back(env);
-  stdfs::path exeDir = executableDir();
+  stdfs::path exeDir = executablePath().parent_path();
   if (!exeDir.empty()) {
     dirs.push_back(exeDir.parent_path() / "presets");
     dirs.push_back(exeDir.parent_path() / "share" / "pluvia" / "presets");

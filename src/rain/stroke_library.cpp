@@ -9,6 +9,7 @@
 
 #include "pluvia/version.h"
 #include "util/error.h"
+#include "util/executable.h"
 #include "util/fs.h"
 
 namespace pluvia::rain {
@@ -67,12 +68,6 @@ std::string formatLibraryJson(const nlohmann::json& doc) {
     text += ++i < doc.size() ? ",\n" : "\n";
   }
   return text + "}\n";
-}
-
-stdfs::path executableDir() {
-  std::error_code ec;
-  stdfs::path exe = stdfs::read_symlink("/proc/self/exe", ec);
-  return ec ? stdfs::path() : exe.parent_path();
 }
 
 }  // namespace
@@ -230,7 +225,7 @@ std::string builtinStrokeLibraryPath() {
   const stdfs::path relative = stdfs::path("strokes") / "builtin.json";
   std::vector<stdfs::path> dirs;
   if (const char* env = std::getenv("PLUVIA_ASSET_DIR")) dirs.emplace_back(env);
-  const stdfs::path exeDir = executableDir();
+  const stdfs::path exeDir = executablePath().parent_path();
   if (!exeDir.empty()) {
     dirs.push_back(exeDir.parent_path() / "assets");
     dirs.push_back(exeDir.parent_path() / "share" / "pluvia" / "assets");

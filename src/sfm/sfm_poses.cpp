@@ -9,19 +9,13 @@
 
 #include "sfm/ground_plane.h"
 #include "sfm/scale_cues.h"
+#include "util/median.h"
 
 namespace pluvia::sfm {
 namespace {
 
 // COLMAP camera axes (x right, y down, z forward) <-> pluvia camera axes (x right, y up, z back).
 const Eigen::Matrix3d kFlipYZ = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
-
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  auto mid = values.begin() + values.size() / 2;
-  std::nth_element(values.begin(), mid, values.end());
-  return *mid;
-}
 
 // Depths (COLMAP z in the camera) of the points an image observes.
 std::vector<double> observedDepths(const ColmapModel& model, const ColmapImage& image) {

@@ -1,4 +1,5 @@
 #include "sfm/sparse_densify.h"
+#include "util/median.h"
 
 #include <algorithm>
 #include <cmath>
@@ -202,11 +203,6 @@ void nearestNeighbours(const std::vector<cv::Point2f>& points, int k,
   }
 }
 
-float medianOf(std::vector<float> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
-
 // Inverse z-depth of the ground plane y = 0 seen by `camera` (0 where the ray does not meet it
 // within maxDistance), and the sine of each ray's elevation above the horizon.
 void groundPlane(const Camera& camera, int width, int height, double maxDistance,
@@ -389,9 +385,7 @@ bool agreesWithLocalPlane(const std::vector<SparseDepthSample>& samples, size_t 
     for (size_t k = 0; k < n; ++k)
       if (use[k])
         residual.push_back(std::abs(v[k] - plane[0] - plane[1] * dx[k] - plane[2] * dy[k]));
-    std::vector<double> sorted = residual;
-    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-    spread = 1.4826 * sorted[sorted.size() / 2];
+    spread = 1.4826 * median(residual);
     if (pass == 0)
       for (size_t k = 0; k < n; ++k)
         use[k] = std::abs(v[k] - plane[0] - plane[1] * dx[k] - plane[2] * dy[k]) <=
@@ -423,7 +417,7 @@ std::vector<SparseDepthSample> rejectDepthOutliers(const std::vector<SparseDepth
       kept.push_back(samples[i]);
       continue;
     }
-    const float m = medianOf(values);
+    const float m = median(values);
     const double own = 1.0 / samples[i].depthMeters;
     // A sample on a depth step (a box's corner among far points) disagrees with the median but
     // has neighbours on its own side of the step: two of them that agree with it keep it.
@@ -534,7 +528,7 @@ std::vector<float> densifySparseDepth(const std::vector<SparseDepthSample>& allS
       if (!d.empty() && d[0] > 0.5f) spacing.push_back(d[0]);
     const double scale =
         options.groundBlendSpacings *
-        std::max(4.0, spacing.empty() ? 0.02 * std::hypot(width, height) : medianOf(spacing));
+        std::max(4.0, spacing.empty() ? 0.02 * std::hypot(width, height) : median(spacing));
     for (int y = 0; y < height; ++y) {
       float* f = fill.ptr<float>(y);
       const float* g = groundInverse.ptr<float>(y);

@@ -16,6 +16,7 @@
 #include "sfm/sparse_densify.h"
 #include "util/hash.h"
 #include "util/log.h"
+#include "util/median.h"
 #include "util/timer.h"
 
 namespace pluvia {
@@ -67,8 +68,7 @@ Image medianOfFrames(ClipContext& clip, const std::vector<int64_t>& frames, int 
                       for (size_t i = block.begin(); i < block.end(); ++i) {
                         for (int s = 0; s < count; ++s)
                           values[size_t(s)] = images[size_t(s)].rgba[i];
-                        std::nth_element(values.begin(), values.begin() + count / 2, values.end());
-                        median.rgba[i] = values[size_t(count / 2)];
+                        median.rgba[i] = medianInPlace(values.data(), values.size());
                       }
                     });
   return median;

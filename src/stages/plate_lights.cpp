@@ -8,6 +8,7 @@
 
 #include "image/luminance.h"
 #include "util/log.h"
+#include "util/median.h"
 
 namespace pluvia {
 namespace {
@@ -117,10 +118,7 @@ FoundLamp plateLamp(const PlateBlob& blob, const Camera& camera, const std::vect
       if (std::isfinite(z) && z > 0.0f) rimDepth.push_back(z);
     }
   double zMeters = backdropMeters;
-  if (!rimDepth.empty()) {
-    std::nth_element(rimDepth.begin(), rimDepth.begin() + rimDepth.size() / 2, rimDepth.end());
-    zMeters = rimDepth[rimDepth.size() / 2];
-  }
+  if (!rimDepth.empty()) zMeters = median(rimDepth);
   // rayCamera has z = -1: scaled by the z-depth it reaches the lamp.
   const Eigen::Vector3d local = camera.rayCamera(blob.xPx, blob.yPx) * zMeters;
   const Eigen::Vector3d world = camera.positionMeters + camera.worldFromCamera * local;
