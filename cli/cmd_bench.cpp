@@ -230,6 +230,14 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     }
     stdfs::path folder = stdfs::temp_directory_path() / fmt::format("pluvia-bench-{}", ::getpid());
     stdfs::create_directories(folder);
+    // Removed however the bench ends: an error (a missing clip, a failed encode) leaves nothing.
+    struct RemovedOnExit {
+      stdfs::path path;
+      ~RemovedOnExit() {
+        std::error_code ec;
+        stdfs::remove_all(path, ec);
+      }
+    } removed{folder};
     std::string input = args->input.empty() ? makeBenchClip(folder, args->frames) : args->input;
     std::vector<std::string> sets = args->day ? dayBenchOverrides() : std::vector<std::string>{};
     sets.insert(sets.end(), args->sets.begin(), args->sets.end());
@@ -269,7 +277,6 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
       summary = renderJob(request, preset, allStages(), times);
     } catch (...) {
       log::setLevel(log);
-      stdfs::remove_all(folder);
       throw;
     }
     const double pluviaSeconds = secondsSince(started);
@@ -358,7 +365,6 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
           timecode.fromTimecodeSeconds / timecode.fromOneSeconds,
           lookdev.warmSeconds / lookdev.coldSeconds, lookdev.warmSeconds);
     }
-    stdfs::remove_all(folder);
   });
 }
 

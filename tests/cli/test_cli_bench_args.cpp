@@ -2,10 +2,12 @@
 // usage error (exit 2) that quotes the option and the bad item.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
 #include "test_support.h"
+#include "util/subprocess.h"
 
 using namespace pluvia::test;
 
@@ -26,6 +28,17 @@ TEST_P(CliBenchArgs, RefusedWithUsageError) {
   EXPECT_NE(r.output.find(GetParam().mentions), std::string::npos)
       << "expected '" << GetParam().mentions << "' in:\n"
       << r.output;
+}
+
+// A bench that fails (here a clip that does not exist) leaves no temporary folder behind.
+TEST(CliBench, AFailedBenchLeavesNoTemporaryFolder) {
+  const std::filesystem::path tmp = freshTempDir("bench_failure_tmp");
+  const pluvia::ProcessResult r =
+      pluvia::runProcess({"env", "TMPDIR=" + tmp.string(), pluviaBinary().string(), "bench",
+                          (tmp / "missing.mp4").string()});
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_NE(r.output.find("missing.mp4"), std::string::npos) << r.output;
+  EXPECT_TRUE(std::filesystem::is_empty(tmp)) << "left in " << tmp;
 }
 
 INSTANTIATE_TEST_SUITE_P(
