@@ -11,9 +11,10 @@
 // A row's member type says how its value is read: double (Number), a whole-number type (Integer,
 // or a Number truncated toward zero), bool, std::string (String, Enum), std::array<float, 3>
 // (Color3), nlohmann::json (the value as given: lists), or Ramp, which also marks the row
-// keyframable (a Ramp is what a frame-by-frame reader takes). Rows without a member (`unbound`)
-// are read by the section's own code: enums mapped to C++ enums, lists parsed into structs,
-// derived fields.
+// keyframable (a Ramp is what a frame-by-frame reader takes). An enum member is bound through
+// a table of its names (bind(&S::model, "model", {{"exponential", FogModel::Exponential}, ...},
+// help)), its default the name of the struct's. Rows without a member (`unbound`) are read by
+// the section's own code: lists parsed into structs, derived fields.
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -36,6 +37,9 @@ struct SettingsRow {
   ParamSpec spec;
   // Stores the value of `dottedKey` ("rain.wind.eddies") into the settings; empty: unbound.
   std::function<void(const Preset&, const std::string& dottedKey, Settings&)> read;
+  // Whether the value of `dottedKey` equals the member's default in a default-constructed
+  // Settings: a default written in both the row and the struct must be one value.
+  std::function<bool(const Preset&, const std::string& dottedKey)> agreesWithStruct;
 };
 
 namespace settings_table_detail {
@@ -85,6 +89,17 @@ ParamSpec checked(ParamSpec spec) {
   return spec;
 }
 
+// Whether `value` equals `structDefault` (a Ramp: a constant of that value).
+template <class T>
+bool sameDefault(const T& value, const T& structDefault) {
+  if constexpr (std::is_same_v<T, Ramp>) {
+    return !value.animated() && !structDefault.animated() &&
+           value.firstValue() == structDefault.firstValue();
+  } else {
+    return value == structDefault;
+  }
+}
+
 }  // namespace settings_table_detail
 
 // The row `spec` read into `settings.*member`.
@@ -93,6 +108,10 @@ SettingsRow<Settings> bind(T Settings::*member, ParamSpec spec) {
   return {settings_table_detail::checked<T>(std::move(spec)),
           [member](const Preset& preset, const std::string& dottedKey, Settings& settings) {
             settings.*member = settings_table_detail::readValue<T>(preset, dottedKey);
+          },
+          [member](const Preset& preset, const std::string& dottedKey) {
+            return settings_table_detail::sameDefault(
+                settings_table_detail::readValue<T>(preset, dottedKey), Settings{}.*member);
           }};
 }
 
@@ -103,13 +122,54 @@ SettingsRow<Settings> bind(Group Settings::*group, T Group::*member, ParamSpec s
   return {settings_table_detail::checked<T>(std::move(spec)),
           [group, member](const Preset& preset, const std::string& dottedKey, Settings& settings) {
             settings.*group.*member = settings_table_detail::readValue<T>(preset, dottedKey);
+          },
+          [group, member](const Preset& preset, const std::string& dottedKey) {
+            return settings_table_detail::sameDefault(
+                settings_table_detail::readValue<T>(preset, dottedKey), Settings{}.*group.*member);
           }};
+}
+
+// An enum row's preset names and the C++ values they stand for: one table gives the row its
+// choices and its default (the name of the struct's default value) and reads the value.
+template <class E>
+struct EnumName {
+  std::string name;
+  E value;
+};
+
+// The enum row `key` read into `settings.*member` through `names`.
+template <class Settings, class E>
+SettingsRow<Settings> bind(E Settings::*member, std::string key, std::vector<EnumName<E>> names,
+                           std::string help) {
+  static_assert(std::is_enum_v<E>, "an enum row binds an enum member");
+  std::vector<std::string> choices;
+  std::string defaultName;
+  for (const EnumName<E>& n : names) {
+    choices.push_back(n.name);
+    if (n.value == Settings{}.*member) defaultName = n.name;
+  }
+  if (defaultName.empty())
+    throw std::logic_error("settings table: the default of '" + key + "' has no name");
+  auto read = [member, names](const Preset& preset, const std::string& dottedKey,
+                              Settings& settings) {
+    const std::string name = preset.string(dottedKey);
+    for (const EnumName<E>& n : names)
+      if (n.name == name) {
+        settings.*member = n.value;
+        return;
+      }
+    // validatePreset refused any other name before a table reads the preset.
+    throw std::logic_error("settings table: '" + dottedKey + "' is not one of its names");
+  };
+  return {enumParam(std::move(key), defaultName, std::move(choices), std::move(help)),
+          std::move(read),
+          {}};
 }
 
 // A row the section's own code reads (see the top of this file).
 template <class Settings>
 SettingsRow<Settings> unbound(ParamSpec spec) {
-  return {std::move(spec), {}};
+  return {std::move(spec), {}, {}};
 }
 
 template <class Settings>
@@ -134,6 +194,18 @@ class SettingsTable {
       if (row.read) row.read(preset, section_.name + "." + row.spec.key, settings);
     if constexpr (requires { settings.resolved; }) settings.resolved = preset.at(section_.name);
     return settings;
+  }
+
+  // The keys of the bound rows whose value in `defaults` (a preset that sets none of them, so
+  // each row's own default) is not the struct's default: one default written twice, two values.
+  std::vector<std::string> keysWhoseStructDefaultDiffers(const Preset& defaults) const {
+    std::vector<std::string> keys;
+    for (const auto& row : rows_) {
+      if (!row.agreesWithStruct || row.spec.defaultValue.is_null()) continue;
+      if (!row.agreesWithStruct(defaults, section_.name + "." + row.spec.key))
+        keys.push_back(section_.name + "." + row.spec.key);
+    }
+    return keys;
   }
 
  private:

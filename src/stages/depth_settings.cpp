@@ -48,21 +48,24 @@ const SettingsTable<DepthSettings>& depthTable() {
        .outputs = {"depth"}},
       {
           bind(&S::enabled, enabledParam()),
-          bind(&S::source,
-               enumParam("source", "auto", {"auto", "layers", "colmap", "file", "none"},
-                         "auto: a guess from the plate (sky at infinity, the ground under the "
-                         "camera, the rest at depth.backdrop_m); layers: depth.layers; colmap: "
-                         "COLMAP structure from motion of the clip (its camera also moves the "
-                         "rain); file: depth.file, a depth sequence frame-matched to the plate; "
-                         "none: all sky")),
+          bind(&S::source, "source",
+               {{"auto", DepthSource::Auto},
+                {"layers", DepthSource::Layers},
+                {"colmap", DepthSource::Colmap},
+                {"file", DepthSource::File},
+                {"none", DepthSource::None}},
+               "auto: a guess from the plate (sky at infinity, the ground under the camera, the "
+               "rest at depth.backdrop_m); layers: depth.layers; colmap: COLMAP structure from "
+               "motion of the clip (its camera also moves the rain); file: depth.file, a depth "
+               "sequence frame-matched to the plate; none: all sky"),
           bind(&S::layers, layersParam()),
           bind(&S::backdropMeters,
                numberParam("backdrop_m", 20.0, {0.5, 1e5}, "m",
                            "auto: the distance of everything that is neither sky nor ground")),
-          bind(&S::fallback,
-               enumParam("fallback", "error", {"error", "layers"},
-                         "colmap: when tracking fails (no colmap, no parallax, too few frames "
-                         "registered), stop (error) or use depth.layers (layers)")),
+          bind(&S::fallback, "fallback",
+               {{"error", DepthFallback::Error}, {"layers", DepthFallback::Layers}},
+               "colmap: when tracking fails (no colmap, no parallax, too few frames registered), "
+               "stop (error) or use depth.layers (layers)"),
           bind(&S::frameStep,
                integerParam("frame_step", 0, {0, 1000}, "frames",
                             "colmap: every Nth frame is tracked; 0: frames chosen so that each "
@@ -84,10 +87,11 @@ const SettingsTable<DepthSettings>& depthTable() {
                            "colmap: a dense workspace of the same model (stereo/depth_maps after "
                            "patch_match_stereo); its depth maps replace the densified points where "
                            "they have estimates")),
-          bind(&S::scale,
-               enumParam("scale", "camera_height", {"camera_height", "first_frame_depth"},
-                         "colmap: metric scale from camera.height_m over the fitted "
-                         "ground plane, or from depth.first_frame_depth_m")),
+          bind(&S::scale, "scale",
+               {{"camera_height", DepthScale::CameraHeight},
+                {"first_frame_depth", DepthScale::FirstFrameDepth}},
+               "colmap: metric scale from camera.height_m over the fitted ground plane, or from "
+               "depth.first_frame_depth_m"),
           bind(&S::firstFrameDepthMeters,
                numberParam("first_frame_depth_m", 10.0, {0.01, 1e6}, "m",
                            "colmap, scale first_frame_depth: median distance of what the first "

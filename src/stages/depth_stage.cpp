@@ -62,7 +62,7 @@ class DepthStage : public Stage {
   // `presetSource`: the preset file, named by errors in depth.file's settings.
   DepthStage(DepthSettings depth, CameraSettings camera, const std::string& presetSource)
       : depth_(std::move(depth)), camera_(std::move(camera)), dense_(depth_.colmapDense) {
-    if (depth_.source == "file") file_ = depthSequence(depth_, presetSource);
+    if (depth_.source == DepthSource::File) file_ = depthSequence(depth_, presetSource);
   }
 
   void prepare(ClipContext& clip) override {
@@ -74,14 +74,14 @@ class DepthStage : public Stage {
       prepareFile(clip);
       return;
     }
-    if (depth_.source == "colmap" && prepareTracking(clip)) return;
-    if (depth_.source == "none") {
+    if (depth_.source == DepthSource::Colmap && prepareTracking(clip)) return;
+    if (depth_.source == DepthSource::None) {
       depthMeters_.assign(static_cast<size_t>(clip.camera.width) * clip.camera.height,
                           std::numeric_limits<float>::infinity());
       return;
     }
     path_ = camera_.path(clip.camera);
-    if (depth_.source == "auto") {
+    if (depth_.source == DepthSource::Auto) {
       prepareGuess(clip);
       return;
     }
@@ -157,7 +157,7 @@ class DepthStage : public Stage {
     try {
       sfm_ = trackedClipReconstruction(clip, depth_, camera_);
     } catch (const Error& e) {
-      if (depth_.fallback != "layers")
+      if (depth_.fallback != DepthFallback::Layers)
         throw Error(fmt::format("{}; set depth.fallback to \"layers\" (or depth.source to "
                                 "\"layers\") to render this clip with the manual depth layers",
                                 e.what()),
@@ -189,9 +189,9 @@ StageInfo depthStageInfo() {
   return makeStageInfo(
       depthTable().section(), depthSettings,
       {.note = [](const DepthSettings& depth, const Preset&) -> std::string {
-         if (depth.source == "file")
+         if (depth.source == DepthSource::File)
            return fmt::format("depth from depth.file = {} ({})", depth.file, depth.fileEncoding);
-         if (depth.source != "auto") return "";
+         if (depth.source != DepthSource::Auto) return "";
          return fmt::format(
              "depth is a guess (sky found in the plate, ground under the camera, the rest at {:g} "
              "m): for a better one give depth.layers (source layers), a depth sequence (source "
@@ -205,7 +205,8 @@ StageInfo depthStageInfo() {
        .cachedWork =
            [](const DepthSettings& depth, const Preset& p, const ClipInfo& clip,
               const ArtifactCache& cache) {
-             return depth.source == "auto" ? cachedStillNote(p, clip, cache) : std::string();
+             return depth.source == DepthSource::Auto ? cachedStillNote(p, clip, cache)
+                                                      : std::string();
            },
        .create =
            [](const DepthSettings& depth, const Preset& p) {

@@ -35,7 +35,7 @@ sfm::ClipTrackingSettings depthTrackingSettings(const DepthSettings& depth,
   settings.maxFrames = depth.maxFrames;
   settings.horizontalFovDeg = camera.fovDeg;
   settings.maxImageSizePx = depth.colmapImagePx;
-  if (depth.scale == "camera_height")
+  if (depth.scale == DepthScale::CameraHeight)
     settings.sfm.scale.cameraHeightMeters = camera.heightMeters;
   else
     settings.sfm.scale.firstFrameMedianDepthMeters = depth.firstFrameDepthMeters;
@@ -45,7 +45,7 @@ sfm::ClipTrackingSettings depthTrackingSettings(const DepthSettings& depth,
 std::string depthTrackingCacheKey(const DepthSettings& depth, const CameraSettings& camera,
                                   const ClipInfo& clip) {
   // A model given by depth.colmap_model is read, not computed: nothing to cache.
-  if (depth.source != "colmap" || !depth.colmapModel.empty()) return "";
+  if (depth.source != DepthSource::Colmap || !depth.colmapModel.empty()) return "";
   Hasher hasher;
   hasher.add("depth-colmap").add(kTrackingVersion).add(kVersion).add(clipIdentity(clip));
   for (const char* key : kTrackingDepthKeys)

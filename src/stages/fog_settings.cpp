@@ -23,17 +23,19 @@ const SettingsTable<FogSettings>& fogTable() {
       {
           bind(&S::enabled, enabledParam()),
           bind(&S::overRain, overRainParam()),
-          bind(&S::model,
-               enumParam("model", "exponential", {"exponential", "skylight"},
-                         "exponential: one airlight colour (color_source); skylight: the "
-                         "environment (or a CIE overcast sky of zenith radiance fog.color without "
-                         "one) scattered by the rain's drops and the fog per view direction")),
+          bind(&S::model, "model",
+               {{"exponential", FogModel::Exponential}, {"skylight", FogModel::Skylight}},
+               "exponential: one airlight colour (color_source); skylight: the environment (or a "
+               "CIE overcast sky of zenith radiance fog.color without one) scattered by the "
+               "rain's drops and the fog per view direction"),
           bind(&S::densityPerMeter, numberParam("density", 0.0, {0.0, 10.0}, "1/m",
                                                 "extinction per metre; 0 means no fog")),
-          bind(&S::colorSource,
-               enumParam("color_source", "horizon", {"horizon", "average", "constant"},
-                         "fog colour (airlight): the environment's sky at the horizon, its "
-                         "average over the sphere, or fog.color")),
+          bind(&S::colorSource, "color_source",
+               {{"horizon", FogColorSource::Horizon},
+                {"average", FogColorSource::Average},
+                {"constant", FogColorSource::Constant}},
+               "fog colour (airlight): the environment's sky at the horizon, its average over the "
+               "sphere, or fog.color"),
           bind(&S::constantRgb,
                colorParam("color", nlohmann::json::array({0.5, 0.5, 0.5}), "linear",
                           "fog colour when color_source is constant; the CIE sky's zenith "

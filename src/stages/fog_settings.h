@@ -8,15 +8,20 @@
 
 namespace pluvia {
 
+// fog.model: one airlight colour, or the environment scattered per view direction.
+enum class FogModel { Exponential, Skylight };
+// fog.color_source: the airlight of the exponential model.
+enum class FogColorSource { Horizon, Average, Constant };
+
 struct FogSettings {
   bool enabled = true;
   bool overRain = false;  // also on a plate shot in rain (stages/clip_plate_rain.h)
-  // "exponential": alpha = 1 - exp(-density * depth) toward one airlight colour; "skylight": the
+  // Exponential: alpha = 1 - exp(-density * depth) toward one airlight colour; Skylight: the
   // environment scattered by rain and fog per view direction (optics/skylight_scattering.h).
-  std::string model = "exponential";
-  double densityPerMeter = 0.0;                        // extinction; 0: no fog
-  std::string colorSource = "horizon";                 // "horizon" | "average" | "constant"
-  std::array<float, 3> constantRgb{0.5f, 0.5f, 0.5f};  // linear, for colorSource "constant"
+  FogModel model = FogModel::Exponential;
+  double densityPerMeter = 0.0;  // extinction; 0: no fog
+  FogColorSource colorSource = FogColorSource::Horizon;
+  std::array<float, 3> constantRgb{0.5f, 0.5f, 0.5f};  // linear, for FogColorSource::Constant
   int skylightTableWidth = 64;  // the skylight model's table of in-scattering per direction
 };
 

@@ -31,17 +31,17 @@ class FogStage : public Stage {
     leftOut_ = leaveOutOnRainedPlate(clip, "fog", fog_.overRain);
     if (leftOut_) return;
     rgb_ = fog_.constantRgb;
-    if (fog_.model == "skylight") {
+    if (fog_.model == FogModel::Skylight) {
       prepareSkylight(clip);  // fog.color: the CIE sky's zenith without an environment
       return;
     }
-    if (fog_.colorSource == "constant") return;
+    if (fog_.colorSource == FogColorSource::Constant) return;
     if (!clip.environment)
       throw Error("fog takes its colour from the environment, which was not computed", {"fog"});
-    rgb_ =
-        fog_.colorSource == "average" ? clip.environment->averageRgb : clip.environment->horizonRgb;
+    const bool average = fog_.colorSource == FogColorSource::Average;
+    rgb_ = average ? clip.environment->averageRgb : clip.environment->horizonRgb;
     log::info(fmt::format("fog: airlight {:.4f} {:.4f} {:.4f} ({})", rgb_[0], rgb_[1], rgb_[2],
-                          fog_.colorSource));
+                          average ? "average" : "horizon"));
   }
 
   void process(ClipContext&, FrameContext& frame) override {
@@ -95,7 +95,7 @@ StageInfo fogStageInfo() {
       {.noOpReason = [](const FogSettings& fog, const Preset& p) -> std::string {
          // Skylight fog scatters through the rain as well: no-op only without fog
          // and rain.
-         if (fog.model == "skylight") {
+         if (fog.model == FogModel::Skylight) {
            // Any frame with rain (a ramp may start dry), as the other stages ask.
            return fog.densityPerMeter == 0.0 && !rainSettings(p).falls()
                       ? "density is 0 and no rain"
@@ -108,7 +108,7 @@ StageInfo fogStageInfo() {
        .reads =
            [](const FogSettings& fog, const Preset&) {
              std::vector<std::string> reads{"image", "depth"};
-             if (fog.model == "skylight" || fog.colorSource != "constant")
+             if (fog.model == FogModel::Skylight || fog.colorSource != FogColorSource::Constant)
                reads.push_back("environment");
              return reads;
            },

@@ -36,13 +36,16 @@ const SettingsTable<LightingSettings>& lightingTable() {
        .outputs = {"environment"}},
       {
           bind(&S::enabled, enabledParam()),
-          bind(&S::source,
-               enumParam("source", "frame", {"frame", "frame_average", "constant", "hdr", "stitch"},
-                         "frame: the plate itself within the camera's view, its mean by elevation "
-                         "elsewhere (the sky above lights the drops); stitch: the shot's frames "
-                         "stitched into a panorama (Wang et al. 4.1); frame_average: mean radiance "
-                         "of sampled frames in every direction; constant: lighting.color; hdr: "
-                         "lighting.hdr")),
+          bind(&S::source, "source",
+               {{"frame", LightingSource::Frame},
+                {"frame_average", LightingSource::FrameAverage},
+                {"constant", LightingSource::Constant},
+                {"hdr", LightingSource::Hdr},
+                {"stitch", LightingSource::Stitch}},
+               "frame: the plate itself within the camera's view, its mean by elevation elsewhere "
+               "(the sky above lights the drops); stitch: the shot's frames stitched into a "
+               "panorama (Wang et al. 4.1); frame_average: mean radiance of sampled frames in "
+               "every direction; constant: lighting.color; hdr: lighting.hdr"),
           bind(&S::motion,
                enumParam("motion", "auto", {"auto", "pan", "loom", "static"},
                          "stitch: the camera's motion (auto: rotation found by the features makes "

@@ -11,13 +11,16 @@
 
 namespace pluvia {
 
+// lighting.source: where the environment that lights the drops comes from.
+enum class LightingSource { Frame, FrameAverage, Constant, Hdr, Stitch };
+
 struct LightingSettings {
   bool enabled = true;
-  std::string source = "frame";          // frame | frame_average | constant | hdr | stitch
+  LightingSource source = LightingSource::Frame;
   std::string motion = "auto";           // stitch: auto | pan | loom | static
   int everyFrames = 5;                   // stitch, loom: a panorama every N frames
   int panFrames = 24;                    // stitch, pan: frames stitched
-  std::string unseenFill = "sky_model";  // stitch: sky_model | nearest
+  std::string unseenFill = "sky_model";  // stitch: sky_model | nearest (envmap's enum)
   // Light sources the footage saturated, as given: items of type "direction" or "region"
   // (envmap::parseLights reads them; region fields are in frame pixels).
   nlohmann::json lights = nlohmann::json::array();

@@ -186,8 +186,8 @@ class EnvironmentStage : public Stage {
   }
 
   void prepare(ClipContext& clip) override {
-    const std::string& source = lighting_.source;
-    if (source == "hdr") {
+    const LightingSource source = lighting_.source;
+    if (source == LightingSource::Hdr) {
       const std::string& hdr = lighting_.hdrPath;
       if (hdr.empty())
         throw Error("lighting.source is \"hdr\" but lighting.hdr names no file", {"lighting"});
@@ -213,7 +213,7 @@ class EnvironmentStage : public Stage {
         }
       }
     }
-    if (source == "stitch") {
+    if (source == LightingSource::Stitch) {
       nlohmann::json keys = nlohmann::json::array();
       const envmap::ClipEnvironment built =
           envmap::buildClipEnvironment(*clip.reader, clip.clip->frames, stitch_);
@@ -230,7 +230,7 @@ class EnvironmentStage : public Stage {
       if (clip.cache) clip.cache->store("lighting", key, {{"stitched", keys}});
       return;
     }
-    if (source == "frame") {
+    if (source == LightingSource::Frame) {
       // The camera of the first frame, as the depth stage's guess sees the sky.
       const Camera camera = camera_.path(clip.camera).cameraAt(0.0);
       const Image& still = clipStill(clip);
@@ -255,7 +255,7 @@ class EnvironmentStage : public Stage {
       return;
     }
     std::array<float, 3> radiance = lighting_.constantRgb;
-    if (source == "frame_average") radiance = averageOfFrames(clip);
+    if (source == LightingSource::FrameAverage) radiance = averageOfFrames(clip);
     clip.environment = uniformEnvironment(radiance);
     log::info(fmt::format("lighting: average radiance {:.4f} {:.4f} {:.4f}", radiance[0],
                           radiance[1], radiance[2]));
@@ -291,7 +291,7 @@ StageInfo lightingStageInfo() {
       {.perClip = true,
        // Which sky the drops are lit by, before the analysis says how bright (the log does).
        .note = [](const LightingSettings& lighting, const Preset&) -> std::string {
-         if (lighting.source != "frame") return "";
+         if (lighting.source != LightingSource::Frame) return "";
          return "drops lit by the plate and, above it, an overcast sky (zenith 3x the horizon): "
                 "the brighter of the plate's own sky and the sky that lights its scene as "
                 "brightly as the plate shows it (about 34x its mean luminance); a night plate "
@@ -301,7 +301,7 @@ StageInfo lightingStageInfo() {
            [](const LightingSettings& lighting, const Preset& p, const ClipInfo& clip) {
              // An HDR is read, not computed: nothing to cache (`--require-cache` must not ask
              // for it).
-             if (lighting.source == "hdr") return std::string();
+             if (lighting.source == LightingSource::Hdr) return std::string();
              return environmentCacheKey(lighting, colorSettings(p), cameraSettings(p), clip);
            },
        .create =

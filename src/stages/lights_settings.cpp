@@ -61,13 +61,13 @@ const SettingsTable<LightsSettings>& lightsTable() {
                numberParam("halo_threshold", 1e-3, {0.0, 1e3}, "radiance",
                            "a light whose brightest halo pixel is below this is culled (counted "
                            "in the log)")),
-          unbound<S>(enumParam(
-              "find", "auto", {"auto", "on", "off"},
-              "auto: on a night plate (luminance median under 0.08, 90th percentile under 0.3: "
-              "not a day plate in shade with a sunlit tenth), the clipped blobs in the "
-              "dark (lamps) become point lights at the depth the depth stage gives around "
-              "them, coloured like their unclipped rim, fixed in the world of the clip's "
-              "camera; nothing clipped, none; on: on any plate; off: only lights.list")),
+          bind(&S::search, "find",
+               {{"auto", LampSearch::Auto}, {"on", LampSearch::On}, {"off", LampSearch::Off}},
+               "auto: on a night plate (luminance median under 0.08, 90th percentile under 0.3: "
+               "not a day plate in shade with a sunlit tenth), the clipped blobs in the "
+               "dark (lamps) become point lights at the depth the depth stage gives around "
+               "them, coloured like their unclipped rim, fixed in the world of the clip's "
+               "camera; nothing clipped, none; on: on any plate; off: only lights.list"),
           bind(&S::findClipLevel,
                numberParam("find_level", 0.95, {0.01, 1e6}, "working-space",
                            "a pixel whose max channel is at least this is clipped (the white of a "
@@ -82,13 +82,12 @@ const SettingsTable<LightsSettings>& lightsTable() {
                            "a found lamp's radiance is find_level times this (its clipped core "
                            "hides how bright it is): intensity = gain * find_level * solid angle "
                            "* distance^2")),
-          // glare names a C++ enum: lightsSettings maps it.
-          unbound<S>(enumParam(
-              "glare", "auto", {"auto", "on", "off"},
-              "the veil bright sources spread as the eye sees them (CIE 2002 disability glare), "
-              "added after the rain: the lights' own and every pixel's light above 1.0; auto: on "
-              "a frame with local lights whose veil 1 deg away could reach "
-              "lights.halo_threshold; on: every frame; off: never")),
+          bind(&S::glare, "glare",
+               {{"auto", GlareMode::Auto}, {"on", GlareMode::On}, {"off", GlareMode::Off}},
+               "the veil bright sources spread as the eye sees them (CIE 2002 disability glare), "
+               "added after the rain: the lights' own and every pixel's light above 1.0; auto: on "
+               "a frame with local lights whose veil 1 deg away could reach "
+               "lights.halo_threshold; on: every frame; off: never"),
       });
   return table;
 }
@@ -113,10 +112,8 @@ LightsSettings lightsSettings(const Preset& p) {
     light.falloffQ = numberOr(item, "falloff_q", 0.0);
     s.lights.push_back(light);
   }
-  s.find = s.enabled && p.string("lights.find") != "off";
-  s.findOnDayPlates = p.string("lights.find") == "on";
-  const std::string glare = p.string("lights.glare");
-  s.glare = glare == "on" ? GlareMode::On : glare == "off" ? GlareMode::Off : GlareMode::Auto;
+  s.find = s.enabled && s.search != LampSearch::Off;
+  s.findOnDayPlates = s.search == LampSearch::On;
   return s;
 }
 

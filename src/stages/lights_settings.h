@@ -37,6 +37,9 @@ struct LightSpec {
 // lights.glare: the veil bright sources spread over the picture (optics/glare.h).
 enum class GlareMode { Auto, On, Off };
 
+// lights.find: lamps looked for on a night plate, on any plate, or not at all.
+enum class LampSearch { Auto, On, Off };
+
 struct LightsSettings {
   bool enabled = true;
   std::vector<LightSpec> lights;
@@ -45,8 +48,9 @@ struct LightsSettings {
   // A light whose brightest halo pixel (unoccluded) is below this radiance is culled.
   double haloThresholdRadiance = 1e-3;
   // lights.find: the plate's clipped blobs become point lights (stages/plate_lights.h).
-  bool find = true;
-  bool findOnDayPlates = false;  // "on": look on any plate, not only a night one
+  LampSearch search = LampSearch::Auto;
+  bool find = true;              // derived: enabled and not LampSearch::Off
+  bool findOnDayPlates = false;  // derived: LampSearch::On looks on any plate, not only at night
   double findClipLevel = 0.95;
   int findMinAreaPx = 4;
   double findCoreGain = 100.0;

@@ -54,23 +54,24 @@ const SettingsTable<RainSettings>& rainTable() {
                            "level of detail: drops whose projected diameter is under this are "
                            "drawn as single-pixel lines carrying their coverage, not textured "
                            "streaks; 0: every drop a streak")),
-          bind(&S::shading,
-               enumParam("shading", "default", {"default", "paper"},
-                         "default: environment convolved with the drop's transfer function "
-                         "(about 1 % from a ray-traced drop); paper: Wang et al.'s 16 SH "
-                         "coefficients + c B (about 50 %)")),
+          bind(&S::shading, "shading",
+               {{"default", DropShading::Default}, {"paper", DropShading::Paper}},
+               "default: environment convolved with the drop's transfer function (about 1 % from "
+               "a ray-traced drop); paper: Wang et al.'s 16 SH coefficients + c B (about 50 %)"),
           bind(&S::dispersion, booleanParam("dispersion", false,
                                             "per-channel refractive index 1.331 / 1.333 / 1.338")),
           bind(&S::backgroundWeight,
                fractionParam("background_weight", 0.7,
                              "c in C' = C + c B (Wang et al. Eq. 2); used by shading paper only")),
-          // distribution and velocity name C++ enums: rainSettings maps them.
-          unbound<S>(enumParam("distribution", "marshall_palmer", {"marshall_palmer", "gamma"},
-                               "drop size distribution for the rate: Marshall-Palmer (1948) or a "
-                               "Gamma (Ulbrich)")),
-          unbound<S>(enumParam("velocity", "atlas", {"atlas", "gunn_kinzer"},
-                               "terminal velocity by diameter: Atlas et al. (1973) fit or "
-                               "Gunn-Kinzer (1949) table")),
+          bind(&S::distribution, "distribution",
+               {{"marshall_palmer", rain::SizeDistribution::MarshallPalmer},
+                {"gamma", rain::SizeDistribution::Gamma}},
+               "drop size distribution for the rate: Marshall-Palmer (1948) or a Gamma (Ulbrich)"),
+          bind(&S::velocity, "velocity",
+               {{"atlas", rain::VelocityModel::Atlas},
+                {"gunn_kinzer", rain::VelocityModel::GunnKinzer}},
+               "terminal velocity by diameter: Atlas et al. (1973) fit or Gunn-Kinzer (1949) "
+               "table"),
           bind(&S::spreadMetersPerSecond,
                numberParam("spread_m_s", 0.0, {0.0, 20.0}, "m/s",
                            "artist spread: each drop's own random horizontal speed (std dev) on "
@@ -112,13 +113,7 @@ const SettingsTable<RainSettings>& rainTable() {
 }
 
 RainSettings rainSettings(const Preset& p) {
-  RainSettings s = rainTable().read(p);
-  s.distribution = p.string("rain.distribution") == "gamma"
-                       ? rain::SizeDistribution::Gamma
-                       : rain::SizeDistribution::MarshallPalmer;
-  s.velocity = p.string("rain.velocity") == "gunn_kinzer" ? rain::VelocityModel::GunnKinzer
-                                                          : rain::VelocityModel::Atlas;
-  return s;
+  return rainTable().read(p);
 }
 
 }  // namespace pluvia

@@ -11,6 +11,9 @@
 
 namespace pluvia {
 
+// rain.shading: the drop's transfer function over the environment, or Wang et al.'s SH.
+enum class DropShading { Default, Paper };
+
 struct RainSettings {
   bool enabled = true;
   Ramp rateMmPerHour{15.0};
@@ -25,9 +28,9 @@ struct RainSettings {
   double farMeters = 15.0;
   int64_t maxDrops = 100000;
   double lodPx = 0.0;  // drops narrower than this (px) drawn as lines (far_drop_lines.h); 0: none
-  std::string shading = "default";  // "default" | "paper"
+  DropShading shading = DropShading::Default;
   bool dispersion = false;
-  double backgroundWeight = 0.7;  // shading "paper" only
+  double backgroundWeight = 0.7;  // DropShading::Paper only
   rain::SizeDistribution distribution = rain::SizeDistribution::MarshallPalmer;
   rain::VelocityModel velocity = rain::VelocityModel::Atlas;
   double spreadMetersPerSecond = 0.0;

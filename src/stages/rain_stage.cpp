@@ -98,7 +98,8 @@ rain::ShadingParams dropShading(ClipContext& clip, const RainSettings& rain,
           : std::array<double, 3>{optics::kWaterEta, optics::kWaterEta, optics::kWaterEta};
   rain::ShadingParams shading;
   const auto started = std::chrono::steady_clock::now();
-  if (rain.shading == "default") {
+  const bool byTransfer = rain.shading == DropShading::Default;
+  if (byTransfer) {
     shading.radianceMap =
         cachedDropRadianceMap(clip, environment, optics::channelOptics(eta, optics::kDefaultTerms));
     shading.backgroundWeight = 0.0f;
@@ -107,15 +108,15 @@ rain::ShadingParams dropShading(ClipContext& clip, const RainSettings& rain,
     shading.shOrder = optics::kPaperShOrder;
     for (const auto& rgb : paper.environmentSh)
       shading.envSh.push_back({float(rgb[0]), float(rgb[1]), float(rgb[2])});
-    // The GPU holds one transfer vector: the green channel's (dispersion shows in "default").
+    // The GPU holds one transfer vector: the green channel's (dispersion shows in the default).
     for (int l = 0; l <= optics::kPaperShOrder; ++l) {
       shading.transferZonal.push_back(
           float(optics::zonalRotationFactor(l) * paper.zonal[1][size_t(l)]));
     }
     shading.backgroundWeight = float(rain.backgroundWeight);
   }
-  log::info(fmt::format("rain: {} drop shading prepared in {:.0f} ms", rain.shading,
-                        secondsSince(started) * 1000.0));
+  log::info(fmt::format("rain: {} drop shading prepared in {:.0f} ms",
+                        byTransfer ? "default" : "paper", secondsSince(started) * 1000.0));
   return shading;
 }
 

@@ -13,9 +13,10 @@ const SettingsTable<RainbowSettings>& rainbowTable() {
        .outputs = {"image"}},
       {
           bind(&S::enabled, enabledParam()),
-          bind(&S::sunSource, enumParam("sun", "environment", {"environment", "direction"},
-                                        "where the sun is: the environment's brightest spot, or "
-                                        "sun_elevation_deg and sun_azimuth_deg")),
+          bind(&S::sunSource, "sun",
+               {{"environment", RainbowSun::Environment}, {"direction", RainbowSun::Direction}},
+               "where the sun is: the environment's brightest spot, or sun_elevation_deg and "
+               "sun_azimuth_deg"),
           bind(&S::sunElevationDeg,
                numberParam("sun_elevation_deg", 30.0, {-90.0, 90.0}, "deg",
                            "sun's elevation above the horizon (sun = direction)")),

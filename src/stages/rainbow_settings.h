@@ -9,12 +9,15 @@
 
 namespace pluvia {
 
+// rainbow.sun: the environment's brightest spot, or the direction the preset gives.
+enum class RainbowSun { Environment, Direction };
+
 struct RainbowSettings {
   bool enabled = true;
-  std::string sunSource = "environment";  // "environment" (its brightest spot) | "direction"
-  double sunElevationDeg = 30.0;          // sunSource "direction"
-  double sunAzimuthDeg = 180.0;           // from world -Z toward +X; 180: behind the camera
-  std::array<float, 3> sunIrradianceRgb{3.0f, 3.0f, 3.0f};  // sunSource "direction", linear
+  RainbowSun sunSource = RainbowSun::Environment;
+  double sunElevationDeg = 30.0;  // RainbowSun::Direction
+  double sunAzimuthDeg = 180.0;   // from world -Z toward +X; 180: behind the camera
+  std::array<float, 3> sunIrradianceRgb{3.0f, 3.0f, 3.0f};  // RainbowSun::Direction, linear
   double showerExtentMeters = 2000.0;  // far edge of the rain shower along a ray to the sky
   double strength = 1.0;               // artist scale on the physical radiance
 };

@@ -28,7 +28,7 @@ class RainbowStage : public Stage {
 
   void prepare(ClipContext& clip) override {
     path_ = clip.cameraPath;
-    if (bow_.sunSource == "direction") {
+    if (bow_.sunSource == RainbowSun::Direction) {
       sun_ = Sun{sunDirection(bow_.sunElevationDeg, bow_.sunAzimuthDeg),
                  {bow_.sunIrradianceRgb[0], bow_.sunIrradianceRgb[1], bow_.sunIrradianceRgb[2]}};
     } else {
@@ -84,20 +84,20 @@ StageInfo rainbowStageInfo() {
       {.noOpReason = [](const RainbowSettings& bow, const Preset& p) -> std::string {
          if (!rainSettings(p).falls()) return "no rain to scatter";
          if (bow.strength == 0.0) return "strength is 0";
-         if (bow.sunSource != "direction") return "";
+         if (bow.sunSource != RainbowSun::Direction) return "";
          const CameraSettings camera = cameraSettings(p);
          return rainbowHiddenReason(camera.path(camera.base(kPlanWidth, kPlanHeight)).cameraAt(0.0),
                                     sunDirection(bow.sunElevationDeg, bow.sunAzimuthDeg));
        },
        .note = [](const RainbowSettings& bow, const Preset&) -> std::string {
-         if (bow.sunSource != "environment") return "";
+         if (bow.sunSource != RainbowSun::Environment) return "";
          return "the sun is looked for in the environment when the render prepares: left "
                 "out there if none stands out of its mean (the render's log says which)";
        },
        .reads =
            [](const RainbowSettings& bow, const Preset&) {
              std::vector<std::string> reads{"image", "depth"};
-             if (bow.sunSource == "environment") reads.push_back("environment");
+             if (bow.sunSource == RainbowSun::Environment) reads.push_back("environment");
              return reads;
            },
        .create =

@@ -9,6 +9,8 @@ using namespace pluvia;
 
 namespace {
 
+enum class Shape { Round, Square };
+
 struct ToySettings {
   bool enabled = false;
   double widthM = -1.0;
@@ -23,6 +25,7 @@ struct ToySettings {
     double gain = -1.0;
   } inner;
   std::string unboundMode = "untouched";
+  Shape shape = Shape::Square;  // an enum row: its default is this one
 };
 
 const SettingsTable<ToySettings>& toyTable() {
@@ -42,6 +45,7 @@ const SettingsTable<ToySettings>& toyTable() {
           bind(&S::speed, numberParam("speed", 5.0, {0, 60}, "m/s", "speed")),
           bind(&S::inner, &S::Inner::gain, numberParam("inner.gain", 0.125, {0, 1}, "", "gain")),
           unbound<S>(enumParam("unbound_mode", "p", {"p", "q"}, "read by hand")),
+          bind(&S::shape, "shape", {{"round", Shape::Round}, {"square", Shape::Square}}, "shape"),
       });
   return table;
 }
@@ -62,9 +66,9 @@ TEST(SettingsTable, SectionListsTheRowsInOrder) {
   EXPECT_EQ(s.outputs, std::vector<std::string>{"toy_out"});
   std::vector<std::string> keys;
   for (const auto& p : s.params) keys.push_back(p.key);
-  EXPECT_EQ(keys,
-            (std::vector<std::string>{"enabled", "width_m", "count", "truncated", "seed", "mode",
-                                      "rgb", "items", "speed", "inner.gain", "unbound_mode"}));
+  EXPECT_EQ(keys, (std::vector<std::string>{"enabled", "width_m", "count", "truncated", "seed",
+                                            "mode", "rgb", "items", "speed", "inner.gain",
+                                            "unbound_mode", "shape"}));
   for (const auto& p : s.params) EXPECT_EQ(p.keyframes, p.key == "speed") << p.key;
 }
 
@@ -97,6 +101,27 @@ TEST(SettingsTable, OverridesAndKeyframesReachTheMembers) {
   EXPECT_DOUBLE_EQ(s.speed.valueAt(10.0), 20.0);
   EXPECT_DOUBLE_EQ(s.inner.gain, 0.5);
   EXPECT_EQ(s.unboundMode, "untouched");
+}
+
+// An enum row gets its choices and its default (the struct's value, by name) from one table of
+// names, and reads a name into its C++ value.
+TEST(SettingsTable, EnumRowsReadNamesIntoTheirValues) {
+  const ParamSpec& spec = toyTable().section().params.back();
+  EXPECT_EQ(spec.type, ParamType::Enum);
+  EXPECT_EQ(spec.choices, (std::vector<std::string>{"round", "square"}));
+  EXPECT_EQ(spec.defaultValue, "square");
+  EXPECT_EQ(toyTable().read(resolveToy({})).shape, Shape::Square);
+  EXPECT_EQ(toyTable().read(resolveToy({"toy.shape=round"})).shape, Shape::Round);
+  EXPECT_THROW(resolveToy({"toy.shape=oval"}), PresetError);
+}
+
+// The toy's struct defaults are placeholders (-1) that the rows' defaults replace: the check that
+// a default written twice is one value names exactly those rows.
+TEST(SettingsTable, StructDefaultsThatDifferFromTheRowsAreNamed) {
+  EXPECT_EQ(toyTable().keysWhoseStructDefaultDiffers(resolveToy({})),
+            (std::vector<std::string>{"toy.enabled", "toy.width_m", "toy.count", "toy.truncated",
+                                      "toy.seed", "toy.mode", "toy.rgb", "toy.items", "toy.speed",
+                                      "toy.inner.gain"}));
 }
 
 // A row bound to a member that cannot hold it is a programming error, caught when the table is

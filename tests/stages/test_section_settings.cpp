@@ -1,6 +1,8 @@
 // The typed settings of each preset section, read once from a resolved preset
 // (stages/<section>_settings.h, pipeline/camera_settings.h, pipeline/color_settings.h), and the
 // table-row builders they are declared with (preset/param_table.h).
+#include <fstream>
+
 #include <gtest/gtest.h>
 
 #include "pipeline/camera_settings.h"
@@ -14,8 +16,12 @@
 #include "stages/derain_settings.h"
 #include "stages/fog_settings.h"
 #include "stages/lighting_settings.h"
+#include "stages/lights_settings.h"
 #include "stages/rain_settings.h"
+#include "stages/rainbow_settings.h"
 #include "stages/registry.h"
+#include "stages/splash_settings.h"
+#include "test_support.h"
 
 using namespace pluvia;
 
@@ -46,6 +52,32 @@ TEST(ParamBuilders, DefaultsKeepTheirJsonType) {
   EXPECT_EQ(choice.type, ParamType::Enum);
   EXPECT_EQ(choice.choices, (std::vector<std::string>{"a", "b"}));
   EXPECT_EQ(enabledParam().defaultValue, true);
+}
+
+// A default is written in a section's row and again in its settings struct: the two must agree
+// (read from a preset that sets nothing, every row gives its own default).
+TEST(SectionSettings, EveryRowsDefaultIsTheStructsDefault) {
+  const auto folder = test::freshTempDir("struct_defaults");
+  std::ofstream(folder / "nothing.json") << R"({"pluvia": 1})";
+  const Preset defaults = resolve((folder / "nothing.json").string());
+  std::vector<std::string> differing;
+  auto check = [&](const auto& table) {
+    for (const std::string& key : table.keysWhoseStructDefaultDiffers(defaults))
+      differing.push_back(key);
+  };
+  check(cameraTable());
+  check(colorTable());
+  check(derainTable());
+  check(lightingTable());
+  check(depthTable());
+  check(darkenTable());
+  check(blurTable());
+  check(fogTable());
+  check(rainTable());
+  check(rainbowTable());
+  check(lightsTable());
+  check(splashTable());
+  EXPECT_TRUE(differing.empty()) << ::testing::PrintToString(differing);
 }
 
 TEST(SectionSettings, EveryShippedPresetBuildsEverySection) {
@@ -91,7 +123,7 @@ TEST(SectionSettings, ValuesSetInThePresetReachTheirFields) {
                                         "camera.fps=25"});
   const FogSettings fog = fogSettings(p);
   EXPECT_DOUBLE_EQ(fog.densityPerMeter, 0.02);
-  EXPECT_EQ(fog.colorSource, "constant");
+  EXPECT_EQ(fog.colorSource, FogColorSource::Constant);
   EXPECT_EQ(fog.constantRgb, (std::array<float, 3>{1, 2, 3}));
   const RainSettings rain = rainSettings(p);
   EXPECT_EQ(rain.seed, 7u);
@@ -103,7 +135,7 @@ TEST(SectionSettings, ValuesSetInThePresetReachTheirFields) {
   EXPECT_DOUBLE_EQ(blurSettings(p).sigmaPx, 2.5);
   EXPECT_DOUBLE_EQ(darkenSettings(p).amount, 0.25);
   EXPECT_EQ(derainSettings(p).strokeCount, 9);
-  EXPECT_EQ(lightingSettings(p).source, "stitch");
+  EXPECT_EQ(lightingSettings(p).source, LightingSource::Stitch);
   EXPECT_EQ(lightingSettings(p).everyFrames, 7);
   EXPECT_EQ(depthSettings(p).fileEncoding, "inverse");
   EXPECT_EQ(depthSettings(p).maxFrames, 55);
