@@ -277,6 +277,48 @@ double staticShare(const cv::Mat& matte, const std::vector<cv::Mat>& others, cv:
   return best;
 }
 
+// The neighbours' mattes with the camera's motion between them and `matte` undone (phase
+// correlation of the mattes, which static structure dominates).
+std::vector<cv::Mat> alignedNeighbours(const cv::Mat& matte,
+                                       const std::vector<cv::Mat>& neighbourMattes) {
+  std::vector<cv::Mat> aligned;
+  if (neighbourMattes.empty()) return aligned;
+  cv::Mat window;
+  cv::createHanningWindow(window, matte.size(), CV_32F);
+  for (const cv::Mat& neighbour : neighbourMattes) {
+    double response = 0.0;
+    // Copies: OpenCV multiplies the window into its inputs in place when their size needs
+    // no padding.
+    cv::Point2d shift = cv::phaseCorrelate(neighbour.clone(), matte.clone(), window, &response);
+    // A weak peak is no motion; a far one is rain falling (the same drops a frame later),
+    // not the camera.
+    if (!(response >= kMinMotionResponse) || std::hypot(shift.x, shift.y) > kMaxMotionPx)
+      shift = {0.0, 0.0};
+    const cv::Matx23d move(1, 0, shift.x, 0, 1, shift.y);
+    cv::Mat moved;
+    cv::warpAffine(neighbour, moved, move, matte.size(), cv::INTER_LINEAR, cv::BORDER_CONSTANT,
+                   0.0);
+    aligned.push_back(moved);
+  }
+  return aligned;
+}
+
+// The blurred matte of the other components (labels but `label`) in `box` grown by `marginPx`.
+double otherEnergy(const cv::Mat& labels, const cv::Mat& blurred, int label, const cv::Rect& box,
+                   int marginPx) {
+  const cv::Rect around =
+      (box + cv::Size(2 * marginPx, 2 * marginPx) - cv::Point(marginPx, marginPx)) &
+      cv::Rect(0, 0, labels.cols, labels.rows);
+  double other = 0.0;
+  for (int y = around.y; y < around.y + around.height; ++y) {
+    const int* l = labels.ptr<int>(y);
+    const float* b = blurred.ptr<float>(y);
+    for (int x = around.x; x < around.x + around.width; ++x)
+      if (l[x] && l[x] != label) other += b[x];
+  }
+  return other;
+}
+
 }  // namespace
 
 StrokeCollector::StrokeCollector(StrokeExtractionSettings settings) : settings_(settings) {
@@ -350,28 +392,9 @@ void StrokeCollector::cut(const Frame& f, const std::vector<const Frame*>& neigh
   const cv::Mat& clean = f.matte;
   const Upright up = rotateUpright(clean, f.valid, f.angleDeg);
 
-  // The neighbours with the camera's motion between them and this frame undone (phase
-  // correlation of the mattes, which static structure dominates).
-  std::vector<cv::Mat> aligned;
-  if (!neighbours.empty()) {
-    cv::Mat window;
-    cv::createHanningWindow(window, clean.size(), CV_32F);
-    for (const Frame* n : neighbours) {
-      double response = 0.0;
-      // Copies: OpenCV multiplies the window into its inputs in place when their size needs
-      // no padding.
-      cv::Point2d shift = cv::phaseCorrelate(n->matte.clone(), clean.clone(), window, &response);
-      // A weak peak is no motion; a far one is rain falling (the same drops a frame later),
-      // not the camera.
-      if (!(response >= kMinMotionResponse) || std::hypot(shift.x, shift.y) > kMaxMotionPx)
-        shift = {0.0, 0.0};
-      const cv::Matx23d move(1, 0, shift.x, 0, 1, shift.y);
-      cv::Mat moved;
-      cv::warpAffine(n->matte, moved, move, clean.size(), cv::INTER_LINEAR, cv::BORDER_CONSTANT,
-                     0.0);
-      aligned.push_back(moved);
-    }
-  }
+  std::vector<cv::Mat> neighbourMattes;
+  for (const Frame* n : neighbours) neighbourMattes.push_back(n->matte);
+  const std::vector<cv::Mat> aligned = alignedNeighbours(clean, neighbourMattes);
 
   // Opening with a vertical line drops specks shorter than it; the vertical blur smooths the
   // streaks along their length only.
@@ -465,18 +488,9 @@ void StrokeCollector::cut(const Frame& f, const std::vector<const Frame*>& neigh
 
     // Isolation: the stroke's share of the matte energy (of thresholded components) in its box
     // grown by isolationMarginPx: 1 alone, 1/2 with as much other rain around it.
-    const cv::Rect around =
-        (box + cv::Size(2 * settings_.isolationMarginPx, 2 * settings_.isolationMarginPx) -
-         cv::Point(settings_.isolationMarginPx, settings_.isolationMarginPx)) &
-        cv::Rect(0, 0, labels.cols, labels.rows);
-    double other = 0.0;
-    for (int y = around.y; y < around.y + around.height; ++y) {
-      const int* l = labels.ptr<int>(y);
-      const float* b = blurred.ptr<float>(y);
-      for (int x = around.x; x < around.x + around.width; ++x)
-        if (l[x] && l[x] != label) other += b[x];
-    }
-    const double isolation = energy[size_t(label)] / (energy[size_t(label)] + other);
+    const double isolation =
+        energy[size_t(label)] / (energy[size_t(label)] + otherEnergy(labels, blurred, label, box,
+                                                                     settings_.isolationMarginPx));
 
     Candidate c;
     c.matte = crop / m.contrast;

@@ -585,6 +585,61 @@ EnvmapReport runEnvmapReport(const EnvmapReportSettings& in) {
   return report;
 }
 
+namespace {
+
+// Per environment, its rows at the most frames under each unseen fill, with and without the
+// lights: drop colour mean (max) error.
+std::string formatUnseenFillTable(const EnvmapReport& report) {
+  std::string out = fmt::format(
+      "\nUnseen fill at the most frames, drop colour mean (max) error, as recorded and with "
+      "the lights:\n  {:<28} {:>16} {:>16} {:>16} {:>16}  {}\n",
+      "environment", "nearest", "sky model", "nearest+lights", "model+lights", "fitted (+lights)");
+  // Per environment, its rows at the most frames: nearest, +lights, model, +lights model.
+  std::map<std::string, std::array<const EnvmapReportRow*, 4>> byEnvironment;
+  std::vector<std::string> order;
+  for (const EnvmapReportRow& row : report.rows) {
+    if (!byEnvironment.count(row.environment)) order.push_back(row.environment);
+    auto& slots = byEnvironment[row.environment];
+    const size_t slot = (row.skyModelFill ? 1 : 0) + (row.lightsRestored ? 2 : 0);
+    if (!slots[slot] || slots[slot]->frames <= row.frames) slots[slot] = &row;
+  }
+  auto cell = [](const EnvmapReportRow* row) {
+    return row ? fmt::format("{:>7} ({:>6})", percentOrDash(row->dropMeanError),
+                             percentOrDash(row->dropMaxError))
+               : std::string("-");
+  };
+  for (const std::string& name : order) {
+    const auto& slots = byEnvironment[name];
+    if (!slots[1]) continue;
+    // "name:": the main table's rows are the ones whose first word is the name.
+    out += fmt::format("  {:<28} {:>16} {:>16} {:>16} {:>16}  {}{}\n", name + ":", cell(slots[0]),
+                       cell(slots[1]), cell(slots[2]), cell(slots[3]), slots[1]->fillModel,
+                       slots[3] ? " (" + slots[3]->fillModel + ")" : "");
+  }
+  return out;
+}
+
+// The real photos' placement, when the report had them.
+std::string formatRealPhotos(const EnvmapRealPhotos& real) {
+  if (!real.present) return "";
+  std::string out = fmt::format(
+      "\nReal photos {}: {} of {}x{}, {:.2f} % of pixels clipped; placed {} in {:.2f} s{}, "
+      "rendered in {:.2f} s, {:.1f} % of the sphere covered.\n",
+      real.folder, real.frames, real.width, real.height, 100.0 * real.saturatedFraction,
+      real.fromFeatures ? "from features" : "by the FALLBACK", real.placementSeconds,
+      real.note.empty() ? "" : " (" + real.note + ")", real.renderSeconds,
+      100.0 * real.coveredFraction);
+  out += fmt::format("{:>6} {:>8} {:>8} {:>9} {:>7}\n", "photo", "yaw°", "pitch°", "focal px",
+                     "hfov°");
+  for (size_t i = 0; i < real.yawDeg.size(); ++i) {
+    out += fmt::format("{:>6} {:>8.2f} {:>8.2f} {:>9.1f} {:>7.2f}\n", i + 1, real.yawDeg[i],
+                       real.pitchDeg[i], real.focalPx[i], real.hfovDeg[i]);
+  }
+  return out;
+}
+
+}  // namespace
+
 std::string formatEnvmapReport(const EnvmapReport& report) {
   std::string out = fmt::format(
       "Environment maps stitched from a pan against the full HDR: frames of {}x{}, {:g}° "
@@ -686,33 +741,7 @@ std::string formatEnvmapReport(const EnvmapReport& report) {
           "With the lights and the sky model (the sun for the fit from the lights): {} of {} on "
           "the mean (worst mean {:.1f} %).\n",
           modelLightMeanMet, modelLightRows, 100.0 * worstModelLightMean);
-      out += fmt::format(
-          "\nUnseen fill at the most frames, drop colour mean (max) error, as recorded and with "
-          "the lights:\n  {:<28} {:>16} {:>16} {:>16} {:>16}  {}\n",
-          "environment", "nearest", "sky model", "nearest+lights", "model+lights",
-          "fitted (+lights)");
-      // Per environment, its rows at the most frames: nearest, +lights, model, +lights model.
-      std::map<std::string, std::array<const EnvmapReportRow*, 4>> byEnvironment;
-      std::vector<std::string> order;
-      for (const EnvmapReportRow& row : report.rows) {
-        if (!byEnvironment.count(row.environment)) order.push_back(row.environment);
-        auto& slots = byEnvironment[row.environment];
-        const size_t slot = (row.skyModelFill ? 1 : 0) + (row.lightsRestored ? 2 : 0);
-        if (!slots[slot] || slots[slot]->frames <= row.frames) slots[slot] = &row;
-      }
-      auto cell = [](const EnvmapReportRow* row) {
-        return row ? fmt::format("{:>7} ({:>6})", percentOrDash(row->dropMeanError),
-                                 percentOrDash(row->dropMaxError))
-                   : std::string("-");
-      };
-      for (const std::string& name : order) {
-        const auto& slots = byEnvironment[name];
-        if (!slots[1]) continue;
-        // "name:": the main table's rows are the ones whose first word is the name.
-        out += fmt::format("  {:<28} {:>16} {:>16} {:>16} {:>16}  {}{}\n", name + ":",
-                           cell(slots[0]), cell(slots[1]), cell(slots[2]), cell(slots[3]),
-                           slots[1]->fillModel, slots[3] ? " (" + slots[3]->fillModel + ")" : "");
-      }
+      out += formatUnseenFillTable(report);
     }
     out += fmt::format("Slowest stitch of {} frames of {}x{} (placement + rendering): {:.2f} s",
                        mostFrames, report.frameWidth, report.frameHeight, slowest);
@@ -722,22 +751,7 @@ std::string formatEnvmapReport(const EnvmapReport& report) {
     out += ".\n";
   }
 
-  const EnvmapRealPhotos& real = report.real;
-  if (real.present) {
-    out += fmt::format(
-        "\nReal photos {}: {} of {}x{}, {:.2f} % of pixels clipped; placed {} in {:.2f} s{}, "
-        "rendered in {:.2f} s, {:.1f} % of the sphere covered.\n",
-        real.folder, real.frames, real.width, real.height, 100.0 * real.saturatedFraction,
-        real.fromFeatures ? "from features" : "by the FALLBACK", real.placementSeconds,
-        real.note.empty() ? "" : " (" + real.note + ")", real.renderSeconds,
-        100.0 * real.coveredFraction);
-    out += fmt::format("{:>6} {:>8} {:>8} {:>9} {:>7}\n", "photo", "yaw°", "pitch°", "focal px",
-                       "hfov°");
-    for (size_t i = 0; i < real.yawDeg.size(); ++i) {
-      out += fmt::format("{:>6} {:>8.2f} {:>8.2f} {:>9.1f} {:>7.2f}\n", i + 1, real.yawDeg[i],
-                         real.pitchDeg[i], real.focalPx[i], real.hfovDeg[i]);
-    }
-  }
+  out += formatRealPhotos(report.real);
   for (const std::string& note : report.notes) out += "note: " + note + "\n";
   return out;
 }
