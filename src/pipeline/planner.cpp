@@ -31,7 +31,7 @@ std::string Plan::text() const {
 }
 
 Plan makePlan(const Preset& preset, const ClipInfo& clip, const ArtifactCache* cache,
-              const std::vector<StageInfo>& stages) {
+              const std::string& framesKey, const std::vector<StageInfo>& stages) {
   std::vector<PlanEntry> entries(stages.size());
   // Walk backwards from the writer, which reads the image.
   std::set<std::string> needed{"image"};
@@ -70,7 +70,7 @@ Plan makePlan(const Preset& preset, const ClipInfo& clip, const ArtifactCache* c
     if (std::string note = info.note ? info.note(preset) : ""; !note.empty())
       entry.reason += "; " + note;
     if (cache && info.cachedWork) {
-      if (std::string cached = info.cachedWork(preset, clip, *cache); !cached.empty())
+      if (std::string cached = info.cachedWork(preset, clip, framesKey, *cache); !cached.empty())
         entry.reason += "; " + cached;
     }
     // A per-frame stage with per-clip analysis (depth from COLMAP): say whether that is done.

@@ -24,7 +24,10 @@ struct Plan {
   std::string text() const;                        // human-readable, one line per stage
 };
 
+// `framesKey`: the key the clip's per-clip work is stored under in `cache` (render_job.h's
+// workingFramesKey, made once by the caller: it reads samples of the plate's files); "" without a
+// cache.
 Plan makePlan(const Preset& preset, const ClipInfo& clip, const ArtifactCache* cache,
-              const std::vector<StageInfo>& stages);
+              const std::string& framesKey, const std::vector<StageInfo>& stages);
 
 }  // namespace pluvia

@@ -345,7 +345,8 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
       reader_(openInput(request)),
       frames_(framesToRender(request, clip())),
       cache_(openCache(request, clip())),
-      plan_(makePlan(preset, clip(), cache_ ? &*cache_ : nullptr, stages)),
+      framesKey_(cache_ ? workingFramesKey(preset, clip()) : ""),
+      plan_(makePlan(preset, clip(), cache_ ? &*cache_ : nullptr, framesKey_, stages)),
       color_(colorSettings(preset)),
       camera_(cameraSettings(preset)),
       toWorking_(resolveInputSpace(color_, clip()), color_.workingSpace, color_.configPath),
@@ -387,8 +388,7 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
   // length in pixels, so the rain and the depth land where they would on the full frame.
   context_.camera = cameraOfFrame(camera_, clip());
   context_.cameraPath = camera_.path(context_.camera);
-  // Only a cache reads it, and it reads samples of the plate's files.
-  if (cache_) context_.framesKey = workingFramesKey(preset_, clip());
+  context_.framesKey = framesKey_;
   context_.readWorking = [this](int64_t frame) {
     Image image = reader_->read(frame);
     ops::replaceNonFinite(image);
@@ -489,7 +489,8 @@ Plan planJob(const std::string& input, std::optional<int64_t> movieFirstFrame, c
   auto reader = openNumberedClip(input, movieFirstFrame);
   std::optional<ArtifactCache> cache;
   if (!cacheDir.empty()) cache.emplace(cacheDir);
-  Plan plan = makePlan(preset, reader->info(), cache ? &*cache : nullptr, stages);
+  const std::string framesKey = cache ? workingFramesKey(preset, reader->info()) : "";
+  Plan plan = makePlan(preset, reader->info(), cache ? &*cache : nullptr, framesKey, stages);
   if (clipOut) *clipOut = reader->info();
   return plan;
 }

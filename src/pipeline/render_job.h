@@ -102,6 +102,8 @@ class RenderSession {
   std::unique_ptr<ClipReader> reader_;
   std::vector<int64_t> frames_;
   std::optional<ArtifactCache> cache_;
+  // workingFramesKey of the clip, with a cache only (it reads samples of the plate's files).
+  std::string framesKey_;
   Plan plan_;
   ColorSettings color_;
   CameraSettings camera_;

@@ -143,9 +143,11 @@ struct StageInfo {
   // The cache key of the stage's per-clip result for this preset and clip ("" when these
   // parameters cache nothing). A per-frame stage may have one for its per-clip analysis.
   std::function<std::string(const Preset&, const ClipInfo&)> cacheKey;
-  // The per-clip work besides its own entry that the stage will find in `cache` ("the still
-  // ... from the cache"), for `pluvia plan`; "" for none.
-  std::function<std::string(const Preset&, const ClipInfo&, const ArtifactCache&)> cachedWork;
+  // The per-clip work besides its own entry that the stage will find in `cache` under the clip's
+  // frames key ("the still ... from the cache"), for `pluvia plan`; "" for none.
+  std::function<std::string(const Preset&, const ClipInfo&, const std::string& framesKey,
+                            const ArtifactCache&)>
+      cachedWork;
   // What every written frame records of these parameters ({"pluvia:seed", "1"}), or none.
   std::function<std::map<std::string, std::string>(const Preset&)> frameMetadata;
   // The stage, holding its section's settings (and those of the sections it reads), read from
@@ -163,7 +165,8 @@ struct StageCallbacks {
   std::function<std::string(const Settings&, const Preset&)> note = {};
   std::function<std::vector<std::string>(const Settings&, const Preset&)> reads = {};
   std::function<std::string(const Settings&, const Preset&, const ClipInfo&)> cacheKey = {};
-  std::function<std::string(const Settings&, const Preset&, const ClipInfo&, const ArtifactCache&)>
+  std::function<std::string(const Settings&, const Preset&, const ClipInfo&,
+                            const std::string& framesKey, const ArtifactCache&)>
       cachedWork = {};
   std::function<std::map<std::string, std::string>(const Settings&, const Preset&)> frameMetadata =
       {};

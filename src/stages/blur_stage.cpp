@@ -24,9 +24,9 @@ StageInfo blurStageInfo() {
                                               : std::vector<std::string>{"image"};
            },
        .cachedWork =
-           [](const BlurSettings& blur, const Preset& p, const ClipInfo& clip,
-              const ArtifactCache& cache) {
-             return cachedPlateRainNote(p, clip, cache, blur.overRain);
+           [](const BlurSettings& blur, const Preset&, const ClipInfo& clip,
+              const std::string& framesKey, const ArtifactCache& cache) {
+             return cachedPlateRainNote(clip, framesKey, cache, blur.overRain);
            },
        .create =
            [](const BlurSettings& blur, const Preset&) {

@@ -10,7 +10,6 @@
 #include "derain/plate_rain.h"
 #include "image/srgb.h"
 #include "pipeline/cache.h"
-#include "pipeline/render_job.h"
 #include "pluvia/version.h"
 #include "util/hash.h"
 #include "util/log.h"
@@ -106,10 +105,10 @@ std::string rainedPlateNote(const std::string& stage, bool overRain) {
                         stage);
 }
 
-std::string cachedPlateRainNote(const Preset& preset, const ClipInfo& clip,
+std::string cachedPlateRainNote(const ClipInfo& clip, const std::string& framesKey,
                                 const ArtifactCache& cache, bool overRain) {
-  if (overRain || clip.frames.size() < 3) return "";
-  return cache.contains("plate-rain", plateRainKey(workingFramesKey(preset, clip)))
+  if (overRain || clip.frames.size() < 3 || framesKey.empty()) return "";
+  return cache.contains("plate-rain", plateRainKey(framesKey))
              ? "the plate's rain check from the cache"
              : "";
 }

@@ -22,9 +22,9 @@ bool leaveOutOnRainedPlate(ClipContext& clip, const std::string& stage, bool ove
 std::string rainedPlateNote(const std::string& stage, bool overRain);
 
 // For the plan (StageInfo::cachedWork of a grading stage): "the plate's rain check from the
-// cache" when `cache` holds it for this preset's frames of `clip` and the stage needs it (not
-// `overRain`), else "".
-std::string cachedPlateRainNote(const Preset& preset, const ClipInfo& clip,
+// cache" when `cache` holds it for the clip's frames (`framesKey`: render_job.h's
+// workingFramesKey) and the stage needs it (not `overRain`), else "".
+std::string cachedPlateRainNote(const ClipInfo& clip, const std::string& framesKey,
                                 const ArtifactCache& cache, bool overRain);
 
 // The over_rain key every grading stage has.

@@ -11,7 +11,6 @@
 
 #include "image/resize.h"
 #include "pipeline/cache.h"
-#include "pipeline/render_job.h"
 #include "pluvia/version.h"
 #include "sfm/sparse_densify.h"
 #include "util/hash.h"
@@ -131,11 +130,9 @@ const std::vector<uint8_t>& clipSky(ClipContext& clip, const Camera& camera) {
   return *clip.stillSky;
 }
 
-std::string cachedStillNote(const Preset& preset, const ClipInfo& clip,
-                            const ArtifactCache& cache) {
-  return cache.contains("still", stillKeyOf(workingFramesKey(preset, clip)))
-             ? "the still from the cache"
-             : "";
+std::string cachedStillNote(const std::string& framesKey, const ArtifactCache& cache) {
+  if (framesKey.empty()) return "";
+  return cache.contains("still", stillKeyOf(framesKey)) ? "the still from the cache" : "";
 }
 
 }  // namespace pluvia

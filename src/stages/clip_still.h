@@ -22,8 +22,8 @@ const Image& clipStill(ClipContext& clip);
 // as the COLMAP densifier finds it (sfm/sparse_densify.h, step 4). 1 where sky.
 const std::vector<uint8_t>& clipSky(ClipContext& clip, const Camera& camera);
 
-// For the plan (StageInfo::cachedWork): "the still from the cache" when `cache` holds it for
-// this preset's frames of `clip`, else "".
-std::string cachedStillNote(const Preset& preset, const ClipInfo& clip, const ArtifactCache& cache);
+// For the plan (StageInfo::cachedWork): "the still from the cache" when `cache` holds it for the
+// clip's frames (`framesKey`: render_job.h's workingFramesKey), else "".
+std::string cachedStillNote(const std::string& framesKey, const ArtifactCache& cache);
 
 }  // namespace pluvia

@@ -23,9 +23,9 @@ StageInfo darkenStageInfo() {
                                                 : std::vector<std::string>{"image"};
            },
        .cachedWork =
-           [](const DarkenSettings& darken, const Preset& p, const ClipInfo& clip,
-              const ArtifactCache& cache) {
-             return cachedPlateRainNote(p, clip, cache, darken.overRain);
+           [](const DarkenSettings& darken, const Preset&, const ClipInfo& clip,
+              const std::string& framesKey, const ArtifactCache& cache) {
+             return cachedPlateRainNote(clip, framesKey, cache, darken.overRain);
            },
        .create =
            [](const DarkenSettings& darken, const Preset&) {

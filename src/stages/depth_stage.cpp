@@ -203,9 +203,9 @@ StageInfo depthStageInfo() {
              return depthTrackingCacheKey(depth, cameraSettings(p), clip);
            },
        .cachedWork =
-           [](const DepthSettings& depth, const Preset& p, const ClipInfo& clip,
-              const ArtifactCache& cache) {
-             return depth.source == DepthSource::Auto ? cachedStillNote(p, clip, cache)
+           [](const DepthSettings& depth, const Preset&, const ClipInfo&,
+              const std::string& framesKey, const ArtifactCache& cache) {
+             return depth.source == DepthSource::Auto ? cachedStillNote(framesKey, cache)
                                                       : std::string();
            },
        .create =

@@ -113,9 +113,9 @@ StageInfo fogStageInfo() {
              return reads;
            },
        .cachedWork =
-           [](const FogSettings& fog, const Preset& p, const ClipInfo& clip,
-              const ArtifactCache& cache) {
-             return cachedPlateRainNote(p, clip, cache, fog.overRain);
+           [](const FogSettings& fog, const Preset&, const ClipInfo& clip,
+              const std::string& framesKey, const ArtifactCache& cache) {
+             return cachedPlateRainNote(clip, framesKey, cache, fog.overRain);
            },
        .create = [](const FogSettings& fog,
                     const Preset& p) { return std::make_unique<FogStage>(fog, rainSettings(p)); }});

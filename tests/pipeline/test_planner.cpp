@@ -25,7 +25,7 @@ const PlanEntry& entry(const Plan& plan, const std::string& stage) {
 
 Plan planWith(const std::vector<std::string>& sets, const ArtifactCache* cache = nullptr) {
   Preset preset = Preset::resolve("moderate", sets, presetSchema());
-  return makePlan(preset, fakeClipInfo(), cache, allStages());
+  return makePlan(preset, fakeClipInfo(), cache, "", allStages());
 }
 }  // namespace
 
