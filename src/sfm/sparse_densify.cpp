@@ -116,22 +116,6 @@ void delaunayFill(const std::vector<cv::Point2f>& sites, const std::vector<float
   }
 }
 
-// The guide's colour channels (alpha dropped), 8-bit, with the same display gamma as greyGuide.
-std::vector<cv::Mat> colourChannels(const cv::Mat& guide) {
-  std::vector<cv::Mat> channels;
-  cv::split(guide, channels);
-  if (channels.size() == 4) channels.pop_back();
-  for (cv::Mat& c : channels) {
-    if (c.depth() == CV_8U) continue;
-    cv::Mat f;
-    c.convertTo(f, CV_32F);
-    cv::max(f, 0.0, f);
-    cv::pow(f, 1.0 / 2.2, f);
-    f.convertTo(c, CV_8U, 255.0);
-  }
-  return channels;
-}
-
 // The `k` nearest other points of each point (fewer when there are fewer), nearest first, and
 // their distances, through a uniform grid of about one point per cell.
 void nearestNeighbours(const std::vector<cv::Point2f>& points, int k,
@@ -201,150 +185,6 @@ void nearestNeighbours(const std::vector<cv::Point2f>& points, int k,
       }
     }
   }
-}
-
-// Inverse z-depth of the ground plane y = 0 seen by `camera` (0 where the ray does not meet it
-// within maxDistance), and the sine of each ray's elevation above the horizon.
-void groundPlane(const Camera& camera, int width, int height, double maxDistance,
-                 cv::Mat& inverseDepth, cv::Mat& sinElevation) {
-  inverseDepth = cv::Mat::zeros(height, width, CV_32F);
-  sinElevation = cv::Mat::zeros(height, width, CV_32F);
-  // Scale from the frame's size to the camera's (the same view at another resolution).
-  const double sx = camera.width > 0 ? static_cast<double>(camera.width) / width : 1.0;
-  const double sy = camera.height > 0 ? static_cast<double>(camera.height) / height : 1.0;
-  const double h = camera.positionMeters.y();
-  for (int y = 0; y < height; ++y) {
-    float* inv = inverseDepth.ptr<float>(y);
-    float* elevation = sinElevation.ptr<float>(y);
-    for (int x = 0; x < width; ++x) {
-      const Eigen::Vector3d ray =
-          camera.worldFromCamera * camera.rayCamera((x + 0.5) * sx, (y + 0.5) * sy);
-      const double length = ray.norm();
-      elevation[x] = static_cast<float>(ray.y() / length);
-      // The ray has camera-space z = -1, so its parameter at the ground is the z-depth.
-      if (h > 0 && ray.y() < 0 && h / -ray.y() * length <= maxDistance)
-        inv[x] = static_cast<float>(-ray.y() / h);
-    }
-  }
-}
-
-// 255 where the (CV_8U) mask's connected components (4-connected) touch `seeds` (CV_8U).
-cv::Mat componentsTouching(const cv::Mat& mask, const cv::Mat& seeds) {
-  cv::Mat labels;
-  const int count = cv::connectedComponents(mask, labels, 4, CV_32S);
-  std::vector<char> keep(count, 0);
-  for (int y = 0; y < labels.rows; ++y) {
-    const int* l = labels.ptr<int>(y);
-    const uchar* s = seeds.ptr<uchar>(y);
-    for (int x = 0; x < labels.cols; ++x)
-      if (s[x] && l[x] > 0) keep[l[x]] = 1;
-  }
-  cv::Mat out = cv::Mat::zeros(mask.size(), CV_8U);
-  for (int y = 0; y < labels.rows; ++y) {
-    const int* l = labels.ptr<int>(y);
-    uchar* o = out.ptr<uchar>(y);
-    for (int x = 0; x < labels.cols; ++x)
-      if (keep[l[x]]) o[x] = 255;
-  }
-  return out;
-}
-
-// Where the candidates are not riddled with specks: small regions left out of them (texture
-// specks, dark spots) that they enclose, at more than skyMaxSpeckDensity of the pixels around.
-// The sky is clear or smoothly clouded; a wall with too few points is speckled even where it
-// is as bright as the sky and meets it at a weak edge.
-cv::Mat specklessMask(const cv::Mat& candidate, const DensifyOptions& options) {
-  const cv::Mat left = candidate == 0;
-  cv::Mat labels, stats, centroids;
-  const int count = cv::connectedComponentsWithStats(left, labels, stats, centroids, 8, CV_32S);
-  std::vector<char> speck(size_t(count), 0);
-  for (int l = 1; l < count; ++l) {
-    const int x = stats.at<int>(l, cv::CC_STAT_LEFT), y = stats.at<int>(l, cv::CC_STAT_TOP);
-    const bool inside = x > 0 && y > 0 && x + stats.at<int>(l, cv::CC_STAT_WIDTH) < left.cols &&
-                        y + stats.at<int>(l, cv::CC_STAT_HEIGHT) < left.rows;
-    speck[size_t(l)] = inside && stats.at<int>(l, cv::CC_STAT_AREA) <= options.skyMaxSpeckAreaPx;
-  }
-  cv::Mat specks(left.size(), CV_32F);
-  for (int y = 0; y < left.rows; ++y) {
-    const int* l = labels.ptr<int>(y);
-    float* o = specks.ptr<float>(y);
-    for (int x = 0; x < left.cols; ++x) o[x] = speck[size_t(l[x])] ? 1.0f : 0.0f;
-  }
-  const int window = 2 * options.skySpeckWindowRadiusPx + 1;
-  cv::blur(specks, specks, cv::Size(window, window));
-  return specks <= options.skyMaxSpeckDensity;
-}
-
-// See step 4 in the header. `distancePx`: to the nearest sample; `sinElevation`: empty without
-// a ground camera.
-cv::Mat skyMask(const cv::Mat& guide, const cv::Mat& sampleMask, const cv::Mat& distancePx,
-                const cv::Mat& sinElevation, const DensifyOptions& options) {
-  const std::vector<cv::Mat> channels = colourChannels(guide);
-  const cv::Size size = guide.size();
-  const double diagonal = std::hypot(size.width, size.height);
-  // Texture: the part of the gradient that does not survive averaging over 9x9 pixels (blur of
-  // |g| minus |blur of g|): about zero on a smooth gradient or a soft cloud edge, whose
-  // gradients all point the same way, and most of |g| on texture and noise. The largest over
-  // the colour channels (a wall and the sky can have the same grey level).
-  cv::Mat value = channels[0].clone(), edge = cv::Mat::zeros(size, CV_32F), texture = edge.clone();
-  const cv::Size window(9, 9);
-  for (const cv::Mat& c : channels) {
-    cv::max(value, c, value);
-    cv::Mat gx, gy, magnitude, meanMagnitude, coherent;
-    cv::Sobel(c, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
-    cv::Sobel(c, gy, CV_32F, 0, 1, 3, 1.0 / 8.0);
-    cv::magnitude(gx, gy, magnitude);
-    cv::max(edge, magnitude, edge);
-    cv::blur(magnitude, meanMagnitude, window);
-    cv::blur(gx, gx, window);
-    cv::blur(gy, gy, window);
-    cv::magnitude(gx, gy, coherent);
-    cv::max(texture, meanMagnitude - coherent, texture);
-  }
-  std::vector<uchar> levels(value.begin<uchar>(), value.end<uchar>());
-  const size_t p99 = levels.size() * 99 / 100;
-  std::nth_element(levels.begin(), levels.begin() + p99, levels.end());
-  const double white = std::max<double>(levels[p99], 1.0);
-  cv::Mat candidate =
-      (value >= options.skyMinBrightness * white) & (texture < options.skyMaxGradient);
-  if (!sinElevation.empty())
-    candidate &= sinElevation > std::sin(options.skyMinElevationDeg * M_PI / 180.0);
-  candidate &= specklessMask(candidate, options);
-  const double seedDistance = options.skyMinDistanceFraction * diagonal;
-  // Seed regions: touching the top row, and at least as large as a disc of radius seedDistance
-  // (smaller ones are gaps between the samples on a wall, not the sky). Edges separate them: a
-  // far wall with too few points to show its texture must not join the sky above its top edge.
-  const cv::Mat noEdge = edge < 3.0 * options.skyMaxGradient;
-  cv::Mat seedLabels, stats, centroids;
-  const int count = cv::connectedComponentsWithStats(
-      candidate & noEdge & (distancePx > seedDistance), seedLabels, stats, centroids, 4, CV_32S);
-  std::vector<char> keep(count, 0);
-  for (int l = 1; l < count; ++l)
-    keep[l] = stats.at<int>(l, cv::CC_STAT_TOP) == 0 &&
-              stats.at<int>(l, cv::CC_STAT_AREA) >= M_PI * seedDistance * seedDistance;
-  cv::Mat seeds = cv::Mat::zeros(size, CV_8U);
-  for (int y = 0; y < size.height; ++y) {
-    const int* l = seedLabels.ptr<int>(y);
-    uchar* o = seeds.ptr<uchar>(y);
-    for (int x = 0; x < size.width; ++x)
-      if (keep[l[x]]) o[x] = 255;
-  }
-  if (cv::countNonZero(seeds) == 0) return seeds;
-  // Growing into the margin the seeds leave around the samples, and no farther: through pixels
-  // with no edge of their own either (a faint roof line stops it), within seedDistance of a seed.
-  cv::Mat fromSeeds;
-  cv::distanceTransform(seeds == 0, fromSeeds, cv::DIST_L2, 3);
-  const cv::Mat grown = componentsTouching(candidate & (distancePx > options.skyGrowMinDistancePx) &
-                                               noEdge & (fromSeeds <= seedDistance),
-                                           seeds);
-  // Holes in the sky holding no sample, not reaching the frame's border: a cloud's edge.
-  cv::Mat border = cv::Mat::zeros(size, CV_8U);
-  cv::rectangle(border, cv::Rect(0, 0, size.width, size.height), 255, 1);
-  const cv::Mat notSky = grown == 0;
-  cv::Mat holes = notSky & (componentsTouching(notSky, border | sampleMask) == 0);
-  if (!sinElevation.empty())
-    holes &= sinElevation > std::sin(options.skyMinElevationDeg * M_PI / 180.0);
-  return grown | holes;
 }
 
 // Whether inverse depth `own` at sample i agrees with the affine function of the image position
@@ -558,8 +398,9 @@ std::vector<float> densifySparseDepth(const std::vector<SparseDepthSample>& allS
                                          options.smootherSigmaColor);
   std::vector<cv::Mat> parts;
   cv::split(smoothed, parts);
-  cv::Mat sky =
-      options.detectSky ? skyMask(guide, sampleMask, distancePx, sinElevation, options) : cv::Mat();
+  cv::Mat sky = options.detectSky
+                    ? skyMask(guide, sampleMask, distancePx, sinElevation, options.sky)
+                    : cv::Mat();
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
       size_t i = static_cast<size_t>(y) * width + x;
@@ -578,17 +419,6 @@ std::vector<float> densifySparseDepth(const std::vector<SparseDepthSample>& samp
   cv::Mat bgr;
   cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
   return densifySparseDepth(samples, bgr, options);
-}
-
-cv::Mat estimateSkyMask(const cv::Mat& guide, const DensifyOptions& options) {
-  const cv::Mat noSamples = cv::Mat::zeros(guide.size(), CV_8U);
-  const cv::Mat farFromSamples(guide.size(), CV_32F,
-                               cv::Scalar(float(std::hypot(guide.cols, guide.rows))));
-  cv::Mat groundInverse, sinElevation;
-  if (options.groundCamera)
-    groundPlane(*options.groundCamera, guide.cols, guide.rows, options.groundMaxDistanceMeters,
-                groundInverse, sinElevation);
-  return skyMask(guide, noSamples, farFromSamples, sinElevation, options);
 }
 
 }  // namespace pluvia::sfm

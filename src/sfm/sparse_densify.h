@@ -27,18 +27,8 @@
 //     grey levels: FGS(w * residual) / FGS(w + priorWeight), added to the prior. The residual
 //     spreads within regions bounded by image edges and fades to the prior far from samples.
 //     (Smoothing depth itself would bias every ramp wherever texture edges cut the kernel.)
-//  4. Sky (+infinity, pluvia's sky depth, rather than an extrapolated guess), conservatively:
-//     candidates are bright (brightest channel at least skyMinBrightness of the frame's
-//     near-white level), untextured (the incoherent gradient, the mean of |gradient| over 9x9
-//     minus the |mean gradient|, below skyMaxGradient: a smooth sky gradient or a soft cloud
-//     edge has almost none, texture and noise do) and, with a ground camera, look at least
-//     skyMinElevationDeg above the horizon (nothing below it is sky). Seeds are candidate
-//     regions farther than skyMinDistanceFraction of the diagonal from every sample, touching
-//     the top row and at least a disc of that radius in area; they grow through candidates with
-//     no strong edge of their own up to skyGrowMinDistancePx of a sample and no more than the
-//     seed distance from the seeds (so the sky reaches a roof line without leaking into a wall),
-//     and holes inside the sky holding no sample and not reaching the frame's border (a cloud's
-//     edge) are filled.
+//  4. Sky (+infinity, pluvia's sky depth, rather than an extrapolated guess): where
+//     geometry/sky_mask.h finds it, seeded far from the samples and grown up to near them.
 #include <optional>
 #include <vector>
 
@@ -46,6 +36,7 @@
 #include <opencv2/core.hpp>
 
 #include "geometry/camera.h"
+#include "geometry/sky_mask.h"
 #include "image/image.h"
 
 namespace pluvia::sfm {
@@ -96,17 +87,7 @@ struct DensifyOptions {
   double groundBlendSpacings = 2.0;
 
   bool detectSky = true;
-  double skyMinDistanceFraction = 0.03;  // of the image diagonal, from the nearest sample (seeds)
-  double skyGrowMinDistancePx = 6.0;     // from the nearest sample, for the grown sky
-  double skyMaxGradient = 3.0;           // incoherent gradient, grey levels per pixel (see step 4)
-  double skyMinBrightness = 0.65;        // brightest channel, of the frame's 99th percentile
-  double skyMinElevationDeg = 1.5;       // above the ground camera's horizon
-  // Specks (regions of at most skyMaxSpeckAreaPx that fail the brightness or texture test,
-  // enclosed by pixels that pass) over more than skyMaxSpeckDensity of the pixels within
-  // skySpeckWindowRadiusPx make a wall, not sky: the sky is clear or smoothly clouded.
-  int skyMaxSpeckAreaPx = 400;
-  int skySpeckWindowRadiusPx = 12;
-  double skyMaxSpeckDensity = 0.005;
+  SkyMaskSettings sky;
 };
 
 // Metric z-depth, width * height row-major (the guide's size), +infinity for sky. `guide` is the
@@ -116,10 +97,5 @@ std::vector<float> densifySparseDepth(const std::vector<SparseDepthSample>& samp
 // The same with a pluvia frame (linear float RGBA) as the guide.
 std::vector<float> densifySparseDepth(const std::vector<SparseDepthSample>& samples,
                                       const Image& frame, const DensifyOptions& options = {});
-
-// Step 4 alone, for a frame with no depth samples at all (the default depth's guess): 255 where
-// the frame shows sky, every pixel counting as far from a sample. `guide` as above; the horizon
-// test uses options.groundCamera when it is set.
-cv::Mat estimateSkyMask(const cv::Mat& guide, const DensifyOptions& options = {});
 
 }  // namespace pluvia::sfm

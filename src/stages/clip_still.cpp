@@ -9,10 +9,10 @@
 
 #include <fmt/format.h>
 
+#include "geometry/sky_mask.h"
 #include "image/resize.h"
 #include "pipeline/cache.h"
 #include "pluvia/version.h"
-#include "sfm/sparse_densify.h"
 #include "util/hash.h"
 #include "util/log.h"
 #include "util/median.h"
@@ -115,9 +115,7 @@ const std::vector<uint8_t>& clipSky(ClipContext& clip, const Camera& camera) {
   cv::resize(rgbMat(still), small, scaledSize(still.width, still.height, scale), 0, 0,
              scale < 1.0 ? cv::INTER_AREA : cv::INTER_LINEAR);
   cv::cvtColor(small, bgr, cv::COLOR_RGB2BGR);
-  sfm::DensifyOptions options;
-  options.groundCamera = camera;
-  cv::Mat skySmall = sfm::estimateSkyMask(bgr, options), sky;
+  cv::Mat skySmall = estimateSkyMask(bgr, camera), sky;
   cv::resize(skySmall, sky, cv::Size(still.width, still.height), 0, 0, cv::INTER_NEAREST);
   std::vector<uint8_t> mask(size_t(still.width) * still.height);
   for (int y = 0; y < still.height; ++y)

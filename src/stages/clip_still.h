@@ -19,7 +19,7 @@ const Image& clipStill(ClipContext& clip);
 
 // The sky in the still (clip.stillSky, made on first use): bright, untextured regions touching
 // the top of the frame and above the horizon of `camera` (the camera of the clip's first frame),
-// as the COLMAP densifier finds it (sfm/sparse_densify.h, step 4). 1 where sky.
+// as geometry/sky_mask.h finds it. 1 where sky.
 const std::vector<uint8_t>& clipSky(ClipContext& clip, const Camera& camera);
 
 // For the plan (StageInfo::cachedWork): "the still from the cache" when `cache` holds it for the

@@ -306,6 +306,6 @@ TEST(SfmDensify, SpeckledWallWithoutPointsDoesNotJoinTheSkyAboveIt) {
   EXPECT_LT(skyFraction(depth, kSkyRows + 6, 150), 0.01);
 
   DensifyOptions noSpeckRule;
-  noSpeckRule.skyMaxSpeckDensity = 1.0;
+  noSpeckRule.sky.maxSpeckDensity = 1.0;
   EXPECT_GT(skyFraction(densifySparseDepth(samples, img, noSpeckRule), kSkyRows + 6, 150), 0.5);
 }

@@ -1,0 +1,178 @@
+#include "geometry/sky_mask.h"
+
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+
+namespace pluvia {
+namespace {
+
+// 255 where the (CV_8U) mask's connected components (4-connected) touch `seeds` (CV_8U).
+cv::Mat componentsTouching(const cv::Mat& mask, const cv::Mat& seeds) {
+  cv::Mat labels;
+  const int count = cv::connectedComponents(mask, labels, 4, CV_32S);
+  std::vector<char> keep(count, 0);
+  for (int y = 0; y < labels.rows; ++y) {
+    const int* l = labels.ptr<int>(y);
+    const uchar* s = seeds.ptr<uchar>(y);
+    for (int x = 0; x < labels.cols; ++x)
+      if (s[x] && l[x] > 0) keep[l[x]] = 1;
+  }
+  cv::Mat out = cv::Mat::zeros(mask.size(), CV_8U);
+  for (int y = 0; y < labels.rows; ++y) {
+    const int* l = labels.ptr<int>(y);
+    uchar* o = out.ptr<uchar>(y);
+    for (int x = 0; x < labels.cols; ++x)
+      if (keep[l[x]]) o[x] = 255;
+  }
+  return out;
+}
+
+// Where the candidates are not riddled with specks: small regions left out of them (texture
+// specks, dark spots) that they enclose, at more than maxSpeckDensity of the pixels around.
+// The sky is clear or smoothly clouded; a wall with too few points is speckled even where it
+// is as bright as the sky and meets it at a weak edge.
+cv::Mat specklessMask(const cv::Mat& candidate, const SkyMaskSettings& settings) {
+  const cv::Mat left = candidate == 0;
+  cv::Mat labels, stats, centroids;
+  const int count = cv::connectedComponentsWithStats(left, labels, stats, centroids, 8, CV_32S);
+  std::vector<char> speck(size_t(count), 0);
+  for (int l = 1; l < count; ++l) {
+    const int x = stats.at<int>(l, cv::CC_STAT_LEFT), y = stats.at<int>(l, cv::CC_STAT_TOP);
+    const bool inside = x > 0 && y > 0 && x + stats.at<int>(l, cv::CC_STAT_WIDTH) < left.cols &&
+                        y + stats.at<int>(l, cv::CC_STAT_HEIGHT) < left.rows;
+    speck[size_t(l)] = inside && stats.at<int>(l, cv::CC_STAT_AREA) <= settings.maxSpeckAreaPx;
+  }
+  cv::Mat specks(left.size(), CV_32F);
+  for (int y = 0; y < left.rows; ++y) {
+    const int* l = labels.ptr<int>(y);
+    float* o = specks.ptr<float>(y);
+    for (int x = 0; x < left.cols; ++x) o[x] = speck[size_t(l[x])] ? 1.0f : 0.0f;
+  }
+  const int window = 2 * settings.speckWindowRadiusPx + 1;
+  cv::blur(specks, specks, cv::Size(window, window));
+  return specks <= settings.maxSpeckDensity;
+}
+
+}  // namespace
+
+std::vector<cv::Mat> colourChannels(const cv::Mat& guide) {
+  std::vector<cv::Mat> channels;
+  cv::split(guide, channels);
+  if (channels.size() == 4) channels.pop_back();
+  for (cv::Mat& c : channels) {
+    if (c.depth() == CV_8U) continue;
+    cv::Mat f;
+    c.convertTo(f, CV_32F);
+    cv::max(f, 0.0, f);
+    cv::pow(f, 1.0 / 2.2, f);
+    f.convertTo(c, CV_8U, 255.0);
+  }
+  return channels;
+}
+
+void groundPlane(const Camera& camera, int width, int height, double maxDistanceMeters,
+                 cv::Mat& inverseDepth, cv::Mat& sinElevation) {
+  inverseDepth = cv::Mat::zeros(height, width, CV_32F);
+  sinElevation = cv::Mat::zeros(height, width, CV_32F);
+  // Scale from the frame's size to the camera's (the same view at another resolution).
+  const double sx = camera.width > 0 ? static_cast<double>(camera.width) / width : 1.0;
+  const double sy = camera.height > 0 ? static_cast<double>(camera.height) / height : 1.0;
+  const double h = camera.positionMeters.y();
+  for (int y = 0; y < height; ++y) {
+    float* inv = inverseDepth.ptr<float>(y);
+    float* elevation = sinElevation.ptr<float>(y);
+    for (int x = 0; x < width; ++x) {
+      const Eigen::Vector3d ray =
+          camera.worldFromCamera * camera.rayCamera((x + 0.5) * sx, (y + 0.5) * sy);
+      const double length = ray.norm();
+      elevation[x] = static_cast<float>(ray.y() / length);
+      // The ray has camera-space z = -1, so its parameter at the ground is the z-depth.
+      if (h > 0 && ray.y() < 0 && h / -ray.y() * length <= maxDistanceMeters)
+        inv[x] = static_cast<float>(-ray.y() / h);
+    }
+  }
+}
+
+cv::Mat skyMask(const cv::Mat& guide, const cv::Mat& sampleMask, const cv::Mat& distancePx,
+                const cv::Mat& sinElevation, const SkyMaskSettings& settings) {
+  const std::vector<cv::Mat> channels = colourChannels(guide);
+  const cv::Size size = guide.size();
+  const double diagonal = std::hypot(size.width, size.height);
+  // Texture: the part of the gradient that does not survive averaging over 9x9 pixels (blur of
+  // |g| minus |blur of g|): about zero on a smooth gradient or a soft cloud edge, whose
+  // gradients all point the same way, and most of |g| on texture and noise. The largest over
+  // the colour channels (a wall and the sky can have the same grey level).
+  cv::Mat value = channels[0].clone(), edge = cv::Mat::zeros(size, CV_32F), texture = edge.clone();
+  const cv::Size window(9, 9);
+  for (const cv::Mat& c : channels) {
+    cv::max(value, c, value);
+    cv::Mat gx, gy, magnitude, meanMagnitude, coherent;
+    cv::Sobel(c, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
+    cv::Sobel(c, gy, CV_32F, 0, 1, 3, 1.0 / 8.0);
+    cv::magnitude(gx, gy, magnitude);
+    cv::max(edge, magnitude, edge);
+    cv::blur(magnitude, meanMagnitude, window);
+    cv::blur(gx, gx, window);
+    cv::blur(gy, gy, window);
+    cv::magnitude(gx, gy, coherent);
+    cv::max(texture, meanMagnitude - coherent, texture);
+  }
+  std::vector<uchar> levels(value.begin<uchar>(), value.end<uchar>());
+  const size_t p99 = levels.size() * 99 / 100;
+  std::nth_element(levels.begin(), levels.begin() + p99, levels.end());
+  const double white = std::max<double>(levels[p99], 1.0);
+  cv::Mat candidate = (value >= settings.minBrightness * white) & (texture < settings.maxGradient);
+  if (!sinElevation.empty())
+    candidate &= sinElevation > std::sin(settings.minElevationDeg * M_PI / 180.0);
+  candidate &= specklessMask(candidate, settings);
+  const double seedDistance = settings.minDistanceFraction * diagonal;
+  // Seed regions: touching the top row, and at least as large as a disc of radius seedDistance
+  // (smaller ones are gaps between the samples on a wall, not the sky). Edges separate them: a
+  // far wall with too few points to show its texture must not join the sky above its top edge.
+  const cv::Mat noEdge = edge < 3.0 * settings.maxGradient;
+  cv::Mat seedLabels, stats, centroids;
+  const int count = cv::connectedComponentsWithStats(
+      candidate & noEdge & (distancePx > seedDistance), seedLabels, stats, centroids, 4, CV_32S);
+  std::vector<char> keep(count, 0);
+  for (int l = 1; l < count; ++l)
+    keep[l] = stats.at<int>(l, cv::CC_STAT_TOP) == 0 &&
+              stats.at<int>(l, cv::CC_STAT_AREA) >= M_PI * seedDistance * seedDistance;
+  cv::Mat seeds = cv::Mat::zeros(size, CV_8U);
+  for (int y = 0; y < size.height; ++y) {
+    const int* l = seedLabels.ptr<int>(y);
+    uchar* o = seeds.ptr<uchar>(y);
+    for (int x = 0; x < size.width; ++x)
+      if (keep[l[x]]) o[x] = 255;
+  }
+  if (cv::countNonZero(seeds) == 0) return seeds;
+  // Growing into the margin the seeds leave around the samples, and no farther: through pixels
+  // with no edge of their own either (a faint roof line stops it), within seedDistance of a seed.
+  cv::Mat fromSeeds;
+  cv::distanceTransform(seeds == 0, fromSeeds, cv::DIST_L2, 3);
+  const cv::Mat grown = componentsTouching(
+      candidate & (distancePx > settings.growMinDistancePx) & noEdge & (fromSeeds <= seedDistance),
+      seeds);
+  // Holes in the sky holding no sample, not reaching the frame's border: a cloud's edge.
+  cv::Mat border = cv::Mat::zeros(size, CV_8U);
+  cv::rectangle(border, cv::Rect(0, 0, size.width, size.height), 255, 1);
+  const cv::Mat notSky = grown == 0;
+  cv::Mat holes = notSky & (componentsTouching(notSky, border | sampleMask) == 0);
+  if (!sinElevation.empty())
+    holes &= sinElevation > std::sin(settings.minElevationDeg * M_PI / 180.0);
+  return grown | holes;
+}
+
+cv::Mat estimateSkyMask(const cv::Mat& guide, const std::optional<Camera>& groundCamera,
+                        double groundMaxDistanceMeters, const SkyMaskSettings& settings) {
+  const cv::Mat noSamples = cv::Mat::zeros(guide.size(), CV_8U);
+  const cv::Mat farFromSamples(guide.size(), CV_32F,
+                               cv::Scalar(float(std::hypot(guide.cols, guide.rows))));
+  cv::Mat groundInverse, sinElevation;
+  if (groundCamera)
+    groundPlane(*groundCamera, guide.cols, guide.rows, groundMaxDistanceMeters, groundInverse,
+                sinElevation);
+  return skyMask(guide, noSamples, farFromSamples, sinElevation, settings);
+}
+
+}  // namespace pluvia
