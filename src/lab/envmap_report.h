@@ -111,6 +111,15 @@ struct EnvmapReport {
 // written. Missing shared data is not an error: a note says what was left out.
 EnvmapReport runEnvmapReport(const EnvmapReportSettings& settings);
 
+// The report's targets: drop colour error in covered directions, and seconds to stitch 24
+// frames of 720p.
+inline constexpr double kEnvmapDropColourTarget = 0.10;
+inline constexpr double kEnvmapStitchSecondsTarget = 30.0;
+
+// A row's label in the table and the plot: its frame count and what was added ("24+lights").
+std::string envmapRowLabel(const EnvmapReportRow& row);
+
+// The report as text (envmap_report_text.cpp, with the CSV; the plot in envmap_report_plot.cpp).
 std::string formatEnvmapReport(const EnvmapReport& report);
 // One line per row.
 void writeEnvmapReportCsv(const EnvmapReport& report, const std::string& path);
