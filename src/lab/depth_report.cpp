@@ -36,22 +36,11 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-constexpr double kRotationTargetDeg = 0.5;
-constexpr double kDepthTarget = 0.10;
-constexpr double kTimeTargetSeconds = 300.0;  // 48 frames of 720p
-constexpr int kEvaluationFrames = 6;          // depth is compared on every clipFrames/6-th frame
-constexpr double kLundHfovDeg = 75.0;         // the phone's (focal ~0.65 of the width)
 constexpr int kLundSizePx = 800;
-const char* const kLundFolder = "sfm/opensfm_lund";
 
 struct RowSpec {
   int clipFrames, frameStep, width, height;
 };
-
-std::string rowLabel(const DepthReportRow& row) {
-  return fmt::format("{}/{} {}x{} {}", row.framesUsed, row.clipFrames, row.width, row.height,
-                     row.frameStep == 0 ? "parallax" : fmt::format("every {}", row.frameStep));
-}
 
 // The encode of an sRGB camera file (8-bit PNG, as COLMAP and a real plate get), clamped 0..1.
 float srgbEncode(float linear) {
@@ -184,7 +173,7 @@ DepthReportRow runSyntheticRow(lab::SyntheticSceneRenderer& renderer, const RowS
     renderSeconds += secondsSince(start);
     return image;
   };
-  std::cerr << fmt::format("report depth: {}: rendering and tracking...\n", rowLabel(row));
+  std::cerr << fmt::format("report depth: {}: rendering and tracking...\n", depthRowLabel(row));
   ClipTracking tracked;
   try {
     tracked = trackClip(frames, readFrame, tracking);
@@ -198,7 +187,7 @@ DepthReportRow runSyntheticRow(lab::SyntheticSceneRenderer& renderer, const RowS
                 row.depthMedianWalls = row.depthMedianBoxes = row.skyAsInfinity =
                     row.nonSkyAsInfinity = row.colmapSeconds = row.trackingSeconds =
                         row.densifySecondsPerFrame = row.totalSeconds = kNaN;
-    report.notes.push_back(fmt::format("{}: COLMAP failed: {}", rowLabel(row), row.message));
+    report.notes.push_back(fmt::format("{}: COLMAP failed: {}", depthRowLabel(row), row.message));
     return row;
   }
   const SfmReconstruction& sfm = tracked.sfm;
@@ -240,7 +229,7 @@ DepthReportRow runSyntheticRow(lab::SyntheticSceneRenderer& renderer, const RowS
   }
 
   // Depth on every clipFrames/6-th frame that has a pose.
-  const int evaluationStep = std::max(1, spec.clipFrames / kEvaluationFrames);
+  const int evaluationStep = std::max(1, spec.clipFrames / kDepthReportEvaluationFrames);
   const int previewFrame = (spec.clipFrames / 2) / evaluationStep * evaluationStep;
   DepthErrorAccumulator all, byRegion[4];
   double densifySeconds = 0.0;
@@ -418,225 +407,6 @@ DepthReport runDepthReport(const DepthReportSettings& settings) {
   else
     fs::remove_all(workspace);
   return report;
-}
-
-std::string formatDepthReport(const DepthReport& report) {
-  std::string out;
-  out += "GL renderer: " + report.device + "\n";
-  out += fmt::format(
-      "Synthetic street (lab/synthetic_scene.h) along defaultSyntheticPath: a {:.2f} m walk at "
-      "{:g} m, 4° of yaw, {:g}° hfov; frames to COLMAP as 8-bit sRGB PNG, the poses of the others "
-      "interpolated; metric scale from the camera height. Depth compared on every {}th frame.\n",
-      0.05 * 47, lab::kSyntheticCameraHeightMeters, lab::kSyntheticHfovDeg, 48 / kEvaluationFrames);
-  // The columns of the two tables, for the header and each row.
-  static constexpr char kPoseColumns[] =
-      "{:<26} {:<16} {:>7} {:>6} {:>8} {:>8} {:>8} {:>8} {:>6} {:>7} {:>8} {:>7} {:>7}\n";
-  static constexpr char kDepthColumns[] =
-      "{:<26} {:>6} {:>7} {:>6} {:>7} {:>7} {:>7} {:>9} {:>11} {:>8} {:>8} {:>9} {:>9} {:>8}\n";
-  out += "\n" + fmt::format(kPoseColumns, "used/clip size", "status", "reg", "posed", "rot°mean",
-                            "rot°max", "pos m", "pos max", "scale", "level°", "height m", "focal%",
-                            "reproj");
-  for (const DepthReportRow& row : report.rows) {
-    out += fmt::format(kPoseColumns, rowLabel(row), row.status,
-                       fmt::format("{}/{}", row.registeredUsed, row.framesUsed),
-                       fmt::format("{}/{}", row.framesWithPose, row.clipFrames),
-                       fixedOrDash(row.rotationMeanDeg, 3), fixedOrDash(row.rotationMaxDeg, 3),
-                       fixedOrDash(row.positionMeanMeters, 3),
-                       fixedOrDash(row.positionMaxMeters, 3), fixedOrDash(row.scaleRatio, 3),
-                       fixedOrDash(row.levelErrorDeg, 2), fixedOrDash(row.heightOffsetMeters, 3),
-                       percentOrDash(row.focalError), fixedOrDash(row.reprojectionPx, 2));
-  }
-  out += "\n" + fmt::format(kDepthColumns, "used/clip size", "frames", "depth%", "p90%", "ground%",
-                            "walls%", "boxes%", "sky->inf%", "solid->inf%", "render s", "COLMAP s",
-                            "tracking s", "densify/f", "total s");
-  for (const DepthReportRow& row : report.rows) {
-    out +=
-        fmt::format(kDepthColumns, rowLabel(row), row.depthFrames, percentOrDash(row.depthMedian),
-                    percentOrDash(row.depthP90), percentOrDash(row.depthMedianGround),
-                    percentOrDash(row.depthMedianWalls), percentOrDash(row.depthMedianBoxes),
-                    percentOrDash(row.skyAsInfinity), percentOrDash(row.nonSkyAsInfinity),
-                    fixedOrDash(row.renderSeconds, 1), fixedOrDash(row.colmapSeconds, 1),
-                    fixedOrDash(row.trackingSeconds, 1), fixedOrDash(row.densifySecondsPerFrame, 2),
-                    fixedOrDash(row.totalSeconds, 1));
-  }
-  out +=
-      "(depth%: median |est - true| / true over pixels both call finite, p90 its 90th "
-      "percentile, then the median on ground, walls, boxes; sky->inf: true sky estimated +inf; "
-      "solid->inf: the rest estimated +inf; total: tracking without rendering + densifying "
-      "every clip frame at the measured rate.)\n";
-  for (const DepthReportRow& row : report.rows) {
-    if (row.status != "ok" && !row.message.empty())
-      out += fmt::format("{}: {}: {}\n", rowLabel(row), row.status, row.message);
-  }
-
-  // The targets on the default row: the 48-frame 1280x720 clip, frames chosen by parallax.
-  for (const DepthReportRow& row : report.rows) {
-    if (row.frameStep != 0 || row.width != 1280 || row.height != 720) continue;
-    out += fmt::format(
-        "\nTargets, the 48-frame 1280x720 clip (frames chosen by parallax): every frame posed: {} "
-        "({}/{}); rotation error < "
-        "{:g}°: {} (max {}°); median depth error < {:g} %: {} ({} %); under {:g} s: {} ({} s).\n",
-        row.framesWithPose == row.clipFrames ? "met" : "NOT met", row.framesWithPose,
-        row.clipFrames, kRotationTargetDeg,
-        row.rotationMaxDeg < kRotationTargetDeg ? "met" : "NOT met",
-        fixedOrDash(row.rotationMaxDeg, 3), 100.0 * kDepthTarget,
-        row.depthMedian < kDepthTarget ? "met" : "NOT met", percentOrDash(row.depthMedian),
-        kTimeTargetSeconds, row.totalSeconds < kTimeTargetSeconds ? "met" : "NOT met",
-        fixedOrDash(row.totalSeconds, 1));
-  }
-
-  const DepthReportReal& real = report.real;
-  if (real.present) {
-    out += fmt::format(
-        "\nReal photos {}: {} of {} registered ({} %) at {}x{}, hfov guess {:g}°, status {}, "
-        "mean reprojection error {} px, baseline/depth {}, {} s (reading, downscaling, COLMAP)"
-        "{}\n",
-        real.folder, real.registered, real.photos, percentOrDash(real.registeredFraction),
-        real.width, real.height, kLundHfovDeg, real.status, fixedOrDash(real.reprojectionPx, 3),
-        fixedOrDash(real.baselineOverDepth, 3), fixedOrDash(real.seconds, 1),
-        real.note.empty() ? "" : " (" + real.note + ")");
-  } else {
-    out += "\nReal photos (" + std::string(kLundFolder) + ") skipped: " + real.note + "\n";
-  }
-  for (const std::string& note : report.notes) out += "note: " + note + "\n";
-  return out;
-}
-
-void writeDepthReportCsv(const DepthReport& report, const std::string& path) {
-  writeReportCsv(
-      path,
-      "scene,clip_frames,frames_used,width,height,status,registered_used,frames_with_pose,"
-      "rotation_mean_deg,rotation_max_deg,position_mean_m,position_max_m,scale_ratio,"
-      "level_error_deg,height_offset_m,focal_error,reprojection_px,depth_frames,"
-      "depth_median_rel_error,depth_p90_rel_error,depth_median_ground,depth_median_walls,"
-      "depth_median_boxes,sky_as_inf_fraction,nonsky_as_inf_fraction,render_seconds,"
-      "colmap_seconds,tracking_seconds,densify_seconds_per_frame,total_seconds",
-      [&](std::ostream& file) {
-        for (const DepthReportRow& row : report.rows) {
-          file << fmt::format(
-              "synthetic,{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}"
-              ",{},{}"
-              ","
-              "{},{}\n",
-              row.clipFrames, row.framesUsed, row.width, row.height, row.status, row.registeredUsed,
-              row.framesWithPose, csvNumber(row.rotationMeanDeg), csvNumber(row.rotationMaxDeg),
-              csvNumber(row.positionMeanMeters), csvNumber(row.positionMaxMeters),
-              csvNumber(row.scaleRatio), csvNumber(row.levelErrorDeg),
-              csvNumber(row.heightOffsetMeters), csvNumber(row.focalError),
-              csvNumber(row.reprojectionPx), row.depthFrames, csvNumber(row.depthMedian),
-              csvNumber(row.depthP90), csvNumber(row.depthMedianGround),
-              csvNumber(row.depthMedianWalls), csvNumber(row.depthMedianBoxes),
-              csvNumber(row.skyAsInfinity), csvNumber(row.nonSkyAsInfinity),
-              csvNumber(row.renderSeconds), csvNumber(row.colmapSeconds),
-              csvNumber(row.trackingSeconds), csvNumber(row.densifySecondsPerFrame),
-              csvNumber(row.totalSeconds));
-        }
-        const DepthReportReal& real = report.real;
-        if (real.present) {
-          // The same columns: what the photos give (no truth: no pose or depth error).
-          file << fmt::format("opensfm_lund,{},{},{},{},{},{},,,,,,,,,,{},,,,,,,,,,{},{},,{}\n",
-                              real.photos, real.photos, real.width, real.height, real.status,
-                              real.registered, csvNumber(real.reprojectionPx),
-                              csvNumber(real.seconds), csvNumber(real.seconds),
-                              csvNumber(real.seconds));
-        }
-      });
-}
-
-// The plot: same canvas, margins and fonts as the other reports' plots, in two panels.
-void writeDepthReportPlot(const DepthReport& report, const std::string& path) {
-  constexpr int kWidth = 1400, kHeight = 900;
-  constexpr int kTop = 80, kBottom = 90, kPanelW = 560, kPanelH = kHeight - kTop - kBottom;
-  const int panelLeft[2] = {110, 110 + kPanelW + 110};
-  const auto font = cv::FONT_HERSHEY_SIMPLEX;
-  const cv::Scalar palette[] = {{200, 140, 60}, {40, 160, 40}, {40, 40, 220}, {160, 60, 160},
-                                {0, 140, 200},  {120, 120, 0}, {90, 90, 90},  {200, 60, 60}};
-  std::vector<const DepthReportRow*> rows;
-  for (const DepthReportRow& row : report.rows)
-    if (std::isfinite(row.totalSeconds) && row.totalSeconds > 0.0) rows.push_back(&row);
-  if (rows.empty()) throw Error("the depth report has no row to plot", {"report", {}, path});
-
-  double tLo = 1e300, tHi = -1e300;
-  for (const DepthReportRow* row : rows)
-    tLo = std::min(tLo, row->totalSeconds), tHi = std::max(tHi, row->totalSeconds);
-  tHi = std::max(tHi, kTimeTargetSeconds);
-  const double xLo = std::floor(std::log10(tLo) - 0.1), xHi = std::ceil(std::log10(tHi) + 0.1);
-
-  cv::Mat canvas(kHeight, kWidth, CV_8UC3, cv::Scalar(255, 255, 255));
-  cv::putText(canvas,
-              "SfM (COLMAP) on the synthetic street vs total time (tracking + densifying the clip)",
-              {110, 35}, font, 0.7, {0, 0, 0}, 2);
-  std::map<std::string, size_t> colourOf;
-  for (const DepthReportRow* row : rows) {
-    const std::string size = fmt::format("{}x{}", row->width, row->height);
-    if (!colourOf.count(size)) colourOf.emplace(size, colourOf.size());
-  }
-
-  for (int panel = 0; panel < 2; ++panel) {
-    const int left = panelLeft[panel];
-    const double target = panel == 0 ? kRotationTargetDeg : kDepthTarget;
-    auto value = [&](const DepthReportRow* row) {
-      return panel == 0 ? row->rotationMaxDeg : row->depthMedian;
-    };
-    double eLo = target, eHi = target;
-    for (const DepthReportRow* row : rows) {
-      const double e = value(row);
-      if (std::isfinite(e) && e > 0.0) eLo = std::min(eLo, e), eHi = std::max(eHi, e);
-    }
-    const double yLo = std::floor(std::log10(eLo) - 0.1), yHi = std::ceil(std::log10(eHi) + 0.1);
-    auto at = [&](double t, double e) {
-      const double fx = (std::log10(t) - xLo) / (xHi - xLo);
-      const double fy = (std::log10(e) - yLo) / (yHi - yLo);
-      return cv::Point(left + int(std::lround(fx * kPanelW)),
-                       kTop + kPanelH - int(std::lround(fy * kPanelH)));
-    };
-    const cv::Rect plot(left, kTop, kPanelW, kPanelH);
-    drawLogGridX(canvas, plot, xLo, xHi, [&](double t) { return at(t, std::pow(10.0, yLo)).x; });
-    drawLogGridY(
-        canvas, plot, yLo, yHi, [&](double e) { return at(std::pow(10.0, xLo), e).y; },
-        [&](double e) {
-          return panel == 0 ? fmt::format("{:g}", e) : fmt::format("{:g} %", 100.0 * e);
-        },
-        left - 90);
-    const int targetY = at(std::pow(10.0, xLo), target).y;
-    cv::line(canvas, {left, targetY}, {left + kPanelW, targetY}, {0, 0, 200}, 1, cv::LINE_AA);
-    cv::putText(canvas,
-                panel == 0 ? fmt::format("target {:g} deg", target)
-                           : fmt::format("target {:g} %", 100.0 * target),
-                {left + 6, targetY - 6}, font, 0.5, {0, 0, 200});
-    const int timeX = at(kTimeTargetSeconds, std::pow(10.0, yLo)).x;
-    cv::line(canvas, {timeX, kTop}, {timeX, kTop + kPanelH}, {0, 0, 200}, 1, cv::LINE_AA);
-    cv::putText(canvas, "5 min", {timeX + 4, kTop + 15}, font, 0.45, {0, 0, 200});
-    cv::rectangle(canvas, {left, kTop}, {left + kPanelW, kTop + kPanelH}, {0, 0, 0});
-    cv::putText(
-        canvas,
-        panel == 0 ? "worst rotation error (deg, log)" : "median relative depth error (log)",
-        {left, kTop - 12}, font, 0.6, {0, 0, 0});
-    cv::putText(canvas, "total time (s, log)", {left + kPanelW / 2 - 80, kHeight - 30}, font, 0.6,
-                {0, 0, 0});
-    for (const DepthReportRow* row : rows) {
-      const double e = value(row);
-      if (!(std::isfinite(e) && e > 0.0)) continue;
-      const cv::Scalar colour =
-          palette[colourOf[fmt::format("{}x{}", row->width, row->height)] % std::size(palette)];
-      const cv::Point p = at(row->totalSeconds, e);
-      cv::circle(canvas, p, 5, colour, cv::FILLED, cv::LINE_AA);
-      cv::putText(canvas, fmt::format("{}/{}", row->framesUsed, row->clipFrames),
-                  {p.x + 8, p.y - 6}, font, 0.42, colour);
-    }
-  }
-  int legendY = kTop + kPanelH - 30 - 22 * static_cast<int>(colourOf.size());
-  for (const auto& [name, index] : colourOf) {
-    const cv::Scalar colour = palette[index % std::size(palette)];
-    cv::circle(canvas, {panelLeft[1] + kPanelW - 130, legendY - 4}, 5, colour, cv::FILLED,
-               cv::LINE_AA);
-    cv::putText(canvas, name, {panelLeft[1] + kPanelW - 118, legendY}, font, 0.5, colour);
-    legendY += 22;
-  }
-  cv::putText(canvas, "labels: frames to COLMAP / clip frames",
-              {panelLeft[1] + kPanelW - 330, legendY}, font, 0.45, {0, 0, 0});
-  if (!cv::imwrite(path, canvas))
-    throw Error("cannot write the plot (is it a .png path?)", {"report", {}, path});
 }
 
 }  // namespace pluvia::lab

@@ -79,6 +79,18 @@ struct DepthReport {
 // cannot be written. A COLMAP failure on one row is that row's status, not an error.
 DepthReport runDepthReport(const DepthReportSettings& settings);
 
+// The report's targets and its fixed choices.
+inline constexpr double kDepthReportRotationTargetDeg = 0.5;
+inline constexpr double kDepthReportDepthTarget = 0.10;
+inline constexpr double kDepthReportSecondsTarget = 300.0;  // 48 frames of 720p
+inline constexpr int kDepthReportEvaluationFrames = 6;  // depth compared on every clipFrames/6-th
+inline constexpr double kLundHfovDeg = 75.0;  // the Lund photos' phone (focal ~0.65 of the width)
+inline constexpr const char* kLundFolder = "sfm/opensfm_lund";
+
+// A row's label: frames used of the clip's, size, and how frames were chosen.
+std::string depthRowLabel(const DepthReportRow& row);
+
+// The report as text (depth_report_text.cpp, with the CSV; the plot in depth_report_plot.cpp).
 std::string formatDepthReport(const DepthReport& report);
 // One line per synthetic row, then the real photos' line (scene "opensfm_lund").
 void writeDepthReportCsv(const DepthReport& report, const std::string& path);

@@ -103,9 +103,10 @@ std::string formatEnvmapReport(const EnvmapReport& report) {
   static constexpr char kColumns[] =
       "{:<28} {:>7} {:>6} {:>5} {:>6} {:>6} {:>7} {:>7} {:>9} {:>9} {:>5} {:>8} "
       "{:>8} {:>8}\n";
-  out += "\n" + fmt::format(kColumns, "environment", "frames", "step°", "feat", "pose°", "focal%",
-                            "cover%", "SH err%", "drop mean%", "drop max%", "dirs", "place s",
-                            "render s", "total s");
+  out += "\n";
+  out +=
+      fmt::format(kColumns, "environment", "frames", "step°", "feat", "pose°", "focal%", "cover%",
+                  "SH err%", "drop mean%", "drop max%", "dirs", "place s", "render s", "total s");
   for (const EnvmapReportRow& row : report.rows) {
     out +=
         fmt::format(kColumns, row.environment, envmapRowLabel(row), fixedOrDash(row.yawStepDeg, 1),
