@@ -30,6 +30,7 @@
 #include "pipeline/render_job.h"
 #include "rain/stroke_library.h"
 #include "stages/registry.h"
+#include "temporary_folder.h"
 #include "util/error.h"
 #include "util/fs.h"
 #include "util/log.h"
@@ -228,16 +229,9 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
                      args->depthPlane, args->backend);
       return;
     }
-    stdfs::path folder = stdfs::temp_directory_path() / fmt::format("pluvia-bench-{}", ::getpid());
-    stdfs::create_directories(folder);
     // Removed however the bench ends: an error (a missing clip, a failed encode) leaves nothing.
-    struct RemovedOnExit {
-      stdfs::path path;
-      ~RemovedOnExit() {
-        std::error_code ec;
-        stdfs::remove_all(path, ec);
-      }
-    } removed{folder};
+    const TemporaryFolder temporary("pluvia-bench");
+    const stdfs::path& folder = temporary.path();
     std::string input = args->input.empty() ? makeBenchClip(folder, args->frames) : args->input;
     std::vector<std::string> sets = args->day ? dayBenchOverrides() : std::vector<std::string>{};
     sets.insert(sets.end(), args->sets.begin(), args->sets.end());

@@ -36,26 +36,18 @@ cv::Mat3f codesOf(const Image& image) {
 
 }  // namespace
 
-PlateRenderer::PlateRenderer(const std::vector<cv::Mat3f>& plates, double fps) : fps_(fps) {
-  static int serial = 0;
-  folder_ = std::filesystem::temp_directory_path() /
-            fmt::format("pluvia-realism-{}-{}", getpid(), serial++);
-  std::filesystem::create_directories(folder_);
+PlateRenderer::PlateRenderer(const std::vector<cv::Mat3f>& plates, double fps)
+    : folder_("pluvia-realism"), fps_(fps) {
   for (size_t i = 0; i < plates.size(); ++i)
-    writePlate((folder_ / fmt::format("plate.{:04d}.png", i)).string(), plates[i]);
-}
-
-PlateRenderer::~PlateRenderer() {
-  std::error_code ignored;
-  std::filesystem::remove_all(folder_, ignored);
+    writePlate((folder_.path() / fmt::format("plate.{:04d}.png", i)).string(), plates[i]);
 }
 
 std::vector<cv::Mat3f> PlateRenderer::render(const std::string& preset,
                                              const std::vector<std::string>& sets) const {
   RenderRequest request;
-  request.input = (folder_ / "plate.####.png").string();
-  request.output = (folder_ / "rained.####.png").string();
-  request.cacheDir = (folder_ / "cache").string();
+  request.input = (folder_.path() / "plate.####.png").string();
+  request.output = (folder_.path() / "rained.####.png").string();
+  request.cacheDir = (folder_.path() / "cache").string();
   request.progress = false;
   std::vector<std::string> overrides = sets;
   for (const char* off : {"darken.enabled=false", "blur.enabled=false", "fog.enabled=false"})

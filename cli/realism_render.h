@@ -9,6 +9,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "temporary_folder.h"
+
 namespace pluvia::cli {
 
 // Plates written once as a temporary PNG sequence (removed with the object), with a per-clip
@@ -18,15 +20,12 @@ class PlateRenderer {
  public:
   // `plates`: RGB, 8-bit display codes as float 0-255, frames 0.. of a clip at `fps`.
   PlateRenderer(const std::vector<cv::Mat3f>& plates, double fps);
-  ~PlateRenderer();
-  PlateRenderer(const PlateRenderer&) = delete;
-  PlateRenderer& operator=(const PlateRenderer&) = delete;
   // The rained frames in the plates' encoding, rounded to codes; darken, blur and fog off.
   std::vector<cv::Mat3f> render(const std::string& preset,
                                 const std::vector<std::string>& sets) const;
 
  private:
-  std::filesystem::path folder_;
+  TemporaryFolder folder_;
   double fps_;
 };
 
