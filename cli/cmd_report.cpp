@@ -22,7 +22,6 @@
 #include "optics/environment_file.h"
 #include "optics/skylight_scattering.h"
 #include "realism_render.h"
-#include "report_halo_frames.h"
 #include "util/error.h"
 #include "util/log.h"
 
@@ -176,7 +175,6 @@ void addReportLights(CLI::App& report) {
   lights->add_flag("--quick", args->settings.quick, "fewer samples (a smoke run)");
   lights->callback([=] {
     lab::LightsReport report = lab::runLightsReport(args->settings);
-    addHaloFrameRows(report, args->settings.quick);
     args->files.show(report, lab::formatLightsReport, lab::writeLightsReportCsv,
                      lab::writeLightsReportPlot);
   });

@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "image/equirect.h"
+#include "lab/halo_frame_rows.h"
 #include "lab/report_numbers.h"
 #include "optics/drop_trace.h"
 #include "optics/drop_transfer.h"
@@ -16,15 +17,12 @@
 #include "optics/single_scattering.h"
 #include "util/error.h"
 #include "util/hash.h"
+#include "util/timer.h"
 
 namespace pluvia::lab {
 namespace {
 
 using optics::Vec3;
-
-double secondsSince(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 struct Case {
   optics::LocalLight light;
@@ -57,7 +55,7 @@ std::vector<Case> makeCases(int count, bool spots, uint64_t seed) {
       c.light.spot = true;
       c.light.axis = unit({rng.uniform() * 2 - 1, -rng.uniform(), rng.uniform() * 2 - 1});
       c.light.cosHalfAngle = std::cos((2.0 + rng.uniform() * 78.0) * M_PI / 180.0);
-      c.light.q = rng.uniform();
+      c.light.falloffQ = rng.uniform();
     }
     // Samples whose reference is negligible against the brightest the light gives are left out
     // (relative error of nothing).
@@ -254,6 +252,7 @@ LightsReport runLightsReport(const LightsReportSettings& in) {
   scatteringRows(report, settings, true);
   dropRows(report, settings);
   glareRows(report, settings);
+  addHaloFrameRows(report, settings.quick);
   return report;
 }
 

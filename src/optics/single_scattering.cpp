@@ -79,16 +79,6 @@ double gaussLegendre(const std::function<double(double)>& f, double a, double b)
   return sum * r;
 }
 
-// Intensity of the light toward `direction` (unit, from the light), per unit I0.
-double emission(const LocalLight& light, const Vec3& direction) {
-  if (!light.spot) return 1.0;
-  const double cosTheta = dot(direction, light.axis);
-  if (cosTheta < light.cosHalfAngle) return 0.0;
-  const double oneMinusCosA = 1.0 - light.cosHalfAngle;
-  const double ramp = oneMinusCosA > 0 ? (cosTheta - light.cosHalfAngle) / oneMinusCosA : 1.0;
-  return (1.0 - light.q) * std::clamp(ramp, 0.0, 1.0) + light.q;
-}
-
 // The light as the ray sees it: a ray passing closer to the centre than the bulb's radius hits
 // the bulb, whose own glow is the lamp's picture, not the medium's; it is taken as passing at
 // the radius (the light moved away from the ray), which keeps h > 0 and both methods alike.
@@ -315,13 +305,14 @@ double inscatteredRadiance(const ScatteringTables& tables, const LocalLight& giv
         const Vec3 w{x * ray[0] - s[0], x * ray[1] - s[1], x * ray[2] - s[2]};
         const double d = norm(w);
         const Vec3 direction = d > 0 ? Vec3{w[0] / d, w[1] / d, w[2] / d} : light.axis;
-        return emission(light, direction) * std::exp(-tCos - h * std::tan(e));
+        return spotFactor(light, dot(direction, light.axis)) * std::exp(-tCos - h * std::tan(e));
       };
       radiance += beta2 / (2 * kPi * h) * gaussLegendre(integrand, e0, e1);
     } else {
       // I = I0 (constant + slope cos theta) inside the cone.
-      const double constant = light.q - (1.0 - light.q) * light.cosHalfAngle / oneMinusCosA;
-      const double slope = (1.0 - light.q) / oneMinusCosA;
+      const double constant =
+          light.falloffQ - (1.0 - light.falloffQ) * light.cosHalfAngle / oneMinusCosA;
+      const double slope = (1.0 - light.falloffQ) / oneMinusCosA;
       const double ra = dot(ray, light.axis);
       const double sigmaA = betaPerMeter * dot(s, light.axis);
       radiance += constant * beta2 / (2 * kPi * h) * integral(ScatteringIntegral::F) +
@@ -343,7 +334,7 @@ double inscatteredRadianceReference(const LocalLight& given, const Vec3& ray,
     const Vec3 w{x * ray[0] - s[0], x * ray[1] - s[1], x * ray[2] - s[2]};
     const double d = norm(w);
     const Vec3 direction = Vec3{w[0] / d, w[1] / d, w[2] / d};
-    return betaPerMeter / (4 * kPi) * emission(light, direction) *
+    return betaPerMeter / (4 * kPi) * spotFactor(light, dot(direction, light.axis)) *
            std::exp(-betaPerMeter * (d + x)) / (d * d);
   };
   const double nearest = dot(ray, s);

@@ -29,9 +29,9 @@
 #include <array>
 #include <vector>
 
-namespace pluvia::optics {
+#include "optics/local_light.h"
 
-using Vec3 = std::array<double, 3>;
+namespace pluvia::optics {
 
 // The three integrals over [e0, e1] times exp(logScale), with the exponent of the lower end
 // folded into logScale before anything is exponentiated: the prefactor exp(-T cos gamma) is
@@ -68,18 +68,8 @@ class ScatteringTables {
 double scatteringIntegral(ScatteringIntegral which, double u, double e0, double e1,
                           double logScale = 0.0);
 
-struct LocalLight {
-  Vec3 positionMeters{0, 0, 0};  // camera frame
-  double radiusMeters = 0.05;    // the bulb: rays closer than this to the centre see it
-  // Spotlight cone (cosHalfAngle < 1): axis (unit), cos A and the fall-off q of I(theta).
-  bool spot = false;
-  Vec3 axis{0, 0, 1};
-  double cosHalfAngle = 0.0;
-  double q = 0.0;
-};
-
-// L above per unit intensity (I0 = 1) along unit ray `ray`, up to `rayLengthMeters` (infinity
-// for the sky), through a medium of extinction `betaPerMeter`.
+// L above per unit intensity (I0 = 1, rgbIntensity not used) along unit ray `ray`, up to
+// `rayLengthMeters` (infinity for the sky), through a medium of extinction `betaPerMeter`.
 double inscatteredRadiance(const ScatteringTables& tables, const LocalLight& light, const Vec3& ray,
                            double rayLengthMeters, double betaPerMeter);
 // The same integral marched numerically along the ray (adaptive Simpson on each part inside the

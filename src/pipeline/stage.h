@@ -22,6 +22,7 @@
 #include "image/equirect.h"
 #include "image/image.h"
 #include "io/clip_reader.h"
+#include "optics/local_light.h"
 #include "preset/preset.h"
 #include "rain/streak_types.h"
 #include "util/timer.h"
@@ -97,28 +98,15 @@ struct ClipContext {
   std::optional<PlateRainFinding> plateRain;
 };
 
-// A local light of one frame in the frame's camera space (geometry/camera.h: +X right, +Y up,
-// looking along -Z), as the lights stage resolved it (the preset's, following the camera, and
-// the ones found in the plate) for the rain to light its drops with.
-struct FrameLight {
-  std::array<double, 3> positionMeters{0, 0, 0};
-  // Radiant intensity per channel: a surface facing the light at d metres receives the
-  // irradiance rgbIntensity / d^2, in the working space's linear units.
-  std::array<double, 3> rgbIntensity{0, 0, 0};
-  double radiusMeters = 0.05;
-  bool spot = false;
-  std::array<double, 3> axis{0, 0, -1};  // unit, spot only
-  double cosHalfAngle = 0.0;
-  double falloffQ = 0.0;  // Huang et al.'s q
-  // A lamp found in the plate: its image and its bloom are already photographed (no glare).
-  bool photographed = false;
-};
-
 struct FrameContext {
   int64_t frame = 0;
   double timeSeconds = 0.0;
   Image image;
-  std::vector<FrameLight> lights;         // set by the lights stage; empty without local lights
+  // The frame's local lights in its camera space (geometry/camera.h: +X right, +Y up, looking
+  // along -Z), as the lights stage resolved them (the preset's, following the camera, and the
+  // ones found in the plate), for the rain to light its drops with and the glare to spread; empty
+  // without local lights.
+  std::vector<optics::LocalLight> lights;
   double lightsExtinctionPerMeter = 0.0;  // the medium between the lights and the drops
 };
 

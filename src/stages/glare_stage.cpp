@@ -18,7 +18,6 @@
 
 #include "optics/glare.h"
 #include "stages/lights_settings.h"
-#include "stages/local_lights.h"
 #include "stages/registry.h"
 #include "util/log.h"
 
@@ -69,7 +68,7 @@ class GlareStage : public Stage {
     std::vector<Splat> splats;
     const std::vector<float>* depth = image.findPlane(kDepthPlane);
     const double f2 = camera.focalPx * camera.focalPx;
-    for (const FrameLight& light : frame.lights) {
+    for (const optics::LocalLight& light : frame.lights) {
       if (light.photographed) continue;  // the plate holds it with the bloom its camera gave it
       const auto& p = light.positionMeters;
       if (!(p[2] < 0.0)) continue;  // at or behind the camera
@@ -84,7 +83,7 @@ class GlareStage : public Stage {
         if (std::isfinite(scene) && scene < kOccludedBelow * z) continue;
       }
       // The spot's cone toward the camera: theta between its axis and light -> camera.
-      const double cone = spotFactor(
+      const double cone = optics::spotFactor(
           light, -(light.axis[0] * p[0] + light.axis[1] * p[1] + light.axis[2] * p[2]) / d);
       const double cosOffAxis = z / d;
       // Irradiance at the camera over the pixel's solid angle (cos^3 / f^2): the radiance of a

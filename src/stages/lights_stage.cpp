@@ -1,17 +1,18 @@
 // Lights: a night shot's local lights glow in the wet air. Per frame the preset's lights are
 // placed in the camera's space (following the tracked camera when there is one), their halos
-// and beams added to the plate by single scattering (stages/local_lights.h) through the rain's
+// and beams added to the plate by single scattering (optics/light_halos.h) through the rain's
 // and the fog's extinction, occluded by the scene's depth, and handed on to the rain stage
 // (FrameContext::lights), which lights its drops with them.
 #include <fmt/format.h>
 
+#include "optics/light_halos.h"
 #include "optics/single_scattering.h"
 
 #include "stages/clip_still.h"
 #include "stages/depth_settings.h"
 #include "stages/fog_settings.h"
+#include "stages/lights_at_frame.h"
 #include "stages/lights_settings.h"
-#include "stages/local_lights.h"
 #include "stages/plate_lights.h"
 #include "stages/rain_medium.h"
 #include "stages/rain_settings.h"
@@ -57,9 +58,9 @@ class LightsStage : public Stage {
     frame.lights = lightsAtFrame(lights_, camera, at);
     frame.lightsExtinctionPerMeter = mediumAt(rain_, fog_, at).extinctionPerMeter();
     if (!tables_) return;
-    const HaloResult halos =
-        addHalos(frame.image, camera, frame.lights, frame.lightsExtinctionPerMeter, *tables_,
-                 lights_.haloThresholdRadiance);
+    const optics::HaloResult halos =
+        optics::addHalos(frame.image, camera, frame.lights, frame.lightsExtinctionPerMeter,
+                         *tables_, lights_.haloThresholdRadiance);
     if (halos.culled != lastCulled_) {
       log::info(fmt::format(
           "lights: frame {}: {} of {} lights culled (halo below lights.halo_threshold = {:g} at "

@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include "gpu/rain_renderer.h"
+#include "optics/drop_local_light.h"
 #include "optics/drop_shading.h"
 #include "pipeline/camera_settings.h"
 #include "rain/drop_glint.h"
@@ -17,7 +18,6 @@
 #include "stages/cached_drop_radiance.h"
 #include "stages/fog_settings.h"
 #include "stages/lights_settings.h"
-#include "stages/local_lights.h"
 #include "stages/rain_settings.h"
 #include "stages/registry.h"
 #include "util/error.h"
@@ -213,7 +213,7 @@ class RainStage : public Stage {
     }
   }
 
-  // Each drop's radiance from the frame's local lights (stages/local_lights.h), at the drop's
+  // Each drop's radiance from the frame's local lights (optics/drop_local_light.h), at the drop's
   // place in camera space: along its view ray, at its z-depth; its glint beaded by the drop's
   // oscillation as the light that lights it most sees it (rain/drop_glint.h).
   void lightDrops(std::vector<rain::StreakInstance>& streaks, const FrameContext& frame) const {
@@ -227,9 +227,9 @@ class RainStage : public Stage {
       const double distance = streak.depthMeters / std::max(1e-6, -view.z());
       const std::array<double, 3> drop{view.x() * distance, view.y() * distance,
                                        view.z() * distance};
-      const DropLocalLight local =
-          dropLocalRadiance(transfer_, frame.lights, frame.lightsExtinctionPerMeter, drop,
-                            {view.x(), view.y(), view.z()});
+      const optics::DropLocalLight local =
+          optics::dropLocalRadiance(transfer_, frame.lights, frame.lightsExtinctionPerMeter, drop,
+                                    {view.x(), view.y(), view.z()});
       streak.localR = local.rgb[0];
       streak.localG = local.rgb[1];
       streak.localB = local.rgb[2];

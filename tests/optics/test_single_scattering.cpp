@@ -129,7 +129,7 @@ TEST(SingleScattering, SpotlightTablesWithinTwoPercentOfTheMarch) {
     for (double q : {0.0, 0.5, 1.0})
       for (double beta : {0.05, 0.5}) {
         light.cosHalfAngle = std::cos(halfAngleDeg * kPi / 180);
-        light.q = q;
+        light.falloffQ = q;
         const GridError error = gridError(light, beta, inf);
         EXPECT_GT(error.lit, halfAngleDeg < 10 ? 3 : 10)
             << halfAngleDeg;  // the beam crosses the view
@@ -170,7 +170,7 @@ TEST(SingleScattering, ExtremesAreFiniteAndNonNegative) {
         spot.spot = true;
         spot.axis = {0, 0, -1};
         spot.cosHalfAngle = std::cos(halfAngle);
-        spot.q = q;
+        spot.falloffQ = q;
         lights.push_back(spot);
       }
   }

@@ -1,4 +1,4 @@
-#include "report_halo_frames.h"
+#include "lab/halo_frame_rows.h"
 
 #include <algorithm>
 #include <chrono>
@@ -9,15 +9,11 @@
 
 #include "geometry/camera.h"
 #include "image/image.h"
-#include "optics/single_scattering.h"
-#include "stages/local_lights.h"
+#include "optics/light_halos.h"
+#include "util/timer.h"
 
-namespace pluvia::cli {
+namespace pluvia::lab {
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 // A street at night: sky above the horizon, the ground 1.6 m below the camera, a wall 12 m away
 // over the right third (depth edges against both).
@@ -36,12 +32,12 @@ Image streetFrame(const Camera& camera) {
 }
 
 // Street lamps 5 to 40 m ahead, every fifth a spot pointing down (as the bench presets).
-std::vector<FrameLight> streetLights(int count) {
+std::vector<optics::LocalLight> streetLights(int count) {
   std::mt19937 random(18);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<FrameLight> lights;
+  std::vector<optics::LocalLight> lights;
   for (int i = 0; i < count; ++i) {
-    FrameLight light;
+    optics::LocalLight light;
     light.positionMeters = {-8 + 16 * unit(random), 0.5 + 4.5 * unit(random),
                             -5 - 35 * unit(random)};
     light.rgbIntensity = {50.0, 40.0, 27.5};
@@ -59,19 +55,19 @@ std::vector<FrameLight> streetLights(int count) {
 
 }  // namespace
 
-void addHaloFrameRows(lab::LightsReport& report, bool quick) {
+void addHaloFrameRows(LightsReport& report, bool quick) {
   const int width = quick ? 480 : 960, height = quick ? 270 : 540;
   const Camera camera = Camera::fromFieldOfView(width, height, 50.0, 0.0, 1.6);
   const optics::ScatteringTables tables;
   constexpr double kBeta = 0.003, kThreshold = 1e-3;  // moderate rain and fog; the default
   for (int count : quick ? std::vector<int>{10} : std::vector<int>{10, 100}) {
-    const std::vector<FrameLight> lights = streetLights(count);
+    const std::vector<optics::LocalLight> lights = streetLights(count);
     Image tiled = streetFrame(camera), every = tiled;
     auto started = std::chrono::steady_clock::now();
-    addHalos(tiled, camera, lights, kBeta, tables, kThreshold);
+    optics::addHalos(tiled, camera, lights, kBeta, tables, kThreshold);
     const double tiledSeconds = secondsSince(started);
     started = std::chrono::steady_clock::now();
-    addHalos(every, camera, lights, kBeta, tables, kThreshold, true);
+    optics::addHalos(every, camera, lights, kBeta, tables, kThreshold, true);
     const double everySeconds = secondsSince(started);
     // Relative to each pixel's own value, where it is at least a tenth of the threshold.
     double sum = 0.0, worst = 0.0;
@@ -99,4 +95,4 @@ void addHaloFrameRows(lab::LightsReport& report, bool quick) {
   }
 }
 
-}  // namespace pluvia::cli
+}  // namespace pluvia::lab

@@ -1,7 +1,7 @@
-// Local lights (stages/local_lights.h): their placement per frame, the spot's I(theta), the
-// halos and beams added to a frame (against the marched single-scattering reference, centred on
-// the lamp, occluded by depth), the radiance they give a drop (against 1/d^2 and D(theta)), and
-// stability at the extremes the issue lists.
+// Local lights (optics/local_light.h, light_halos.h, drop_local_light.h): the spot's I(theta),
+// the halos and beams added to a frame (against the marched single-scattering reference, centred
+// on the lamp, occluded by depth), the radiance they give a drop (against 1/d^2 and D(theta)),
+// and stability at the extremes the issue lists.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,14 +9,13 @@
 
 #include "geometry/camera.h"
 #include "image/image.h"
+#include "optics/drop_local_light.h"
 #include "optics/drop_transfer.h"
+#include "optics/light_halos.h"
 #include "optics/single_scattering.h"
-#include "preset/preset.h"
-#include "stages/lights_settings.h"
-#include "stages/local_lights.h"
-#include "stages/registry.h"
 
 using namespace pluvia;
+using namespace pluvia::optics;
 
 namespace {
 
@@ -26,8 +25,8 @@ Camera testCamera() {
   return Camera::fromFieldOfView(kWidth, kHeight, 60.0, 0.0, 1.6);
 }
 
-FrameLight pointLight(double x, double y, double z, double intensity) {
-  FrameLight light;
+LocalLight pointLight(double x, double y, double z, double intensity) {
+  LocalLight light;
   light.positionMeters = {x, y, z};
   light.rgbIntensity = {intensity, intensity, intensity};
   return light;
@@ -39,8 +38,8 @@ Image blackFrame() {
   return image;
 }
 
-const optics::ScatteringTables& tables() {
-  static const optics::ScatteringTables t;
+const ScatteringTables& tables() {
+  static const ScatteringTables t;
   return t;
 }
 
@@ -63,7 +62,7 @@ bool allFinite(const Image& image) {
 }  // namespace
 
 TEST(LocalLights, SpotFactorIsHuangsCone) {
-  FrameLight spot;
+  LocalLight spot;
   spot.spot = true;
   spot.cosHalfAngle = std::cos(30.0 * M_PI / 180.0);
   spot.falloffQ = 0.25;
@@ -75,31 +74,12 @@ TEST(LocalLights, SpotFactorIsHuangsCone) {
               1e-15);
   spot.cosHalfAngle = 1.0;  // A = 0: the axis alone, finite
   EXPECT_DOUBLE_EQ(spotFactor(spot, 1.0), 1.0);
-  EXPECT_DOUBLE_EQ(FrameLight{}.spot ? 0.0 : spotFactor(FrameLight{}, -1.0), 1.0);
-}
-
-TEST(LocalLights, WorldLightsFollowTheCamera) {
-  const Preset preset = Preset::resolve(
-      "base",
-      {R"(lights.list=[{"type":"point","frame":"world","x_m":1,"y_m":3,"z_m":-10,"intensity":50},)"
-       R"({"type":"spot","x_m":0,"y_m":0,"z_m":-5,"dir_x":0,"dir_y":0,"dir_z":0}])"},
-      presetSchema());
-  LightsSettings settings = lightsSettings(preset);
-  ASSERT_EQ(settings.lights.size(), 2u);
-  settings.lights.pop_back();    // the spot with no axis: an error, below
-  Camera camera = testCamera();  // at (0, 1.6, 0)
-  camera.positionMeters = {2.0, 1.6, 0.0};
-  const auto lights = lightsAtFrame(settings, camera, 0.0);
-  EXPECT_NEAR(lights[0].positionMeters[0], -1.0, 1e-12);
-  EXPECT_NEAR(lights[0].positionMeters[1], 1.4, 1e-12);
-  EXPECT_NEAR(lights[0].positionMeters[2], -10.0, 1e-12);
-  EXPECT_NEAR(lights[0].rgbIntensity[0], 50.0 * 1.0, 1e-12);
-  EXPECT_THROW(lightsAtFrame(lightsSettings(preset), camera, 0.0), Error);
+  EXPECT_DOUBLE_EQ(LocalLight{}.spot ? 0.0 : spotFactor(LocalLight{}, -1.0), 1.0);
 }
 
 TEST(LocalLights, HaloIsCentredOnTheLampAndMatchesTheReference) {
   const Camera camera = testCamera();
-  const FrameLight lamp = pointLight(1.5, 0.5, -8.0, 100.0);
+  const LocalLight lamp = pointLight(1.5, 0.5, -8.0, 100.0);
   Image image = blackFrame();
   const double beta = 0.02;
   addHalos(image, camera, {lamp}, beta, tables(), 1e-6);
@@ -109,12 +89,12 @@ TEST(LocalLights, HaloIsCentredOnTheLampAndMatchesTheReference) {
   EXPECT_LE(std::abs(x + 0.5 - px), 1.0);
   EXPECT_LE(std::abs(y + 0.5 - py), 1.0);
   // Pixels at several distances from the lamp against the marched integral (within 2 %).
-  const optics::LocalLight light = localLight(lamp);
+  const LocalLight& light = lamp;
   for (int dx : {3, 10, 30}) {
     const int sx = std::min(kWidth - 1, int(px) + dx), sy = int(py);
     const Eigen::Vector3d r = camera.rayCamera(sx + 0.5, sy + 0.5).normalized();
     const double reference =
-        100.0 * optics::inscatteredRadianceReference(light, {r.x(), r.y(), r.z()}, HUGE_VAL, beta);
+        100.0 * inscatteredRadianceReference(light, {r.x(), r.y(), r.z()}, HUGE_VAL, beta);
     EXPECT_NEAR(image.pixel(sx, sy)[0], reference, 0.02 * reference) << dx;
   }
   // The glow falls off away from the lamp.
@@ -123,7 +103,7 @@ TEST(LocalLights, HaloIsCentredOnTheLampAndMatchesTheReference) {
 
 TEST(LocalLights, SceneDepthOccludesTheHalo) {
   const Camera camera = testCamera();
-  const FrameLight lamp = pointLight(0.0, 0.0, -10.0, 100.0);
+  const LocalLight lamp = pointLight(0.0, 0.0, -10.0, 100.0);
   Image open = blackFrame(), walled = blackFrame();
   // A wall 2 m away over the left half: its pixels see only 2 m of lit air.
   auto& depth = walled.plane("depth");
@@ -140,7 +120,7 @@ TEST(LocalLights, SceneDepthOccludesTheHalo) {
 TEST(LocalLights, SpotBeamShowsWhereItPoints) {
   const Camera camera = testCamera();
   // A spot 8 m ahead, above the frame's centre line, pointing to the right and down.
-  FrameLight spot = pointLight(0.0, 0.0, -8.0, 200.0);
+  LocalLight spot = pointLight(0.0, 0.0, -8.0, 200.0);
   spot.spot = true;
   spot.axis = {std::sqrt(0.5), -std::sqrt(0.5), 0.0};
   spot.cosHalfAngle = std::cos(15.0 * M_PI / 180.0);
@@ -165,12 +145,12 @@ TEST(LocalLights, CullsLightsBelowTheThreshold) {
 
 TEST(LocalLights, StableAtTheExtremes) {
   const Camera camera = testCamera();
-  std::vector<FrameLight> lights{pointLight(0, 0, 0, 1e6),      // at the camera
+  std::vector<LocalLight> lights{pointLight(0, 0, 0, 1e6),      // at the camera
                                  pointLight(0, 0, 5, 1e6),      // behind it
                                  pointLight(0.1, 0, -1, 1e6)};  // in the drop box
   for (double halfAngle : {1e-4, 45.0, 89.999})
     for (double q : {0.0, 1.0}) {
-      FrameLight spot = pointLight(0.5, 1.0, -6, 1e6);
+      LocalLight spot = pointLight(0.5, 1.0, -6, 1e6);
       spot.spot = true;
       spot.axis = {0, -1, 0};
       spot.cosHalfAngle = std::cos(halfAngle * M_PI / 180.0);
@@ -182,14 +162,14 @@ TEST(LocalLights, StableAtTheExtremes) {
   addHalos(image, camera, lights, 0.5, tables(), 1e-3);
   EXPECT_TRUE(allFinite(image));
   // 1000 lights in a grid ahead: finite, and no tile seams (the culling is an upper bound).
-  std::vector<FrameLight> many;
+  std::vector<LocalLight> many;
   for (int i = 0; i < 1000; ++i)
     many.push_back(pointLight((i % 40) - 20.0, (i / 40) % 25 - 12.0, -20.0 - i % 7, 50.0));
   Image crowd = blackFrame();
   addHalos(crowd, camera, many, 0.02, tables(), 0.0);
   EXPECT_TRUE(allFinite(crowd));
   // The drop term at the bulb, inside it and at 1e6.
-  const optics::TransferTable transfer = optics::binTransfer(optics::DropOptics{}, 256);
+  const TransferTable transfer = binTransfer(DropOptics{}, 256);
   for (const auto& drop : {std::array<double, 3>{0, 0, 0}, std::array<double, 3>{0.5, 1.0, -6}}) {
     const DropLocalLight local = dropLocalRadiance(transfer, lights, 0.5, drop, {0, 0, -1});
     for (float v : local.rgb) EXPECT_TRUE(std::isfinite(v) && v >= 0.0f);
@@ -198,8 +178,8 @@ TEST(LocalLights, StableAtTheExtremes) {
 }
 
 TEST(LocalLights, DropsNearALampGlintMoreByInverseSquare) {
-  const optics::TransferTable transfer = optics::binTransfer(optics::DropOptics{}, 512);
-  const FrameLight lamp = pointLight(0, 0, -10, 100.0);
+  const TransferTable transfer = binTransfer(DropOptics{}, 512);
+  const LocalLight lamp = pointLight(0, 0, -10, 100.0);
   const double beta = 0.01;
   // Two drops seen at the same scattering angle (90 deg: light straight above each), 1 m and
   // 4 m below the lamp.
@@ -224,19 +204,6 @@ TEST(LocalLights, DropsNearALampGlintMoreByInverseSquare) {
   EXPECT_GT(near, 5.0f * far);
 }
 
-TEST(LocalLights, PlanSkipsTheStageWithoutLights) {
-  const StageInfo* info = findStage("lights");
-  ASSERT_NE(info, nullptr);
-  // Nothing listed and nothing looked for in the plate: skipped.
-  const Preset none = Preset::resolve("base", {"lights.find=off"}, presetSchema());
-  EXPECT_NE(info->noOpReason(none).find("no lights"), std::string::npos);
-  // Nothing listed, but lamps may be found in the plate (the default): it runs.
-  const Preset looking = Preset::resolve("base", {}, presetSchema());
-  EXPECT_EQ(info->noOpReason(looking), "");
-  const Preset one = Preset::resolve("base", {R"(lights.list=[{"type":"point"}])"}, presetSchema());
-  EXPECT_EQ(info->noOpReason(one), "");
-}
-
 TEST(LocalLights, TilesAreCloseToEveryPixel) {
   // A 480 x 270 frame: sky above the horizon, the ground below it (1.6 m under the camera), a
   // wall 12 m away over part of both (depth edges), five lights (one a spot) in rain and fog.
@@ -255,9 +222,9 @@ TEST(LocalLights, TilesAreCloseToEveryPixel) {
       if (x > 300 && x < 420 && y > 60) z = std::min(z, 12.0);
       depth[static_cast<size_t>(y) * kW + x] = float(z);
     }
-  std::vector<FrameLight> lights{pointLight(-3, 1, -8, 50), pointLight(2, 2.5, -20, 80),
+  std::vector<LocalLight> lights{pointLight(-3, 1, -8, 50), pointLight(2, 2.5, -20, 80),
                                  pointLight(6, 0.5, -14, 30), pointLight(-8, 3, -30, 100)};
-  FrameLight spot = pointLight(1, 3, -10, 150);
+  LocalLight spot = pointLight(1, 3, -10, 150);
   spot.spot = true;
   spot.axis = {0, -1, 0};
   spot.cosHalfAngle = std::cos(25.0 * M_PI / 180.0);
