@@ -6,13 +6,13 @@
 #include <numeric>
 
 #include <fmt/format.h>
-#include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
 
 #include "derain/dense_flow.h"
 #include "derain/streak_stats.h"
 #include "util/error.h"
 #include "util/median.h"
+#include "util/parallel.h"
 
 namespace pluvia::derain {
 namespace {
@@ -124,11 +124,11 @@ std::vector<CleanPlate> cleanPlatesAt(const std::vector<cv::Mat3f>& frames,
       throw Error(fmt::format("clean plate: frame {} is outside the {} frames given", t, count));
   // Frames, then targets, in parallel: each target's plate is its own (its own flow solver).
   std::vector<Grey> greys(frames.size());
-  tbb::parallel_for(size_t(0), frames.size(), [&](size_t i) {
+  forEachIndex(frames.size(), [&](size_t i) {
     greys[i] = suppressedGrey(frames[i], settings.suppressDiameterPx);
   });
   std::vector<CleanPlate> plates(at.size());
-  tbb::parallel_for(size_t(0), at.size(), [&](size_t k) {
+  forEachIndex(at.size(), [&](size_t k) {
     const cv::Ptr<cv::DISOpticalFlow> dis = makeDenseFlow();
     const int t = at[k];
     const auto [begin, end] = windowOf(t, count, settings.radiusFrames);

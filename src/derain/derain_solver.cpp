@@ -5,12 +5,12 @@
 #include <cmath>
 
 #include <fmt/format.h>
-#include <tbb/parallel_for.h>
 
 #include "derain/rain_direction.h"
 #include "derain/sparse_solve.h"
 #include "util/error.h"
 #include "util/median.h"
+#include "util/parallel.h"
 
 namespace pluvia::derain {
 namespace {
@@ -95,17 +95,15 @@ struct State {
 std::vector<float> medianPlane(const Problem& problem, int channel) {
   const size_t n = problem.grid.count();
   std::vector<float> median(n, 0.0f);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      std::vector<float> values;
-                      for (size_t p = r.begin(); p < r.end(); ++p) {
-                        values.clear();
-                        for (const auto& frame : problem.frames)
-                          if (frame.valid[p] > 0) values.push_back(frame.rgb[channel][p]);
-                        if (!values.empty())
-                          median[p] = medianInPlace(values.data(), values.size());
-                      }
-                    });
+  forEachBlock(n, 4096, [&](size_t begin, size_t end) {
+    std::vector<float> values;
+    for (size_t p = begin; p < end; ++p) {
+      values.clear();
+      for (const auto& frame : problem.frames)
+        if (frame.valid[p] > 0) values.push_back(frame.rgb[channel][p]);
+      if (!values.empty()) median[p] = medianInPlace(values.data(), values.size());
+    }
+  });
   return median;
 }
 
@@ -210,18 +208,15 @@ int solveAlpha(const Problem& problem, const State& state, size_t k, const Derai
 // take away all of S's data at that pixel, and S would drift with nothing to hold it.
 void removePersistentAlpha(const Problem& problem, State& state) {
   const size_t n = problem.grid.count();
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      for (size_t p = r.begin(); p < r.end(); ++p) {
-                        float persistent = 1.0f;
-                        for (size_t k = 0; k < problem.frames.size(); ++k)
-                          if (problem.frames[k].valid[p] > 0)
-                            persistent = std::min(persistent, state.alpha[k][p]);
-                        if (persistent <= 0.0f) continue;
-                        for (auto& alpha : state.alpha)
-                          alpha[p] = std::max(0.0f, alpha[p] - persistent);
-                      }
-                    });
+  forEachBlock(n, 4096, [&](size_t begin, size_t end) {
+    for (size_t p = begin; p < end; ++p) {
+      float persistent = 1.0f;
+      for (size_t k = 0; k < problem.frames.size(); ++k)
+        if (problem.frames[k].valid[p] > 0) persistent = std::min(persistent, state.alpha[k][p]);
+      if (persistent <= 0.0f) continue;
+      for (auto& alpha : state.alpha) alpha[p] = std::max(0.0f, alpha[p] - persistent);
+    }
+  });
 }
 
 // The mattes with what stays in place through the window taken out (alpha minus its temporal
@@ -232,18 +227,17 @@ std::vector<cv::Mat> transientMattes(const Problem& problem, const State& state)
   std::vector<cv::Mat> mattes;
   for (size_t k = 0; k < problem.frames.size(); ++k)
     mattes.push_back(cv::Mat(problem.grid.height, problem.grid.width, CV_32F));
-  tbb::parallel_for(
-      tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
-        std::vector<float> values;
-        for (size_t p = r.begin(); p < r.end(); ++p) {
-          values.clear();
-          for (size_t k = 0; k < problem.frames.size(); ++k)
-            if (problem.frames[k].valid[p] > 0) values.push_back(state.alpha[k][p]);
-          const float persistent = values.empty() ? 0.0f : median(values);
-          for (size_t k = 0; k < problem.frames.size(); ++k)
-            mattes[k].ptr<float>()[p] = std::max(0.0f, state.alpha[k][p] - persistent);
-        }
-      });
+  forEachBlock(n, 4096, [&](size_t begin, size_t end) {
+    std::vector<float> values;
+    for (size_t p = begin; p < end; ++p) {
+      values.clear();
+      for (size_t k = 0; k < problem.frames.size(); ++k)
+        if (problem.frames[k].valid[p] > 0) values.push_back(state.alpha[k][p]);
+      const float persistent = values.empty() ? 0.0f : median(values);
+      for (size_t k = 0; k < problem.frames.size(); ++k)
+        mattes[k].ptr<float>()[p] = std::max(0.0f, state.alpha[k][p] - persistent);
+    }
+  });
   return mattes;
 }
 
@@ -280,7 +274,7 @@ int solveBackground(const Problem& problem, State& state, const DerainSettings& 
   std::vector<float> diagonal = data;
   addLaplacianDiagonal(grid, settings.lambda, diagonal.data());
   int iterations[3] = {0, 0, 0};
-  tbb::parallel_for(0, 3, [&](int c) {
+  forEachIndex(3, [&](int c) {
     std::vector<float> b(n, 0.0f);
     for (size_t k = 0; k < problem.frames.size(); ++k) {
       const PlanarFrame& frame = problem.frames[k];
@@ -313,7 +307,7 @@ Energy evaluate(const Problem& problem, const State& state, const DerainSettings
   const size_t frames = problem.frames.size();
   std::vector<double> data(frames, 0.0), samples(frames, 0.0), smoothAlpha(frames, 0.0);
   const cv::Vec2d d0 = streakDirection(state.angleDeg);
-  tbb::parallel_for(size_t(0), frames, [&](size_t k) {
+  forEachIndex(frames, [&](size_t k) {
     const PlanarFrame& frame = problem.frames[k];
     for (size_t p = 0; p < n; ++p) {
       if (frame.valid[p] == 0) continue;
@@ -402,7 +396,7 @@ DerainResult solveDerain(const FrameStack& stack, const DerainSettings& settings
 
   for (int iteration = 1; iteration <= settings.maxIterations; ++iteration) {
     std::vector<int> alphaIterations(frames, 0);
-    tbb::parallel_for(size_t(0), frames, [&](size_t k) {
+    forEachIndex(frames, [&](size_t k) {
       alphaIterations[k] = solveAlpha(problem, state, k, settings, deadzone, state.alpha[k]);
     });
     removePersistentAlpha(problem, state);

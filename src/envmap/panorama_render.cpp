@@ -1,7 +1,6 @@
 // Placed frames rendered into an equirect map: exposure gains matched on the overlaps, a
 // feathered mean per texel, nearest-colour fill of the unseen directions, light sources.
 #include <tbb/combinable.h>
-#include <tbb/parallel_for.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -12,6 +11,7 @@
 
 #include "envmap/panorama.h"
 #include "envmap/unseen_fill.h"
+#include "util/parallel.h"
 
 namespace pluvia::envmap {
 namespace {
@@ -90,7 +90,7 @@ std::vector<float> estimateGains(const std::vector<FrameView>& views) {
   tbb::combinable<Acc> accs([n] {
     return Acc{std::vector<double>(n * n), std::vector<double>(n * n)};
   });
-  tbb::parallel_for(0, gh, [&](int y) {
+  forEachRow(gh, [&](int y) {
     Acc& acc = accs.local();
     std::vector<int> seen;
     std::vector<float> value;
@@ -234,7 +234,7 @@ PanoramaResult renderEquirect(const std::vector<PanoramaFrame>& frames, const Pl
       if (viewFrame[i] == light.frame) regionLights[i].push_back(&light);
   }
 
-  tbb::parallel_for(0, height, [&](int y) {
+  forEachRow(height, [&](int y) {
     uchar* cov = result.coverage.ptr<uchar>(y);
     for (int x = 0; x < width; ++x) {
       const cv::Vec3d dir = texelDirection(width, height, x, y);

@@ -1,12 +1,11 @@
 // Perspective frames cut from an equirect environment, recorded as an 8-bit sRGB camera would.
 #include "envmap/perspective_view.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
 
 #include "image/srgb.h"
+#include "util/parallel.h"
 
 namespace pluvia::envmap {
 
@@ -24,7 +23,7 @@ RecordedFrame recordView(const EquirectMap& environment, const CameraPose& pose,
 
   const double f = pose.focalPx > 0 ? pose.focalPx : double(width);
   const cv::Matx33d& r = pose.cameraToWorld;
-  tbb::parallel_for(0, height, [&](int y) {
+  forEachRow(height, [&](int y) {
     auto* lin = out.frame.linearRgb.ptr<cv::Vec3f>(y);
     auto* sat = out.frame.saturated.ptr<uchar>(y);
     auto* disp = out.displayRgb8.ptr<cv::Vec3b>(y);

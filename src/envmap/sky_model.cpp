@@ -2,8 +2,6 @@
 // (sky_model.h).
 #include "envmap/sky_model.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -11,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "image/luminance.h"
+#include "util/parallel.h"
 
 namespace pluvia::envmap {
 namespace {
@@ -151,7 +150,7 @@ SkyFit fitPreetham(const LogSamples& s, const std::optional<Vec3>& knownSun) {
   if (knownSun) elevations = {0}, azimuths = {0};
   // Coarse grid, one task per azimuth.
   std::vector<SkyFit> best(azimuths.size());
-  tbb::parallel_for(size_t(0), azimuths.size(), [&](size_t a) {
+  forEachIndex(azimuths.size(), [&](size_t a) {
     best[a].residual = std::numeric_limits<double>::infinity();
     for (double t : turbidities)
       for (double e : elevations) {

@@ -4,8 +4,7 @@
 #include "envmap/scene_albedo.h"
 #include "image/luminance.h"
 #include "util/median.h"
-
-#include <tbb/parallel_for.h>
+#include "util/parallel.h"
 
 #include <algorithm>
 #include <array>
@@ -122,7 +121,7 @@ std::vector<int> nearestSeenTexels(const cv::Mat& coverage) {
     for (int x = 0; x < 3 * w; ++x)
       if (!t[x]) labelIndex.push_back(y * w + x % w);
   }
-  tbb::parallel_for(0, h, [&](int y) {
+  forEachRow(h, [&](int y) {
     const int* l = labels.ptr<int>(y);
     const uchar* c = coverage.ptr<uchar>(y);
     for (int x = 0; x < w; ++x) {
@@ -138,7 +137,7 @@ std::vector<int> nearestSeenTexels(const cv::Mat& coverage) {
 
 void fillNearest(EquirectMap& map, const cv::Mat& coverage, const std::vector<int>& nearest) {
   const int w = map.width, h = map.height;
-  tbb::parallel_for(0, h, [&](int y) {
+  forEachRow(h, [&](int y) {
     const uchar* c = coverage.ptr<uchar>(y);
     for (int x = 0; x < w; ++x) {
       const int n = nearest[size_t(y) * size_t(w) + size_t(x)];
@@ -210,7 +209,7 @@ bool fillModel(EquirectMap& map, const cv::Mat& coverage, const cv::Mat& clipped
   auto modelAt = [&](const Vec3& d) { return d[1] > 0 ? evaluateSky(*sky, d) : ground; };
   const double skyBlend = std::max(settings.skyBlendDeg, 1e-3) * CV_PI / 180.0;
   const double obstacleBlend = std::max(settings.obstacleBlendDeg, 1e-3) * CV_PI / 180.0;
-  tbb::parallel_for(0, h, [&](int y) {
+  forEachRow(h, [&](int y) {
     const uchar* c = coverage.ptr<uchar>(y);
     for (int x = 0; x < w; ++x) {
       if (c[x]) continue;

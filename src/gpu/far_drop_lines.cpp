@@ -5,13 +5,11 @@
 #include <cmath>
 #include <cstdint>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include "gpu/rain_inputs.h"
 #include "gpu/streak_quad.h"
 #include "gpu/streak_radiance.h"
 #include "rain/drop_glint.h"
+#include "util/parallel.h"
 
 namespace pluvia::gpu {
 
@@ -49,7 +47,7 @@ void FarDropLines::setStrokeMeans(const rain::StrokeAtlas& atlas) {
 void FarDropLines::draw(const std::vector<rain::StreakInstance>& streaks,
                         const rain::ShadingParams& shading, const LinePlanes& target) {
   lines_.resize(streaks.size());
-  tbb::parallel_for(size_t{0}, streaks.size(), [&](size_t k) {
+  forEachIndex(streaks.size(), [&](size_t k) {
     const rain::StreakInstance& s = streaks[k];
     Line& line = lines_[k];
     line.first = 0, line.last = -1;
@@ -109,7 +107,7 @@ void FarDropLines::draw(const std::vector<rain::StreakInstance>& streaks,
     bandsOf(lines_[k], from, to);
     for (int band = from; band <= to; ++band) binned_[bandNext_[band]++] = k;
   }
-  tbb::parallel_for(0, bands, [&](int band) {
+  forEachIndex(bands, [&](int band) {
     const int rowFirst = band * kBandRows;
     const int rowLast = std::min(target.height, rowFirst + kBandRows) - 1;
     for (size_t j = bandStart_[band]; j < bandStart_[band + 1]; ++j) {

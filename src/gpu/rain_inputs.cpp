@@ -7,10 +7,9 @@
 #include <cstdint>
 
 #include <fmt/format.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include "gpu/rain_error.h"
+#include "util/parallel.h"
 
 namespace pluvia::gpu {
 
@@ -21,8 +20,7 @@ namespace {
 template <class Body>
 void forEachPixelBlock(size_t pixels, const Body& body) {
   constexpr size_t kBlockPixels = 16384;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, kBlockPixels),
-                    [&](const tbb::blocked_range<size_t>& r) { body(r.begin(), r.end()); });
+  forEachBlock(pixels, kBlockPixels, body);
 }
 
 }  // namespace

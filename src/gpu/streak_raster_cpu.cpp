@@ -3,13 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include "gpu/rain_inputs.h"
 #include "gpu/streak_quad.h"
 #include "gpu/streak_radiance.h"
 #include "gpu/streak_tile.h"
+#include "util/parallel.h"
 
 namespace pluvia::gpu {
 namespace {
@@ -133,7 +131,7 @@ void StreakRasterCpu::render(Image& frame, const std::vector<rain::StreakInstanc
   const size_t perChunk = (count + chunks - 1) / chunks;
   setups_.resize(count);
   chunkCounts_.assign(chunks * tiles, 0);
-  tbb::parallel_for(size_t{0}, chunks, [&](size_t chunk) {
+  forEachIndex(chunks, [&](size_t chunk) {
     size_t* counts = chunkCounts_.data() + chunk * tiles;
     for (size_t i = chunk * perChunk; i < std::min(count, (chunk + 1) * perChunk); ++i) {
       const auto& rect = rects_[static_cast<size_t>(streaks[i].strokeIndex)];
@@ -154,7 +152,7 @@ void StreakRasterCpu::render(Image& frame, const std::vector<rain::StreakInstanc
   }
   tileStart_[tiles] = position;
   binned_.resize(position);
-  tbb::parallel_for(size_t{0}, chunks, [&](size_t chunk) {
+  forEachIndex(chunks, [&](size_t chunk) {
     size_t* next = chunkCounts_.data() + chunk * tiles;
     for (size_t i = chunk * perChunk; i < std::min(count, (chunk + 1) * perChunk); ++i) {
       forEachTile(setups_[i], [&](size_t t) { binned_[next[t]++] = setups_[i]; });
@@ -180,8 +178,8 @@ void StreakRasterCpu::render(Image& frame, const std::vector<rain::StreakInstanc
                    {planes.r, planes.g, planes.b, planes.a, target.depth, width, height});
   }
   const PaddedAtlas atlas{quads_.data(), paddedWidth_};
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles, 1), [&](const auto& range) {
-    for (size_t t = range.begin(); t != range.end(); ++t) {
+  forEachBlock(tiles, 1, [&](size_t begin, size_t end) {
+    for (size_t t = begin; t != end; ++t) {
       const int tx0 = static_cast<int>(t % tilesX) * kTilePx;
       const int ty0 = static_cast<int>(t / tilesX) * kTilePx;
       const int tx1 = std::min(tx0 + kTilePx, width) - 1;

@@ -11,13 +11,12 @@
 #include <tuple>
 
 #include <OpenColorIO/OpenColorIO.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include "image/transfer_lut.h"
 
 #include "util/error.h"
 #include "util/fs.h"
+#include "util/parallel.h"
 
 namespace OCIO = OCIO_NAMESPACE;
 
@@ -350,21 +349,20 @@ void ColorConverter::apply(Image& image) const {
   const Conversion& conversion = impl_->conversion;
   const ptrdiff_t pixelBytes = 4 * sizeof(float);
   try {
-    tbb::parallel_for(
-        tbb::blocked_range<int>(0, image.height, kMinRowsPerBand), [&](const auto& rows) {
-          const size_t firstPixel = static_cast<size_t>(rows.begin()) * image.width;
-          const size_t pixels = static_cast<size_t>(rows.size()) * image.width;
-          if (conversion.lut) {
-            conversion.lut->apply(image.rgba.data() + firstPixel * 4, pixels);
-            return;
-          }
-          // RGB only, read with the RGBA buffer's strides: OCIO never sees (or changes) alpha.
-          OCIO::PackedImageDesc rgb(image.rgba.data() + firstPixel * 4, image.width,
-                                    static_cast<long>(rows.size()), OCIO::CHANNEL_ORDERING_RGB,
-                                    OCIO::BIT_DEPTH_F32, sizeof(float), pixelBytes,
-                                    pixelBytes * image.width);
-          conversion.processor->apply(rgb);
-        });
+    forEachBlock(size_t(image.height), kMinRowsPerBand, [&](size_t firstRow, size_t endRow) {
+      const size_t firstPixel = firstRow * image.width;
+      const size_t pixels = (endRow - firstRow) * image.width;
+      if (conversion.lut) {
+        conversion.lut->apply(image.rgba.data() + firstPixel * 4, pixels);
+        return;
+      }
+      // RGB only, read with the RGBA buffer's strides: OCIO never sees (or changes) alpha.
+      OCIO::PackedImageDesc rgb(image.rgba.data() + firstPixel * 4, image.width,
+                                static_cast<long>(endRow - firstRow), OCIO::CHANNEL_ORDERING_RGB,
+                                OCIO::BIT_DEPTH_F32, sizeof(float), pixelBytes,
+                                pixelBytes * image.width);
+      conversion.processor->apply(rgb);
+    });
   } catch (const OCIO::Exception& e) {
     throw Error(std::string("colour conversion failed: ") + e.what(), {"color", {}, ""});
   }

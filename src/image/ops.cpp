@@ -7,9 +7,10 @@
 #include <vector>
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 #include <opencv2/imgproc.hpp>
+
+#include "util/parallel.h"
 
 namespace pluvia::ops {
 namespace {
@@ -20,11 +21,10 @@ constexpr size_t kRowsPerTask = 16;
 // Calls f(firstPixel, pixelCount) over bands of whole rows, in parallel.
 template <typename F>
 void forRowBands(const Image& image, F&& f) {
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, static_cast<size_t>(image.height), kRowsPerTask),
-                    [&](const auto& rows) {
-                      const size_t width = static_cast<size_t>(image.width);
-                      f(rows.begin() * width, rows.size() * width);
-                    });
+  const size_t width = static_cast<size_t>(image.width);
+  forEachBlock(
+      static_cast<size_t>(image.height), kRowsPerTask,
+      [&](size_t firstRow, size_t endRow) { f(firstRow * width, (endRow - firstRow) * width); });
 }
 
 // OpenCV's BORDER_REFLECT (fedcba|abcdefgh|hgfedcb), reflected again for a kernel wider than
@@ -157,7 +157,7 @@ void gaussianBlur(Image& image, float sigmaPx) {
   auto halo = [&](int band, int k) {
     return halos.data() + (static_cast<size_t>(band) * 2 * radius + k) * rowFloats;
   };
-  tbb::parallel_for(0, bands, [&](int band) {
+  forEachIndex(bands, [&](int band) {
     const int y0 = band * bandRows, y1 = std::min(y0 + bandRows, height);
     for (int k = 0; k < radius; ++k) {
       passes.row(inputRow(reflect(y0 - radius + k, height)), width, weights, radius, halo(band, k));
@@ -165,7 +165,7 @@ void gaussianBlur(Image& image, float sigmaPx) {
     }
   });
 
-  tbb::parallel_for(0, bands, [&](int band) {
+  forEachIndex(bands, [&](int band) {
     const int y0 = band * bandRows, y1 = std::min(y0 + bandRows, height);
     const int taps = 2 * radius + 1;
     std::vector<float> ring(static_cast<size_t>(taps) * rowFloats);

@@ -15,6 +15,7 @@
 #include "util/error.h"
 #include "util/interrupt.h"
 #include "util/log.h"
+#include "util/parallel.h"
 #include "util/read_pipe.h"
 #include "util/thread_limit.h"
 
@@ -195,8 +196,8 @@ class MovieReader final : public ClipReader {
   Image toImage() const {
     Image image(info_.width, info_.height);
     const size_t rowSamples = static_cast<size_t>(info_.width) * 3;
-    cv::parallel_for_(cv::Range(0, info_.height), [&](const cv::Range& rows) {
-      for (int y = rows.start; y < rows.end; ++y) {
+    forEachBlock(size_t(info_.height), 1, [&](size_t firstRow, size_t endRow) {
+      for (int y = int(firstRow); y < int(endRow); ++y) {
         float* dst = image.pixel(0, y);
         const uint8_t* src = raw_.data() + static_cast<size_t>(y) * rowSamples * sampleBytes_;
         if (sampleBytes_ == 1) {

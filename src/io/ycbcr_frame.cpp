@@ -6,6 +6,7 @@
 #include <opencv2/core/utility.hpp>
 
 #include "util/error.h"
+#include "util/parallel.h"
 
 namespace pluvia {
 namespace {
@@ -103,13 +104,13 @@ void packYcbcr(const Image& image, int encodedWidth, int encodedHeight, const Yc
   Sample* cr = cb + chromaSize;
   Sample* alpha = layout.alpha ? cr + chromaSize : nullptr;
   const float alphaScale = static_cast<float>((1 << layout.bits) - 1);
-  cv::parallel_for_(cv::Range(0, chromaHeight), [&](const cv::Range& rows) {
+  forEachBlock(size_t(chromaHeight), 1, [&](size_t firstRow, size_t endRow) {
     std::vector<float> sums(static_cast<size_t>(chromaWidth) * 3);  // R', G', B' planes
     std::vector<float> row(static_cast<size_t>(image.width) * 4);   // quantised
     const float* r = sums.data();
     const float* g = r + chromaWidth;
     const float* b = g + chromaWidth;
-    for (int cy = rows.start; cy < rows.end; ++cy) {
+    for (int cy = int(firstRow); cy < int(endRow); ++cy) {
       std::fill(sums.begin(), sums.end(), 0.0f);
       for (int y = cy * layout.chromaRows; y < (cy + 1) * layout.chromaRows; ++y) {
         quantizeRow(image.pixel(0, std::min(y, image.height - 1)), image.width, row.data());

@@ -7,13 +7,13 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
-#include <tbb/parallel_for.h>
 
 #include "lab/report_numbers.h"
 #include "optics/drop_shading.h"
 #include "optics/drop_trace.h"
 #include "optics/paper_transfer_table.h"
 #include "util/error.h"
+#include "util/parallel.h"
 
 namespace pluvia::lab {
 
@@ -72,7 +72,7 @@ std::vector<Rgb> traceAll(const EquirectMap& environment, const std::vector<Dire
   TraceSettings trace;
   trace.samples = samples;
   trace.seed = seed;
-  tbb::parallel_for(size_t(0), directions.size(), [&](size_t i) {
+  forEachIndex(directions.size(), [&](size_t i) {
     out[i] = traceDropRadiance(environment, directions[i], eta, trace);
   });
   return out;

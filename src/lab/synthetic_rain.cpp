@@ -6,10 +6,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include <tbb/parallel_for.h>
-
 #include "util/error.h"
 #include "util/hash.h"
+#include "util/parallel.h"
 
 namespace pluvia::lab {
 
@@ -129,7 +128,7 @@ SyntheticRain makeSyntheticRainOver(const std::vector<cv::Mat>& backgrounds,
   out.alpha.resize(size_t(n));
   out.rainColor.resize(size_t(n));
 
-  tbb::parallel_for(0, n, [&](int k) {
+  forEachIndex(n, [&](int k) {
     const uint64_t frameKey = mix64(settings.seed) ^ uint64_t(k);
     CounterRng streakRng(frameKey, kStreakStream), colourRng(frameKey, kColourStream);
     cv::Vec3f colour;

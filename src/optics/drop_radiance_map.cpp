@@ -4,8 +4,9 @@
 #include <stdexcept>
 #include <vector>
 
-#include <tbb/parallel_for.h>
 #include <opencv2/core.hpp>
+
+#include "util/parallel.h"
 
 namespace pluvia::optics {
 namespace {
@@ -95,7 +96,7 @@ EquirectMap buildDropRadianceMap(const EquirectMap& environment,
   const std::vector<double> cosDeltaPhi =
       subsampleCosDeltaPhi(inWidth, ratio, settings.kernelSubsamples);
   EquirectMap out(outWidth, outHeight);
-  tbb::parallel_for(0, outHeight, [&](int outRow) {
+  forEachRow(outHeight, [&](int outRow) {
     std::array<cv::Mat, 3> accumulated;
     for (auto& a : accumulated) a = cv::Mat::zeros(1, inWidth, CV_64FC2);
     std::vector<double> kernel;

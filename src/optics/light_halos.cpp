@@ -4,7 +4,7 @@
 #include <atomic>
 #include <cmath>
 
-#include <tbb/parallel_for.h>
+#include "util/parallel.h"
 
 namespace pluvia::optics {
 namespace {
@@ -118,7 +118,7 @@ size_t glowCoarseToFine(const CornerGrid& grid, double lightPx, double lightPy, 
     if (!known[g]) known[g] = 1, todo.push_back(g);
   };
   auto run = [&]() {
-    tbb::parallel_for(size_t(0), todo.size(), [&](size_t k) { glow[todo[k]] = evaluate(todo[k]); });
+    forEachIndex(todo.size(), [&](size_t k) { glow[todo[k]] = evaluate(todo[k]); });
     evaluations += todo.size();
     todo.clear();
   };
@@ -252,7 +252,7 @@ struct HaloFrame {
 
 void measureTileDepths(HaloFrame& frame) {
   frame.tileDepth.assign(static_cast<size_t>(frame.tileCount()), {});
-  tbb::parallel_for(0, frame.tileCount(), [&](int tile) {
+  forEachIndex(frame.tileCount(), [&](int tile) {
     const int tx = tile % frame.tilesX, ty = tile / frame.tilesX;
     const int x0 = tx * kTilePx, y0 = ty * kTilePx;
     const int x1 = std::min(frame.width, x0 + kTilePx), y1 = std::min(frame.height, y0 + kTilePx);
@@ -357,7 +357,7 @@ std::vector<GridLight> glowOnGrid(const HaloFrame& frame, const std::vector<Loca
     evaluations += glowCoarseToFine(
         frame.corners, lightPx, lightPy, light.spot, everyPixel,
         [&](size_t g) { return glowAlong(frame.gridRay[g], frame.gridLength[g]); }, grid);
-    tbb::parallel_for(size_t(0), gridCount, [&](size_t g) {
+    forEachIndex(gridCount, [&](size_t g) {
       gridOpen[g] = !frame.atEdge[g]                     ? 0.0
                     : std::isfinite(frame.gridLength[g]) ? glowAlong(frame.gridRay[g], HUGE_VAL)
                                                          : grid[g];
@@ -640,7 +640,7 @@ void LightIntoTiles::subTiles(const Tile& t) const {
 // Once per frame: the tiles' interpolated corners (all the lights' summed), into the frame.
 void addTileCorners(const HaloFrame& frame, const std::vector<std::array<float, 12>>& tileCorners,
                     HaloTarget& target) {
-  tbb::parallel_for(0, frame.tileCount(), [&](int tile) {
+  forEachIndex(frame.tileCount(), [&](int tile) {
     const std::array<float, 12>& sum = tileCorners[static_cast<size_t>(tile)];
     if (*std::max_element(sum.begin(), sum.end()) <= 0.0f) return;
     const int tx = tile % frame.tilesX, ty = tile / frame.tilesX;
@@ -703,9 +703,9 @@ HaloResult addHalos(Image& image, const Camera& camera, const std::vector<LocalL
   std::vector<std::array<float, 12>> tileCorners(static_cast<size_t>(frame.tileCount()));
   const double tileThreshold = thresholdRadiance / double(lights.size());
   for (const GridLight& gridLight : gridLights)
-    tbb::parallel_for(0, frame.tileCount(),
-                      LightIntoTiles(frame, gridLight, betaPerMeter, tables, tileThreshold,
-                                     totalLeast, everyPixel, target, tileCorners, evaluations));
+    forEachIndex(frame.tileCount(),
+                 LightIntoTiles(frame, gridLight, betaPerMeter, tables, tileThreshold, totalLeast,
+                                everyPixel, target, tileCorners, evaluations));
   addTileCorners(frame, tileCorners, target);
   result.pixelsLit = evaluations.load();
   return result;

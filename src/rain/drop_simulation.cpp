@@ -1,8 +1,5 @@
 #include "rain/drop_simulation.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
 
@@ -11,6 +8,7 @@
 #include "rain/drop_glint.h"
 #include "rain/thin_lens.h"
 #include "util/hash.h"
+#include "util/parallel.h"
 
 namespace pluvia::rain {
 namespace {
@@ -135,7 +133,7 @@ void DropSimulation::restartAt(int64_t segmentStart) {
   const uint64_t seed = settings_.seed ^ (0x9E3779B97F4A7C15ull * segment);
   const Camera camera = cameraAt_(double(frame_));
   const Eigen::Matrix3d heading = headingOf(camera);
-  tbb::parallel_for(size_t(0), positions_.size(), [&](size_t i) {
+  forEachIndex(positions_.size(), [&](size_t i) {
     CounterRng rng(seed, i);
     const Eigen::Vector3d u(rng.uniform(), rng.uniform(), rng.uniform());
     const Eigen::Vector3d p = camera.positionMeters + heading * (boxLo_ + u.cwiseProduct(boxSize_));
@@ -150,7 +148,7 @@ void DropSimulation::restartAt(int64_t segmentStart) {
   });
   baseDiameterMm_.clear();  // the sizes follow from the uniforms just drawn
   setRain(rainAt_(double(frame_)));
-  tbb::parallel_for(size_t(0), positions_.size(), [&](size_t i) {
+  forEachIndex(positions_.size(), [&](size_t i) {
     const Eigen::Vector3d w = wind_->velocityAt(positions_[i].x(), positions_[i].z());
     horizontalSpeed_[i] = (Eigen::Vector2d(w.x(), w.z()) + ownSpeed(i)).cast<float>();
   });
@@ -193,31 +191,30 @@ void DropSimulation::step() {
   const Camera camera = cameraAt_(double(frame_ + 1));
   const Eigen::Matrix3d heading = headingOf(camera);
   const Eigen::Matrix3d toHeading = heading.transpose();
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, positions_.size(), 4096),
-                    [&](const tbb::blocked_range<size_t>& range) {
-                      for (size_t i = range.begin(); i != range.end(); ++i) {
-                        Eigen::Vector3d p = positions_[i].cast<double>();
-                        const double fall = sizeAndFall(i, p.x(), p.z()).second;
-                        // Horizontal speed relaxes toward the wind with tau = v_t / g; exact for a
-                        // wind held over the step, so any step is stable.
-                        const double tau = std::max(fall / kGravity, 1e-3);
-                        const double a = -std::expm1(-dt / tau);
-                        const Eigen::Vector3d w = wind_->velocityAt(p.x(), p.z());
-                        Eigen::Vector2d v = horizontalSpeed_[i].cast<double>();
-                        const Eigen::Vector2d wh = Eigen::Vector2d(w.x(), w.z()) + ownSpeed(i);
-                        const Eigen::Vector2d travelled = wh * dt + (v - wh) * tau * a;
-                        v = wh + (v - wh) * (1.0 - a);
-                        p += Eigen::Vector3d(travelled.x(), -fall * dt, travelled.y());
-                        // 3-D wrap-around in the box that follows the camera.
-                        Eigen::Vector3d local = toHeading * (p - camera.positionMeters) - boxLo_;
-                        for (int axis = 0; axis < 3; ++axis) {
-                          local[axis] -= boxSize_[axis] * std::floor(local[axis] / boxSize_[axis]);
-                        }
-                        p = camera.positionMeters + heading * (local + boxLo_);
-                        positions_[i] = p.cast<float>();
-                        horizontalSpeed_[i] = v.cast<float>();
-                      }
-                    });
+  forEachBlock(positions_.size(), 4096, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i != end; ++i) {
+      Eigen::Vector3d p = positions_[i].cast<double>();
+      const double fall = sizeAndFall(i, p.x(), p.z()).second;
+      // Horizontal speed relaxes toward the wind with tau = v_t / g; exact for a
+      // wind held over the step, so any step is stable.
+      const double tau = std::max(fall / kGravity, 1e-3);
+      const double a = -std::expm1(-dt / tau);
+      const Eigen::Vector3d w = wind_->velocityAt(p.x(), p.z());
+      Eigen::Vector2d v = horizontalSpeed_[i].cast<double>();
+      const Eigen::Vector2d wh = Eigen::Vector2d(w.x(), w.z()) + ownSpeed(i);
+      const Eigen::Vector2d travelled = wh * dt + (v - wh) * tau * a;
+      v = wh + (v - wh) * (1.0 - a);
+      p += Eigen::Vector3d(travelled.x(), -fall * dt, travelled.y());
+      // 3-D wrap-around in the box that follows the camera.
+      Eigen::Vector3d local = toHeading * (p - camera.positionMeters) - boxLo_;
+      for (int axis = 0; axis < 3; ++axis) {
+        local[axis] -= boxSize_[axis] * std::floor(local[axis] / boxSize_[axis]);
+      }
+      p = camera.positionMeters + heading * (local + boxLo_);
+      positions_[i] = p.cast<float>();
+      horizontalSpeed_[i] = v.cast<float>();
+    }
+  });
   ++frame_;
   ++dropSteps_;
   ++windSteps_;
@@ -230,7 +227,7 @@ void DropSimulation::setRain(const RainAtFrame& rain) {
   if (sizesChange) {
     baseDiameterMm_.resize(positions_.size());
     baseFall_.resize(positions_.size());
-    tbb::parallel_for(size_t(0), positions_.size(), [&](size_t i) {
+    forEachIndex(positions_.size(), [&](size_t i) {
       const double d =
           sampleDiameterMm(settings_.distribution, double(sizeUniform_[i]), rain_.rateMmPerHour,
                            settings_.minDiameterMm, settings_.maxDiameterMm);

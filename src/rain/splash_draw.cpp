@@ -1,11 +1,10 @@
 #include "rain/splash_draw.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
 
 #include "rain/counter_stream.h"
+#include "util/parallel.h"
 
 namespace pluvia::rain {
 namespace {
@@ -57,7 +56,7 @@ void drawProjectedParticles(Image& image, std::vector<float>& alpha,
   for (const std::vector<ProjectedParticle>& group : groups)
     for (const ProjectedParticle& p : group)
       for (int b = p.y0 / kBandRows; b <= p.y1 / kBandRows; ++b) inBand[size_t(b)].push_back(&p);
-  tbb::parallel_for(0, bands, [&](int band) {
+  forEachIndex(bands, [&](int band) {
     const int rowLo = band * kBandRows, rowHi = std::min(h - 1, rowLo + kBandRows - 1);
     for (const ProjectedParticle* p : inBand[size_t(band)]) {
       const float sx = p->bx - p->ax, sy = p->by - p->ay;

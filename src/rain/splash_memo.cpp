@@ -1,6 +1,6 @@
 #include "rain/splash_memo.h"
 
-#include <tbb/parallel_for.h>
+#include "util/parallel.h"
 
 namespace pluvia::rain {
 namespace {
@@ -43,7 +43,7 @@ std::vector<const std::vector<Impact>*> SplashMemo::impacts(int64_t first, int64
   for (int64_t b = first; b <= last; ++b)
     if (!born_.count(b)) missing.push_back(b);
   std::vector<std::vector<Impact>> made(missing.size());
-  tbb::parallel_for(size_t(0), missing.size(), [&](size_t k) {
+  forEachIndex(missing.size(), [&](size_t k) {
     made[k] = impactsBorn(field_, tiles_, camera_, missing[k], fps, seed, diameters, velocity);
   });
   for (size_t k = 0; k < missing.size(); ++k) born_[missing[k]] = std::move(made[k]);

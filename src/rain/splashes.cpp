@@ -5,12 +5,12 @@
 #include <cmath>
 #include <limits>
 
-#include <tbb/parallel_for.h>
 #include <Eigen/Geometry>
 
 #include "optics/drop_shading.h"
 #include "optics/fresnel.h"
 #include "rain/counter_stream.h"
+#include "util/parallel.h"
 
 namespace pluvia::rain {
 namespace {
@@ -81,7 +81,7 @@ std::vector<float> upFacingAreaPerPixel(const Camera& camera, const std::vector<
     return std::isfinite(a) && std::isfinite(b) && a > 0.0 && b > 0.0 &&
            std::abs(a - b) <= kDiscontinuity * std::min(a, b);
   };
-  tbb::parallel_for(0, h, [&](int y) {
+  forEachRow(h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * size_t(w) + size_t(x);
       // Forward differences, backward at the last column and row.
@@ -107,7 +107,7 @@ SplashTiles splashTiles(const SplashField& field, int width, int height) {
   tiles.tilesX = (width + t - 1) / t;
   tiles.tilesY = (height + t - 1) / t;
   tiles.cumulativeArea.resize(static_cast<size_t>(tiles.tilesX) * tiles.tilesY);
-  tbb::parallel_for(0, tiles.tilesY, [&](int ty) {
+  forEachRow(tiles.tilesY, [&](int ty) {
     for (int tx = 0; tx < tiles.tilesX; ++tx) {
       const int x0 = tx * t, y0 = ty * t, x1 = std::min(width, x0 + t),
                 y1 = std::min(height, y0 + t);
@@ -131,7 +131,7 @@ std::vector<Impact> impactsBorn(const SplashField& field, const SplashTiles& til
   // Rows of tiles in parallel: each tile's impacts depend on its own generator alone, and the
   // rows are joined in their order, so the list is the same whatever the thread count.
   std::vector<std::vector<Impact>> rows(static_cast<size_t>(tiles.tilesY));
-  tbb::parallel_for(0, tiles.tilesY, [&](int ty) {
+  forEachRow(tiles.tilesY, [&](int ty) {
     std::vector<Impact>& impacts = rows[size_t(ty)];
     for (int tx = 0; tx < tiles.tilesX; ++tx) {
       const uint64_t tile = uint64_t(ty) * uint64_t(tiles.tilesX) + uint64_t(tx);

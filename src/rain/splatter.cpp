@@ -1,12 +1,11 @@
 #include "rain/splatter.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
 
 #include "rain/counter_stream.h"
 #include "rain/splash_draw.h"
+#include "util/parallel.h"
 
 namespace pluvia::rain {
 namespace {
@@ -83,7 +82,7 @@ void drawSplatters(Image& image, std::vector<float>& alpha, const std::vector<fl
   const int w = camera.width, h = camera.height;
   std::vector<Box> boxes(impacts.size());
   std::vector<char> seen(impacts.size(), 0);
-  tbb::parallel_for(size_t(0), impacts.size(), [&](size_t k) {
+  forEachIndex(impacts.size(), [&](size_t k) {
     const Impact& impact = *impacts[k].impact;
     const double share =
         splatterExposureShare(impact.timeSeconds, flashSeconds, open, close) * opacity;
@@ -109,7 +108,7 @@ void drawSplatters(Image& image, std::vector<float>& alpha, const std::vector<fl
     for (int b = boxes[k].y0 / kBandRows; b <= boxes[k].y1 / kBandRows; ++b)
       inBand[size_t(b)].push_back(&boxes[k]);
   }
-  tbb::parallel_for(0, bands, [&](int band) {
+  forEachIndex(bands, [&](int band) {
     const int rowLo = band * kBandRows, rowHi = std::min(h - 1, rowLo + kBandRows - 1);
     for (const Box* b : inBand[size_t(band)]) {
       const Impact& impact = *impacts[b->index].impact;

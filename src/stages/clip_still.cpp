@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cstring>
 
-#include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
 
 #include <fmt/format.h>
@@ -16,6 +15,7 @@
 #include "util/hash.h"
 #include "util/log.h"
 #include "util/median.h"
+#include "util/parallel.h"
 #include "util/timer.h"
 
 namespace pluvia {
@@ -61,15 +61,13 @@ Image medianOfFrames(ClipContext& clip, const std::vector<int64_t>& frames, int 
   Image median = images.front();
   if (count < 3) return median;
   // Samples in parallel blocks (a 1080p still is 8 million of them).
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, median.rgba.size(), 1 << 16),
-                    [&](const tbb::blocked_range<size_t>& block) {
-                      std::vector<float> values(static_cast<size_t>(count));
-                      for (size_t i = block.begin(); i < block.end(); ++i) {
-                        for (int s = 0; s < count; ++s)
-                          values[size_t(s)] = images[size_t(s)].rgba[i];
-                        median.rgba[i] = medianInPlace(values.data(), values.size());
-                      }
-                    });
+  forEachBlock(median.rgba.size(), 1 << 16, [&](size_t begin, size_t end) {
+    std::vector<float> values(static_cast<size_t>(count));
+    for (size_t i = begin; i < end; ++i) {
+      for (int s = 0; s < count; ++s) values[size_t(s)] = images[size_t(s)].rgba[i];
+      median.rgba[i] = medianInPlace(values.data(), values.size());
+    }
+  });
   return median;
 }
 

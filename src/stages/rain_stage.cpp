@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include <fmt/format.h>
-#include <tbb/parallel_for.h>
 
 #include "gpu/rain_renderer.h"
 #include "optics/drop_local_light.h"
@@ -22,6 +21,7 @@
 #include "stages/registry.h"
 #include "util/error.h"
 #include "util/log.h"
+#include "util/parallel.h"
 #include "util/timer.h"
 
 namespace pluvia {
@@ -220,7 +220,7 @@ class RainStage : public Stage {
     const Eigen::Matrix3d cameraFromWorld =
         path_.cameraAt(double(frame.frame)).worldFromCamera.transpose();
     const Eigen::Vector3d upCamera = cameraFromWorld * Eigen::Vector3d::UnitY();
-    tbb::parallel_for(size_t(0), streaks.size(), [&](size_t i) {
+    forEachIndex(streaks.size(), [&](size_t i) {
       rain::StreakInstance& streak = streaks[i];
       const Eigen::Vector3d view =
           cameraFromWorld * Eigen::Vector3d(streak.viewX, streak.viewY, streak.viewZ);

@@ -5,7 +5,8 @@
 #include <limits>
 
 #include <fmt/format.h>
-#include <tbb/parallel_for.h>
+
+#include "util/parallel.h"
 
 namespace pluvia {
 namespace {
@@ -49,7 +50,7 @@ void addRainbow(Image& image, const Camera& camera, const Sun& sun,
   const double inverseFocal = 1.0 / camera.focalPx;
   // 1 - exp(-sigma_t s) of the shower's whole extent: every sky pixel's.
   const double throughShower = -std::expm1(-sigmaT * volume.showerExtentMeters);
-  tbb::parallel_for(0, height, [&](int y) {
+  forEachRow(height, [&](int y) {
     const int j0 = y / step, j1 = std::min(j0 + 1, ny - 1);
     const int y0 = nodeCoordinate(j0, height), y1 = nodeCoordinate(j1, height);
     const double fy = y1 > y0 ? double(y - y0) / double(y1 - y0) : 0.0;

@@ -1,10 +1,10 @@
 #include "stages/skylight_fog.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include "util/parallel.h"
 
 namespace pluvia {
 namespace {
@@ -33,7 +33,7 @@ void applySkylightFog(Image& image, const Camera& camera, const optics::Skylight
   const int nx = (width - 1 + step - 1) / step + 1, ny = (height - 1 + step - 1) / step + 1;
   auto nodeCoordinate = [step](int k, int size) { return std::min(k * step, size - 1); };
   std::vector<std::array<float, 3>> nodes(static_cast<size_t>(nx) * static_cast<size_t>(ny));
-  tbb::parallel_for(0, ny, [&](int j) {
+  forEachRow(ny, [&](int j) {
     for (int i = 0; i < nx; ++i) {
       const Eigen::Vector3d view =
           (camera.worldFromCamera *
@@ -45,7 +45,7 @@ void applySkylightFog(Image& image, const Camera& camera, const optics::Skylight
   });
   const float sigmaF = float(sigma), maxPath = float(std::min(maxPathMeters, 1e30));
   const float inverseFocal = float(1.0 / camera.focalPx);
-  tbb::parallel_for(0, height, [&](int y) {
+  forEachRow(height, [&](int y) {
     const int j0 = y / step, j1 = std::min(j0 + 1, ny - 1);
     const int y0 = nodeCoordinate(j0, height), y1 = nodeCoordinate(j1, height);
     const float fy = y1 > y0 ? float(y - y0) / float(y1 - y0) : 0.0f;

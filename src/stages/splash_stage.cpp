@@ -8,7 +8,6 @@
 #include <limits>
 
 #include <fmt/format.h>
-#include <tbb/parallel_for.h>
 
 #include "image/equirect.h"
 #include "optics/drop_radiance_map.h"
@@ -25,6 +24,7 @@
 #include "stages/registry.h"
 #include "stages/splash_settings.h"
 #include "util/error.h"
+#include "util/parallel.h"
 
 namespace pluvia {
 namespace {
@@ -95,7 +95,7 @@ class SplashStage : public Stage {
     std::vector<std::vector<rain::ShadedImpact>> flashes(blocks);
     const float opacity = float(splash_.opacity);
     const double minDropletPx = std::sqrt(double(rain::kMinParticleCoverage) / opacity);
-    tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
+    forEachIndex(blocks, [&](size_t b) {
       std::vector<rain::ProjectedParticle>& out = projected_[b];
       out.clear();  // kept between frames: its memory is reused
       std::vector<rain::SplashParticle> particles;
