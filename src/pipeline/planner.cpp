@@ -27,8 +27,44 @@ std::string Plan::text() const {
     const char* state = e.runs ? "run " : (e.cached ? "cached" : "skip");
     out += fmt::format("  {:<7} {:<12} {}\n", state, e.stage, e.reason);
   }
+  if (artifacts.empty()) return out;
+  out += "  artifacts (made by -> read by; the image passes through every stage that runs):\n";
+  for (const auto& a : artifacts)
+    out += fmt::format("    {:<18} {} -> {}\n", a.name,
+                       a.madeBy.empty() ? "nothing" : fmt::format("{}", fmt::join(a.madeBy, ", ")),
+                       a.readBy.empty() ? "-" : fmt::format("{}", fmt::join(a.readBy, ", ")));
   return out;
 }
+
+namespace {
+
+// Who makes and who reads each artifact among the stages the plan keeps: a cached stage makes
+// its outputs and reads nothing.
+std::vector<PlanArtifact> planArtifacts(const Preset& preset, const std::vector<PlanEntry>& entries,
+                                        const std::vector<StageInfo>& stages) {
+  std::vector<PlanArtifact> artifacts;
+  auto artifact = [&](const std::string& name) -> PlanArtifact& {
+    for (auto& a : artifacts)
+      if (a.name == name) return a;
+    artifacts.push_back({name, {}, {}});
+    const auto outside = artifactsMadeOutsideStages().find(name);
+    if (outside != artifactsMadeOutsideStages().end())
+      artifacts.back().madeBy.push_back(outside->second);
+    return artifacts.back();
+  };
+  for (size_t k = 0; k < stages.size(); ++k) {
+    const StageInfo& info = stages[k];
+    if (!entries[k].runs && !entries[k].cached) continue;
+    if (entries[k].runs)
+      for (const auto& input : info.reads ? info.reads(preset) : info.spec.inputs)
+        if (input != "image") artifact(input).readBy.push_back(info.spec.name);
+    for (const auto& output : info.writes ? info.writes(preset) : info.spec.outputs)
+      if (output != "image") artifact(output).madeBy.push_back(info.spec.name);
+  }
+  return artifacts;
+}
+
+}  // namespace
 
 Plan makePlan(const Preset& preset, const ClipInfo& clip, const ArtifactCache* cache,
               const std::string& framesKey, const std::vector<StageInfo>& stages) {
@@ -49,12 +85,12 @@ Plan makePlan(const Preset& preset, const ClipInfo& clip, const ArtifactCache* c
       continue;
     }
     std::vector<std::string> readers;
-    for (const auto& output : info.spec.outputs) {
+    const std::vector<std::string> writes = info.writes ? info.writes(preset) : info.spec.outputs;
+    for (const auto& output : writes) {
       if (needed.count(output)) readers.push_back(output);
     }
     if (readers.empty()) {
-      entry.reason =
-          fmt::format("nothing reads its output ({})", fmt::join(info.spec.outputs, ", "));
+      entry.reason = fmt::format("nothing reads its output ({})", fmt::join(writes, ", "));
       continue;
     }
     const std::string key = info.cacheKey ? info.cacheKey(preset, clip) : "";
@@ -85,8 +121,9 @@ Plan makePlan(const Preset& preset, const ClipInfo& clip, const ArtifactCache* c
   }
   // Cached per-clip results still feed their readers: keep the reads of cached stages out,
   // since a cached stage reads nothing.
+  std::vector<PlanArtifact> artifacts = planArtifacts(preset, entries, stages);
   entries.push_back({"write", true, false, "writes the frames"});
-  return Plan{entries};
+  return Plan{entries, std::move(artifacts)};
 }
 
 }  // namespace pluvia

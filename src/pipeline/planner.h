@@ -17,11 +17,20 @@ struct PlanEntry {
   std::string reason;   // why it runs or why it is left out
 };
 
+// An artifact the planned stages pass on (pipeline/stage.h): what makes it (stages that run or
+// come from the cache, and what makes it outside the stages) and the stages that run and read it.
+struct PlanArtifact {
+  std::string name;
+  std::vector<std::string> madeBy, readBy;
+};
+
 struct Plan {
-  std::vector<PlanEntry> entries;  // pipeline order, "write" last
+  std::vector<PlanEntry> entries;       // pipeline order, "write" last
+  std::vector<PlanArtifact> artifacts;  // in order of first use, "image" left out
   bool runs(const std::string& stage) const;
   bool available(const std::string& stage) const;  // runs or cached
-  std::string text() const;                        // human-readable, one line per stage
+  // Human-readable: one line per stage, then one per artifact.
+  std::string text() const;
 };
 
 // `framesKey`: the key the clip's per-clip work is stored under in `cache` (render_job.h's

@@ -32,6 +32,14 @@ void addContentSample(Hasher& hasher, const std::string& file) {
 
 }  // namespace
 
+const std::map<std::string, std::string>& artifactsMadeOutsideStages() {
+  static const std::map<std::string, std::string> made{{"image", "the plate"},
+                                                       {"camera", "camera.path"},
+                                                       {"still", "the frames, on first use"},
+                                                       {"plate_rain", "the frames, on first use"}};
+  return made;
+}
+
 std::string clipIdentity(const ClipInfo& clip) {
   Hasher hasher;
   hasher.add(clip.path);

@@ -3,11 +3,20 @@
 // its section of the preset (parameter table, reads, writes), when it is a no-op, and how to
 // build it. Stages are listed in pipeline order by stages/registry.h.
 //
-// Artifacts passed between stages:
-//   "image"           the frame, scene-linear (every image stage reads and writes it)
-//   "depth"           the frame's "depth" plane, metres
-//   "environment"     per-clip lighting (SH coefficients and average colour)
-//   "footage_strokes" per-clip stroke library cut from rain footage
+// Artifacts passed between stages, each declared by the stages that write it (spec.outputs,
+// `writes`) and read it (spec.inputs, `reads`), so that `pluvia plan` shows who makes and who
+// reads each:
+//   "image"             the frame, scene-linear (every image stage reads and writes it)
+//   "depth"             the frame's "depth" plane, metres
+//   "environment"       per-clip lighting (ClipContext::environment)
+//   "footage_strokes"   per-clip stroke library cut from rain footage
+//   "camera"            the camera every stage draws with (ClipContext::cameraPath)
+//   "still"             a still of the clip and the sky in it (ClipContext::still, stillSky)
+//   "plate_rain"        whether the plate was shot in rain (ClipContext::plateRain)
+//   "first_frame_depth" the depth of the clip's first frame (ClipContext::firstFrameDepth)
+//   "found_lamps"       lamps found in the plate (ClipContext::foundLamps)
+//   "lights"            the frame's local lights (FrameContext::lights)
+// Some are made before or beside the stages: artifactsMadeOutsideStages().
 #include <array>
 #include <functional>
 #include <map>
@@ -119,6 +128,11 @@ class Stage {
   virtual void process(ClipContext& clip, FrameContext& frame) {}
 };
 
+// The artifacts no stage makes alone, and what makes them: the plate's frames ("image"), the
+// render session ("camera": the preset's camera.path, which depth replaces when it tracks) and the
+// clip's frames analysed on first use by whichever stage asks ("still", "plate_rain").
+const std::map<std::string, std::string>& artifactsMadeOutsideStages();
+
 struct StageInfo {
   SectionSpec spec;      // name = preset section; params; static reads/writes for describe
   bool perClip = false;  // per-clip analysis (cacheable) rather than per-frame work
@@ -126,8 +140,9 @@ struct StageInfo {
   std::function<std::string(const Preset&)> noOpReason;
   // A remark `pluvia plan` adds when the stage runs ("depth is a guess: ..."), or "".
   std::function<std::string(const Preset&)> note;
-  // What it reads with these parameters (a subset of spec.inputs).
+  // What it reads and writes with these parameters (subsets of spec.inputs and spec.outputs).
   std::function<std::vector<std::string>(const Preset&)> reads;
+  std::function<std::vector<std::string>(const Preset&)> writes;
   // The cache key of the stage's per-clip result for this preset and clip ("" when these
   // parameters cache nothing). A per-frame stage may have one for its per-clip analysis.
   std::function<std::string(const Preset&, const ClipInfo&)> cacheKey;
@@ -152,6 +167,7 @@ struct StageCallbacks {
   std::function<std::string(const Settings&, const Preset&)> noOpReason = {};
   std::function<std::string(const Settings&, const Preset&)> note = {};
   std::function<std::vector<std::string>(const Settings&, const Preset&)> reads = {};
+  std::function<std::vector<std::string>(const Settings&, const Preset&)> writes = {};
   std::function<std::string(const Settings&, const Preset&, const ClipInfo&)> cacheKey = {};
   std::function<std::string(const Settings&, const Preset&, const ClipInfo&,
                             const std::string& framesKey, const ArtifactCache&)>
@@ -188,6 +204,7 @@ StageInfo makeStageInfo(SectionSpec spec, Settings (*read)(const Preset&),
   info.noOpReason = withSettings(read, std::move(callbacks.noOpReason));
   info.note = withSettings(read, std::move(callbacks.note));
   info.reads = withSettings(read, std::move(callbacks.reads));
+  info.writes = withSettings(read, std::move(callbacks.writes));
   info.cacheKey = withSettings(read, std::move(callbacks.cacheKey));
   info.cachedWork = withSettings(read, std::move(callbacks.cachedWork));
   info.frameMetadata = withSettings(read, std::move(callbacks.frameMetadata));

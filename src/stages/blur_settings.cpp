@@ -9,7 +9,7 @@ const SettingsTable<BlurSettings>& blurTable() {
       {.name = "blur",
        .help = "Gaussian blur of the plate (light scattered by the drops on its way), more with "
                "depth; --aov blur writes what it changed.",
-       .inputs = {"image", "depth"},
+       .inputs = {"image", "depth", "plate_rain"},
        .outputs = {"image"}},
       {
           bind(&BlurSettings::enabled, enabledParam()),

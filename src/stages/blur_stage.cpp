@@ -20,8 +20,10 @@ StageInfo blurStageInfo() {
                   const Preset&) { return rainedPlateNote("blur", blur.overRain); },
        .reads =
            [](const BlurSettings& blur, const Preset&) {
-             return blur.distanceMeters > 0.0 ? std::vector<std::string>{"image", "depth"}
-                                              : std::vector<std::string>{"image"};
+             std::vector<std::string> reads{"image"};
+             if (blur.distanceMeters > 0.0) reads.push_back("depth");
+             if (!blur.overRain) reads.push_back("plate_rain");
+             return reads;
            },
        .cachedWork =
            [](const BlurSettings& blur, const Preset&, const ClipInfo& clip,

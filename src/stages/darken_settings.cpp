@@ -9,7 +9,7 @@ const SettingsTable<DarkenSettings>& darkenTable() {
       {.name = "darken",
        .help = "Desaturates toward luminance and darkens the plate (Starik–Werman), more with "
                "depth; --aov darken writes what it changed.",
-       .inputs = {"image", "depth"},
+       .inputs = {"image", "depth", "plate_rain"},
        .outputs = {"image"}},
       {
           bind(&DarkenSettings::enabled, enabledParam()),

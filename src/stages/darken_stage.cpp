@@ -19,8 +19,10 @@ StageInfo darkenStageInfo() {
                   const Preset&) { return rainedPlateNote("darken", darken.overRain); },
        .reads =
            [](const DarkenSettings& darken, const Preset&) {
-             return darken.distanceMeters > 0.0 ? std::vector<std::string>{"image", "depth"}
-                                                : std::vector<std::string>{"image"};
+             std::vector<std::string> reads{"image"};
+             if (darken.distanceMeters > 0.0) reads.push_back("depth");
+             if (!darken.overRain) reads.push_back("plate_rain");
+             return reads;
            },
        .cachedWork =
            [](const DarkenSettings& darken, const Preset&, const ClipInfo& clip,

@@ -45,7 +45,8 @@ const SettingsTable<DepthSettings>& depthTable() {
        .help = "Scene depth per frame (metres) from manual layers (ground, card, polygon, sky), "
                "COLMAP structure from motion or a depth sequence of the plate (depth.file); sky is "
                "at infinity.",
-       .outputs = {"depth"}},
+       .inputs = {"still"},
+       .outputs = {"depth", "camera", "first_frame_depth"}},
       {
           bind(&S::enabled, enabledParam()),
           bind(&S::source, "source",

@@ -198,6 +198,18 @@ StageInfo depthStageInfo() {
              "file) or COLMAP tracking (source colmap)",
              depth.backdropMeters);
        },
+       // The guess reads the sky in the still; tracking replaces the camera.
+       .reads =
+           [](const DepthSettings& depth, const Preset&) {
+             return depth.source == DepthSource::Auto ? std::vector<std::string>{"still"}
+                                                      : std::vector<std::string>{};
+           },
+       .writes =
+           [](const DepthSettings& depth, const Preset&) {
+             std::vector<std::string> writes{"depth", "first_frame_depth"};
+             if (depth.source == DepthSource::Colmap) writes.push_back("camera");
+             return writes;
+           },
        .cacheKey =
            [](const DepthSettings& depth, const Preset& p, const ClipInfo& clip) {
              return depthTrackingCacheKey(depth, cameraSettings(p), clip);

@@ -18,7 +18,7 @@ const SettingsTable<FogSettings>& fogTable() {
            "through the rain and the fog (Huang et al. 2006, Eq. 5-6): per pixel L_in(view) (1 - "
            "exp(-sigma d)) over the plate times exp(-sigma d), sigma = the rain's scattering + "
            "density.",
-       .inputs = {"image", "depth", "environment"},
+       .inputs = {"image", "depth", "environment", "camera", "plate_rain"},
        .outputs = {"image"}},
       {
           bind(&S::enabled, enabledParam()),

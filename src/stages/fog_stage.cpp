@@ -107,9 +107,10 @@ StageInfo fogStageInfo() {
                   const Preset&) { return rainedPlateNote("fog", fog.overRain); },
        .reads =
            [](const FogSettings& fog, const Preset&) {
-             std::vector<std::string> reads{"image", "depth"};
+             std::vector<std::string> reads{"image", "depth", "camera"};
              if (fog.model == FogModel::Skylight || fog.colorSource != FogColorSource::Constant)
                reads.push_back("environment");
+             if (!fog.overRain) reads.push_back("plate_rain");
              return reads;
            },
        .cachedWork =

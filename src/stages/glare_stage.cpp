@@ -179,7 +179,7 @@ StageInfo glareStageInfo() {
       {.name = "glare",
        .help = "The veil bright sources spread as the eye sees them (CIE 2002 disability glare), "
                "after the rain; set in the lights section (lights.glare).",
-       .inputs = {"image"},
+       .inputs = {"image", "camera", "lights"},
        .outputs = {"image"}},
       lightsSettings,
       {.noOpReason = [](const LightsSettings& lights, const Preset& p) -> std::string {

@@ -33,6 +33,7 @@ const SettingsTable<LightingSettings>& lightingTable() {
       {.name = "lighting",
        .help = "Environment lighting for the drops (per clip): an equirect HDR, a constant, or the "
                "clip's average.",
+       .inputs = {"still"},
        .outputs = {"environment"}},
       {
           bind(&S::enabled, enabledParam()),

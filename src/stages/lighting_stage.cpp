@@ -297,6 +297,11 @@ StageInfo lightingStageInfo() {
                 "brightly as the plate shows it (about 34x its mean luminance); a night plate "
                 "keeps only the sky it shows";
        },
+       .reads =
+           [](const LightingSettings& lighting, const Preset&) {
+             return lighting.source == LightingSource::Frame ? std::vector<std::string>{"still"}
+                                                             : std::vector<std::string>{};
+           },
        .cacheKey =
            [](const LightingSettings& lighting, const Preset& p, const ClipInfo& clip) {
              // An HDR is read, not computed: nothing to cache (`--require-cache` must not ask

@@ -49,8 +49,8 @@ const SettingsTable<LightsSettings>& lightsTable() {
                "the spot's cone), and each light glows in the wet air and a spot shows its beam "
                "(single scattering, Huang et al. 2006 after Sun et al. 2005), occluded by the "
                "scene's depth; the extinction is the rain's plus the fog's.",
-       .inputs = {"image", "depth"},
-       .outputs = {"image"}},
+       .inputs = {"image", "depth", "camera", "still", "first_frame_depth"},
+       .outputs = {"image", "lights", "found_lamps"}},
       {
           bind(&S::enabled, enabledParam()),
           unbound<S>(listOfLights()),

@@ -83,7 +83,6 @@ class LightsStage : public Stage {
 
 }  // namespace
 
-// It reads what its section declares (image, depth) whatever the settings.
 StageInfo lightsStageInfo() {
   return makeStageInfo(
       lightsTable().section(), lightsSettings,
@@ -111,6 +110,19 @@ StageInfo lightsStageInfo() {
                                "render's log says how many it found)"
                              : "",
                  lights.halos ? "on" : "off", lights.drops ? "on" : "off");
+           },
+       .reads =
+           [](const LightsSettings& lights, const Preset&) {
+             std::vector<std::string> reads{"image", "depth", "camera"};
+             // Lamps are found in the still and placed at the first frame's depth.
+             if (lights.find) reads.insert(reads.end(), {"still", "first_frame_depth"});
+             return reads;
+           },
+       .writes =
+           [](const LightsSettings& lights, const Preset&) {
+             std::vector<std::string> writes{"image", "lights"};
+             if (lights.find) writes.push_back("found_lamps");
+             return writes;
            },
        .create =
            [](const LightsSettings& lights, const Preset& p) {

@@ -13,7 +13,7 @@ const SettingsTable<RainSettings>& rainTable() {
       {.name = "rain",
        .help = "Rain streaks on the GPU (headless EGL): drops by rate, stroke mattes, PRT shading, "
                "composite.",
-       .inputs = {"image", "depth", "environment", "footage_strokes"},
+       .inputs = {"image", "depth", "environment", "footage_strokes", "camera", "lights", "still"},
        .outputs = {"image"},
        .increasing = {{"near_m", "far_m"}}},
       {

@@ -289,9 +289,12 @@ StageInfo rainStageInfo() {
          return "";
        },
        .reads =
-           [](const RainSettings& rain, const Preset&) {
-             std::vector<std::string> reads{"image", "depth", "environment"};
+           [](const RainSettings& rain, const Preset& p) {
+             std::vector<std::string> reads{"image", "depth", "environment", "camera"};
              if (rain.strokes == "derain") reads.push_back("footage_strokes");
+             if (lightsSettings(p).drops) reads.push_back("lights");
+             // Auto exposure tells a night plate from a day one by its still.
+             if (cameraSettings(p).autoExposure()) reads.push_back("still");
              return reads;
            },
        // Every frame names the seed of its rain.

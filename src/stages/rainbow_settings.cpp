@@ -9,7 +9,7 @@ const SettingsTable<RainbowSettings>& rainbowTable() {
        .help = "Primary and secondary rainbows of a sun behind the camera, scattered by the rain's "
                "drops (terms 3 and 4 of D(theta), per-channel eta), as bright as the rain's "
                "optical depth along each ray allows, hidden by nearer scene depth.",
-       .inputs = {"image", "depth", "environment"},
+       .inputs = {"image", "depth", "environment", "camera"},
        .outputs = {"image"}},
       {
           bind(&S::enabled, enabledParam()),

@@ -96,7 +96,7 @@ StageInfo rainbowStageInfo() {
        },
        .reads =
            [](const RainbowSettings& bow, const Preset&) {
-             std::vector<std::string> reads{"image", "depth"};
+             std::vector<std::string> reads{"image", "depth", "camera"};
              if (bow.sunSource == RainbowSun::Environment) reads.push_back("environment");
              return reads;
            },

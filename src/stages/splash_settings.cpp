@@ -9,7 +9,7 @@ const SettingsTable<SplashSettings>& splashTable() {
        .help = "Splashes where drops strike surfaces facing up (from the depth plane): a crown and "
                "secondary droplets under gravity, at the rain's drop flux, shaded like the drops, "
                "depth-tested; their coverage is the \"splash\" AOV.",
-       .inputs = {"image", "depth", "environment"},
+       .inputs = {"image", "depth", "environment", "camera", "still"},
        .outputs = {"image", "splash"}},
       {
           bind(&S::enabled, enabledParam()),

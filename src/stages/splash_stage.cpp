@@ -187,7 +187,6 @@ class SplashStage : public Stage {
 
 }  // namespace
 
-// It reads what its section declares (image, depth, environment) whatever the settings.
 StageInfo splashStageInfo() {
   return makeStageInfo(
       splashTable().section(), splashSettings,
@@ -196,6 +195,13 @@ StageInfo splashStageInfo() {
          if (splash.opacity == 0.0) return "opacity is 0";
          return "";
        },
+       .reads =
+           [](const SplashSettings&, const Preset& p) {
+             std::vector<std::string> reads{"image", "depth", "environment", "camera"};
+             // Auto exposure tells a night plate from a day one by its still.
+             if (cameraSettings(p).autoExposure()) reads.push_back("still");
+             return reads;
+           },
        .create =
            [](const SplashSettings& splash, const Preset& p) {
              return std::make_unique<SplashStage>(splash, rainSettings(p), cameraSettings(p));

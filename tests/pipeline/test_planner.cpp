@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "pipeline/cache.h"
 #include "pipeline/planner.h"
 #include "stages/registry.h"
@@ -92,4 +94,53 @@ TEST(Planner, CachedPerClipResultIsNotRecomputed) {
   EXPECT_TRUE(plan.available("lighting"));
   // Other lighting parameters: another key, computed again.
   EXPECT_TRUE(planWith({"lighting.sample_frames=3"}, &cache).runs("lighting"));
+}
+
+// Every artifact a stage may read is made by an earlier stage or outside the stages, and what a
+// stage reads and writes with given parameters is among what it declares.
+TEST(Planner, EveryArtifactReadIsMadeBeforeItsReader) {
+  std::set<std::string> made;
+  for (const auto& [name, by] : artifactsMadeOutsideStages()) made.insert(name);
+  const Preset preset = Preset::resolve("moderate", {"lights.find=on"}, presetSchema());
+  for (const StageInfo& info : allStages()) {
+    for (const auto& input : info.spec.inputs)
+      EXPECT_TRUE(made.count(input)) << info.spec.name << " reads " << input << ", made by none";
+    const std::set<std::string> inputs(info.spec.inputs.begin(), info.spec.inputs.end());
+    const std::set<std::string> outputs(info.spec.outputs.begin(), info.spec.outputs.end());
+    if (info.reads)
+      for (const auto& read : info.reads(preset))
+        EXPECT_TRUE(inputs.count(read)) << info.spec.name << " reads undeclared " << read;
+    if (info.writes)
+      for (const auto& written : info.writes(preset))
+        EXPECT_TRUE(outputs.count(written)) << info.spec.name << " writes undeclared " << written;
+    made.insert(info.spec.outputs.begin(), info.spec.outputs.end());
+  }
+}
+
+// `plan` shows who makes and who reads each artifact: the frame's lights go from the lights
+// stage to the rain and the glare, and COLMAP tracking makes depth the camera's second maker.
+TEST(Planner, PlanShowsWhoMakesAndReadsEachArtifact) {
+  auto find = [](const Plan& plan, const std::string& name) {
+    for (const auto& a : plan.artifacts)
+      if (a.name == name) return a;
+    return PlanArtifact{};
+  };
+  const Plan plan = planWith({"lights.find=on"});
+  const PlanArtifact lights = find(plan, "lights");
+  EXPECT_EQ(lights.madeBy, std::vector<std::string>{"lights"});
+  EXPECT_EQ(lights.readBy, (std::vector<std::string>{"rain", "glare"}));
+  EXPECT_EQ(find(plan, "first_frame_depth").readBy, std::vector<std::string>{"lights"});
+  EXPECT_EQ(find(plan, "camera").madeBy, std::vector<std::string>{"camera.path"});
+  EXPECT_NE(plan.text().find("    lights             lights -> rain, glare\n"), std::string::npos)
+      << plan.text();
+  // Lit drops off: the rain no longer reads the lights.
+  EXPECT_EQ(find(planWith({"lights.find=on", "lights.drops=false"}), "lights").readBy,
+            std::vector<std::string>{"glare"});
+  EXPECT_EQ(find(planWith({"depth.source=colmap"}), "camera").madeBy,
+            (std::vector<std::string>{"camera.path", "depth"}));
+  // A plate graded over its own rain on purpose: nothing asks whether it rained.
+  EXPECT_EQ(find(planWith({"darken.over_rain=true", "blur.over_rain=true", "fog.over_rain=true"}),
+                 "plate_rain")
+                .name,
+            "");
 }
