@@ -33,6 +33,7 @@ void addEnvmapCommand(CLI::App& app, Invocation& invocation) {
   struct Args {
     std::string input, output, panorama, hdr, frames, lights;
     envmap::ClipEnvironmentSettings settings;
+    std::string motion = "auto";
   };
   auto args = std::make_shared<Args>();
   cmd->add_option("INPUT", args->input,
@@ -45,7 +46,7 @@ void addEnvmapCommand(CLI::App& app, Invocation& invocation) {
       ->check(CLI::Range(1.0, 170.0));
   cmd->add_option("--every", args->settings.every, "looming camera: a panorama every N frames")
       ->check(CLI::Range(1, 10000));
-  cmd->add_option("--motion", args->settings.motion, "auto, pan, loom or static")
+  cmd->add_option("--motion", args->motion, "auto, pan, loom or static")
       ->check(CLI::IsMember({"auto", "pan", "loom", "static"}));
   cmd->add_option("--order", args->settings.shOrder, "SH order (3: 16 coefficients per channel)")
       ->check(CLI::Range(0, 8));
@@ -55,6 +56,7 @@ void addEnvmapCommand(CLI::App& app, Invocation& invocation) {
   cmd->add_option("--hdr", args->hdr, "an equirect HDR instead of footage");
   cmd->callback([=, &invocation] {
     envmap::ClipEnvironmentSettings settings = args->settings;
+    settings.motion = *envmap::stitchMotionNamed(args->motion);
     if (!args->lights.empty())
       settings.lights = envmap::parseLights(
           nlohmann::json::parse(fs::readTextFile(args->lights), nullptr, false), args->lights);

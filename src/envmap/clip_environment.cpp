@@ -13,6 +13,28 @@
 #include "util/timer.h"
 
 namespace pluvia::envmap {
+
+namespace {
+
+constexpr std::array<std::pair<const char*, StitchMotion>, 4> kMotionNames{
+    {{"auto", StitchMotion::Auto},
+     {"pan", StitchMotion::Pan},
+     {"loom", StitchMotion::Loom},
+     {"static", StitchMotion::Static}}};
+
+}  // namespace
+
+const char* motionName(StitchMotion motion) {
+  for (const auto& [name, value] : kMotionNames)
+    if (value == motion) return name;
+  return "auto";
+}
+
+std::optional<StitchMotion> stitchMotionNamed(const std::string& name) {
+  for (const auto& [known, value] : kMotionNames)
+    if (name == known) return value;
+  return std::nullopt;
+}
 namespace {
 
 // A source pixel at or above this in the file's 0..1 encoding counts as clipped.
@@ -99,22 +121,24 @@ ClipEnvironment buildClipEnvironment(ClipReader& reader, const std::vector<int64
   placementSettings.horizontalFovDeg = settings.horizontalFovDeg;
 
   ClipEnvironment env;
-  std::string motion = settings.motion;
+  StitchMotion motion = settings.motion;
   std::vector<PanoramaFrame> panFrames;
   std::vector<int64_t> panNumbers;
   Placement panPlacement;
-  if (motion == "auto" || motion == "pan") {
+  if (motion == StitchMotion::Auto || motion == StitchMotion::Pan) {
     panNumbers = evenly(frames, settings.maxPanFrames);
     for (int64_t f : panNumbers) panFrames.push_back(frameReader.read(f));
     panPlacement = placeFrames(panFrames, placementSettings);
-    if (motion == "auto") {
+    if (motion == StitchMotion::Auto) {
       const bool rotates = panPlacement.fromFeatures &&
                            rotationSpanDeg(panPlacement) > settings.horizontalFovDeg / 4;
       const bool changes =
           panFrames.size() > 1 &&
           medianAbsDifference(panFrames.front().linearRgb.reshape(1),
                               panFrames.back().linearRgb.reshape(1)) > kStaticDifference;
-      motion = rotates ? "pan" : changes && int(frames.size()) > settings.every ? "loom" : "static";
+      motion = rotates                                          ? StitchMotion::Pan
+               : changes && int(frames.size()) > settings.every ? StitchMotion::Loom
+                                                                : StitchMotion::Static;
     }
     if (panPlacement.fromFeatures && !panPlacement.interpolated.empty()) {
       std::vector<int64_t> numbers;
@@ -125,16 +149,17 @@ ClipEnvironment buildClipEnvironment(ClipReader& reader, const std::vector<int64
                       fmt::join(numbers, ", ")));
     }
     if (!panPlacement.fromFeatures && panFrames.size() > 1) {
-      env.warnings.push_back(panPlacement.note + (motion == "pan"
-                                                      ? "; frames placed by the field of view"
-                                                      : "; taken as a " + motion + " camera"));
+      env.warnings.push_back(panPlacement.note +
+                             (motion == StitchMotion::Pan
+                                  ? "; frames placed by the field of view"
+                                  : std::string("; taken as a ") + motionName(motion) + " camera"));
     }
   }
-  env.motion = motion;
-  if (motion == "pan") {
+  env.motion = motionName(motion);
+  if (motion == StitchMotion::Pan) {
     env.keys.push_back(
         makeKey(panNumbers[panNumbers.size() / 2], panFrames, panPlacement, settings));
-  } else if (motion == "static") {
+  } else if (motion == StitchMotion::Static) {
     const std::vector<PanoramaFrame> one = {frameReader.read(frames.front())};
     env.keys.push_back(makeKey(frames.front(), one, placeFrames(one, placementSettings), settings));
   } else {

@@ -6,6 +6,7 @@
 // Each panorama is projected onto SH of order `shOrder`.
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,11 +18,20 @@
 
 namespace pluvia::envmap {
 
+// How the camera moves over the clip, as the stitching takes it: Auto finds it (a rotation found
+// by the features is a pan, a changing view a loom, else static).
+enum class StitchMotion { Auto, Pan, Loom, Static };
+
+// "auto", "pan", "loom", "static": the names presets and `pluvia envmap --motion` use.
+const char* motionName(StitchMotion motion);
+// The motion of that name; none for any other.
+std::optional<StitchMotion> stitchMotionNamed(const std::string& name);
+
 struct ClipEnvironmentSettings {
   double horizontalFovDeg = 36.0;  // the fallback placement's, and the focal estimate's seed
-  std::string motion = "auto";     // auto, pan, loom, static
-  int every = 5;                   // loom: a panorama per this many frames
-  int maxPanFrames = 24;           // pan: frames taken, evenly over the clip
+  StitchMotion motion = StitchMotion::Auto;
+  int every = 5;          // loom: a panorama per this many frames
+  int maxPanFrames = 24;  // pan: frames taken, evenly over the clip
   int shOrder = 3;
   int width = 512;  // of each panorama (height = width / 2)
   std::vector<LightSource> lights;

@@ -47,19 +47,23 @@ const SettingsTable<LightingSettings>& lightingTable() {
                "(the sky above lights the drops); stitch: the shot's frames stitched into a "
                "panorama (Wang et al. 4.1); frame_average: mean radiance of sampled frames in "
                "every direction; constant: lighting.color; hdr: lighting.hdr"),
-          bind(&S::motion,
-               enumParam("motion", "auto", {"auto", "pan", "loom", "static"},
-                         "stitch: the camera's motion (auto: rotation found by the features makes "
-                         "a pan, a changing view a loom)")),
+          bind(&S::motion, "motion",
+               {{"auto", envmap::StitchMotion::Auto},
+                {"pan", envmap::StitchMotion::Pan},
+                {"loom", envmap::StitchMotion::Loom},
+                {"static", envmap::StitchMotion::Static}},
+               "stitch: the camera's motion (auto: rotation found by the features makes "
+               "a pan, a changing view a loom)"),
           bind(&S::everyFrames, integerParam("every", 5, {1, 10000}, "frames",
                                              "stitch, loom: a panorama every N frames")),
           bind(&S::panFrames, integerParam("pan_frames", 24, {1, 500}, "frames",
                                            "stitch, pan: frames stitched, evenly over the clip")),
-          bind(&S::unseenFill,
-               enumParam("unseen_fill", "sky_model", {"sky_model", "nearest"},
-                         "stitch: the directions no frame saw; sky_model: a Preetham, CIE "
-                         "overcast or uniform sky fitted to the seen sky and the seen ground's "
-                         "albedo under it; nearest: the nearest seen colour (Wang et al.)")),
+          bind(&S::unseenFill, "unseen_fill",
+               {{"sky_model", envmap::UnseenFill::SkyModel},
+                {"nearest", envmap::UnseenFill::Nearest}},
+               "stitch: the directions no frame saw; sky_model: a Preetham, CIE "
+               "overcast or uniform sky fitted to the seen sky and the seen ground's "
+               "albedo under it; nearest: the nearest seen colour (Wang et al.)"),
           bind(&S::lights, lightsParam()),
           bind(&S::hdrPath,
                stringParam("hdr", "",

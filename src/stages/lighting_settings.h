@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "envmap/clip_environment.h"
+#include "envmap/panorama.h"
 #include "preset/preset.h"
 #include "preset/settings_table.h"
 
@@ -17,10 +19,10 @@ enum class LightingSource { Frame, FrameAverage, Constant, Hdr, Stitch };
 struct LightingSettings {
   bool enabled = true;
   LightingSource source = LightingSource::Frame;
-  std::string motion = "auto";           // stitch: auto | pan | loom | static
-  int everyFrames = 5;                   // stitch, loom: a panorama every N frames
-  int panFrames = 24;                    // stitch, pan: frames stitched
-  std::string unseenFill = "sky_model";  // stitch: sky_model | nearest (envmap's enum)
+  envmap::StitchMotion motion = envmap::StitchMotion::Auto;  // stitch
+  int everyFrames = 5;  // stitch, loom: a panorama every N frames
+  int panFrames = 24;   // stitch, pan: frames stitched
+  envmap::UnseenFill unseenFill = envmap::UnseenFill::SkyModel;  // stitch
   // Light sources the footage saturated, as given: items of type "direction" or "region"
   // (envmap::parseLights reads them; region fields are in frame pixels).
   nlohmann::json lights = nlohmann::json::array();

@@ -179,8 +179,7 @@ class EnvironmentStage : public Stage {
     stitch_.motion = lighting_.motion;
     stitch_.every = lighting_.everyFrames;
     stitch_.maxPanFrames = lighting_.panFrames;
-    stitch_.fill = lighting_.unseenFill == "nearest" ? envmap::UnseenFill::Nearest
-                                                     : envmap::UnseenFill::SkyModel;
+    stitch_.fill = lighting_.unseenFill;
     stitch_.inputSpace = color_.inputSpace;
     stitch_.lights = envmap::parseLights(lighting_.lights, "lighting.lights");
   }
