@@ -125,21 +125,18 @@ void darken(Image& image, float amount, float darkening, const float* weight) {
   });
 }
 
-void blendToward(Image& image, const Image& target, const float* weight) {
-  forRowBands(image, [&](size_t first, size_t count) {
-    for (size_t i = first; i < first + count; ++i) {
-      float* p = image.rgba.data() + i * 4;
-      const float* t = target.rgba.data() + i * 4;
-      for (int c = 0; c < 3; ++c) p[c] += weight[i] * (t[c] - p[c]);
-    }
-  });
-}
-
 // Separable, in place, in bands of rows drawn in parallel. A band keeps the rows blurred along
 // x that its output rows need in a ring; the rows above and below it (its halo: another band's
 // rows, or reflections at the image's top and bottom, which this band may already have
 // overwritten) are blurred along x before any band writes.
 void gaussianBlur(Image& image, float sigmaPx) {
+  gaussianBlurToward(image, sigmaPx, nullptr);
+}
+
+// `weight` null: the blur itself, written in place. Else each output row is blurred into a
+// scratch row and mixed into the image row, which no later row reads (rows below are read before
+// they are overwritten, rows above come from the ring or the halo).
+void gaussianBlurToward(Image& image, float sigmaPx, const float* weight) {
   if (sigmaPx <= 0.0f || image.empty()) return;
   // Kernel of +-4 sigma, OpenCV's own weights (what cv::GaussianBlur used here before).
   const int radius = std::max(1, static_cast<int>(std::ceil(4.0f * sigmaPx)));
@@ -169,6 +166,7 @@ void gaussianBlur(Image& image, float sigmaPx) {
     const int y0 = band * bandRows, y1 = std::min(y0 + bandRows, height);
     const int taps = 2 * radius + 1;
     std::vector<float> ring(static_cast<size_t>(taps) * rowFloats);
+    std::vector<float> blurred(weight ? rowFloats : 0);
     std::vector<const float*> window(static_cast<size_t>(taps));
     // Virtual row j, blurred along x: from the halo outside the band, else blurred now into
     // the ring (rows of the band below the output row are not yet overwritten).
@@ -183,7 +181,16 @@ void gaussianBlur(Image& image, float sigmaPx) {
       window[static_cast<size_t>(j - y0 + radius)] = rowAt(j);
     for (int y = y0; y < y1; ++y) {
       window[static_cast<size_t>(taps - 1)] = rowAt(y + radius);
-      passes.column(window.data(), weights, radius, rowFloats, inputRow(y));
+      float* out = inputRow(y);
+      passes.column(window.data(), weights, radius, rowFloats, weight ? blurred.data() : out);
+      if (weight) {
+        const float* w = weight + static_cast<size_t>(y) * width;
+        for (int x = 0; x < width; ++x) {
+          float* p = out + static_cast<size_t>(x) * 4;
+          const float* t = blurred.data() + static_cast<size_t>(x) * 4;
+          for (int c = 0; c < 3; ++c) p[c] += w[x] * (t[c] - p[c]);
+        }
+      }
       std::rotate(window.begin(), window.begin() + 1, window.end());
     }
   });

@@ -20,12 +20,13 @@ inline float luminance(const float* rgb) {
 //   out = (1 - amount) * rgb + amount * Y, then * (1 - amount * darkening)
 void darken(Image& image, float amount, float darkening, const float* weight = nullptr);
 
-// out = rgb + weight[i] * (target - rgb) per pixel, RGB only: `target` the same size.
-void blendToward(Image& image, const Image& target, const float* weight);
-
 // Gaussian blur of RGB with standard deviation sigmaPx (pixels), reflecting at the border so the
 // mean is preserved. sigma 0 is the identity.
 void gaussianBlur(Image& image, float sigmaPx);
+
+// The same blur mixed in by pixel: out = rgb + weight[i] * (blurred - rgb), RGB only, without a
+// copy of the frame (each row is mixed as it is blurred).
+void gaussianBlurToward(Image& image, float sigmaPx, const float* weight);
 
 // Homogeneous fog: alpha = 1 - exp(-density * min(depth, maxDepthMeters)),
 // out = alpha * fogRgb + (1 - alpha) * rgb, with depth the "depth" plane (metres). The sky

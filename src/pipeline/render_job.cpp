@@ -31,6 +31,12 @@
 namespace pluvia {
 namespace {
 
+// A movie's frames are decoded from integer codes (io/movie_reader.cpp: rgb24 or rgb48): they
+// hold no NaN or infinity, and a 1080p frame's scan for them costs a few milliseconds.
+bool mayHoldNonFinite(const ClipInfo& clip) {
+  return !clip.isMovie;
+}
+
 // "auto": float files are scene-linear (the config's scene_linear role), a movie what its colour
 // tags say (movieTaggedSpace), other integer files display-encoded sRGB (the config's space for
 // it: image/color.h).
@@ -391,7 +397,7 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
   context_.framesKey = framesKey_;
   context_.readWorking = [this](int64_t frame) {
     Image image = reader_->read(frame);
-    ops::replaceNonFinite(image);
+    if (mayHoldNonFinite(clip())) ops::replaceNonFinite(image);
     toWorking_.apply(image);
     return image;
   };
@@ -445,7 +451,7 @@ FrameContext RenderSession::readFrame(int64_t frameNumber) {
     ScopedTimer timer(&times_, "decode");
     frame.image = reader_->read(frameNumber);
   }
-  if (size_t bad = ops::replaceNonFinite(frame.image)) {
+  if (size_t bad = mayHoldNonFinite(clip()) ? ops::replaceNonFinite(frame.image) : 0) {
     log::warning(fmt::format("frame {}: {} NaN/Inf values in {} replaced by 0", frameNumber, bad,
                              clip().path));
   }

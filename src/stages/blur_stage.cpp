@@ -35,12 +35,7 @@ StageInfo blurStageInfo() {
              return std::make_unique<DepthGradingStage>(
                  "blur", blur.distanceMeters, blur.overRain,
                  [blur](Image& image, const std::vector<float>& weight) {
-                   Image blurred;
-                   blurred.width = image.width;
-                   blurred.height = image.height;
-                   blurred.rgba = image.rgba;
-                   ops::gaussianBlur(blurred, float(blur.sigmaPx));
-                   ops::blendToward(image, blurred, weight.data());
+                   ops::gaussianBlurToward(image, float(blur.sigmaPx), weight.data());
                  });
            }});
 }

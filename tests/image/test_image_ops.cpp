@@ -175,3 +175,25 @@ TEST(ImageOps, FogFollowsTheFormulaOnAVaryingDepthPlane) {
     }
   }
 }
+
+// Blurring toward the blur by a weight per pixel gives, bit for bit, the blur of a copy mixed
+// in afterwards (what the blur stage did before, at the cost of a frame's copy): weight 0 keeps
+// the pixel, 1 takes the blur, and the rows mixed in never feed the rows blurred after them.
+TEST(ImageOps, GaussianBlurTowardIsTheBlurMixedInByWeight) {
+  for (float sigma : {0.2f, 0.4f, 1.3f, 6.0f}) {
+    const Image original = noiseImage(53, 71, 3);
+    std::vector<float> weight(original.pixelCount());
+    for (size_t i = 0; i < weight.size(); ++i) weight[i] = float(i % 7) / 6.0f;
+    Image blurred = original;
+    ops::gaussianBlur(blurred, sigma);
+    Image expected = original;
+    for (size_t i = 0; i < expected.pixelCount(); ++i)
+      for (int c = 0; c < 3; ++c) {
+        float& p = expected.rgba[i * 4 + size_t(c)];
+        p += weight[i] * (blurred.rgba[i * 4 + size_t(c)] - p);
+      }
+    Image toward = original;
+    ops::gaussianBlurToward(toward, sigma, weight.data());
+    ASSERT_EQ(toward.rgba, expected.rgba) << "sigma " << sigma;
+  }
+}
