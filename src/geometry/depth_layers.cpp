@@ -198,6 +198,12 @@ std::vector<float> rasterizeDepthLayers(const Camera& camera, const nlohmann::js
   return depth;
 }
 
+bool depthLayersHaveGround(const nlohmann::json& layers) {
+  for (const auto& layer : layers)
+    if (layer.is_object() && layer.value("type", "") == "ground") return true;
+  return false;
+}
+
 bool depthLayersAnimated(const nlohmann::json& layers) {
   for (const auto& layer : layers) {
     if (!layer.is_object()) continue;

@@ -54,4 +54,7 @@ std::vector<float> rasterizeDepthLayers(const Camera& camera, const nlohmann::js
 // moving camera, which the caller knows about (CameraPath::moving()).
 bool depthLayersAnimated(const nlohmann::json& layers);
 
+// True when a layer is the ground plane under the camera (it moves with a moving camera).
+bool depthLayersHaveGround(const nlohmann::json& layers);
+
 }  // namespace pluvia

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "stages/clip_plate_rain.h"
+#include "util/parallel.h"
 
 namespace pluvia {
 
@@ -12,16 +13,18 @@ std::vector<float> depthGradingWeights(const Image& image, double distanceMeters
   const std::vector<float>* depth = image.findPlane(kDepthPlane);
   if (!depth || distanceMeters <= 0.0) return weight;
   // Depth planes repeat values (a backdrop, the ground along a row): exp() only on a change.
-  float lastDepth = std::numeric_limits<float>::quiet_NaN(), lastWeight = 1.0f;
-  for (size_t i = 0; i < weight.size(); ++i) {
-    const float z = (*depth)[i];
-    if (!(z < std::numeric_limits<float>::infinity())) continue;  // sky: the whole path
-    if (z != lastDepth) {
-      lastDepth = z;
-      lastWeight = 1.0f - float(std::exp(-std::max(0.0, double(z)) / distanceMeters));
+  forEachBlock(weight.size(), size_t(1) << 14, [&](size_t begin, size_t end) {
+    float lastDepth = std::numeric_limits<float>::quiet_NaN(), lastWeight = 1.0f;
+    for (size_t i = begin; i < end; ++i) {
+      const float z = (*depth)[i];
+      if (!(z < std::numeric_limits<float>::infinity())) continue;  // sky: the whole path
+      if (z != lastDepth) {
+        lastDepth = z;
+        lastWeight = 1.0f - float(std::exp(-std::max(0.0, double(z)) / distanceMeters));
+      }
+      weight[i] = lastWeight;
     }
-    weight[i] = lastWeight;
-  }
+  });
   return weight;
 }
 

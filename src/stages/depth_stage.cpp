@@ -30,12 +30,6 @@
 namespace pluvia {
 namespace {
 
-bool hasGroundLayer(const nlohmann::json& layers) {
-  for (const auto& layer : layers)
-    if (layer.value("type", "") == "ground") return true;
-  return false;
-}
-
 // depth.source = "file": the sequence and how to decode it. An empty depth.file is refused here,
 // when the render builds its stages, before anything is read or written; errors name the preset
 // file `presetSource`.
@@ -88,7 +82,7 @@ class DepthStage : public Stage {
     // Rasterising a frame costs a pass over every pixel per layer: do it once unless a layer moves
     // or the ground is seen from a moving camera (long clips would pay it on every frame).
     const nlohmann::json& layers = depth_.layers;
-    perFrame_ = depthLayersAnimated(layers) || (path_.moving() && hasGroundLayer(layers));
+    perFrame_ = depthLayersAnimated(layers) || (path_.moving() && depthLayersHaveGround(layers));
     if (!perFrame_)
       depthMeters_ = rasterizeDepthLayers(path_.cameraAt(0.0), layers, 0.0, rampValueAt);
   }
