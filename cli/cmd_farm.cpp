@@ -19,6 +19,7 @@
 #include "io/clip_reader.h"
 #include "io/output_target.h"
 #include "io/timecode.h"
+#include "pipeline/camera_settings.h"
 #include "pipeline/color_settings.h"
 #include "pipeline/frame_metadata.h"
 #include "pipeline/numbered_clip_reader.h"
@@ -129,7 +130,7 @@ void addSlurmCommand(CLI::App* farm) {
       throw UsageError(
           fmt::format("--frames {}: a farm job renders frames 0 and up", args->frames));
     job.chunkFrames = args->chunk;
-    job.fps = preset.number("camera.fps") > 0 ? preset.number("camera.fps") : clip.fps;
+    job.fps = cameraSettings(preset).framesPerSecondOf(clip.fps);
     job.threads = args->threads > 0 ? args->threads : args->cpus;
     // Every render option goes to the chunks, a movie's codec to its assembly instead (the
     // chunks write TIFF), and the proxy also to the prepare job.

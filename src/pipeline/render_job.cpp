@@ -247,7 +247,7 @@ WriterOptions writerOptionsFor(const RenderRequest& request, const Preset& prese
                                const ColorSettings& color, const ClipInfo& clip,
                                const std::vector<int64_t>& frames) {
   WriterOptions options = request.format;
-  options.fps = camera.framesPerSecond > 0 ? camera.framesPerSecond : clip.fps;
+  options.fps = camera.framesPerSecondOf(clip.fps);
   options.aovs = request.aovs;
   options.metadata = frameMetadata(preset, stages);
   carryInputMetadata(options, clip, frames, request.proxyScale);
