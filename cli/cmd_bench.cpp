@@ -252,7 +252,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
 
     RenderRequest request;
     request.input = input;
-    request.output = (folder / "pluvia_render.mp4").string();
+    request.output = OutputTarget::classify((folder / "pluvia_render.mp4").string());
     request.commandLine = invocation.commandLine;
     request.progress = false;
     // The Y'CbCr pluvia pipes to x264, kept for the encoder's floor below.
@@ -296,7 +296,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
     // incoherent detail: it costs libx264 more than the plate, and no renderer can beat this
     // rate. (The movie decoded again would not do: its crf 16 smoothing costs x264 a fifth less
     // time than the frames pluvia gave it.)
-    const ClipInfo rendered = openClip(request.output)->info();
+    const ClipInfo rendered = openClip(request.output.path)->info();
     started = std::chrono::steady_clock::now();
     cpuStarted = cpuSecondsWithChildren();
     std::vector<std::string> encodeOnly = {

@@ -14,6 +14,7 @@
 #include "geometry/depth_layers.h"
 #include "io/clip_reader.h"
 #include "io/image_file_writer.h"
+#include "io/output_target.h"
 #include "io/sequence_pattern.h"
 #include "pipeline/camera_settings.h"
 #include "pluvia/version.h"
@@ -108,8 +109,8 @@ void addDepthCommand(CLI::App& app, Invocation& invocation) {
   cmd->add_option("--set", args->sets, "override KEY=VALUE (e.g. depth.layers.1.distance_m=40)");
   cmd->add_option("--frames", args->frames, "FIRST-LAST, in the clip's frame numbers");
   cmd->callback([=, &invocation] {
-    auto pattern = SequencePattern::parse(args->output);
-    if (!pattern || lowerExtension(args->output) != "exr")
+    const OutputTarget output = OutputTarget::classify(args->output);
+    if (!output.isSequence() || lowerExtension(output.path) != "exr")
       throw UsageError(fmt::format("-o {}: expected an EXR sequence pattern such as depth.####.exr",
                                    args->output));
     // Everything that can be refused is refused before the first file is written.
@@ -118,7 +119,7 @@ void addDepthCommand(CLI::App& app, Invocation& invocation) {
     const ClipInfo& clip = reader->info();
     const std::vector<int64_t> frames = selectFrames(clip, args->frames);
     std::vector<std::string> outputs;
-    for (int64_t f : frames) outputs.push_back(pattern->pathFor(f));
+    for (int64_t f : frames) outputs.push_back(output.pathFor(f));
     std::vector<std::string> inputs = clip.files;
     inputs.push_back(clip.path);
     refuseOverwritingInput(inputs, "-o", outputs);

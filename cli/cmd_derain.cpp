@@ -13,6 +13,7 @@
 #include "io/clip_reader.h"
 #include "io/clip_writer.h"
 #include "io/output_lock.h"
+#include "io/output_target.h"
 #include "pluvia/version.h"
 #include "util/error.h"
 #include "util/fs.h"
@@ -123,24 +124,26 @@ void addDerainCommand(CLI::App& app, Invocation& invocation) {
     options.fps = clip.fps;
     options.metadata = {{"pluvia:version", kVersion},
                         {"pluvia:commandLine", invocation.commandLine}};
-    auto cleanWriter = openClipWriter(args->clean, clip.width, clip.height, options);
+    const OutputTarget cleanOutput = OutputTarget::classify(args->clean);
+    auto cleanWriter = openClipWriter(cleanOutput, clip.width, clip.height, options);
     if (cleanWriter->isMovie())
       throw UsageError(fmt::format("-o {}: write a sequence pattern, not a movie", args->clean));
     refuseOverwritingInput(clip.files, "-o", outputPaths(*cleanWriter, frames));
     // Held to the end, as a render holds its output; the temporaries a killed derain left go.
     std::optional<OutputLock> cleanLock, matteLock;
     if (!frames.empty()) {
-      cleanLock.emplace(args->clean, frames.front(), frames.back());
+      cleanLock.emplace(cleanOutput, frames.front(), frames.back());
       cleanLock->removeStaleTemporaries();
     }
     std::unique_ptr<ClipWriter> matteWriter;
     if (!args->matte.empty()) {
-      matteWriter = openClipWriter(args->matte, clip.width, clip.height, options);
+      const OutputTarget matteOutput = OutputTarget::classify(args->matte);
+      matteWriter = openClipWriter(matteOutput, clip.width, clip.height, options);
       if (matteWriter->isMovie())
         throw UsageError(fmt::format("--matte-out {}: write a sequence pattern", args->matte));
       refuseOverwritingInput(clip.files, "--matte-out", outputPaths(*matteWriter, frames));
       if (!frames.empty()) {
-        matteLock.emplace(args->matte, frames.front(), frames.back());
+        matteLock.emplace(matteOutput, frames.front(), frames.back());
         matteLock->removeStaleTemporaries();
       }
     }

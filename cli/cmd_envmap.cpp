@@ -7,7 +7,7 @@
 #include "common.h"
 #include "envmap/clip_environment.h"
 #include "io/image_file_writer.h"
-#include "io/sequence_pattern.h"
+#include "io/output_target.h"
 #include "optics/environment_file.h"
 #include "pluvia/version.h"
 #include "util/error.h"
@@ -62,14 +62,15 @@ void addEnvmapCommand(CLI::App& app, Invocation& invocation) {
           nlohmann::json::parse(fs::readTextFile(args->lights), nullptr, false), args->lights);
     envmap::ClipEnvironment environment;
     std::vector<int64_t> frames;
+    const OutputTarget panorama = OutputTarget::classify(args->panorama);
     // Nothing this command writes may be a file it reads.
     auto refuseOutputsOnto = [&](const std::vector<std::string>& inputs,
                                  const std::vector<int64_t>& keyFrames) {
       refuseOverwritingInput(inputs, "-o", {args->output});
       if (args->panorama.empty()) return;
       std::vector<std::string> panoramas = {args->panorama};
-      if (const auto pattern = SequencePattern::parse(args->panorama))
-        for (int64_t f : keyFrames) panoramas.push_back(pattern->pathFor(f));
+      if (panorama.isSequence())
+        for (int64_t f : keyFrames) panoramas.push_back(panorama.pathFor(f));
       refuseOverwritingInput(inputs, "--panorama-out", panoramas);
       // Made as -o's is, and before the work: an unwritable folder fails at once.
       fs::ensureParentFolder(args->panorama, fs::MakeFolders::LastLevel);
@@ -99,13 +100,12 @@ void addEnvmapCommand(CLI::App& app, Invocation& invocation) {
     json["input"] = args->hdr.empty() ? args->input : args->hdr;
     json["fov_deg"] = settings.horizontalFovDeg;
     if (!args->panorama.empty()) {
-      const auto pattern = SequencePattern::parse(args->panorama);
-      if (environment.keys.size() > 1 && !pattern)
+      if (environment.keys.size() > 1 && !panorama.isSequence())
         throw UsageError(fmt::format(
             "--panorama-out {}: {} panoramas (a looming camera); give a pattern like pano.####.exr",
             args->panorama, environment.keys.size()));
       for (const envmap::EnvironmentKey& key : environment.keys)
-        writePanorama(key.radiance, pattern ? pattern->pathFor(key.frame) : args->panorama);
+        writePanorama(key.radiance, panorama.pathFor(key.frame));
       json["panorama"] = args->panorama;
     }
     fs::writeTextFile(args->output, json.dump(2) + "\n");

@@ -17,8 +17,9 @@
 #include "farm/farm_job.h"
 #include "farm/slurm.h"
 #include "io/clip_reader.h"
-#include "io/sequence_pattern.h"
+#include "io/output_target.h"
 #include "io/timecode.h"
+#include "pipeline/camera_settings.h"
 #include "pipeline/color_settings.h"
 #include "pipeline/frame_metadata.h"
 #include "pipeline/numbered_clip_reader.h"
@@ -37,14 +38,11 @@ namespace stdfs = std::filesystem;
 namespace {
 
 // Beside the output, named after it: out/rain.####.exr and out/rain.mp4 -> out/rain.farm.
-std::string defaultFarmDir(const std::string& output) {
-  std::string name = stdfs::path(output).filename().string();
-  if (auto pattern = SequencePattern::parse(name))
-    name = pattern->prefix;
-  else
-    name = stdfs::path(name).stem().string();
+std::string defaultFarmDir(const OutputTarget& output) {
+  std::string name = output.pattern ? stdfs::path(output.pattern->prefix).filename().string()
+                                    : stdfs::path(output.path).stem().string();
   while (!name.empty() && (name.back() == '.' || name.back() == '_')) name.pop_back();
-  return (stdfs::path(output).parent_path() / ((name.empty() ? "pluvia" : name) + ".farm"))
+  return (stdfs::path(output.path).parent_path() / ((name.empty() ? "pluvia" : name) + ".farm"))
       .string();
 }
 
@@ -88,9 +86,10 @@ void addSlurmCommand(CLI::App* farm) {
       ->excludes(submit);
   cmd->callback([=] {
     checkProxyScale(args->writes.proxy);
+    const OutputTarget output = OutputTarget::classify(stdfs::absolute(args->output).string());
     // An unknown AOV refused here, not on the farm; a farm movie is assembled from the chunks'
     // beauty frames alone, so its AOVs would be lost.
-    if (!args->writes.aovs().empty() && isMovieExtension(args->output))
+    if (!args->writes.aovs().empty() && output.isMovie())
       throw UsageError(
           fmt::format("--aov {}: a farm render assembles the movie {} from its "
                       "frames without their AOVs; render an image sequence such as "
@@ -107,14 +106,13 @@ void addSlurmCommand(CLI::App* farm) {
     job.preset =
         stdfs::exists(args->preset) ? stdfs::absolute(args->preset).string() : args->preset;
     job.sets = args->sets;
-    job.output = stdfs::absolute(args->output).string();
+    job.output = output;
     // Made here, as a local render makes it (--mkdir for more than its last level): a chunk
     // never finds it missing, and a mistyped path fails at submission, not on the farm.
-    fs::ensureParentFolder(
-        job.output, args->writes.makeFolders ? fs::MakeFolders::All : fs::MakeFolders::LastLevel);
+    fs::ensureParentFolder(job.output.path, args->writes.makeFolders ? fs::MakeFolders::All
+                                                                     : fs::MakeFolders::LastLevel);
     job.farmDir =
-        stdfs::absolute(args->farmDir.empty() ? defaultFarmDir(args->output) : args->farmDir)
-            .string();
+        stdfs::absolute(args->farmDir.empty() ? defaultFarmDir(output) : args->farmDir).string();
     job.workingDir = stdfs::current_path().string();
     job.cacheDir =
         stdfs::absolute(args->cache.empty() ? (stdfs::path(job.farmDir) / "cache").string()
@@ -132,11 +130,11 @@ void addSlurmCommand(CLI::App* farm) {
       throw UsageError(
           fmt::format("--frames {}: a farm job renders frames 0 and up", args->frames));
     job.chunkFrames = args->chunk;
-    job.fps = preset.number("camera.fps") > 0 ? preset.number("camera.fps") : clip.fps;
+    job.fps = cameraSettings(preset).framesPerSecondOf(clip.fps);
     job.threads = args->threads > 0 ? args->threads : args->cpus;
     // Every render option goes to the chunks, a movie's codec to its assembly instead (the
     // chunks write TIFF), and the proxy also to the prepare job.
-    const bool movie = isMovieExtension(job.output);
+    const bool movie = output.isMovie();
     for (const std::string& argument : args->writes.renderArguments())
       job.renderOptions.push_back(argument);
     if (movie && args->writes.codec != RenderOutputOptions().codec) {
@@ -166,10 +164,10 @@ void addSlurmCommand(CLI::App* farm) {
       job.ocioConfig = stdfs::absolute(ocio).string();
     // The chunks' outputs must not be the plate's files (the render refuses it too, but only on
     // the farm, after the prepare job).
-    std::vector<std::string> outputs{job.output};
-    if (auto pattern = SequencePattern::parse(job.output))
+    std::vector<std::string> outputs{output.path};
+    if (output.isSequence())
       for (int64_t f = job.firstFrame; f <= job.lastFrame; ++f)
-        outputs.push_back(pattern->pathFor(f));
+        outputs.push_back(output.pathFor(f));
     refuseOverwritingInput(clip.files, "-o", outputs);
 
     farm::SlurmOptions options;
@@ -179,7 +177,7 @@ void addSlurmCommand(CLI::App* farm) {
     const auto scripts = farm::slurmScripts(job, options);
     const std::string summary =
         fmt::format("{} frames {}-{} in {} chunks of {} -> {}", job.input, job.firstFrame,
-                    job.lastFrame, farm::chunkCount(job), job.chunkFrames, job.output);
+                    job.lastFrame, farm::chunkCount(job), job.chunkFrames, job.output.path);
     if (args->dryRun) {
       for (const auto& script : scripts)
         std::cout << fmt::format("==> {}/{} <==\n{}\n", job.farmDir, script.name, script.text);
@@ -280,7 +278,8 @@ void addAssembleCommand(CLI::App* farm) {
     }
     InterruptHandlers stopCleanly;
     const auto started = std::chrono::steady_clock::now();
-    const int frames = farm::assembleMovie(args->frames, first, last, args->output, options);
+    const int frames = farm::assembleMovie(args->frames, first, last,
+                                           OutputTarget::classify(args->output), options);
     log::info(fmt::format("encoded {} frames into {} in {:.1f} s", frames, args->output,
                           secondsSince(started)));
   });

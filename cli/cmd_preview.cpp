@@ -85,7 +85,8 @@ void addPreviewCommand(CLI::App& app, Invocation& invocation) {
     RenderRequest request;
     request.input = args->input;
     request.movieFirstFrame = args->startFrame;
-    request.output = args->output;  // refused when it names an input file; sets the colour-out
+    request.output = OutputTarget::classify(
+        args->output);  // refused when it names an input file; sets the colour-out
     if (!args->frames.empty()) {
       setFrames(request, args->frames);
     }

@@ -50,7 +50,7 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
     RenderRequest request;
     request.input = args->input;
     request.movieFirstFrame = args->startFrame;
-    request.output = args->output;
+    request.output = OutputTarget::classify(args->output);
     if (!args->frames.empty()) {
       setFrames(request, args->frames);
     }
@@ -84,7 +84,7 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
           summary.framesRedone);
     }
     log::info(fmt::format("wrote {} {}frames to {} in {:.1f} s{}", summary.framesWritten,
-                          request.proxyScale != 1.0 ? "proxy " : "", request.output, seconds,
+                          request.proxyScale != 1.0 ? "proxy " : "", request.output.path, seconds,
                           existing.empty() ? "" : " (" + existing.substr(2) + ")"));
     if (args->stats) std::cout << times.summary(summary.framesWritten);
   });

@@ -46,7 +46,7 @@ std::vector<cv::Mat3f> PlateRenderer::render(const std::string& preset,
                                              const std::vector<std::string>& sets) const {
   RenderRequest request;
   request.input = (folder_.path() / "plate.####.png").string();
-  request.output = (folder_.path() / "rained.####.png").string();
+  request.output = OutputTarget::classify((folder_.path() / "rained.####.png").string());
   request.cacheDir = (folder_.path() / "cache").string();
   request.progress = false;
   std::vector<std::string> overrides = sets;

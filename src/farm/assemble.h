@@ -6,6 +6,7 @@
 #include <string>
 
 #include "io/clip_writer.h"
+#include "io/output_target.h"
 
 namespace pluvia::farm {
 
@@ -13,7 +14,7 @@ namespace pluvia::farm {
 // lock; its pixels are passed as read, no colour conversion: the chunks wrote them in the
 // movie's encoding). Throws pluvia::Error naming the first missing frame's file before anything
 // is encoded, and refuses a movie that is one of the frame files. Returns the frames encoded.
-int assembleMovie(const std::string& frames, int64_t first, int64_t last, const std::string& movie,
+int assembleMovie(const std::string& frames, int64_t first, int64_t last, const OutputTarget& movie,
                   const WriterOptions& options);
 
 }  // namespace pluvia::farm

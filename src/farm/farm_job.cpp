@@ -6,7 +6,6 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "io/sequence_pattern.h"
 #include "util/error.h"
 
 namespace pluvia::farm {
@@ -22,12 +21,12 @@ std::pair<int64_t, int64_t> chunkFrames(const FarmJob& job, int index) {
 }
 
 bool isMovieJob(const FarmJob& job) {
-  return isMovieExtension(job.output);
+  return job.output.isMovie();
 }
 
 std::string chunkOutput(const FarmJob& job) {
-  if (!isMovieJob(job)) return job.output;
-  const std::string name = std::filesystem::path(job.output).stem().string();
+  if (!isMovieJob(job)) return job.output.path;
+  const std::string name = std::filesystem::path(job.output.path).stem().string();
   return (std::filesystem::path(job.farmDir) / "frames" / (name + ".####.tif")).string();
 }
 
@@ -79,9 +78,9 @@ std::string renderCommand(const FarmJob& job, const std::string& frames) {
 
 std::string assembleCommand(const FarmJob& job) {
   return fmt::format("{} farm assemble {} -o {} --fps {} --frames {}-{} {}{}",
-                     shellQuote(job.pluvia), shellQuote(chunkOutput(job)), shellQuote(job.output),
-                     job.fps, job.firstFrame, job.lastFrame, presetArguments(job),
-                     quotedArguments(job.assembleOptions));
+                     shellQuote(job.pluvia), shellQuote(chunkOutput(job)),
+                     shellQuote(job.output.path), job.fps, job.firstFrame, job.lastFrame,
+                     presetArguments(job), quotedArguments(job.assembleOptions));
 }
 
 std::string farmJobJson(const FarmJob& job) {
@@ -89,7 +88,7 @@ std::string farmJobJson(const FarmJob& job) {
                       {"input", job.input},
                       {"preset", job.preset},
                       {"sets", job.sets},
-                      {"output", job.output},
+                      {"output", job.output.path},
                       {"cache", job.cacheDir},
                       {"farm_dir", job.farmDir},
                       {"working_dir", job.workingDir},
@@ -140,7 +139,7 @@ FarmJob farmJobFromJson(const std::string& text, const std::string& path) {
     job.input = json.at("input");
     job.preset = json.at("preset");
     job.sets = json.at("sets").get<std::vector<std::string>>();
-    job.output = json.at("output");
+    job.output = OutputTarget::classify(json.at("output").get<std::string>());
     job.cacheDir = json.at("cache");
     job.farmDir = json.at("farm_dir");
     job.workingDir = json.at("working_dir");

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "io/output_target.h"
+
 namespace pluvia::farm {
 
 struct FarmJob {
@@ -16,7 +18,7 @@ struct FarmJob {
   std::string input;   // absolute
   std::string preset;  // a shipped name, or an absolute path
   std::vector<std::string> sets;
-  std::string output;      // absolute: a sequence pattern or a movie
+  OutputTarget output;     // absolute: a sequence pattern or a movie
   std::string cacheDir;    // absolute, shared by every node
   std::string farmDir;     // absolute: scripts, logs, task records and a movie's frames
   std::string workingDir;  // where the jobs run, for relative paths in `sets` (depth.file=...)

@@ -85,7 +85,7 @@ std::string recordedRun(const FarmJob& job, const std::string& command, const st
 // The output's name in the job names squeue shows; any character sbatch or a terminal could
 // misread (a blank, a quote, a control character) as "_".
 std::string jobLabel(const FarmJob& job) {
-  std::string label = stdfs::path(job.output).stem().stem().string();
+  std::string label = stdfs::path(job.output.path).stem().stem().string();
   for (char& c : label)
     if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-' && c != '_') c = '_';
   return label;
@@ -99,7 +99,7 @@ std::vector<SlurmScript> slurmScripts(const FarmJob& job, const SlurmOptions& op
   // A comment: a newline in a name must not end it (printable() escapes control characters).
   std::string intro =
       fmt::format("# pluvia farm job: {} -> {}, frames {}-{}\n", printable(job.input),
-                  printable(job.output), job.firstFrame, job.lastFrame);
+                  printable(job.output.path), job.firstFrame, job.lastFrame);
   // The colour config the submitting shell named: a node with another $OCIO (or none) would
   // render in another colour space.
   if (!job.ocioConfig.empty()) intro += "export OCIO=" + shellQuote(job.ocioConfig) + "\n";
@@ -411,7 +411,7 @@ FarmStatus slurmStatus(const std::string& farmDir) {
   };
   status.text =
       fmt::format("farm job {}: {} -> {}, frames {}-{} in {} chunks of {}\n", farmDir, job.input,
-                  job.output, job.firstFrame, job.lastFrame, chunkCount(job), job.chunkFrames);
+                  job.output.path, job.firstFrame, job.lastFrame, chunkCount(job), job.chunkFrames);
   row("prepare", true, ids.prepare, "", "prepare");
   for (int i = 0; i < chunkCount(job); ++i) {
     const auto [first, last] = chunkFrames(job, i);

@@ -42,26 +42,26 @@ std::string withExtension(const std::string& suffix, const std::string& extensio
   return (dot == std::string::npos ? suffix : suffix.substr(0, dot)) + "." + extension;
 }
 
-FrameNaming namingFor(const std::string& output) {
-  if (std::optional<SequencePattern> pattern = SequencePattern::parse(output)) {
-    return {[p = *pattern](int64_t frame) { return p.pathFor(frame); },
-            [p = *pattern](const std::string& aov, const std::string& suffix, int64_t frame) {
-              return SequencePattern{p.prefix + aov + ".", suffix, p.padding}.pathFor(frame);
-            }};
+FrameNaming namingFor(const OutputTarget& output) {
+  if (output.pattern) {
+    return {
+        [p = *output.pattern](int64_t frame) { return p.pathFor(frame); },
+        [p = *output.pattern](const std::string& aov, const std::string& suffix, int64_t frame) {
+          return SequencePattern{p.prefix + aov + ".", suffix, p.padding}.pathFor(frame);
+        }};
   }
-  // A single image: every frame goes to the same file (a still in, a still out).
-  const std::filesystem::path path(output);
+  // A movie or a single image: every frame goes to the same file (a still in, a still out).
+  const std::filesystem::path path(output.path);
   const std::string stem = (path.parent_path() / path.stem()).string();
-  return {[output](int64_t) { return output; },
+  return {[path = output.path](int64_t) { return path; },
           [stem](const std::string& aov, const std::string& suffix, int64_t) {
             return stem + "." + aov + suffix;
           }};
 }
 
-std::string suffixOf(const std::string& output) {
-  if (std::optional<SequencePattern> pattern = SequencePattern::parse(output))
-    return pattern->suffix;
-  return std::filesystem::path(output).extension().string();
+std::string suffixOf(const OutputTarget& output) {
+  if (output.pattern) return output.pattern->suffix;
+  return std::filesystem::path(output.path).extension().string();
 }
 
 // The AOV's own file (formats without extra channels): depth always, and every AOV of an HDR
@@ -110,10 +110,10 @@ std::vector<OutputChannel> aovChannels(const std::string& aov, const Image& imag
 
 class ImageSequenceWriter final : public ClipWriter {
  public:
-  ImageSequenceWriter(const std::string& output, int width, int height, WriterOptions options)
+  ImageSequenceWriter(const OutputTarget& output, int width, int height, WriterOptions options)
       : naming_(namingFor(output)),
         suffix_(suffixOf(output)),
-        extension_(lowerExtension(output)),
+        extension_(lowerExtension(output.path)),
         width_(width),
         height_(height),
         options_(std::move(options)) {}
@@ -212,9 +212,9 @@ Image aovImage(const std::string& aov, const Image& image, int64_t frame, const 
 // so that the rain element alone reaches an editor or a comp as ProRes 4444 with its matte.
 class MovieWithAovsWriter final : public ClipWriter {
  public:
-  MovieWithAovsWriter(const std::string& output, int width, int height,
+  MovieWithAovsWriter(const OutputTarget& output, int width, int height,
                       const WriterOptions& options)
-      : beauty_(openMovieWriter(output, width, height, options, false)) {
+      : beauty_(openMovieWriter(output.path, width, height, options, false)) {
     const FrameNaming naming = namingFor(output);
     // AOV movies hold rain, mattes and light alone: only the beauty is tagged with its space.
     WriterOptions aovOptions = options;
@@ -295,46 +295,47 @@ class PictureWriter final : public ClipWriter {
 
 }  // namespace
 
-std::unique_ptr<ClipWriter> openClipWriter(const std::string& output, int width, int height,
+std::unique_ptr<ClipWriter> openClipWriter(const OutputTarget& output, int width, int height,
                                            const WriterOptions& options) {
-  const std::string extension = lowerExtension(output);
+  const std::string extension = lowerExtension(output.path);
   const bool isSequenceFormat = contains(imageOutputExtensions(), extension);
   const bool isMovieFormat = contains(movieOutputExtensions(), extension);
   if (!isSequenceFormat && !isMovieFormat) {
     throw Error(
         fmt::format("unknown output format '{}' for {} (supported: image sequences {}; movies {})",
-                    extension.empty() ? "(no extension)" : "." + extension, output,
+                    extension.empty() ? "(no extension)" : "." + extension, output.path,
                     joined(imageOutputExtensions()), joined(movieOutputExtensions())),
-        {"write", {}, output});
+        {"write", {}, output.path});
   }
   if (width <= 0 || height <= 0) {
-    throw Error(fmt::format("cannot write {}: frame size {}x{} is empty", output, width, height),
-                {"write", {}, output});
+    throw Error(
+        fmt::format("cannot write {}: frame size {}x{} is empty", output.path, width, height),
+        {"write", {}, output.path});
   }
   if (options.exrSampleType != "half" && options.exrSampleType != "float") {
     throw Error(fmt::format("unknown EXR sample type '{}' for {} (known: half, float)",
-                            options.exrSampleType, output),
-                {"write", {}, output});
+                            options.exrSampleType, output.path),
+                {"write", {}, output.path});
   }
-  if (isMovieFormat) checkMovieAovs(output, options);
+  if (isMovieFormat) checkMovieAovs(output.path, options);
   if (options.displayWindow && extension != "exr") {
     const PixelWindow picture = *options.displayWindow;
     if (!picture.fitsInside(width, height))
-      throw Error(
-          fmt::format("the picture {}x{} at ({}, {}) is not inside the {}x{} frame of {}",
-                      picture.width, picture.height, picture.x, picture.y, width, height, output),
-          {"write", {}, output});
+      throw Error(fmt::format("the picture {}x{} at ({}, {}) is not inside the {}x{} frame of {}",
+                              picture.width, picture.height, picture.x, picture.y, width, height,
+                              output.path),
+                  {"write", {}, output.path});
     WriterOptions pictureOnly = options;
     pictureOnly.displayWindow.reset();
     pictureOnly.dataWindow.reset();
     return std::make_unique<PictureWriter>(
         openClipWriter(output, picture.width, picture.height, pictureOnly), picture);
   }
-  const std::string firstPath = isMovieFormat ? output : namingFor(output).beauty(0);
+  const std::string firstPath = isMovieFormat ? output.path : namingFor(output).beauty(0);
   fs::ensureParentFolder(firstPath, options.makeFolders);
   if (isMovieFormat && !options.aovs.empty())
     return std::make_unique<MovieWithAovsWriter>(output, width, height, options);
-  if (isMovieFormat) return openMovieWriter(output, width, height, options, false);
+  if (isMovieFormat) return openMovieWriter(output.path, width, height, options, false);
   return std::make_unique<ImageSequenceWriter>(output, width, height, options);
 }
 
@@ -353,13 +354,13 @@ void checkMovieAovs(const std::string& output, const WriterOptions& options) {
                 {"write", {}, output});
 }
 
-std::vector<std::string> framePaths(const std::string& output, const std::vector<std::string>& aovs,
-                                    int64_t frame) {
+std::vector<std::string> framePaths(const OutputTarget& output,
+                                    const std::vector<std::string>& aovs, int64_t frame) {
   const FrameNaming naming = namingFor(output);
   std::vector<std::string> paths = {naming.beauty(frame)};
-  const std::string extension = lowerExtension(output);
+  const std::string extension = lowerExtension(output.path);
   if (extension == "exr") return paths;
-  if (isMovieExtension(output)) {
+  if (output.isMovie()) {
     for (const std::string& aov : aovs) paths.push_back(naming.aov(aov, suffixOf(output), 0));
     return paths;
   }

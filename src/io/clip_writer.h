@@ -13,6 +13,7 @@
 
 #include "image/image.h"
 #include "io/color_tags.h"
+#include "io/output_target.h"
 #include "io/pixel_window.h"
 #include "io/timecode.h"
 #include "util/fs.h"
@@ -69,10 +70,10 @@ class ClipWriter {
   virtual std::string pathFor(int64_t frame) const = 0;
 };
 
-// OUTPUT is a sequence pattern ("out.####.exr", "out.%04d.png") or a movie ("out.mp4").
-// Creates the output folder; throws pluvia::Error when the folder cannot be created or written,
-// or when the format is unknown.
-std::unique_ptr<ClipWriter> openClipWriter(const std::string& output, int width, int height,
+// OUTPUT is a sequence pattern ("out.####.exr", "out.%04d.png"), a movie ("out.mp4") or one
+// image file. Creates the output folder; throws pluvia::Error when the folder cannot be created
+// or written, or when the format is unknown.
+std::unique_ptr<ClipWriter> openClipWriter(const OutputTarget& output, int width, int height,
                                            const WriterOptions& options);
 
 // AOVs into a movie output go into movies of their own beside it, with their alpha: an error
@@ -83,8 +84,8 @@ void checkMovieAovs(const std::string& output, const WriterOptions& options);
 // Every file a sequence or image output writes for `frame`: the beauty and, for formats that
 // cannot hold AOVs as channels, each AOV's own file ("out.####.png" with rain ->
 // "out.0001.png", "out.rain.0001.png"). A movie: its own path and its AOVs' ("out.rain.mov").
-std::vector<std::string> framePaths(const std::string& output, const std::vector<std::string>& aovs,
-                                    int64_t frame);
+std::vector<std::string> framePaths(const OutputTarget& output,
+                                    const std::vector<std::string>& aovs, int64_t frame);
 
 // True for outputs that should be written as scene-linear (EXR, HDR); others get display encoding.
 bool outputIsLinear(const std::string& output);

@@ -11,7 +11,6 @@
 
 #include <fmt/format.h>
 
-#include "io/sequence_pattern.h"
 #include "util/error.h"
 #include "util/fs.h"
 #include "util/hash.h"
@@ -27,11 +26,11 @@ constexpr off_t kBytesPerFrame = 64;
 constexpr auto kRetryFor = std::chrono::milliseconds(500);
 constexpr auto kRetryStep = std::chrono::milliseconds(20);
 
-bool locksWholeOutput(const std::string& output, int64_t firstFrame) {
-  return !SequencePattern::parse(output) || firstFrame < 0;
+bool locksWholeOutput(const OutputTarget& output, int64_t firstFrame) {
+  return !output.isSequence() || firstFrame < 0;
 }
 
-FileRangeLock lockFrames(const std::string& output, int64_t firstFrame, int64_t lastFrame) {
+FileRangeLock lockFrames(const OutputTarget& output, int64_t firstFrame, int64_t lastFrame) {
   const std::string path = outputLockPath(output);
   const bool whole = locksWholeOutput(output, firstFrame);
   const off_t start = whole ? 0 : static_cast<off_t>(firstFrame) * kBytesPerFrame;
@@ -46,19 +45,19 @@ FileRangeLock lockFrames(const std::string& output, int64_t firstFrame, int64_t 
       std::this_thread::sleep_for(kRetryStep);
     }
   } catch (const Error& e) {
-    throw Error(e.what(), {"write", {}, output});
+    throw Error(e.what(), {"write", {}, output.path});
   }
-  std::string what = output;
+  std::string what = output.path;
   if (conflict.length > 0 && !whole) {
     const int64_t first = conflict.start / kBytesPerFrame;
     const int64_t last = (conflict.start + conflict.length) / kBytesPerFrame - 1;
-    what = first == last ? fmt::format("frame {} of {}", first, output)
-                         : fmt::format("frames {}-{} of {}", first, last, output);
+    what = first == last ? fmt::format("frame {} of {}", first, output.path)
+                         : fmt::format("frames {}-{} of {}", first, last, output.path);
   }
   throw Error(fmt::format("another render (pid and host: {}) is writing {}; wait for it or write "
                           "elsewhere (lock file {})",
                           conflict.holder, what, path),
-              {"write", {}, output});
+              {"write", {}, output.path});
 }
 
 // The frame number in a temporary's name ("o.0012.pluvia-tmp-7-0.exr" or, for an AOV written
@@ -78,11 +77,12 @@ int64_t frameOfTemporary(const std::string& name, const std::string& prefix) {
 
 }  // namespace
 
-std::string outputLockPath(const std::string& output) {
-  std::string path = output;
-  if (std::optional<SequencePattern> pattern = SequencePattern::parse(output)) {
-    const size_t digits = static_cast<size_t>(std::max(pattern->padding, 1));
-    path = pattern->prefix + std::string(digits, '#') + pattern->suffix;
+std::string outputLockPath(const OutputTarget& output) {
+  std::string path = output.path;
+  if (output.pattern) {
+    const SequencePattern& pattern = *output.pattern;
+    const size_t digits = static_cast<size_t>(std::max(pattern.padding, 1));
+    path = pattern.prefix + std::string(digits, '#') + pattern.suffix;
   }
   constexpr std::string_view kSuffix = ".pluvia-lock";
   const std::filesystem::path named(path);
@@ -97,7 +97,7 @@ std::string outputLockPath(const std::string& output) {
   return (named.parent_path() / (name + std::string(kSuffix))).string();
 }
 
-OutputLock::OutputLock(const std::string& output, int64_t firstFrame, int64_t lastFrame)
+OutputLock::OutputLock(const OutputTarget& output, int64_t firstFrame, int64_t lastFrame)
     : output_(output),
       firstFrame_(firstFrame),
       lastFrame_(lastFrame),
@@ -105,11 +105,12 @@ OutputLock::OutputLock(const std::string& output, int64_t firstFrame, int64_t la
       lock_(lockFrames(output, firstFrame, lastFrame)) {}
 
 int OutputLock::removeStaleTemporaries() const {
-  const std::filesystem::path folder = std::filesystem::path(output_).parent_path();
+  const std::filesystem::path folder = std::filesystem::path(output_.path).parent_path();
   if (wholeOutput_) {
-    return fs::removeStaleTemporaries(folder, std::filesystem::path(output_).stem().string() + ".");
+    return fs::removeStaleTemporaries(folder,
+                                      std::filesystem::path(output_.path).stem().string() + ".");
   }
-  const SequencePattern pattern = *SequencePattern::parse(output_);
+  const SequencePattern& pattern = *output_.pattern;
   const std::string prefix = std::filesystem::path(pattern.prefix + "0").filename().string();
   const std::string namePrefix = prefix.substr(0, prefix.size() - 1);
   int removed = 0;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "io/output_target.h"
 #include "util/file_lock.h"
 
 namespace pluvia {
@@ -12,7 +13,7 @@ namespace pluvia {
 // The lock file for an output: beside it, named after the frames it guards, whatever the
 // pattern's spelling ("out.####.exr" and "out.%04d.exr" -> "out.####.exr.pluvia-lock"; a movie
 // or one image: "rain.mp4" -> "rain.mp4.pluvia-lock").
-std::string outputLockPath(const std::string& output);
+std::string outputLockPath(const OutputTarget& output);
 
 // Holds frames firstFrame..lastFrame of a sequence output (a movie or one image: all of it) for
 // its lifetime, as a byte range of the output's lock file (util/file_lock.h: the kernel drops it
@@ -22,7 +23,7 @@ class OutputLock {
  public:
   // Creates the output folder when needed. Throws pluvia::Error naming the other render's pid,
   // host and frames when it holds any of these frames.
-  OutputLock(const std::string& output, int64_t firstFrame, int64_t lastFrame);
+  OutputLock(const OutputTarget& output, int64_t firstFrame, int64_t lastFrame);
   OutputLock(const OutputLock&) = delete;
   OutputLock& operator=(const OutputLock&) = delete;
 
@@ -33,7 +34,7 @@ class OutputLock {
   int removeStaleTemporaries() const;
 
  private:
-  std::string output_;
+  OutputTarget output_;
   int64_t firstFrame_, lastFrame_;
   bool wholeOutput_;
   FileRangeLock lock_;

@@ -110,4 +110,8 @@ bool CameraSettings::autoExposure() const {
   return std::any_of(keys.begin(), keys.end(), [](const RampKey& k) { return k.value <= 0.0; });
 }
 
+double CameraSettings::framesPerSecondOf(double clipFramesPerSecond) const {
+  return framesPerSecond > 0.0 ? framesPerSecond : clipFramesPerSecond;
+}
+
 }  // namespace pluvia

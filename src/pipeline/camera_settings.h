@@ -44,6 +44,9 @@ struct CameraSettings {
   double exposureSecondsAt(double fps, double frame) const;
   // Whether some frame's exposure is left to the auto exposure (exposure_s 0, no angle).
   bool autoExposure() const;
+  // The frame rate a render works and writes at: camera.fps when given, else the clip's. A farm
+  // job takes it too, so that its assembled movie runs at the one-machine render's rate.
+  double framesPerSecondOf(double clipFramesPerSecond) const;
 };
 
 // The section's table (its SectionSpec is part of presetSchema(), stages/registry.h) and its

@@ -12,7 +12,7 @@ PrepareSummary prepareJob(const RenderRequest& request, const Preset& preset,
   RenderRequest wholeClip = request;
   wholeClip.firstFrame.reset();
   wholeClip.lastFrame.reset();
-  wholeClip.output.clear();
+  wholeClip.output = {};
   wholeClip.requireCache = false;
   RenderSession session(wholeClip, preset, stages, times);
   const ArtifactCache& cache = *session.cache();

@@ -99,7 +99,7 @@ void refuseOverwritingInput(const ClipInfo& clip, const RenderRequest& request,
   std::set<std::string> inputs(clip.files.begin(), clip.files.end());
   inputs.insert(clip.path);
   fs::protectInputs({inputs.begin(), inputs.end()});
-  const bool oneFile = !SequencePattern::parse(request.output);
+  const bool oneFile = !request.output.isSequence();
   for (const int64_t frame : oneFile ? std::vector<int64_t>{frames.front()} : frames) {
     for (const std::string& out : framePaths(request.output, request.aovs, frame)) {
       const std::string in = fs::protectedInputAt(out);
@@ -125,16 +125,16 @@ void refuseNamesTooLongToWrite(const RenderRequest& request, int64_t frame) {
 }
 
 // One image file holds one frame: more frames into it would each overwrite the last.
-void refuseSingleFileForManyFrames(const std::string& output, const std::vector<int64_t>& frames) {
-  if (frames.size() < 2 || SequencePattern::parse(output) || isMovieExtension(output)) return;
-  const std::filesystem::path path(output);
+void refuseSingleFileForManyFrames(const OutputTarget& output, const std::vector<int64_t>& frames) {
+  if (frames.size() < 2 || output.kind != OutputTarget::Kind::SingleImage) return;
+  const std::filesystem::path path(output.path);
   const std::string pattern =
       (path.parent_path() / path.stem()).string() + ".####" + path.extension().string();
   throw UsageError(
       fmt::format("output {} is one image file, but {} frames ({}-{}) are rendered: give a "
                   "sequence such as {}, a movie, or one frame with --frames",
-                  output, frames.size(), frames.front(), frames.back(), pattern),
-      {"write", {}, output});
+                  output.path, frames.size(), frames.front(), frames.back(), pattern),
+      {"write", {}, output.path});
 }
 
 // The grading stages' AOVs: what darken, blur and fog changed (stages/depth_grading.h).
@@ -164,10 +164,10 @@ std::vector<int64_t> framesToRender(const RenderRequest& request, const ClipInfo
   std::vector<int64_t> frames = selectFrames(request, clip);
   refuseOverwritingInput(clip, request, frames);
   refuseNamesTooLongToWrite(request, frames.back());
-  if (isMovieExtension(request.output)) {
+  if (request.output.isMovie()) {
     WriterOptions options = request.format;
     options.aovs = request.aovs;
-    checkMovieAovs(request.output, options);
+    checkMovieAovs(request.output.path, options);
   }
   return frames;
 }
@@ -238,14 +238,14 @@ void addResumeIdentity(WriterOptions& options, const RenderRequest& request,
   options.metadata["pluvia:size"] = fmt::format("{}x{}", clip.width, clip.height);
   options.metadata["pluvia:colour"] =
       fmt::format("{} -> {} -> {}, config {}", resolveInputSpace(color, clip), color.workingSpace,
-                  resolveOutputSpace(color, request.output, taggedInputSpace(color, clip)),
+                  resolveOutputSpace(color, request.output.path, taggedInputSpace(color, clip)),
                   configIdentity(color));
   options.metadata["pluvia:aovs"] =
       request.aovs.empty() ? "none" : fmt::format("{}", fmt::join(request.aovs, ","));
   options.metadata["pluvia:format"] =
-      lowerExtension(request.output) == "exr"
+      lowerExtension(request.output.path) == "exr"
           ? fmt::format("exr {} {}", options.exrSampleType, options.exrCompression)
-          : lowerExtension(request.output);
+          : lowerExtension(request.output.path);
 }
 
 WriterOptions writerOptionsFor(const RenderRequest& request, const Preset& preset,
@@ -253,18 +253,18 @@ WriterOptions writerOptionsFor(const RenderRequest& request, const Preset& prese
                                const ColorSettings& color, const ClipInfo& clip,
                                const std::vector<int64_t>& frames) {
   WriterOptions options = request.format;
-  options.fps = camera.framesPerSecond > 0 ? camera.framesPerSecond : clip.fps;
+  options.fps = camera.framesPerSecondOf(clip.fps);
   options.aovs = request.aovs;
   options.metadata = frameMetadata(preset, stages);
   carryInputMetadata(options, clip, frames, request.proxyScale);
-  options.color = outputColorTags(color, request.output, taggedInputSpace(color, clip));
+  options.color = outputColorTags(color, request.output.path, taggedInputSpace(color, clip));
   // A proxy frame must never pass for a final one: it says so in its header.
   if (request.proxyScale != 1.0)
     options.metadata["pluvia:proxy"] =
         fmt::format("{:g} ({}x{})", request.proxyScale, clip.width, clip.height);
   // A movie is kept or redone whole by its frame count (io/written_frame.h); its comment stays
   // what `farm assemble` writes too, so both movies are alike.
-  if (!isMovieExtension(request.output)) addResumeIdentity(options, request, color, clip);
+  if (!request.output.isMovie()) addResumeIdentity(options, request, color, clip);
   return options;
 }
 
@@ -357,14 +357,14 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
       camera_(cameraSettings(preset)),
       toWorking_(resolveInputSpace(color_, clip()), color_.workingSpace, color_.configPath),
       toOutput_(color_.workingSpace,
-                resolveOutputSpace(color_, request.output, taggedInputSpace(color_, clip())),
+                resolveOutputSpace(color_, request.output.path, taggedInputSpace(color_, clip())),
                 color_.configPath),
       writerOptions_(writerOptionsFor(request, preset, stages, camera_, color_, clip(), frames_)) {
   log::info("command: " + request.commandLine);
   log::info(
       fmt::format("colour: {} -> {} (working) -> {}, config: {}", resolveInputSpace(color_, clip()),
                   color_.workingSpace,
-                  resolveOutputSpace(color_, request.output, taggedInputSpace(color_, clip())),
+                  resolveOutputSpace(color_, request.output.path, taggedInputSpace(color_, clip())),
                   describeConfig(color_.configPath)));
   if (std::string note; color_.inputSpace == "auto") {
     movieTaggedSpace(clip(), color_.configPath, &note);
@@ -504,7 +504,7 @@ Plan planJob(const std::string& input, std::optional<int64_t> movieFirstFrame, c
 RenderSummary renderJob(const RenderRequest& request, const Preset& preset,
                         const std::vector<StageInfo>& stageInfos, StageTimes& times) {
   // The output's folder before any work (and before the lock beside the frames).
-  fs::ensureParentFolder(request.output, request.format.makeFolders);
+  fs::ensureParentFolder(request.output.path, request.format.makeFolders);
   RenderSession session(request, preset, stageInfos, times);
   RenderSummary summary;
   summary.plan = session.plan();

@@ -13,6 +13,7 @@
 
 #include "image/color.h"
 #include "io/clip_writer.h"
+#include "io/output_target.h"
 #include "pipeline/cache.h"
 #include "pipeline/camera_settings.h"
 #include "pipeline/color_settings.h"
@@ -23,7 +24,7 @@ namespace pluvia {
 
 struct RenderRequest {
   std::string input;
-  std::string output;
+  OutputTarget output;  // told once what it is (OutputTarget::classify)
   // --start-frame: the number of a movie's first frame (movies count from 0 otherwise).
   std::optional<int64_t> movieFirstFrame;
   std::optional<int64_t> firstFrame;  // inclusive, clip frame numbers

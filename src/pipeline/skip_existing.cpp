@@ -5,7 +5,6 @@
 #include <fmt/format.h>
 
 #include "io/clip_writer.h"
-#include "io/sequence_pattern.h"
 #include "io/written_frame.h"
 #include "util/log.h"
 
@@ -14,38 +13,38 @@ namespace pluvia {
 namespace {
 
 // Why a movie and its AOV movies must be rendered again, empty when each is whole.
-std::string reasonToRenderMoviesAgain(const std::string& output,
+std::string reasonToRenderMoviesAgain(const OutputTarget& output,
                                       const std::vector<std::string>& aovs, size_t frames) {
   for (const std::string& path : framePaths(output, aovs, 0)) {
     if (!std::filesystem::exists(path)) return path + " is missing";
     const std::string reason = reasonToRenderMovieAgain(path, frames);
-    if (!reason.empty()) return path == output ? reason : path + ": " + reason;
+    if (!reason.empty()) return path == output.path ? reason : path + ": " + reason;
   }
   return "";
 }
 
 }  // namespace
 
-FramesToRender framesStillToRender(const std::string& output, const std::vector<int64_t>& frames,
+FramesToRender framesStillToRender(const OutputTarget& output, const std::vector<int64_t>& frames,
                                    const std::map<std::string, std::string>& metadata,
                                    const std::vector<std::string>& aovs) {
   FramesToRender result;
   result.frames = frames;
-  if (isMovieExtension(output) && std::filesystem::exists(output)) {
+  if (output.isMovie() && std::filesystem::exists(output.path)) {
     const std::string reason = reasonToRenderMoviesAgain(output, aovs, frames.size());
     if (reason.empty()) {
-      log::info("--skip-existing: " + output + " exists, nothing to do");
+      log::info("--skip-existing: " + output.path + " exists, nothing to do");
       result.kept = int(frames.size());
       result.frames.clear();
       return result;
     }
-    log::warning(fmt::format("--skip-existing: rendering {} again: {}", output, reason));
+    log::warning(fmt::format("--skip-existing: rendering {} again: {}", output.path, reason));
     result.redone = int(frames.size());
   }
-  if (auto pattern = SequencePattern::parse(output)) {
+  if (output.isSequence()) {
     result.frames.clear();
     for (int64_t f : frames) {
-      const std::string path = pattern->pathFor(f);
+      const std::string path = output.pathFor(f);
       if (!std::filesystem::exists(path)) {
         result.frames.push_back(f);
         continue;

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "io/output_target.h"
+
 namespace pluvia {
 
 struct FramesToRender {
@@ -18,7 +20,7 @@ struct FramesToRender {
 // proxy, colour, AOVs, format: io/written_frame.h), each frame rendered again named in a warning
 // with what differs. A movie is kept or redone whole, with the AOV movies beside it (`aovs`).
 // Checks files only: nothing is decoded from the input.
-FramesToRender framesStillToRender(const std::string& output, const std::vector<int64_t>& frames,
+FramesToRender framesStillToRender(const OutputTarget& output, const std::vector<int64_t>& frames,
                                    const std::map<std::string, std::string>& metadata,
                                    const std::vector<std::string>& aovs);
 
