@@ -90,7 +90,7 @@ std::string outputLockPath(const OutputTarget& output) {
   // A legal output name near the 255-byte limit still gets a lock: its name is cut and the
   // whole name's hash keeps two such outputs apart (every render of one output agrees on it).
   if (name.size() + kSuffix.size() > fs::kNameMaxBytes) {
-    const std::string hash = "-" + Hasher().add(name).hex();
+    const std::string hash = fmt::format("-{}", Hasher().add(name).hex());
     name.resize(fs::kNameMaxBytes - kSuffix.size() - hash.size());
     name += hash;
   }
