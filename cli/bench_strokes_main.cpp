@@ -9,6 +9,7 @@
 
 #include "bench_strokes.h"
 #include "process_memory.h"
+#include "process_variables.h"
 #include "rain/stroke_atlas.h"
 #include "util/error.h"
 #include "util/fs.h"
@@ -30,6 +31,7 @@ int main(int argc, char** argv) {
   app.add_flag("--depth-plane", depthPlane, "give the frame a scene depth plane (3-50 m)");
   CLI11_PARSE(app, argc, argv);
   try {
+    applyRainBackendVariable();
     nlohmann::json json;
     try {
       json = nlohmann::json::parse(fs::readTextFile(atlasPath));

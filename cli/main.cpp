@@ -13,6 +13,7 @@
 #include "pluvia/version.h"
 #include "preset/param_table.h"
 #include "process_memory.h"
+#include "process_variables.h"
 #include "util/error.h"
 #include "util/interrupt.h"
 #include "util/log.h"
@@ -87,6 +88,7 @@ int main(int argc, char** argv) {
   }
 
   try {
+    applyProcessVariables();
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);

@@ -28,4 +28,5 @@ set(PLUVIA_LAYER_cli farm lab stages pipeline gpu derain rain envmap optics sfm 
                      image util)
 # Headers of gpu/ (the renderer and its GL helpers) are for these files and folders only.
 set(PLUVIA_GPU_USERS src/gpu/ src/lab/ src/stages/rain_stage.cpp cli/bench_strokes.cpp
+                     cli/rain_backend_variable.cpp
                      cli/bench_lod.cpp)

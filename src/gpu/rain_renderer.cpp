@@ -3,6 +3,7 @@
 #include "gpu/rain_renderer.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cstdlib>
 #include <optional>
@@ -138,16 +139,27 @@ void EglBackend::render(Image& frame, const OrderedStreaks& ordered,
   compositeRainLayer(rainRgba, shading.backgroundWeight, frame);
 }
 
-RainBackend rainBackendFromEnvironment() {
-  const char* value = std::getenv("PLUVIA_RAIN_BACKEND");
-  if (!value) return RainBackend::Auto;
-  std::string name(value);
+namespace {
+
+std::atomic<RainBackend>& defaultBackend() {
+  static std::atomic<RainBackend> backend{RainBackend::Auto};
+  return backend;
+}
+
+}  // namespace
+
+std::optional<RainBackend> rainBackendNamed(const std::string& given) {
+  std::string name(given);
   std::transform(name.begin(), name.end(), name.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (name.empty() || name == "auto") return RainBackend::Auto;
+  if (name == "auto") return RainBackend::Auto;
   if (name == "egl") return RainBackend::Egl;
   if (name == "cpu") return RainBackend::Cpu;
-  throw Error(fmt::format("PLUVIA_RAIN_BACKEND is '{}': use auto, egl or cpu", value), {"rain"});
+  return std::nullopt;
+}
+
+void setRainBackend(RainBackend backend) {
+  defaultBackend() = backend;
 }
 
 bool isSoftwareGlRenderer(const std::string& rendererDescription) {
@@ -165,9 +177,9 @@ RainRenderer::RainRenderer(int width, int height, RainBackend backend)
   if (width <= 0 || height <= 0) {
     throwRainError(fmt::format("cannot render rain into {}x{} pixels", width, height));
   }
-  const bool fromEnvironment = backend == RainBackend::Auto;
-  if (fromEnvironment) backend = rainBackendFromEnvironment();
-  std::string why = fromEnvironment && backend != RainBackend::Auto ? "PLUVIA_RAIN_BACKEND" : "";
+  const bool fromDefault = backend == RainBackend::Auto;
+  if (fromDefault) backend = defaultBackend();
+  std::string why = fromDefault && backend != RainBackend::Auto ? "PLUVIA_RAIN_BACKEND" : "";
   if (backend == RainBackend::Auto && eglDevicesAreAllSoftware()) {
     why =
         "EGL's only devices are software ones (EGL_MESA_device_software); "

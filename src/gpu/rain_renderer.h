@@ -19,6 +19,7 @@
 // sets rain = L.rgb + c * B * A and out = rain + (1 - A) * B, which expands to the two lines
 // above because sum_i alpha_i * prod_{j>i} (1 - alpha_j) = A. So B never goes to the GPU.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,14 +31,16 @@ namespace pluvia::gpu {
 // Who draws the streaks. Egl: the GL pipeline above, on whatever device EGL finds (a GPU, or
 // Mesa's llvmpipe). Cpu: StreakRasterCpu (streak_raster_cpu.h), a rasteriser made for streaks,
 // the same pictures within the tolerance tests/gpu/test_streak_raster_cpu.cpp states, several
-// times faster than llvmpipe. Auto: the environment variable PLUVIA_RAIN_BACKEND (auto, egl or
-// cpu) when set, else EGL on a hardware device and the CPU rasteriser when the device is a
-// software one (llvmpipe, softpipe, swrast, SwiftShader) or when EGL has no device at all.
+// times faster than llvmpipe. Auto: the default backend when one is set (setRainBackend), else
+// EGL on a hardware device and the CPU rasteriser when the device is a software one (llvmpipe,
+// softpipe, swrast, SwiftShader) or when EGL has no device at all.
 enum class RainBackend { Auto, Egl, Cpu };
 
-// The choice PLUVIA_RAIN_BACKEND asks for (Auto when unset or "auto"); throws pluvia::Error
-// naming the variable and its value when it is anything else.
-RainBackend rainBackendFromEnvironment();
+// The backend of that name ("auto", "egl", "cpu", any case); none for any other.
+std::optional<RainBackend> rainBackendNamed(const std::string& name);
+// What a renderer asked for Auto uses (the front end sets it from $PLUVIA_RAIN_BACKEND,
+// cli/process_variables.h, before any work); Auto: the device decides.
+void setRainBackend(RainBackend backend);
 
 // True for GL renderer strings of software rasterisers ("llvmpipe (LLVM 15.0.6, 256 bits)").
 bool isSoftwareGlRenderer(const std::string& rendererDescription);

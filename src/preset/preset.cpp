@@ -158,9 +158,22 @@ PresetError::PresetError(const std::string& source, std::vector<std::string> pro
             {"preset", {}, source}),
       problems_(std::move(problems)) {}
 
+namespace {
+
+stdfs::path& presetFolder() {
+  static stdfs::path folder;
+  return folder;
+}
+
+}  // namespace
+
+void setPresetFolder(const stdfs::path& folder) {
+  presetFolder() = folder;
+}
+
 std::vector<stdfs::path> presetSearchPath() {
   std::vector<stdfs::path> dirs;
-  if (const char* env = std::getenv("PLUVIA_PRESET_DIR")) dirs.emplace_back(env);
+  if (!presetFolder().empty()) dirs.push_back(presetFolder());
   stdfs::path exeDir = executablePath().parent_path();
   if (!exeDir.empty()) {
     dirs.push_back(exeDir.parent_path() / "presets");

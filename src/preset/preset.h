@@ -33,8 +33,11 @@ class PresetError : public Error {
   std::vector<std::string> problems_;
 };
 
-// Folders searched for preset names: $PLUVIA_PRESET_DIR, presets/ beside the binary's parent,
-// and the source tree's presets/.
+// A folder searched for preset names before the others (the front end sets it from
+// $PLUVIA_PRESET_DIR, cli/process_variables.h, before any work); empty: none.
+void setPresetFolder(const std::filesystem::path& folder);
+// Folders searched for preset names: that folder, presets/ beside the binary's parent, and the
+// source tree's presets/.
 std::vector<std::filesystem::path> presetSearchPath();
 // Names of the shipped presets (files NAME.json in the search path).
 std::vector<std::string> shippedPresetNames();

@@ -219,12 +219,25 @@ StrokeLibrary loadStrokeLibrary(const std::string& jsonPath) {
   return library;
 }
 
+namespace {
+
+stdfs::path& assetFolder() {
+  static stdfs::path folder;
+  return folder;
+}
+
+}  // namespace
+
+void setAssetFolder(const stdfs::path& folder) {
+  assetFolder() = folder;
+}
+
 std::string builtinStrokeLibraryPath() {
-  // Searched as presets are: $PLUVIA_ASSET_DIR, assets/ beside the binary's parent (the
-  // source tree for build/pluvia), an installed share/pluvia/assets, the configured source tree.
+  // Searched as presets are: the asset folder set, assets/ beside the binary's parent (the source
+  // tree for build/pluvia), an installed share/pluvia/assets, the configured source tree.
   const stdfs::path relative = stdfs::path("strokes") / "builtin.json";
   std::vector<stdfs::path> dirs;
-  if (const char* env = std::getenv("PLUVIA_ASSET_DIR")) dirs.emplace_back(env);
+  if (!assetFolder().empty()) dirs.push_back(assetFolder());
   const stdfs::path exeDir = executablePath().parent_path();
   if (!exeDir.empty()) {
     dirs.push_back(exeDir.parent_path() / "assets");
@@ -235,8 +248,8 @@ std::string builtinStrokeLibraryPath() {
     if (stdfs::is_regular_file(dir / relative)) return (dir / relative).string();
   }
   // None there: the path loadStrokeLibrary will name in its error.
-  const char* env = std::getenv("PLUVIA_ASSET_DIR");
-  return ((env ? stdfs::path(env) : stdfs::path(kSourceAssetDir)) / relative).string();
+  return ((assetFolder().empty() ? stdfs::path(kSourceAssetDir) : assetFolder()) / relative)
+      .string();
 }
 
 }  // namespace pluvia::rain

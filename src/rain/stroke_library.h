@@ -12,6 +12,7 @@
 // (the renderer sets the opacity from physics; `contrast` keeps the measured peak).
 #include <array>
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,9 @@ void saveStrokeLibrary(const StrokeLibrary& library, const std::string& jsonPath
 // Throws pluvia::Error naming the file (and the key or stroke) when it is missing or invalid:
 // rectangles outside the atlas, an atlas of another size than the JSON says, no strokes.
 StrokeLibrary loadStrokeLibrary(const std::string& jsonPath);
+// A folder searched for assets before the others (the front end sets it from $PLUVIA_ASSET_DIR,
+// cli/process_variables.h, before any work); empty: none.
+void setAssetFolder(const std::filesystem::path& folder);
 // The library shipped with pluvia (assets/strokes/builtin.json in the source tree).
 std::string builtinStrokeLibraryPath();
 

@@ -90,10 +90,22 @@ std::string cameraParams(const ColmapRequest& request) {
 
 }  // namespace
 
+namespace {
+
+std::string& defaultColmapProgram() {
+  static std::string program;
+  return program;
+}
+
+}  // namespace
+
+void setColmapProgram(const std::string& program) {
+  defaultColmapProgram() = program;
+}
+
 std::string colmapProgram(const std::string& requested) {
   if (!requested.empty()) return requested;
-  const char* env = std::getenv("PLUVIA_COLMAP");
-  if (env && *env) return env;
+  if (!defaultColmapProgram().empty()) return defaultColmapProgram();
   return "colmap";
 }
 

@@ -68,7 +68,10 @@ struct ColmapRun {
   double focalRefinementRatio = 1.0;
 };
 
-// The program a request runs (request field, else $PLUVIA_COLMAP, else "colmap").
+// The COLMAP program to run when a request names none (the front end sets it from
+// $PLUVIA_COLMAP, cli/process_variables.h, before any work); empty: "colmap" on PATH.
+void setColmapProgram(const std::string& program);
+// The program a request runs (request field, else the one set, else "colmap").
 std::string colmapProgram(const std::string& requested = "");
 // True when that program is found (a path that exists, or a name on PATH).
 bool colmapAvailable(const std::string& requested = "");

@@ -7,6 +7,7 @@
 
 #include "test_support.h"
 #include "util/fs.h"
+#include "util/subprocess.h"
 
 using namespace pluvia;
 using namespace pluvia::test;
@@ -168,4 +169,23 @@ TEST(CliErrors, NanAndInfPixelsAreReplacedNotSpread) {
   // The blur (moderate keeps sigma 0.6) spreads the replacement 0, never a NaN; far pixels keep
   // their value.
   EXPECT_NEAR(out.pixel(20, 12)[2], 0.25f, 1e-3);
+}
+
+// The environment pluvia reads is read once, at the start (cli/process_variables.h): a backend
+// it does not know fails the command before any work, naming the variable and its value, and a
+// known one draws the rain.
+TEST(CliErrors, ARainBackendVariableIsReadAtTheStart) {
+  const auto dir = test::freshTempDir("cli_rain_backend_variable");
+  auto render = [&](const std::string& backend, const std::string& name) {
+    return runProcess({"env", "PLUVIA_RAIN_BACKEND=" + backend, test::pluviaBinary().string(),
+                       "render", test::exampleClip().string(), "-p", "moderate", "--proxy", "0.25",
+                       "--frames", "0-0", "-o", (dir / name).string(), "-q"});
+  };
+  const ProcessResult wrong = render("vulkan", "wrong.png");
+  EXPECT_EQ(wrong.exitCode, 1) << wrong.output;
+  test::expectOutputHas(wrong.output, {"PLUVIA_RAIN_BACKEND is 'vulkan': use auto, egl or cpu"});
+  EXPECT_FALSE(std::filesystem::exists(dir / "wrong.png"));
+  const ProcessResult cpu = render("CPU", "cpu.png");
+  EXPECT_EQ(cpu.exitCode, 0) << cpu.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "cpu.png"));
 }

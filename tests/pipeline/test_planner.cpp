@@ -107,12 +107,12 @@ TEST(Planner, EveryArtifactReadIsMadeBeforeItsReader) {
       EXPECT_TRUE(made.count(input)) << info.spec.name << " reads " << input << ", made by none";
     const std::set<std::string> inputs(info.spec.inputs.begin(), info.spec.inputs.end());
     const std::set<std::string> outputs(info.spec.outputs.begin(), info.spec.outputs.end());
-    if (info.reads)
-      for (const auto& read : info.reads(preset))
-        EXPECT_TRUE(inputs.count(read)) << info.spec.name << " reads undeclared " << read;
-    if (info.writes)
-      for (const auto& written : info.writes(preset))
-        EXPECT_TRUE(outputs.count(written)) << info.spec.name << " writes undeclared " << written;
+    const auto reads = info.reads ? info.reads(preset) : info.spec.inputs;
+    for (const auto& read : reads)
+      EXPECT_TRUE(inputs.count(read)) << info.spec.name << " reads undeclared " << read;
+    const auto writes = info.writes ? info.writes(preset) : info.spec.outputs;
+    for (const auto& written : writes)
+      EXPECT_TRUE(outputs.count(written)) << info.spec.name << " writes undeclared " << written;
     made.insert(info.spec.outputs.begin(), info.spec.outputs.end());
   }
 }

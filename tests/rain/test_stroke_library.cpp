@@ -197,16 +197,16 @@ TEST(StrokeLibrary, AtlasJsonForTheCacheRoundTrips) {
   }
 }
 
-TEST(StrokeLibrary, BuiltinIsFoundAndHonoursTheEnvironment) {
+TEST(StrokeLibrary, BuiltinIsFoundAndHonoursTheAssetFolder) {
   const std::string builtin = rain::builtinStrokeLibraryPath();
   EXPECT_TRUE(stdfs::is_regular_file(builtin)) << builtin;
   EXPECT_EQ(stdfs::path(builtin).filename(), "builtin.json");
 
   const stdfs::path dir = test::freshTempDir("stroke_library_asset_dir");
   rain::saveStrokeLibrary(smallLibrary(), (dir / "strokes" / "builtin.json").string());
-  ::setenv("PLUVIA_ASSET_DIR", dir.c_str(), 1);
+  rain::setAssetFolder(dir);
   const std::string overridden = rain::builtinStrokeLibraryPath();
-  ::unsetenv("PLUVIA_ASSET_DIR");
+  rain::setAssetFolder({});
   EXPECT_EQ(overridden, (dir / "strokes" / "builtin.json").string());
   EXPECT_EQ(rain::builtinStrokeLibraryPath(), builtin);
 }

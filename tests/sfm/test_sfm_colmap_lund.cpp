@@ -45,12 +45,12 @@ TEST(SfmColmap, MissingBinaryErrorNamesStepAndLog) {
   }
 }
 
-TEST(SfmColmap, EnvironmentOverridesTheProgram) {
-  setenv("PLUVIA_COLMAP", "/nonexistent/colmap", 1);
+TEST(SfmColmap, TheProgramSetOverridesColmapOnThePath) {
+  setColmapProgram("/nonexistent/colmap");
   EXPECT_EQ(colmapProgram(), "/nonexistent/colmap");
   EXPECT_EQ(colmapProgram("mine"), "mine");  // the request field wins
   EXPECT_FALSE(colmapAvailable());
-  unsetenv("PLUVIA_COLMAP");
+  setColmapProgram("");
   EXPECT_EQ(colmapProgram(), "colmap");
 }
 

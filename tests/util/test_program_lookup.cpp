@@ -24,8 +24,8 @@ TEST(ProgramLookup, ANameIsNeverRunAsACommandLine) {
   const std::string pwned = (dir / "pwned").string();
   EXPECT_FALSE(programAvailable("x;touch " + pwned));
   EXPECT_FALSE(programAvailable("$(touch " + pwned + ")"));
-  ::setenv("PLUVIA_COLMAP", ("x;touch " + pwned).c_str(), 1);
-  EXPECT_FALSE(colmapAvailable(""));
-  ::unsetenv("PLUVIA_COLMAP");
+  sfm::setColmapProgram("x;touch " + pwned);  // as $PLUVIA_COLMAP sets it
+  EXPECT_FALSE(sfm::colmapAvailable(""));
+  sfm::setColmapProgram("");
   EXPECT_FALSE(stdfs::exists(pwned));
 }
