@@ -113,7 +113,11 @@ const SettingsTable<RainSettings>& rainTable() {
 }
 
 RainSettings rainSettings(const Preset& p) {
-  return rainTable().read(p);
+  RainSettings rain = rainTable().read(p);
+  rain.strokeSource = rain.strokes == "builtin"  ? StrokeSource::Builtin
+                      : rain.strokes == "derain" ? StrokeSource::Derain
+                                                 : StrokeSource::File;
+  return rain;
 }
 
 }  // namespace pluvia

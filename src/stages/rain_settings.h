@@ -14,11 +14,16 @@ namespace pluvia {
 // rain.shading: the drop's transfer function over the environment, or Wang et al.'s SH.
 enum class DropShading { Default, Paper };
 
+// Where the rain's strokes come from (rain.strokes): the library shipped with pluvia, the strokes
+// the derain stage cuts from rain footage, or a LIBRARY.json file.
+enum class StrokeSource { Builtin, Derain, File };
+
 struct RainSettings {
   bool enabled = true;
   Ramp rateMmPerHour{15.0};
   uint64_t seed = 1;
-  std::string strokes = "builtin";  // "builtin", "derain" or a LIBRARY.json path
+  std::string strokes = "builtin";                    // "builtin", "derain" or a LIBRARY.json path
+  StrokeSource strokeSource = StrokeSource::Builtin;  // derived from strokes
   double minDiameterMm = 0.8;
   Ramp densityScale{1.0};  // artist scales on the physical drop count, diameter and alpha
   Ramp sizeScale{1.0};

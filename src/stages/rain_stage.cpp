@@ -198,14 +198,15 @@ class RainStage : public Stage {
 
  private:
   rain::StrokeAtlas loadAtlas(ClipContext& clip) const {
-    const std::string& strokes = rain_.strokes;
-    if (strokes == "derain") {
+    if (rain_.strokeSource == StrokeSource::Derain) {
       if (!clip.footageStrokes)
         throw Error("rain.strokes is \"derain\" but no strokes were extracted", {"rain"});
       return *clip.footageStrokes;
     }
-    // "builtin": the library shipped with pluvia (assets/strokes/builtin.json); else a path.
-    const std::string path = strokes == "builtin" ? rain::builtinStrokeLibraryPath() : strokes;
+    // The library shipped with pluvia (assets/strokes/builtin.json), or a file.
+    const std::string path = rain_.strokeSource == StrokeSource::Builtin
+                                 ? rain::builtinStrokeLibraryPath()
+                                 : rain_.strokes;
     try {
       return rain::loadStrokeLibrary(path).atlas;
     } catch (const Error& e) {
@@ -291,7 +292,7 @@ StageInfo rainStageInfo() {
        .reads =
            [](const RainSettings& rain, const Preset& p) {
              std::vector<std::string> reads{"image", "depth", "environment", "camera"};
-             if (rain.strokes == "derain") reads.push_back("footage_strokes");
+             if (rain.strokeSource == StrokeSource::Derain) reads.push_back("footage_strokes");
              if (lightsSettings(p).drops) reads.push_back("lights");
              // Auto exposure tells a night plate from a day one by its still.
              if (cameraSettings(p).autoExposure()) reads.push_back("still");
