@@ -172,15 +172,7 @@ void setPresetFolder(const stdfs::path& folder) {
 }
 
 std::vector<stdfs::path> presetSearchPath() {
-  std::vector<stdfs::path> dirs;
-  if (!presetFolder().empty()) dirs.push_back(presetFolder());
-  stdfs::path exeDir = executablePath().parent_path();
-  if (!exeDir.empty()) {
-    dirs.push_back(exeDir.parent_path() / "presets");
-    dirs.push_back(exeDir.parent_path() / "share" / "pluvia" / "presets");
-  }
-  dirs.emplace_back(kSourcePresetDir);
-  return dirs;
+  return shippedDataFolders(presetFolder(), "presets", kSourcePresetDir);
 }
 
 std::vector<std::string> shippedPresetNames() {

@@ -236,15 +236,7 @@ std::string builtinStrokeLibraryPath() {
   // Searched as presets are: the asset folder set, assets/ beside the binary's parent (the source
   // tree for build/pluvia), an installed share/pluvia/assets, the configured source tree.
   const stdfs::path relative = stdfs::path("strokes") / "builtin.json";
-  std::vector<stdfs::path> dirs;
-  if (!assetFolder().empty()) dirs.push_back(assetFolder());
-  const stdfs::path exeDir = executablePath().parent_path();
-  if (!exeDir.empty()) {
-    dirs.push_back(exeDir.parent_path() / "assets");
-    dirs.push_back(exeDir.parent_path() / "share" / "pluvia" / "assets");
-  }
-  dirs.emplace_back(kSourceAssetDir);
-  for (const auto& dir : dirs) {
+  for (const auto& dir : shippedDataFolders(assetFolder(), "assets", kSourceAssetDir)) {
     if (stdfs::is_regular_file(dir / relative)) return (dir / relative).string();
   }
   // None there: the path loadStrokeLibrary will name in its error.
