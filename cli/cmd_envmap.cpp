@@ -46,8 +46,11 @@ void addEnvmapCommand(CLI::App& app, Invocation& invocation) {
       ->check(CLI::Range(1.0, 170.0));
   cmd->add_option("--every", args->settings.every, "looming camera: a panorama every N frames")
       ->check(CLI::Range(1, 10000));
-  cmd->add_option("--motion", args->motion, "auto, pan, loom or static")
-      ->check(CLI::IsMember({"auto", "pan", "loom", "static"}));
+  cmd->add_option("--motion", args->motion, "auto, pan, loom or static")->check(CLI::IsMember([] {
+    std::vector<std::string> names;
+    for (const auto& [name, value] : envmap::kStitchMotionNames) names.push_back(name);
+    return names;
+  }()));
   cmd->add_option("--order", args->settings.shOrder, "SH order (3: 16 coefficients per channel)")
       ->check(CLI::Range(0, 8));
   cmd->add_option("--frames", args->frames, "FIRST-LAST, in the clip's frame numbers");

@@ -14,24 +14,14 @@
 
 namespace pluvia::envmap {
 
-namespace {
-
-constexpr std::array<std::pair<const char*, StitchMotion>, 4> kMotionNames{
-    {{"auto", StitchMotion::Auto},
-     {"pan", StitchMotion::Pan},
-     {"loom", StitchMotion::Loom},
-     {"static", StitchMotion::Static}}};
-
-}  // namespace
-
 const char* motionName(StitchMotion motion) {
-  for (const auto& [name, value] : kMotionNames)
+  for (const auto& [name, value] : kStitchMotionNames)
     if (value == motion) return name;
   return "auto";
 }
 
 std::optional<StitchMotion> stitchMotionNamed(const std::string& name) {
-  for (const auto& [known, value] : kMotionNames)
+  for (const auto& [known, value] : kStitchMotionNames)
     if (name == known) return value;
   return std::nullopt;
 }

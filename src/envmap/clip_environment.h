@@ -22,7 +22,14 @@ namespace pluvia::envmap {
 // by the features is a pan, a changing view a loom, else static).
 enum class StitchMotion { Auto, Pan, Loom, Static };
 
-// "auto", "pan", "loom", "static": the names presets and `pluvia envmap --motion` use.
+// Its names, the ones presets (lighting.motion) and `pluvia envmap --motion` use.
+inline constexpr std::array<std::pair<const char*, StitchMotion>, 4> kStitchMotionNames{
+    {{"auto", StitchMotion::Auto},
+     {"pan", StitchMotion::Pan},
+     {"loom", StitchMotion::Loom},
+     {"static", StitchMotion::Static}}};
+
+// "auto", "pan", "loom", "static".
 const char* motionName(StitchMotion motion);
 // The motion of that name; none for any other.
 std::optional<StitchMotion> stitchMotionNamed(const std::string& name);

@@ -1,8 +1,14 @@
 #include "stages/lighting_settings.h"
 
 namespace pluvia {
-
 namespace {
+
+// lighting.motion's names: the stitcher's own (envmap/clip_environment.h).
+std::vector<EnumName<envmap::StitchMotion>> motionNames() {
+  std::vector<EnumName<envmap::StitchMotion>> names;
+  for (const auto& [name, value] : envmap::kStitchMotionNames) names.push_back({name, value});
+  return names;
+}
 
 ParamSpec lightsParam() {
   // Item fields take plain numbers within +-1e9.
@@ -47,13 +53,10 @@ const SettingsTable<LightingSettings>& lightingTable() {
                "(the sky above lights the drops); stitch: the shot's frames stitched into a "
                "panorama (Wang et al. 4.1); frame_average: mean radiance of sampled frames in "
                "every direction; constant: lighting.color; hdr: lighting.hdr"),
-          bind(&S::motion, "motion",
-               {{"auto", envmap::StitchMotion::Auto},
-                {"pan", envmap::StitchMotion::Pan},
-                {"loom", envmap::StitchMotion::Loom},
-                {"static", envmap::StitchMotion::Static}},
-               "stitch: the camera's motion (auto: rotation found by the features makes "
-               "a pan, a changing view a loom)"),
+          // Qualified: std::vector in the arguments brings std::bind in by argument lookup.
+          pluvia::bind(&S::motion, "motion", motionNames(),
+                       "stitch: the camera's motion (auto: rotation found by the features makes "
+                       "a pan, a changing view a loom)"),
           bind(&S::everyFrames, integerParam("every", 5, {1, 10000}, "frames",
                                              "stitch, loom: a panorama every N frames")),
           bind(&S::panFrames, integerParam("pan_frames", 24, {1, 500}, "frames",
