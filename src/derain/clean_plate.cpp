@@ -78,8 +78,8 @@ void stackMedian(const std::vector<Registered>& stack, const Grey& reference,
   out.plate.create(size);
   out.valid.create(size);
   const int needed = settings.radiusFrames + 1;
-  std::vector<float> b(stack.size()), g(stack.size()), r(stack.size()), grey(stack.size());
-  for (int y = 0; y < size.height; ++y) {
+  forEachIndex(size.height, [&](int y) {
+    std::vector<float> b(stack.size()), g(stack.size()), r(stack.size()), grey(stack.size());
     for (int x = 0; x < size.width; ++x) {
       int count = 0;
       for (const Registered& frame : stack) {
@@ -100,7 +100,7 @@ void stackMedian(const std::vector<Registered>& stack, const Grey& reference,
       const bool agrees = deviation < settings.agreementCodes && own < settings.agreementCodes;
       out.valid(y, x) = count >= needed && agrees ? 255 : 0;
     }
-  }
+  });
 }
 
 void requireFrames(const std::vector<cv::Mat3f>& frames) {
@@ -122,26 +122,35 @@ std::vector<CleanPlate> cleanPlatesAt(const std::vector<cv::Mat3f>& frames,
   for (int t : at)
     if (t < 0 || t >= count)
       throw Error(fmt::format("clean plate: frame {} is outside the {} frames given", t, count));
-  // Frames, then targets, in parallel: each target's plate is its own (its own flow solver).
+  // Greys, then every (target, neighbour) registration, then the targets' medians, each step in
+  // parallel: a handful of targets alone would leave cores idle (3 targets on 2 cores).
   std::vector<Grey> greys(frames.size());
   forEachIndex(frames.size(), [&](size_t i) {
     greys[i] = suppressedGrey(frames[i], settings.suppressDiameterPx);
   });
   std::vector<CleanPlate> plates(at.size());
-  forEachIndex(at.size(), [&](size_t k) {
-    const cv::Ptr<cv::DISOpticalFlow> dis = makeDenseFlow();
+  std::vector<std::vector<Registered>> stacks(at.size());
+  std::vector<std::pair<size_t, size_t>> pairs;  // (target, place in its stack)
+  for (size_t k = 0; k < at.size(); ++k) {
     const int t = at[k];
     const auto [begin, end] = windowOf(t, count, settings.radiusFrames);
-    std::vector<Registered> stack{
-        {frames[t], greys[t].codes, cv::Mat1b(frames[t].size(), uchar(255))}};
+    stacks[k].push_back({frames[t], greys[t].codes, cv::Mat1b(frames[t].size(), uchar(255))});
     for (int s = begin; s < end; ++s) {
       if (s == t) continue;
-      NeighbourRegistration& record = plates[k].neighbours.emplace_back();
-      record.frame = s;
-      stack.push_back(registerNeighbour(frames[s], greys[s], greys[t], *dis, settings, record));
+      plates[k].neighbours.emplace_back().frame = s;
+      pairs.emplace_back(k, stacks[k].size());
+      stacks[k].emplace_back();
     }
-    stackMedian(stack, greys[t], settings, plates[k]);
+  }
+  forEachIndex(pairs.size(), [&](size_t i) {
+    const auto [k, place] = pairs[i];
+    NeighbourRegistration& record = plates[k].neighbours[place - 1];
+    const cv::Ptr<cv::DISOpticalFlow> dis = makeDenseFlow();
+    stacks[k][place] = registerNeighbour(frames[size_t(record.frame)], greys[size_t(record.frame)],
+                                         greys[size_t(at[k])], *dis, settings, record);
   });
+  for (size_t k = 0; k < at.size(); ++k)
+    stackMedian(stacks[k], greys[size_t(at[k])], settings, plates[k]);
   return plates;
 }
 

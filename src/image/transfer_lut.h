@@ -10,7 +10,8 @@
 // spacing is 1/1024 of the value everywhere and a smooth curve's interpolation error is
 // relative (at most p (p - 1) / 8 / 1024^2 for a power p: 4e-7 for the sRGB decode's 2.4).
 // Exactly 0 is a node of its own. Any other value (negative, below 2^-16, 256 or above, NaN,
-// infinite) is outside the table: its pixel goes through the exact function instead.
+// infinite) is outside the table: its pixel goes through the exact function instead. Where the
+// CPU has AVX2 the lookups run two pixels at a time (gathers), with the same result bit for bit.
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -36,8 +37,8 @@ class TransferLut {
 
  private:
   ExactRgb exact_;
-  // Per channel and node: the value and the step to the next node.
-  std::vector<float> table_[3];
+  // R's table, then G's, then B's; per node the value and the step to the next node.
+  std::vector<float> tables_;
   float atZero_[3] = {0, 0, 0};
 };
 

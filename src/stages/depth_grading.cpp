@@ -54,9 +54,20 @@ void DepthGradingStage::prepare(ClipContext& clip) {
 void DepthGradingStage::process(ClipContext&, FrameContext& frame) {
   if (leftOut_) return;
   const GradingAov aov(frame.image, name_);
-  const std::vector<float> weight = depthGradingWeights(frame.image, distanceMeters_);
+  const std::vector<float>& weight = weightsOf(frame.image);
   grade_(frame.image, weight);
   aov.finish(frame.image, weight);
+}
+
+const std::vector<float>& DepthGradingStage::weightsOf(const Image& image) {
+  const std::vector<float>* depth = image.findPlane(kDepthPlane);
+  const bool sameDepth = depth ? weightsDepth_ == *depth
+                               : weightsDepth_.empty() && weights_.size() == image.pixelCount();
+  if (!sameDepth || weights_.size() != image.pixelCount()) {
+    weights_ = depthGradingWeights(image, distanceMeters_);
+    weightsDepth_ = depth ? *depth : std::vector<float>();
+  }
+  return weights_;
 }
 
 }  // namespace pluvia

@@ -54,6 +54,11 @@ class DepthGradingStage : public Stage {
   bool overRain_;
   Grade grade_;
   bool leftOut_ = false;
+  // The weights of the last frame and the depth they were made from: a depth that stays (a
+  // guess, layers, a locked-off camera) is not weighed again every frame.
+  const std::vector<float>& weightsOf(const Image& image);
+  std::vector<float> weights_;
+  std::vector<float> weightsDepth_;
 };
 
 }  // namespace pluvia

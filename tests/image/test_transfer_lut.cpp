@@ -6,6 +6,7 @@
 
 #include <OpenColorIO/OpenColorIO.h>
 
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -119,6 +120,28 @@ TEST(TransferLut, MatchesAPowerCurveAndPassesOtherValuesToTheExactFunction) {
   Image zero = rowOf({0.0f});
   lut.apply(zero.rgba.data(), 1);
   EXPECT_EQ(zero.rgba[0], 0.25f);
+}
+
+// Many pixels at once (two at a time with AVX2 where the CPU has it) give the same bits as one
+// pixel at a time (the scalar loop), misses and zeros mixed in among the hits.
+TEST(TransferLut, ManyPixelsAtOnceGiveTheSameBitsAsOneAtATime) {
+  const TransferLut::ExactRgb exact = ocioExact("sRGB", "linear-rec709");
+  const TransferLut lut(exact);
+  std::vector<float> values = probeValues();
+  for (float odd : {-0.25f, 0.0f, 1e-7f, 300.0f, -0.0f}) values.insert(values.begin() + 777, odd);
+  Image together = rowOf(values);
+  Image oneByOne = together;
+  const size_t missesTogether = lut.apply(together.rgba.data(), together.pixelCount());
+  size_t missesOneByOne = 0;
+  for (size_t i = 0; i < oneByOne.pixelCount(); ++i)
+    missesOneByOne += lut.apply(oneByOne.rgba.data() + i * 4, 1);
+  EXPECT_EQ(missesTogether, missesOneByOne);
+  EXPECT_GT(missesTogether, 0u);
+  size_t differing = 0;
+  for (size_t i = 0; i < together.rgba.size(); ++i)
+    differing +=
+        std::bit_cast<uint32_t>(together.rgba[i]) != std::bit_cast<uint32_t>(oneByOne.rgba[i]);
+  EXPECT_EQ(differing, 0u);
 }
 
 }  // namespace

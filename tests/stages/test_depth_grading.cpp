@@ -121,3 +121,32 @@ TEST(DepthGrading, NoAovPlanesWithoutTheRequest) {
   runStage("darken", p, graded);
   EXPECT_EQ(graded.findPlane("darken.R"), nullptr);
 }
+
+// One stage over a clip keeps the weights while the depth stays and weighs again when it
+// changes: each frame comes out as a fresh stage grades it alone.
+TEST(DepthGrading, AStageOverFramesWeighsEachFramesOwnDepth) {
+  const Preset p = preset({"darken.amount=0.5", "blur.sigma_px=2"});
+  for (const char* name : {"darken", "blur"}) {
+    const StageInfo* info = nullptr;
+    for (const StageInfo& candidate : allStages())
+      if (candidate.spec.name == name) info = &candidate;
+    ASSERT_NE(info, nullptr) << name;
+    std::unique_ptr<Stage> stage = info->create(p);
+    ClipContext clip;
+    stage->prepare(clip);
+    Image swapped = plateWithDepth();  // near and far swapped, then no depth at all
+    for (float& z : swapped.plane("depth"))
+      z = z == kNearMeters ? kFarMeters : z == kFarMeters ? kNearMeters : z;
+    Image withoutDepth = plateWithDepth();
+    withoutDepth.planes.erase("depth");
+    for (const Image& plate :
+         {plateWithDepth(), plateWithDepth(), swapped, withoutDepth, plateWithDepth()}) {
+      FrameContext frame;
+      frame.image = plate;
+      stage->process(clip, frame);
+      Image alone = plate;
+      runStage(name, p, alone);
+      EXPECT_EQ(frame.image.rgba, alone.rgba) << name;
+    }
+  }
+}
