@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <set>
 
 #include <fmt/format.h>
@@ -395,12 +396,20 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
   context_.camera = cameraOfFrame(camera_, clip());
   context_.cameraPath = camera_.path(context_.camera);
   context_.framesKey = framesKey_;
-  context_.readWorking = [this](int64_t frame) {
-    Image image = reader_->read(frame);
-    if (mayHoldNonFinite(clip())) ops::replaceNonFinite(image);
-    toWorking_.apply(image);
-    return image;
+  context_.readWorking = [this](int64_t frame) { return workingFrame(*reader_, frame); };
+  // Declared after reader_ and toWorking_, context_ (and an analysis it waits for) ends first.
+  context_.openWorkingReader = [this] {
+    std::shared_ptr<ClipReader> reader = openInput(request_);
+    return std::function<Image(int64_t)>(
+        [this, reader](int64_t frame) { return workingFrame(*reader, frame); });
   };
+}
+
+Image RenderSession::workingFrame(ClipReader& reader, int64_t frame) const {
+  Image image = reader.read(frame);
+  if (mayHoldNonFinite(clip())) ops::replaceNonFinite(image);
+  toWorking_.apply(image);
+  return image;
 }
 
 void RenderSession::prepareStages() {
@@ -411,6 +420,7 @@ void RenderSession::prepareStages() {
     if (!plan_.available(info.spec.name)) continue;
     stages_.emplace_back(&info, info.create(preset_));
   }
+  for (auto& [info, stage] : stages_) stage->prepareAhead(context_);
   for (auto& [info, stage] : stages_) {
     const std::string& name = info->spec.name;
     ScopedTimer timer(&times_, name + " (prepare)");

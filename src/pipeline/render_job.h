@@ -96,6 +96,8 @@ class RenderSession {
   void toOutput(Image& image) const;
 
  private:
+  // A frame of `reader` in the working space.
+  Image workingFrame(ClipReader& reader, int64_t frame) const;
   const RenderRequest& request_;
   const Preset& preset_;
   const std::vector<StageInfo>& stageInfos_;

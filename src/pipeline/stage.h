@@ -19,6 +19,7 @@
 // Some are made before or beside the stages: artifactsMadeOutsideStages().
 #include <array>
 #include <functional>
+#include <future>
 #include <map>
 #include <memory>
 #include <optional>
@@ -68,7 +69,8 @@ struct FoundLamp {
 // Whether the plate was shot in rain (stages/clip_plate_rain.h).
 struct PlateRainFinding {
   bool rained = false;
-  std::string summary;  // what was measured, for the log
+  std::string summary;           // what was measured, for the log
+  double measuredSeconds = 0.0;  // for the log too
 };
 
 // Per-clip state, filled by per-clip stages in prepare() and read by per-frame stages.
@@ -76,6 +78,10 @@ struct ClipContext {
   const ClipInfo* clip = nullptr;
   ClipReader* reader = nullptr;               // frames in the file's encoding
   std::function<Image(int64_t)> readWorking;  // a frame converted to the working space
+  // A reader of the same frames of its own, for an analysis that runs on its own thread beside
+  // the stages' prepare() (Stage::prepareAhead); empty where none is to (a stage run alone, one
+  // thread).
+  std::function<std::function<Image(int64_t)>()> openWorkingReader;
   // What readWorking gives, as part of a cache key: the plate (clipIdentity), the size it is
   // read at and the conversion into the working space. The per-clip results made from the
   // frames alone (the still, the sky, whether the plate was shot in rain) are cached under it,
@@ -103,8 +109,10 @@ struct ClipContext {
   // The lamps found in the still (lights.find), set once by the lights stage's prepare(), so
   // that every chunk of a farm render places them alike and `pluvia plan --resolved` lists them.
   std::optional<std::vector<FoundLamp>> foundLamps;
-  // Measured on first use by a grading stage that leaves itself out on a plate shot in rain.
+  // Measured on first use by a grading stage that leaves itself out on a plate shot in rain, or
+  // ahead (plateRainAhead, on a thread of its own) and taken on first use.
   std::optional<PlateRainFinding> plateRain;
+  std::future<PlateRainFinding> plateRainAhead;
 };
 
 struct FrameContext {
@@ -122,6 +130,9 @@ struct FrameContext {
 class Stage {
  public:
   virtual ~Stage() = default;
+  // Once per clip, before any stage's prepare(): starts an analysis of the frames alone on a
+  // thread of its own, so that it runs beside the prepare() of the stages before this one.
+  virtual void prepareAhead(ClipContext& clip) {}
   // Once per clip, before any frame (per-clip analysis, GPU set-up).
   virtual void prepare(ClipContext& clip) {}
   // Once per frame, in frame order, on the render thread.

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <future>
+#include <optional>
 
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
@@ -13,6 +15,7 @@
 #include "pluvia/version.h"
 #include "util/hash.h"
 #include "util/log.h"
+#include "util/thread_limit.h"
 #include "util/timer.h"
 
 namespace pluvia {
@@ -47,45 +50,76 @@ std::string plateRainKey(const std::string& framesKey) {
       .hex();
 }
 
-}  // namespace
-
-const PlateRainFinding& clipPlateRain(ClipContext& clip) {
-  if (clip.plateRain) return *clip.plateRain;
-  PlateRainFinding finding;
-  if (!clip.clip || !clip.readWorking || clip.clip->frames.size() < 3) {
-    finding.summary = "fewer than 3 frames to measure: taken as dry";
-    return clip.plateRain.emplace(finding);
-  }
-  const std::string key = plateRainKey(clip.framesKey);
-  if (clip.cache && !key.empty()) {
-    if (auto cached = clip.cache->load("plate-rain", key)) {
-      try {
-        finding.rained = cached->at("rained").get<bool>();
-        finding.summary = cached->at("summary").get<std::string>();
-        log::info(fmt::format("plate: {} in rain: {}, from cache",
-                              finding.rained ? "shot" : "not shot", finding.summary));
-        return clip.plateRain.emplace(finding);
-      } catch (const nlohmann::json::exception&) {
-        // Malformed: measured again and stored over it.
-      }
-    }
-  }
-  const std::vector<int64_t>& frames = clip.clip->frames;
+// Measured on `read`'s frames: 9 consecutive ones from the clip's middle.
+PlateRainFinding measureOn(const ClipInfo& clip, const std::function<Image(int64_t)>& read) {
   const auto start = std::chrono::steady_clock::now();
+  const std::vector<int64_t>& frames = clip.frames;
   const size_t count = std::min(frames.size(), kFramesRead);
   const size_t first = (frames.size() - count) / 2;
   std::vector<cv::Mat3f> codes;
-  for (size_t i = first; i < first + count; ++i)
-    codes.push_back(displayCodes(clip.readWorking(frames[i])));
+  for (size_t i = first; i < first + count; ++i) codes.push_back(displayCodes(read(frames[i])));
   const derain::PlateRain rain = derain::measurePlateRain(codes);
-  finding.rained = rain.rained;
-  finding.summary = rain.summary();
-  log::info(fmt::format("plate: {} in rain: {}, in {:.1f} s", rain.rained ? "shot" : "not shot",
-                        finding.summary, secondsSince(start)));
+  return {rain.rained, rain.summary(), secondsSince(start)};
+}
+
+bool measurable(const ClipContext& clip) {
+  return clip.clip && clip.readWorking && clip.clip->frames.size() >= 3;
+}
+
+// The cached finding, when the cache holds one for the clip's frames.
+std::optional<PlateRainFinding> cachedFinding(const ClipContext& clip) {
+  const std::string key = plateRainKey(clip.framesKey);
+  if (!clip.cache || key.empty()) return std::nullopt;
+  auto cached = clip.cache->load("plate-rain", key);
+  if (!cached) return std::nullopt;
+  try {
+    PlateRainFinding finding;
+    finding.rained = cached->at("rained").get<bool>();
+    finding.summary = cached->at("summary").get<std::string>();
+    log::info(fmt::format("plate: {} in rain: {}, from cache", finding.rained ? "shot" : "not shot",
+                          finding.summary));
+    return finding;
+  } catch (const nlohmann::json::exception&) {
+    return std::nullopt;  // malformed: measured again and stored over it
+  }
+}
+
+const PlateRainFinding& keepMeasured(ClipContext& clip, const PlateRainFinding& finding) {
+  log::info(fmt::format("plate: {} in rain: {}, in {:.1f} s", finding.rained ? "shot" : "not shot",
+                        finding.summary, finding.measuredSeconds));
+  const std::string key = plateRainKey(clip.framesKey);
   if (clip.cache && !key.empty())
     clip.cache->store("plate-rain", key,
                       {{"rained", finding.rained}, {"summary", finding.summary}});
   return clip.plateRain.emplace(finding);
+}
+
+}  // namespace
+
+void startPlateRainCheck(ClipContext& clip) {
+  if (clip.plateRain || clip.plateRainAhead.valid() || !measurable(clip) ||
+      !clip.openWorkingReader || threadLimit() < 2)
+    return;
+  if (std::optional<PlateRainFinding> cached = cachedFinding(clip)) {
+    clip.plateRain.emplace(*cached);
+    return;
+  }
+  clip.plateRainAhead = std::async(
+      std::launch::async,
+      [info = clip.clip, open = clip.openWorkingReader] { return measureOn(*info, open()); });
+}
+
+const PlateRainFinding& clipPlateRain(ClipContext& clip) {
+  if (clip.plateRain) return *clip.plateRain;
+  if (clip.plateRainAhead.valid()) return keepMeasured(clip, clip.plateRainAhead.get());
+  if (!measurable(clip)) {
+    PlateRainFinding finding;
+    finding.summary = "fewer than 3 frames to measure: taken as dry";
+    return clip.plateRain.emplace(finding);
+  }
+  if (std::optional<PlateRainFinding> cached = cachedFinding(clip))
+    return clip.plateRain.emplace(*cached);
+  return keepMeasured(clip, measureOn(*clip.clip, clip.readWorking));
 }
 
 bool leaveOutOnRainedPlate(ClipContext& clip, const std::string& stage, bool overRain) {

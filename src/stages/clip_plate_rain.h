@@ -10,9 +10,15 @@
 
 namespace pluvia {
 
-// clip.plateRain, measured on first use. A clip of fewer than 3 frames (or none: a stage run
-// on its own) is taken as dry.
+// clip.plateRain, measured on first use (or taken from the check started ahead). A clip of
+// fewer than 3 frames (or none: a stage run on its own) is taken as dry.
 const PlateRainFinding& clipPlateRain(ClipContext& clip);
+
+// Starts the check on a thread and a reader of its own (clip.openWorkingReader), for a stage's
+// prepareAhead(): it reads and measures its 9 frames beside the lighting's and depth's analyses
+// instead of after them. Nothing to start with one thread, without that reader, or when the
+// finding is known (cached, or started already).
+void startPlateRainCheck(ClipContext& clip);
 
 // True, with a log line naming `stage`, when the stage is to leave the clip as it is: not
 // `overRain` and the plate was shot in rain.

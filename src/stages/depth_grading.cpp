@@ -47,6 +47,10 @@ void GradingAov::finish(Image& image, const std::vector<float>& weight) const {
   }
 }
 
+void DepthGradingStage::prepareAhead(ClipContext& clip) {
+  if (!overRain_) startPlateRainCheck(clip);
+}
+
 void DepthGradingStage::prepare(ClipContext& clip) {
   leftOut_ = leaveOutOnRainedPlate(clip, name_, overRain_);
 }

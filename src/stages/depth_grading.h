@@ -45,6 +45,7 @@ class DepthGradingStage : public Stage {
         distanceMeters_(distanceMeters),
         overRain_(overRain),
         grade_(std::move(grade)) {}
+  void prepareAhead(ClipContext& clip) override;
   void prepare(ClipContext& clip) override;
   void process(ClipContext&, FrameContext& frame) override;
 

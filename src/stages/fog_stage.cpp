@@ -27,6 +27,10 @@ class FogStage : public Stage {
  public:
   FogStage(FogSettings fog, RainSettings rain) : fog_(std::move(fog)), rain_(std::move(rain)) {}
 
+  void prepareAhead(ClipContext& clip) override {
+    if (!fog_.overRain) startPlateRainCheck(clip);
+  }
+
   void prepare(ClipContext& clip) override {
     leftOut_ = leaveOutOnRainedPlate(clip, "fog", fog_.overRain);
     if (leftOut_) return;

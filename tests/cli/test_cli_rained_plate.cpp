@@ -30,6 +30,20 @@ TEST(CliRainedPlate, ARainedPlateGetsNoSecondVeilUnlessAsked) {
       {"plate: shot in rain: streaks over", "darken: left out: the plate was shot in rain",
        "blur: left out: the plate was shot in rain", "fog: left out: the plate was shot in rain"});
 
+  // The check runs ahead on its own reader and thread (2 threads and more) or on first use (1
+  // thread): the same frames measured alike.
+  const auto oneThread =
+      runPluvia({"render", nturain, "-p", "heavy", "-o", (dir / "d.####.png").string(), "--frames",
+                 "5-5", "--threads", "1"});
+  ASSERT_EQ(oneThread.exitCode, 0) << oneThread.output;
+  auto findingIn = [](const std::string& output) {
+    const size_t at = output.find("plate: shot in rain:");
+    return at == std::string::npos ? std::string()
+                                   : output.substr(at, output.find(", in ", at) - at);
+  };
+  EXPECT_FALSE(findingIn(rained.output).empty());
+  EXPECT_EQ(findingIn(oneThread.output), findingIn(rained.output));
+
   const auto asked =
       runPluvia({"render", nturain, "-p", "heavy", "-o", (dir / "b.####.png").string(), "--frames",
                  "5-5", "--set", "fog.over_rain=true"});
