@@ -1,5 +1,6 @@
 #include "optics/drop_radiance_map.h"
 
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -95,13 +96,20 @@ EquirectMap buildDropRadianceMap(const EquirectMap& environment,
 
   const std::vector<double> cosDeltaPhi =
       subsampleCosDeltaPhi(inWidth, ratio, settings.kernelSubsamples);
+  // The kernel of output row o against input row i is that of the rows mirrored about the
+  // equator (outHeight - 1 - o against inHeight - 1 - i): both polar angles become pi minus
+  // themselves, so their sines stay and the product of their cosines too. Each kernel is made
+  // once, for a row of the upper half, and serves its mirror row with the mirrored input row.
   EquirectMap out(outWidth, outHeight);
-  forEachRow(outHeight, [&](int outRow) {
-    std::array<cv::Mat, 3> accumulated;
+  forEachRow((outHeight + 1) / 2, [&](int outRow) {
+    const int mirrorRow = outHeight - 1 - outRow;
+    std::array<cv::Mat, 3> accumulated, mirrored;
     for (auto& a : accumulated) a = cv::Mat::zeros(1, inWidth, CV_64FC2);
+    for (auto& a : mirrored) a = cv::Mat::zeros(1, inWidth, CV_64FC2);
     std::vector<double> kernel;
-    cv::Mat kernelSpectrum;
+    cv::Mat kernelSpectrum, product;
     for (int inRow = 0; inRow < inHeight; ++inRow) {
+      const int mirrorInRow = inHeight - 1 - inRow;
       for (int c = 0; c < 3; ++c) {
         if (c == 0 || !oneTable) {
           rowKernel(tables[size_t(c)], outRow, outHeight, inRow, inWidth, inHeight,
@@ -110,19 +118,25 @@ EquirectMap buildDropRadianceMap(const EquirectMap& environment,
                   cv::DFT_COMPLEX_OUTPUT);
         }
         // sum_s K[s] L[q + s] <-> conj(K^) L^
-        cv::Mat product;
         cv::mulSpectrums(rowSpectra[size_t(inRow) * 3 + size_t(c)], kernelSpectrum, product, 0,
                          true);
         accumulated[size_t(c)] += product;
+        if (mirrorRow == outRow) continue;
+        cv::mulSpectrums(rowSpectra[size_t(mirrorInRow) * 3 + size_t(c)], kernelSpectrum, product,
+                         0, true);
+        mirrored[size_t(c)] += product;
       }
     }
-    for (int c = 0; c < 3; ++c) {
-      cv::Mat correlation;
-      cv::idft(accumulated[size_t(c)], correlation, cv::DFT_REAL_OUTPUT | cv::DFT_SCALE);
-      for (int i = 0; i < outWidth; ++i) {
-        out.texel(i, outRow)[c] = float(correlation.at<double>(0, i * ratio));
+    auto writeRow = [&](int row, const std::array<cv::Mat, 3>& sums) {
+      for (int c = 0; c < 3; ++c) {
+        cv::Mat correlation;
+        cv::idft(sums[size_t(c)], correlation, cv::DFT_REAL_OUTPUT | cv::DFT_SCALE);
+        for (int i = 0; i < outWidth; ++i)
+          out.texel(i, row)[c] = float(correlation.at<double>(0, i * ratio));
       }
-    }
+    };
+    writeRow(outRow, accumulated);
+    if (mirrorRow != outRow) writeRow(mirrorRow, mirrored);
   });
   return out;
 }

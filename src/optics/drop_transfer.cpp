@@ -194,16 +194,6 @@ double transferDensity(double theta, const DropOptics& optics) {
   return sum / M_PI;
 }
 
-double TransferTable::at(double mu) const {
-  const int bins = int(density.size());
-  const double position = (mu + 1.0) / binWidthMu() - 0.5;  // bin centres on integers
-  if (position <= 0.0) return density.front();
-  if (position >= bins - 1) return density.back();
-  const int k = int(position);
-  const double f = position - k;
-  return density[size_t(k)] + f * (density[size_t(k) + 1] - density[size_t(k)]);
-}
-
 TransferTable binTransfer(const DropOptics& optics, int bins) {
   checkOptics(optics);
   if (bins < 2) throw std::invalid_argument("transfer table needs at least 2 bins");

@@ -20,6 +20,7 @@
 //  - D itself as a table of bins in cos(theta): the power falling in each bin divided by its
 //    solid angle, so the integrable singularities at caustics and on the axis become finite
 //    bin averages instead of samples of an infinite density.
+#include <cstddef>
 #include <vector>
 
 namespace pluvia::optics {
@@ -56,8 +57,17 @@ std::vector<double> transferZonal(const DropOptics& optics, int order);
 struct TransferTable {
   std::vector<double> density;  // per steradian
   double binWidthMu() const { return 2.0 / double(density.size()); }
-  // Linear interpolation between bin centres (clamped at the ends).
-  double at(double mu) const;
+  // Linear interpolation between bin centres (clamped at the ends). Inline: the drop radiance
+  // map looks it up a hundred million times per environment.
+  double at(double mu) const {
+    const int bins = int(density.size());
+    const double position = (mu + 1.0) / binWidthMu() - 0.5;  // bin centres on integers
+    if (position <= 0.0) return density.front();
+    if (position >= bins - 1) return density.back();
+    const int k = int(position);
+    const double f = position - k;
+    return density[std::size_t(k)] + f * (density[std::size_t(k) + 1] - density[std::size_t(k)]);
+  }
 };
 TransferTable binTransfer(const DropOptics& optics, int bins);
 

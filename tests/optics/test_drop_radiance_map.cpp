@@ -231,3 +231,67 @@ TEST(DropRadianceMap, StiffOpticsGiveFiniteNonNegativeMaps) {
 
 }  // namespace
 }  // namespace pluvia::optics
+
+namespace pluvia::optics {
+namespace {
+
+// The map's own formula summed directly, texel by texel, on an environment unlike itself upside
+// down (a bright band above the horizon, a ramp in longitude): every texel of both hemispheres
+// agrees, so the kernels made for the upper half and used for the mirrored rows of the lower
+// half (drop_radiance_map.cpp) are the lower half's own. Tolerance 1e-5 relative (float texels
+// of double sums).
+TEST(DropRadianceMap, EveryRowMatchesTheDirectSumOfItsDefinition) {
+  RadianceMapSettings settings;
+  settings.outputWidth = 16;
+  settings.inputWidth = 32;
+  settings.bins = 256;
+  EquirectMap environment(32, 16);
+  for (int y = 0; y < environment.height; ++y)
+    for (int x = 0; x < environment.width; ++x)
+      for (int c = 0; c < 3; ++c)
+        environment.texel(x, y)[c] = float(0.2 + 0.05 * x + (y >= 3 && y < 6 ? 4.0 + c : 0.0));
+  const std::array<DropOptics, 3> optics = channelOptics(kPlainWater, kDefaultTerms);
+  const EquirectMap map = buildDropRadianceMap(environment, optics, settings);
+  const TransferTable table = binTransfer(optics[0], settings.bins);
+
+  const int outWidth = settings.outputWidth, outHeight = outWidth / 2;
+  const int inWidth = settings.inputWidth, inHeight = inWidth / 2;
+  const int ratio = inWidth / outWidth, sub = settings.kernelSubsamples;
+  double worst = 0.0;
+  for (int row = 0; row < outHeight; ++row) {
+    const double thetaOut = M_PI * (row + 0.5) / outHeight;
+    for (int i = 0; i < outWidth; ++i) {
+      std::array<double, 3> sum = {0.0, 0.0, 0.0};
+      for (int inRow = 0; inRow < inHeight; ++inRow) {
+        double weight = 0.0;
+        std::vector<double> kernel(size_t(inWidth), 0.0);
+        for (int a = 0; a < sub; ++a) {
+          const double thetaIn = M_PI * (inRow + (a + 0.5) / sub) / inHeight;
+          weight += std::sin(thetaIn) * sub;
+          for (int s = 0; s < inWidth; ++s)
+            for (int b = 0; b < sub; ++b) {
+              const double columns = s - 0.5 * ratio + (b + 0.5) / sub;
+              const double mu = std::sin(thetaOut) * std::sin(thetaIn) *
+                                    std::cos(2.0 * M_PI * columns / inWidth) +
+                                std::cos(thetaOut) * std::cos(thetaIn);
+              kernel[size_t(s)] += std::sin(thetaIn) * table.at(mu);
+            }
+        }
+        const double scale = equirectTexelSolidAngle(inWidth, inHeight, inRow) / weight;
+        for (int s = 0; s < inWidth; ++s) {
+          const int q = (ratio * i + s) % inWidth;
+          for (int c = 0; c < 3; ++c)
+            sum[size_t(c)] += kernel[size_t(s)] * scale * environment.texel(q, inRow)[c];
+        }
+      }
+      for (int c = 0; c < 3; ++c) {
+        const double got = map.texel(i, row)[c];
+        worst = std::max(worst, std::abs(got - sum[size_t(c)]) / sum[size_t(c)]);
+      }
+    }
+  }
+  EXPECT_LT(worst, 1e-5);
+}
+
+}  // namespace
+}  // namespace pluvia::optics
