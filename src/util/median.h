@@ -18,6 +18,18 @@ T medianInPlace(T* values, size_t count) {
   return (upper + *std::max_element(values, values + half)) / T(2);
 }
 
+// The median of five values without reordering anything: min and max only, which a loop over
+// many samples (a median still of five frames, 8 million samples at 1080p) runs as vector
+// instructions. The middle value of the five, as medianInPlace gives it, for values that are not
+// NaN: the larger of the two pairs' minima and the smaller of their maxima leave out the least
+// and the greatest of a, b, c, d, and e's median with those two is the middle of all five.
+template <class T>
+T median5(T a, T b, T c, T d, T e) {
+  const T low = std::max(std::min(a, b), std::min(c, d));
+  const T high = std::min(std::max(a, b), std::max(c, d));
+  return std::max(std::min(low, high), std::min(std::max(low, high), e));
+}
+
 template <class T>
 T median(std::vector<T> values) {
   return medianInPlace(values.data(), values.size());

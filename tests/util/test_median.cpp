@@ -4,6 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <random>
+
 namespace pluvia {
 namespace {
 
@@ -24,3 +28,20 @@ TEST(Median, NoValuesIsNaN) {
 
 }  // namespace
 }  // namespace pluvia
+
+// Every order of five values, with ties (values drawn from a few levels), against medianInPlace.
+TEST(Median, MedianOfFiveIsTheMiddleValueInEveryOrder) {
+  std::mt19937 random(3);
+  std::uniform_int_distribution<int> level(0, 3);
+  for (int trial = 0; trial < 2000; ++trial) {
+    std::array<float, 5> v;
+    for (float& x : v)
+      x = trial % 2 ? float(level(random)) : std::uniform_real_distribution<float>(-1, 1)(random);
+    std::array<float, 5> sorted = v;
+    const float want = pluvia::medianInPlace(sorted.data(), sorted.size());
+    std::sort(v.begin(), v.end());
+    do {
+      EXPECT_EQ(pluvia::median5(v[0], v[1], v[2], v[3], v[4]), want);
+    } while (std::next_permutation(v.begin(), v.end()));
+  }
+}
