@@ -43,6 +43,10 @@ class ClipReader {
   // Reads one frame by its number. Throws pluvia::Error naming the file and frame when the frame
   // is missing, truncated or corrupt, or its size differs from the clip's.
   virtual Image read(int64_t frame) = 0;
+  // A hint: these frames (in increasing order) are about to be read. A movie decodes them in
+  // one pass that neither converts nor hands over the frames between them, and holds them until
+  // each is read. Readers that gain nothing from it ignore it; an error here is left to read().
+  virtual void prefetch(const std::vector<int64_t>& frames) {}
 };
 
 // Opens INPUT (movie, sequence pattern, or a single image). Throws pluvia::Error naming the

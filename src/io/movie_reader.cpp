@@ -114,6 +114,11 @@ class MovieReader final : public ClipReader {
                               info_.frames.size() - 1),
                   {"read", frame, info_.path});
     }
+    if (auto held = prefetched_.find(frame); held != prefetched_.end()) {
+      raw_.swap(held->second);
+      prefetched_.erase(held);
+      return toImage();
+    }
     if (!decoder_ || frame < next_ || frame - next_ > kMaxForwardSkipFrames) startAt(frame);
     if (!decoder_->skip((frame - next_) * frameBytes()) ||
         !decoder_->readExactly(raw_.data(), raw_.size())) {
@@ -127,6 +132,34 @@ class MovieReader final : public ClipReader {
     return toImage();
   }
 
+  // One decoder of its own whose select filter passes only the frames asked for: those between
+  // are decoded (as a seek would) but never converted to RGB or sent down the pipe. A conformed
+  // variable-rate movie, whose frame numbers exist only after its fps filter, reads as it does.
+  void prefetch(const std::vector<int64_t>& frames) override {
+    std::lock_guard lock(mutex_);
+    prefetched_.clear();
+    if (probe_.variableRate || frames.size() < 2 || !std::is_sorted(frames.begin(), frames.end()) ||
+        std::adjacent_find(frames.begin(), frames.end()) != frames.end() || frames.front() < 0 ||
+        frames.back() >= static_cast<int64_t>(info_.frames.size()))
+      return;
+    std::string select;
+    for (int64_t frame : frames)
+      select += fmt::format("{}eq(n,{})", select.empty() ? "" : "+", frame);
+    std::vector<std::string> argv = decoderArguments();
+    argv.insert(argv.end(), {"-i", "file:" + info_.path, "-map", "0:v:0", "-vf",
+                             "select='" + select + "'", "-fps_mode", "passthrough"});
+    appendRawOutput(argv);
+    ReadPipe pass(argv);
+    for (int64_t frame : frames) {
+      std::vector<uint8_t> raw(frameBytes());
+      if (!pass.readExactly(raw.data(), raw.size())) {
+        prefetched_.clear();  // read() decodes them again, and names what fails
+        return;
+      }
+      prefetched_.emplace(frame, std::move(raw));
+    }
+  }
+
  private:
   size_t frameBytes() const {
     return static_cast<size_t>(info_.width) * info_.height * 3 * sampleBytes_;
@@ -136,10 +169,18 @@ class MovieReader final : public ClipReader {
   // (ffmpeg decodes from the keyframe before and drops what comes before the time asked for,
   // half a frame early so rounding cannot drop the frame itself); a conformed variable-rate one
   // decodes from the start, since its frame numbers exist only after the fps filter.
+  std::vector<std::string> decoderArguments() const {
+    return {"ffmpeg", "-v", "error", "-nostdin", "-threads", std::to_string(threadLimit())};
+  }
+
+  void appendRawOutput(std::vector<std::string>& argv) const {
+    argv.insert(argv.end(), {"-sws_flags", "accurate_rnd+full_chroma_int", "-f", "rawvideo",
+                             "-pix_fmt", sampleBytes_ == 2 ? "rgb48le" : "rgb24", "pipe:1"});
+  }
+
   void startAt(int64_t frame) {
     decoder_.reset();
-    std::vector<std::string> argv{"ffmpeg",   "-v",       "error",
-                                  "-nostdin", "-threads", std::to_string(threadLimit())};
+    std::vector<std::string> argv = decoderArguments();
     int64_t first = 0;
     if (frame > 0 && !probe_.variableRate) {
       argv.insert(argv.end(), {"-ss", fmt::format("{:.6f}", (frame - 0.5) / probe_.fps)});
@@ -151,8 +192,7 @@ class MovieReader final : public ClipReader {
     } else {
       argv.insert(argv.end(), {"-fps_mode", "passthrough"});
     }
-    argv.insert(argv.end(), {"-sws_flags", "accurate_rnd+full_chroma_int", "-f", "rawvideo",
-                             "-pix_fmt", sampleBytes_ == 2 ? "rgb48le" : "rgb24", "pipe:1"});
+    appendRawOutput(argv);
     std::string command;
     for (const std::string& arg : argv) command += (command.empty() ? "" : " ") + arg;
     log::debug("decoding: " + command);
@@ -230,6 +270,7 @@ class MovieReader final : public ClipReader {
   std::optional<ReadPipe> decoder_;
   int64_t next_ = 0;  // the frame the decoder writes next
   std::vector<uint8_t> raw_;
+  std::map<int64_t, std::vector<uint8_t>> prefetched_;  // frames prefetch() decoded, until read
   std::mutex mutex_;
 };
 

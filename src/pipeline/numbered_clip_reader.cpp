@@ -24,6 +24,11 @@ class NumberedClipReader final : public ClipReader {
                   {"read", frame, info_.path});
     }
   }
+  void prefetch(const std::vector<int64_t>& frames) override {
+    std::vector<int64_t> positions;
+    for (int64_t frame : frames) positions.push_back(frame - offset_);
+    movie_->prefetch(positions);
+  }
 
  private:
   std::unique_ptr<ClipReader> movie_;

@@ -15,6 +15,7 @@ class ProxyClipReader : public ClipReader {
   ProxyClipReader(std::unique_ptr<ClipReader> fullSize, double scale);
   const ClipInfo& info() const override { return info_; }
   Image read(int64_t frame) override;
+  void prefetch(const std::vector<int64_t>& frames) override { fullSize_->prefetch(frames); }
 
  private:
   std::unique_ptr<ClipReader> fullSize_;

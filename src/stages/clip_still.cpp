@@ -55,9 +55,12 @@ std::string skyKey(const ClipContext& clip, const Camera& camera) {
 
 Image medianOfFrames(ClipContext& clip, const std::vector<int64_t>& frames, int maxFrames) {
   const int count = std::max(1, std::min<int>(maxFrames, int(frames.size())));
-  std::vector<Image> images;
+  std::vector<int64_t> spread;
   for (int s = 0; s < count; ++s)
-    images.push_back(clip.readWorking(frames[frames.size() * size_t(s) / size_t(count)]));
+    spread.push_back(frames[frames.size() * size_t(s) / size_t(count)]);
+  if (clip.reader) clip.reader->prefetch(spread);
+  std::vector<Image> images;
+  for (int64_t frame : spread) images.push_back(clip.readWorking(frame));
   Image median = images.front();
   if (count < 3) return median;
   // Samples in parallel blocks (a 1080p still is 8 million of them).

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
 
@@ -115,6 +116,30 @@ TEST(MovieReader, SeekingLandsOnTheFrameAskedFor) {
   auto seeking = openClip(test::exampleClip().string());
   for (int64_t f : {47, 20, 1, 33, 0, 46})
     EXPECT_EQ(seeking->read(f).rgba, sequential[f].rgba) << f;
+}
+
+// Frames decoded ahead in one pass (the still's spread frames) are the frames read one by one,
+// and a read that was not prefetched, or a list prefetch() cannot take, reads as before.
+TEST(MovieReader, PrefetchedFramesAreTheFramesReadOneByOne) {
+  auto clip = openClip(test::exampleClip().string());
+  std::vector<Image> sequential;
+  for (int64_t f = 0; f < 48; ++f) sequential.push_back(clip->read(f));
+  // A copy removed once prefetched: its frames can then come only from what prefetch() holds.
+  const std::filesystem::path copy = test::freshTempDir("prefetch") / "plate.mp4";
+  std::filesystem::copy_file(test::exampleClip(), copy);
+  auto held = openClip(copy.string());
+  held->prefetch({0, 9, 19, 28, 38});
+  std::filesystem::remove(copy);
+  for (int64_t f : {0, 9, 19, 28, 38})
+    EXPECT_EQ(held->read(f).rgba, sequential[size_t(f)].rgba) << f;
+  EXPECT_THROW(held->read(40), Error);  // not prefetched, and the file is gone
+
+  auto ahead = openClip(test::exampleClip().string());
+  ahead->prefetch({0, 9, 19, 28, 38});
+  for (int64_t f : {0, 9, 40, 3}) EXPECT_EQ(ahead->read(f).rgba, sequential[size_t(f)].rgba) << f;
+  ahead->prefetch({47, 2});   // not increasing: ignored
+  ahead->prefetch({5, 480});  // past the end: ignored
+  for (int64_t f : {47, 2, 5}) EXPECT_EQ(ahead->read(f).rgba, sequential[size_t(f)].rgba) << f;
 }
 
 // A process remembers the frame counts it has checked (a render opens its input twice), by
