@@ -1,6 +1,7 @@
 #include "stages/depth_grading.h"
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "stages/clip_plate_rain.h"
@@ -65,7 +66,10 @@ void DepthGradingStage::process(ClipContext&, FrameContext& frame) {
 
 const std::vector<float>& DepthGradingStage::weightsOf(const Image& image) {
   const std::vector<float>* depth = image.findPlane(kDepthPlane);
-  const bool sameDepth = depth ? weightsDepth_ == *depth
+  // Bit for bit (memcmp): equal bits weigh alike, and the comparison runs at memory speed.
+  const bool sameDepth = depth ? weightsDepth_.size() == depth->size() &&
+                                     std::memcmp(weightsDepth_.data(), depth->data(),
+                                                 depth->size() * sizeof(float)) == 0
                                : weightsDepth_.empty() && weights_.size() == image.pixelCount();
   if (!sameDepth || weights_.size() != image.pixelCount()) {
     weights_ = depthGradingWeights(image, distanceMeters_);
