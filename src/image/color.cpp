@@ -368,6 +368,28 @@ void ColorConverter::apply(Image& image) const {
   }
 }
 
+std::optional<CodeValues> ColorConverter::codeValues(int bits) const {
+  if ((bits != 8 && bits != 16) || (!impl_->noOp && !impl_->conversion.lut)) return std::nullopt;
+  const int codes = 1 << bits;
+  // Each code's value as the readers make it (code times the float reciprocal of the largest).
+  const float scale = 1.0f / static_cast<float>(codes - 1);
+  Image ramp(codes, 1);
+  for (int k = 0; k < codes; ++k)
+    for (int c = 0; c < 3; ++c)
+      ramp.rgba[size_t(k) * 4 + size_t(c)] = static_cast<float>(k) * scale;
+  // Every code lies in the table (no pixel through the exact path, which takes a pixel's three
+  // channels together): each channel's value is then its own.
+  if (!impl_->noOp && impl_->conversion.lut->apply(ramp.rgba.data(), size_t(codes)) != 0)
+    return std::nullopt;
+  CodeValues values;
+  for (int c = 0; c < 3; ++c) {
+    values[size_t(c)].resize(size_t(codes));
+    for (int k = 0; k < codes; ++k)
+      values[size_t(c)][size_t(k)] = ramp.rgba[size_t(k) * 4 + size_t(c)];
+  }
+  return values;
+}
+
 std::vector<std::string> colorSpaceNames(const std::string& configPath) {
   return namesIn(configFor(configPath));
 }

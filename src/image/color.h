@@ -9,6 +9,7 @@
 //   "sRGB"           sRGB transfer curve, Rec.709 primaries (PNG, JPEG, video by default)
 //   "rec709"         Rec.709 camera OETF, Rec.709 primaries
 //   "raw"            no conversion
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -17,6 +18,10 @@
 #include "image/image.h"
 
 namespace pluvia {
+
+// Integer-coded samples converted by table: entry k of channel c is what a conversion makes of
+// the value k / (2^bits - 1) (as the clip readers normalise codes) in that channel.
+using CodeValues = std::array<std::vector<float>, 3>;
 
 class ColorConverter {
  public:
@@ -29,6 +34,10 @@ class ColorConverter {
   // Converts RGB in place (alpha and planes untouched).
   void apply(Image& image) const;
   bool isNoOp() const;
+  // The table of every `bits`-bit code (8 or 16) converted as apply() converts it, when each
+  // channel converts alone (a transfer curve, or nothing to do); empty otherwise (channel
+  // crosstalk: a matrix) or for other depths.
+  std::optional<CodeValues> codeValues(int bits) const;
 
  private:
   struct Impl;

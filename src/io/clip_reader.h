@@ -1,8 +1,9 @@
 #pragma once
 // Reading clips: a movie file (an ffmpeg process, at the file's bit depth), an image sequence
 // (OpenImageIO: EXR, DPX, TIFF, PNG, JPEG, HDR) or a single image. Frames come back as float RGBA
-// in the file's own encoding (no colour conversion here: see image/color.h), alpha 1 where absent,
-// grayscale expanded to RGB, 8/16-bit normalised to 0..1, half and float as they are.
+// in the file's own encoding (no colour conversion here: see image/color.h; a movie can look its
+// codes up in a conversion's table as it unpacks them, ClipReader::readCodesThrough), alpha 1
+// where absent, grayscale expanded to RGB, 8/16-bit normalised to 0..1, half and float as they are.
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -10,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "image/color.h"
 #include "image/image.h"
 #include "io/pixel_window.h"
 
@@ -47,6 +49,13 @@ class ClipReader {
   // one pass that neither converts nor hands over the frames between them, and holds them until
   // each is read. Readers that gain nothing from it ignore it; an error here is left to read().
   virtual void prefetch(const std::vector<int64_t>& frames) {}
+  // The bit depth of the integer codes the reader unpacks (8 or 16), or 0 when it cannot look
+  // them up in a table (readCodesThrough).
+  virtual int codeBits() const { return 0; }
+  // read(), with each code looked up in `table` (ColorConverter::codeValues for codeBits()) as
+  // it is unpacked instead of normalised: the frame converted without a pass of its own. Only
+  // for a reader whose codeBits() is not 0; others read as read() does.
+  virtual Image readCodesThrough(int64_t frame, const CodeValues& table) { return read(frame); }
 };
 
 // Opens INPUT (movie, sequence pattern, or a single image). Throws pluvia::Error naming the

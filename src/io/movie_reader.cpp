@@ -106,7 +106,10 @@ class MovieReader final : public ClipReader {
 
   const ClipInfo& info() const override { return info_; }
 
-  Image read(int64_t frame) override {
+  Image read(int64_t frame) override { return readWith(frame, nullptr); }
+
+  // The frame, its codes normalised or (`table`) looked up.
+  Image readWith(int64_t frame, const CodeValues* table) {
     throwIfInterrupted();  // an analysis stops at its next frame (util/interrupt.h)
     std::lock_guard lock(mutex_);
     if (frame < 0 || frame >= static_cast<int64_t>(info_.frames.size())) {
@@ -117,7 +120,7 @@ class MovieReader final : public ClipReader {
     if (auto held = prefetched_.find(frame); held != prefetched_.end()) {
       raw_.swap(held->second);
       prefetched_.erase(held);
-      return toImage();
+      return toImage(table);
     }
     if (!decoder_ || frame < next_ || frame - next_ > kMaxForwardSkipFrames) startAt(frame);
     if (!decoder_->skip((frame - next_) * frameBytes()) ||
@@ -129,7 +132,13 @@ class MovieReader final : public ClipReader {
                   {"read", frame, info_.path});
     }
     next_ = frame + 1;
-    return toImage();
+    return toImage(table);
+  }
+
+  int codeBits() const override { return sampleBytes_ == 2 ? 16 : 8; }
+
+  Image readCodesThrough(int64_t frame, const CodeValues& table) override {
+    return readWith(frame, &table);
   }
 
   // One decoder of its own whose select filter passes only the frames asked for: those between
@@ -233,14 +242,26 @@ class MovieReader final : public ClipReader {
 
   // Samples to floats in [0, 1], rows in parallel (OpenCV's TBB backend): a 1080p frame is 6
   // million samples, and this runs on the reader's thread beside the render.
-  Image toImage() const {
+  Image toImage(const CodeValues* table) const {
     Image image(info_.width, info_.height);
     const size_t rowSamples = static_cast<size_t>(info_.width) * 3;
     forEachBlock(size_t(info_.height), 1, [&](size_t firstRow, size_t endRow) {
       for (int y = int(firstRow); y < int(endRow); ++y) {
         float* dst = image.pixel(0, y);
         const uint8_t* src = raw_.data() + static_cast<size_t>(y) * rowSamples * sampleBytes_;
-        if (sampleBytes_ == 1) {
+        if (table) {
+          const float* r = (*table)[0].data();
+          const float* g = (*table)[1].data();
+          const float* b = (*table)[2].data();
+          if (sampleBytes_ == 1) {
+            for (size_t i = 0; i < rowSamples; i += 3, dst += 4)
+              dst[0] = r[src[i]], dst[1] = g[src[i + 1]], dst[2] = b[src[i + 2]];
+          } else {
+            auto code = [&](size_t i) { return size_t(src[2 * i] | (src[2 * i + 1] << 8)); };
+            for (size_t i = 0; i < rowSamples; i += 3, dst += 4)
+              dst[0] = r[code(i)], dst[1] = g[code(i + 1)], dst[2] = b[code(i + 2)];
+          }
+        } else if (sampleBytes_ == 1) {
           constexpr float kScale = 1.0f / 255.0f;
           for (size_t i = 0; i < rowSamples; i += 3, dst += 4) {
             dst[0] = src[i] * kScale;

@@ -14,15 +14,12 @@ class NumberedClipReader final : public ClipReader {
     for (int64_t& frame : info_.frames) frame += offset_;
   }
   const ClipInfo& info() const override { return info_; }
-  // The movie's own reader names the frame by its position; the number asked for is added.
   Image read(int64_t frame) override {
-    try {
-      return movie_->read(frame - offset_);
-    } catch (const Error& e) {
-      throw Error(fmt::format("frame {} (the movie's frame {} from 0): {}", frame, frame - offset_,
-                              e.what()),
-                  {"read", frame, info_.path});
-    }
+    return numbered(frame, [&] { return movie_->read(frame - offset_); });
+  }
+  int codeBits() const override { return movie_->codeBits(); }
+  Image readCodesThrough(int64_t frame, const CodeValues& table) override {
+    return numbered(frame, [&] { return movie_->readCodesThrough(frame - offset_, table); });
   }
   void prefetch(const std::vector<int64_t>& frames) override {
     std::vector<int64_t> positions;
@@ -31,6 +28,18 @@ class NumberedClipReader final : public ClipReader {
   }
 
  private:
+  // The movie's reader names the frame by its position; the number asked for is added.
+  template <class Read>
+  Image numbered(int64_t frame, const Read& read) {
+    try {
+      return read();
+    } catch (const Error& e) {
+      throw Error(fmt::format("frame {} (the movie's frame {} from 0): {}", frame, frame - offset_,
+                              e.what()),
+                  {"read", frame, info_.path});
+    }
+  }
+
   std::unique_ptr<ClipReader> movie_;
   ClipInfo info_;
   int64_t offset_;

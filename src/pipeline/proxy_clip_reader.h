@@ -16,6 +16,7 @@ class ProxyClipReader : public ClipReader {
   const ClipInfo& info() const override { return info_; }
   Image read(int64_t frame) override;
   void prefetch(const std::vector<int64_t>& frames) override { fullSize_->prefetch(frames); }
+  // codeBits() 0: the frame is resized in the file's encoding, then converted.
 
  private:
   std::unique_ptr<ClipReader> fullSize_;

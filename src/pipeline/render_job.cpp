@@ -396,6 +396,10 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
   context_.camera = cameraOfFrame(camera_, clip());
   context_.cameraPath = camera_.path(context_.camera);
   context_.framesKey = framesKey_;
+  // A movie's 8- or 16-bit codes looked up in the working space as they are unpacked: the
+  // values toWorking_.apply() gives, without a pass over the frame.
+  if (const int bits = reader_->codeBits(); bits && !mayHoldNonFinite(clip()))
+    workingCodes_ = toWorking_.codeValues(bits);
   context_.readWorking = [this](int64_t frame) { return workingFrame(*reader_, frame); };
   // Declared after reader_ and toWorking_, context_ (and an analysis it waits for) ends first.
   context_.openWorkingReader = [this] {
@@ -406,6 +410,7 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
 }
 
 Image RenderSession::workingFrame(ClipReader& reader, int64_t frame) const {
+  if (workingCodes_) return reader.readCodesThrough(frame, *workingCodes_);
   Image image = reader.read(frame);
   if (mayHoldNonFinite(clip())) ops::replaceNonFinite(image);
   toWorking_.apply(image);
@@ -459,13 +464,14 @@ FrameContext RenderSession::readFrame(int64_t frameNumber) {
   frame.timeSeconds = double(frameNumber) / context_.fps;
   {
     ScopedTimer timer(&times_, "decode");
-    frame.image = reader_->read(frameNumber);
+    frame.image = workingCodes_ ? reader_->readCodesThrough(frameNumber, *workingCodes_)
+                                : reader_->read(frameNumber);
   }
   if (size_t bad = mayHoldNonFinite(clip()) ? ops::replaceNonFinite(frame.image) : 0) {
     log::warning(fmt::format("frame {}: {} NaN/Inf values in {} replaced by 0", frameNumber, bad,
                              clip().path));
   }
-  {
+  if (!workingCodes_) {
     ScopedTimer timer(&times_, "colour in");
     toWorking_.apply(frame.image);
   }

@@ -113,6 +113,9 @@ class RenderSession {
   ColorConverter toWorking_;
   ColorConverter toOutput_;
   WriterOptions writerOptions_;
+  // The working value of each of the movie's codes (ColorConverter::codeValues), when its
+  // frames are converted as they are unpacked; empty when toWorking_ converts whole frames.
+  std::optional<CodeValues> workingCodes_;
   ClipContext context_;
   std::vector<std::pair<const StageInfo*, std::unique_ptr<Stage>>> stages_;  // pipeline order
   std::vector<std::pair<std::string, Stage*>> frameStages_;  // per-frame stages that run

@@ -206,5 +206,33 @@ TEST(Color, MissingConfigFileIsNamed) {
   }
 }
 
+// The table of every code a movie reader looks its samples up in (ColorConverter::codeValues)
+// holds, bit for bit, what apply() makes of the same code normalised as the readers normalise it;
+// a conversion with channel crosstalk (a primaries matrix) has no table.
+TEST(Color, CodeValuesAreWhatApplyGivesEachCode) {
+  for (const auto& [from, to] : {std::pair{"sRGB", "linear-rec709"},
+                                 {"rec709", "linear-rec709"},
+                                 {"linear-rec709", "linear-rec709"}}) {
+    const ColorConverter converter(from, to);
+    for (int bits : {8, 16}) {
+      const std::optional<CodeValues> table = converter.codeValues(bits);
+      ASSERT_TRUE(table) << from << " " << bits;
+      const int codes = 1 << bits;
+      const float scale = 1.0f / float(codes - 1);
+      Image ramp(codes, 1);
+      for (int k = 0; k < codes; ++k)
+        for (int c = 0; c < 3; ++c) ramp.rgba[size_t(k) * 4 + size_t(c)] = float(k) * scale;
+      converter.apply(ramp);
+      int differing = 0;
+      for (int k = 0; k < codes; ++k)
+        for (int c = 0; c < 3; ++c)
+          differing += (*table)[size_t(c)][size_t(k)] != ramp.rgba[size_t(k) * 4 + size_t(c)];
+      EXPECT_EQ(differing, 0) << from << " " << bits;
+    }
+  }
+  EXPECT_FALSE(ColorConverter("sRGB", "ACEScg").codeValues(8));
+  EXPECT_FALSE(ColorConverter("sRGB", "linear-rec709").codeValues(10));
+}
+
 }  // namespace
 }  // namespace pluvia

@@ -71,6 +71,33 @@ TEST(MovieReader, TwelveBitProResKeepsMoreThanEightBitsOfGradient) {
   EXPECT_LT(frame.pixel(100, 4)[1], frame.pixel(400, 4)[1]);
 }
 
+// Each code looked up in a table as it is unpacked (readCodesThrough) gives the table's entry
+// for the code read() normalises, in every channel: for 8-bit codes and for 16-bit ones (a
+// 12-bit ProRes, piped as 16 bits).
+TEST(MovieReader, CodesReadThroughATableAreTheTablesEntries) {
+  if (!programAvailable("ffmpeg")) GTEST_SKIP() << "ffmpeg not on PATH";
+  auto dir = test::freshTempDir("movie_code_table");
+  for (const stdfs::path& path : {test::exampleClip(), deepRamp(dir)}) {
+    auto clip = openClip(path.string());
+    const int bits = clip->codeBits();
+    ASSERT_TRUE(bits == 8 || bits == 16) << path;
+    const int largest = (1 << bits) - 1;
+    CodeValues table;
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k <= largest; ++k) table[size_t(c)].push_back(float(k) * 3.0f + float(c));
+    const Image plain = clip->read(0);
+    const Image looked = clip->readCodesThrough(0, table);
+    int differing = 0;
+    for (size_t i = 0; i < plain.pixelCount(); ++i)
+      for (int c = 0; c < 3; ++c) {
+        const long code = std::lround(plain.rgba[i * 4 + size_t(c)] * float(largest));
+        differing += looked.rgba[i * 4 + size_t(c)] != table[size_t(c)][size_t(code)];
+      }
+    EXPECT_EQ(differing, 0) << path;
+    EXPECT_EQ(looked.rgba[3], 1.0f);
+  }
+}
+
 TEST(MovieReader, EightBitMovieGivesEightBitCodes) {
   auto clip = openClip(test::exampleClip().string());
   EXPECT_EQ(clip->info().bitsPerSample, 8);
