@@ -5,6 +5,7 @@
 // Frames are independent of thread count and chunking: every per-frame result depends only on
 // the preset, the seed and the frame number.
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -116,6 +117,8 @@ class RenderSession {
   // The working value of each of the movie's codes (ColorConverter::codeValues), when its
   // frames are converted as they are unpacked; empty when toWorking_ converts whole frames.
   std::optional<CodeValues> workingCodes_;
+  // The rain layer's planes of the last frame, handed to the next as scratch (processFrame).
+  std::map<std::string, std::vector<float>> rainScratch_;
   ClipContext context_;
   std::vector<std::pair<const StageInfo*, std::unique_ptr<Stage>>> stages_;  // pipeline order
   std::vector<std::pair<std::string, Stage*>> frameStages_;  // per-frame stages that run

@@ -153,3 +153,27 @@ TEST(CliRender, MovieOutputAndAovs) {
   EXPECT_NE(channels.output.find("rain.A"), std::string::npos) << channels.output;
   EXPECT_EQ(channels.output.find("channel8"), std::string::npos) << channels.output;
 }
+
+// Without a rain or matte AOV the rain layer's planes are scratch handed from frame to frame (not
+// made and zeroed anew): the beauty is the same as a render that writes them out, every frame.
+TEST(CliRender, TheBeautyIsTheSameWhetherTheRainLayerIsWrittenOrNot) {
+  auto dir = freshTempDir("render_rain_scratch");
+  for (const char* name : {"plain", "aov"}) {
+    std::vector<std::string> args = {
+        "render",   exampleClip().string(),
+        "-p",       "storm",
+        "--proxy",  "0.5",
+        "--frames", "0-3",
+        "-o",       (dir / (std::string(name) + ".####.exr")).string()};
+    if (std::string(name) == "aov") args.insert(args.end(), {"--aov", "rain,matte"});
+    const auto r = runPluvia(args);
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+  }
+  for (int frame = 0; frame <= 3; ++frame) {
+    const std::string suffix = ".000" + std::to_string(frame) + ".exr";
+    const Image plain = readImageFile(dir / ("plain" + suffix));
+    const Image aov = readImageFile(dir / ("aov" + suffix));
+    ASSERT_EQ(plain.rgba.size(), aov.rgba.size());
+    EXPECT_EQ(plain.rgba, aov.rgba) << "frame " << frame;
+  }
+}
