@@ -371,8 +371,8 @@ void ColorConverter::apply(Image& image) const {
 std::optional<CodeValues> ColorConverter::codeValues(int bits) const {
   if ((bits != 8 && bits != 16) || (!impl_->noOp && !impl_->conversion.lut)) return std::nullopt;
   const int codes = 1 << bits;
-  // Each code's value as the readers make it (code times the float reciprocal of the largest).
-  const float scale = 1.0f / static_cast<float>(codes - 1);
+  // Each code's value as the readers make it (codeScale).
+  const float scale = codeScale(bits);
   Image ramp(codes, 1);
   for (int k = 0; k < codes; ++k)
     for (int c = 0; c < 3; ++c)

@@ -23,6 +23,12 @@ namespace pluvia {
 // the value k / (2^bits - 1) (as the clip readers normalise codes) in that channel.
 using CodeValues = std::array<std::vector<float>, 3>;
 
+// What the clip readers multiply a `bits`-bit code by to normalise it to 0..1; codeValues()
+// normalises its codes the same way, so a table entry is the conversion of the very value read.
+constexpr float codeScale(int bits) {
+  return 1.0f / static_cast<float>((1 << bits) - 1);
+}
+
 class ColorConverter {
  public:
   // Throws pluvia::Error naming the colour space when one is unknown.

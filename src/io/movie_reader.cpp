@@ -262,14 +262,14 @@ class MovieReader final : public ClipReader {
               dst[0] = r[code(i)], dst[1] = g[code(i + 1)], dst[2] = b[code(i + 2)];
           }
         } else if (sampleBytes_ == 1) {
-          constexpr float kScale = 1.0f / 255.0f;
+          constexpr float kScale = codeScale(8);
           for (size_t i = 0; i < rowSamples; i += 3, dst += 4) {
             dst[0] = src[i] * kScale;
             dst[1] = src[i + 1] * kScale;
             dst[2] = src[i + 2] * kScale;
           }
         } else {
-          constexpr float kScale = 1.0f / 65535.0f;
+          constexpr float kScale = codeScale(16);
           // Little-endian 16-bit samples, assembled byte by byte: no alignment or host-order trap.
           auto sample = [&](size_t i) {
             return static_cast<float>(src[2 * i] | (src[2 * i + 1] << 8));
