@@ -1,5 +1,5 @@
 // `pluvia bench` refuses a malformed --strokes, --lod or --size before it measures anything: a
-// usage error (exit 2) that quotes the option and the bad item.
+// usage error (exit 2) that quotes the option and the bad item; a movie bench runs and cleans up.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -38,6 +38,19 @@ TEST(CliBench, AFailedBenchLeavesNoTemporaryFolder) {
                           (tmp / "missing.mp4").string()});
   EXPECT_EQ(r.exitCode, 1) << r.output;
   EXPECT_NE(r.output.find("missing.mp4"), std::string::npos) << r.output;
+  EXPECT_TRUE(std::filesystem::is_empty(tmp)) << "left in " << tmp;
+}
+
+// The movie bench renders twice into one cache, cold then warm, and prints both against x264
+// alone; the temporary folder (the renders, the cache) goes with it.
+TEST(CliBench, AMovieBenchRendersColdThenWarmAndCleansUp) {
+  const std::filesystem::path tmp = freshTempDir("bench_movie_tmp");
+  const pluvia::ProcessResult r =
+      pluvia::runProcess({"env", "TMPDIR=" + tmp.string(), pluviaBinary().string(), "bench",
+                          exampleClip().string(), "--frames", "2", "-p", "drizzle"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  expectOutputHas(r.output, {"bench: 2 frames of", "a fresh --cache), warm",
+                             "ratio pluvia / encode only:", "(warm "});
   EXPECT_TRUE(std::filesystem::is_empty(tmp)) << "left in " << tmp;
 }
 
