@@ -43,15 +43,18 @@ std::string exampleSequence(const stdfs::path& folder, int frames, int first,
   return (folder / "plate.####.exr").string();
 }
 
-double timedRender(const stdfs::path& folder, const std::string& plate, const std::string& preset,
+double timedRender(const std::string& output, const std::string& plate, const std::string& preset,
                    const std::vector<std::string>& extraArgs) {
   std::vector<std::string> command = {
-      executablePath().string(),         "render", plate, "-p", preset, "-q", "-o",
-      (folder / "out.####.exr").string()};
+      executablePath().string(), "render", plate, "-p", preset, "-q", "-o", output};
   command.insert(command.end(), extraArgs.begin(), extraArgs.end());
   const auto started = std::chrono::steady_clock::now();
   run(command, "pluvia render " + plate);
   return secondsSince(started);
+}
+
+std::string exrOutputIn(const stdfs::path& folder) {
+  return (folder / "out.####.exr").string();
 }
 
 ExrFloor measureExrFloor(const stdfs::path& folder, const std::string& preset) {
@@ -69,7 +72,7 @@ ExrFloor measureExrFloor(const stdfs::path& folder, const std::string& preset) {
   for (double* seconds : {&floor.coldSeconds, &floor.warmSeconds}) {
     const stdfs::path out = folder / (seconds == &floor.coldSeconds ? "cold" : "warm");
     stdfs::create_directories(out);
-    *seconds = timedRender(out, plate, preset, cache);
+    *seconds = timedRender(exrOutputIn(out), plate, preset, cache);
   }
   return floor;
 }
@@ -80,8 +83,8 @@ TimecodeFloor measureTimecodeFloor(const stdfs::path& folder, const std::string&
   const stdfs::path one = folder / "numbered_from_1", timecode = folder / "numbered_from_86401";
   const std::string fromOne = exampleSequence(one, 4, 1, "png");
   const std::string fromTimecode = exampleSequence(timecode, 4, 86401, "png");
-  floor.fromOneSeconds = timedRender(one, fromOne, preset, proxy);
-  floor.fromTimecodeSeconds = timedRender(timecode, fromTimecode, preset, proxy);
+  floor.fromOneSeconds = timedRender(exrOutputIn(one), fromOne, preset, proxy);
+  floor.fromTimecodeSeconds = timedRender(exrOutputIn(timecode), fromTimecode, preset, proxy);
   return floor;
 }
 

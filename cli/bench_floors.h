@@ -17,9 +17,12 @@ namespace pluvia::cli {
 std::string exampleSequence(const std::filesystem::path& folder, int frames, int first,
                             const std::string& extension);
 
-// `pluvia render` of the sequence with `preset` into an EXR sequence, seconds.
-double timedRender(const std::filesystem::path& folder, const std::string& plate,
-                   const std::string& preset, const std::vector<std::string>& extraArgs);
+// `pluvia render` of `plate` with `preset` into `output` (a sequence or a movie), quiet: the
+// whole command's wall seconds.
+double timedRender(const std::string& output, const std::string& plate, const std::string& preset,
+                   const std::vector<std::string>& extraArgs);
+// An EXR sequence's output pattern in `folder`, for timedRender.
+std::string exrOutputIn(const std::filesystem::path& folder);
 
 struct ExrFloor {
   double coldSeconds = 0.0;  // pluvia with a fresh --cache: every per-clip result made

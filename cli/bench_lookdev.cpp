@@ -43,7 +43,7 @@ LookdevTimes runLookdevBench(const std::string& input, const std::string& preset
     if (!set.empty()) args.insert(args.end(), {"--set", set});
     const stdfs::path out = folder / fmt::format("run{}", ++run);
     stdfs::create_directories(out);
-    return timedRender(out, plate, preset, args);
+    return timedRender(exrOutputIn(out), plate, preset, args);
   };
   std::cout << fmt::format("bench lookdev: {} with preset {}, one frame at --proxy 0.5\n",
                            input.empty() ? "a 1080p PNG sequence of the bundled example" : plate,
