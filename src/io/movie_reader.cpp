@@ -28,15 +28,14 @@ constexpr int64_t kMaxForwardSkipFrames = 16;
 // Containers that estimate their frame count from the duration may be off by a frame or 1 %.
 constexpr double kFrameCountSlack = 0.01;
 
-// Frame counts this process has already checked, by the file's path, size and modification
-// time (a file written again is counted again). Commands open their input more than once (the
-// bench plans, then renders; the derain stage, preview and derain open it again), and a count
-// decodes up to a keyframe interval: 0.29 s of CPU for the 24-frame 1080p bench clip, whose one
-// keyframe makes that the whole clip.
+// Frame counts this process has already checked, by movieFileIdentity. Commands open their
+// input more than once (the bench plans, then renders; the derain stage, preview and derain open
+// it again), and a count decodes up to a keyframe interval: 0.29 s of CPU for the 24-frame 1080p
+// bench clip, whose one keyframe makes that the whole clip.
 class CheckedFrameCounts {
  public:
   std::optional<int64_t> find(const std::string& path) {
-    const std::optional<std::string> key = keyOf(path);
+    const std::optional<std::string> key = movieFileIdentity(path);
     std::lock_guard lock(mutex_);
     if (!key) return std::nullopt;
     auto found = counts_.find(*key);
@@ -44,22 +43,12 @@ class CheckedFrameCounts {
     return found->second;
   }
   void remember(const std::string& path, int64_t frames) {
-    const std::optional<std::string> key = keyOf(path);
+    const std::optional<std::string> key = movieFileIdentity(path);
     std::lock_guard lock(mutex_);
     if (key) counts_[*key] = frames;
   }
 
  private:
-  static std::optional<std::string> keyOf(const std::string& path) {
-    std::error_code ec;
-    const auto size = std::filesystem::file_size(path, ec);
-    if (ec) return std::nullopt;
-    const auto written = std::filesystem::last_write_time(path, ec);
-    if (ec) return std::nullopt;
-    return fmt::format("{}\n{}\n{}", std::filesystem::absolute(path, ec).string(), size,
-                       written.time_since_epoch().count());
-  }
-
   std::mutex mutex_;
   std::map<std::string, int64_t> counts_;
 };
@@ -296,6 +285,24 @@ class MovieReader final : public ClipReader {
 };
 
 }  // namespace
+
+std::optional<std::string> movieFileIdentity(const std::string& path) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec) return std::nullopt;
+  const auto written = std::filesystem::last_write_time(path, ec);
+  if (ec) return std::nullopt;
+  return fmt::format("{}\n{}\n{}", std::filesystem::absolute(path, ec).string(), size,
+                     written.time_since_epoch().count());
+}
+
+std::optional<int64_t> checkedMovieFrames(const std::string& path) {
+  return checkedFrameCounts().find(path);
+}
+
+void rememberCheckedMovieFrames(const std::string& path, int64_t frames) {
+  checkedFrameCounts().remember(path, frames);
+}
 
 std::unique_ptr<ClipReader> openMovie(const std::string& path) {
   return std::make_unique<MovieReader>(path);

@@ -17,6 +17,7 @@
 #include "io/sequence_pattern.h"
 #include "io/timecode.h"
 #include "pipeline/cache.h"
+#include "pipeline/cached_clip_open.h"
 #include "pipeline/clip_analysis.h"
 #include "pipeline/frame_metadata.h"
 #include "pipeline/frame_threads.h"
@@ -155,7 +156,8 @@ void ensureAovPlanes(Image& image, const std::vector<std::string>& aovs) {
 
 // The input, read at the proxy size when the request asks for one.
 std::unique_ptr<ClipReader> openInput(const RenderRequest& request) {
-  std::unique_ptr<ClipReader> reader = openNumberedClip(request.input, request.movieFirstFrame);
+  std::unique_ptr<ClipReader> reader =
+      openNumberedClipWithCache(request.input, request.movieFirstFrame, request.cacheDir);
   if (request.proxyScale == 1.0) return reader;
   return std::make_unique<ProxyClipReader>(std::move(reader), request.proxyScale);
 }
@@ -524,7 +526,7 @@ void RenderSession::toOutput(Image& image) const {
 
 Plan planJob(const std::string& input, std::optional<int64_t> movieFirstFrame, const Preset& preset,
              const std::string& cacheDir, const std::vector<StageInfo>& stages, ClipInfo* clipOut) {
-  auto reader = openNumberedClip(input, movieFirstFrame);
+  auto reader = openNumberedClipWithCache(input, movieFirstFrame, cacheDir);
   std::optional<ArtifactCache> cache;
   if (!cacheDir.empty()) cache.emplace(cacheDir);
   const std::string framesKey = cache ? workingFramesKey(preset, reader->info()) : "";

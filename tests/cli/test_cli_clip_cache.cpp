@@ -11,6 +11,7 @@
 
 #include "test_support.h"
 #include "util/fs.h"
+#include "util/subprocess.h"
 
 using namespace pluvia;
 using namespace pluvia::test;
@@ -119,4 +120,48 @@ TEST(CliClipCache, ALookChangeRedoesNoneOfThePerClipWorkAndTheFrameIsTheSame) {
   EXPECT_EQ(tilted.result.output.find("lighting: from the plate, from cache"), std::string::npos);
   EXPECT_EQ(entriesStartingWith(cache, "sky-", ".bin"), 2);
   EXPECT_EQ(entriesStartingWith(cache, "still-", ".bin"), 1);
+}
+
+// A movie's frame count, which opening it checks by decoding from the last frame its container
+// lists, is kept in the cache under the file's identity: a second process (a farm's chunk after
+// `prepare`) takes it from there and decodes nothing to count; an entry that is not a count is
+// ignored with a warning, counted again and the frame still rendered.
+TEST(CliClipCache, AMovieFrameCountComesFromTheCacheInTheNextProcess) {
+  const stdfs::path dir = freshTempDir("clip_cache_movie_frames");
+  const std::string movie = (dir / "plate.mp4").string();
+  ASSERT_EQ(runProcess({"ffmpeg", "-v", "error", "-f", "lavfi", "-i", "testsrc=size=96x64:rate=24",
+                        "-frames:v", "24", "-c:v", "libx264", "-pix_fmt", "yuv420p", movie})
+                .exitCode,
+            0);
+  const stdfs::path cache = dir / "cache";
+  int runs = 0;
+  auto render = [&] {
+    const stdfs::path out = dir / ("out" + std::to_string(++runs) + ".####.png");
+    return runPluvia({"render", movie, "-p", "drizzle", "--cache", cache.string(), "-o",
+                      out.string(), "--frames", "3-3", "-v"});
+  };
+  const CommandResult cold = render();
+  ASSERT_EQ(cold.exitCode, 0) << cold.output;
+  EXPECT_EQ(lineWith(cold.output, "plate.mp4: 24 frames, from cache"), "");
+  ASSERT_EQ(entriesStartingWith(cache, "movie-frames-", ".json"), 1);
+  stdfs::path entry;
+  for (const auto& file : stdfs::directory_iterator(cache))
+    if (file.path().filename().string().rfind("movie-frames-", 0) == 0) entry = file.path();
+  EXPECT_NE(fs::readTextFile(entry).find("\"frames\": 24"), std::string::npos)
+      << fs::readTextFile(entry);
+
+  const CommandResult warm = render();
+  ASSERT_EQ(warm.exitCode, 0) << warm.output;
+  EXPECT_NE(lineWith(warm.output, "plate.mp4: 24 frames, from cache"), "") << warm.output;
+
+  fs::writeTextFile(entry, "{\"frames\": \"many\"}");
+  const CommandResult edited = render();
+  ASSERT_EQ(edited.exitCode, 0) << edited.output;
+  EXPECT_NE(lineWith(edited.output, "not a frame count"), "") << edited.output;
+  EXPECT_EQ(lineWith(edited.output, "plate.mp4: 24 frames, from cache"), "");
+  EXPECT_TRUE(stdfs::exists(dir / "out3.0003.png"));
+  // The count checked again replaces the edited entry.
+  const CommandResult mended = render();
+  ASSERT_EQ(mended.exitCode, 0) << mended.output;
+  EXPECT_NE(lineWith(mended.output, "plate.mp4: 24 frames, from cache"), "") << mended.output;
 }
