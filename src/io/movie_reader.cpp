@@ -85,6 +85,11 @@ class MovieReader final : public ClipReader {
           path, probe_.packets, fmt::format("{:g}", probe_.fps), probe_.frames));
     }
     std::optional<int64_t> frames = checkedFrameCounts().find(path);
+    // A count remembered from elsewhere (a cache) that the check would have refused as
+    // truncated is not this file's: checked again.
+    if (frames && double(*frames) < double(probe_.frames) -
+                                        std::max(1.0, double(probe_.frames) * kFrameCountSlack))
+      frames.reset();
     if (!frames) {
       frames = countFrames();
       checkedFrameCounts().remember(path, *frames);

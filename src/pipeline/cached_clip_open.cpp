@@ -25,27 +25,24 @@ std::unique_ptr<ClipReader> openNumberedClipWithCache(const std::string& input,
   if (!identity) return openNumberedClip(input, movieFirstFrame);
   const ArtifactCache cache(cacheDir);
   const std::string key = Hasher().add(kStage).add(*identity).hex();
-  bool cached = false;
-  if (!checkedMovieFrames(input)) {
-    if (auto entry = cache.load(kStage, key)) {
-      const auto frames = entry->find("frames");
-      cached = frames != entry->end() && frames->is_number_integer() && *frames >= 1 &&
-               *frames <= kMaxFrames;
-      if (cached) {
-        rememberCheckedMovieFrames(input, frames->get<int64_t>());
-        log::debug(fmt::format("{}: {} frames, from cache", input, frames->get<int64_t>()));
-      } else {
-        log::warning(fmt::format("ignoring cache entry {}: not a frame count",
-                                 cache.pathFor(kStage, key).string()));
-      }
-    }
-  }
+  const std::optional<nlohmann::json> entry = cache.load(kStage, key);
+  const nlohmann::json cached =
+      entry && entry->is_object() ? entry->value("frames", nlohmann::json()) : nlohmann::json();
+  const bool aCount = cached.is_number_integer() && cached >= 1 && cached <= kMaxFrames;
+  // Taken as checked; the reader still refuses a count its container says is short.
+  const bool taken = aCount && !checkedMovieFrames(input);
+  if (taken) rememberCheckedMovieFrames(input, cached.get<int64_t>());
   std::unique_ptr<ClipReader> reader = openNumberedClip(input, movieFirstFrame);
-  // Stored when the cache lacks it or holds something else (an entry edited or cut short).
-  if (const std::optional<int64_t> frames = checkedMovieFrames(input); frames && !cached) {
-    const auto entry = cache.load(kStage, key);
-    if (!entry || entry->value("frames", nlohmann::json()) != *frames)
-      cache.store(kStage, key, {{"frames", *frames}});
+  const std::optional<int64_t> frames = checkedMovieFrames(input);
+  if (!frames) return reader;
+  if (cached == *frames) {
+    if (taken) log::debug(fmt::format("{}: {} frames, from cache", input, *frames));
+  } else {
+    // Missing, or another value (an entry edited or cut short): the checked count replaces it.
+    if (entry)
+      log::warning(fmt::format("ignoring cache entry {}: not the movie's frame count ({})",
+                               cache.pathFor(kStage, key).string(), *frames));
+    cache.store(kStage, key, {{"frames", *frames}});
   }
   return reader;
 }

@@ -13,8 +13,9 @@
 namespace pluvia {
 
 // openNumberedClip(input, movieFirstFrame), the movie's checked frame count taken from and kept
-// in `cacheDir` (empty: no cache, as openNumberedClip). An entry that does not read as a count
-// is ignored with a warning and the count checked again.
+// in `cacheDir` (empty: no cache, as openNumberedClip). An entry that is not a count, or one
+// shorter than the container's own count, is ignored with a warning, and the count checked again
+// replaces it.
 std::unique_ptr<ClipReader> openNumberedClipWithCache(const std::string& input,
                                                       std::optional<int64_t> movieFirstFrame,
                                                       const std::string& cacheDir);

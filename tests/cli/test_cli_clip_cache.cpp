@@ -124,8 +124,8 @@ TEST(CliClipCache, ALookChangeRedoesNoneOfThePerClipWorkAndTheFrameIsTheSame) {
 
 // A movie's frame count, which opening it checks by decoding from the last frame its container
 // lists, is kept in the cache under the file's identity: a second process (a farm's chunk after
-// `prepare`) takes it from there and decodes nothing to count; an entry that is not a count is
-// ignored with a warning, counted again and the frame still rendered.
+// `prepare`) takes it from there and decodes nothing to count; an entry that is not a count, or
+// is shorter than the container's own, is ignored with a warning, counted again and replaced.
 TEST(CliClipCache, AMovieFrameCountComesFromTheCacheInTheNextProcess) {
   const stdfs::path dir = freshTempDir("clip_cache_movie_frames");
   const std::string movie = (dir / "plate.mp4").string();
@@ -157,11 +157,17 @@ TEST(CliClipCache, AMovieFrameCountComesFromTheCacheInTheNextProcess) {
   fs::writeTextFile(entry, "{\"frames\": \"many\"}");
   const CommandResult edited = render();
   ASSERT_EQ(edited.exitCode, 0) << edited.output;
-  EXPECT_NE(lineWith(edited.output, "not a frame count"), "") << edited.output;
+  EXPECT_NE(lineWith(edited.output, "not the movie's frame count (24)"), "") << edited.output;
   EXPECT_EQ(lineWith(edited.output, "plate.mp4: 24 frames, from cache"), "");
   EXPECT_TRUE(stdfs::exists(dir / "out3.0003.png"));
   // The count checked again replaces the edited entry.
   const CommandResult mended = render();
   ASSERT_EQ(mended.exitCode, 0) << mended.output;
   EXPECT_NE(lineWith(mended.output, "plate.mp4: 24 frames, from cache"), "") << mended.output;
+  // A count shorter than the container's is not taken: the movie is counted again, whole.
+  fs::writeTextFile(entry, "{\"frames\": 5}");
+  const CommandResult shortened = render();
+  ASSERT_EQ(shortened.exitCode, 0) << shortened.output;
+  EXPECT_NE(lineWith(shortened.output, "not the movie's frame count (24)"), "") << shortened.output;
+  EXPECT_NE(fs::readTextFile(entry).find("\"frames\": 24"), std::string::npos);
 }
