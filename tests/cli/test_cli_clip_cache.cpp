@@ -3,6 +3,7 @@
 // what it depends on: a look change (rate, wind, opacity, exposure) finds them all and redoes
 // none of that work, a change of where the camera looks (its tilt) makes the sky and the
 // lighting again but keeps the still, and a frame made from the cache is the frame made without.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -154,20 +155,16 @@ TEST(CliClipCache, AMovieFrameCountComesFromTheCacheInTheNextProcess) {
   ASSERT_EQ(warm.exitCode, 0) << warm.output;
   EXPECT_NE(lineWith(warm.output, "plate.mp4: 24 frames, from cache"), "") << warm.output;
 
-  fs::writeTextFile(entry, "{\"frames\": \"many\"}");
-  const CommandResult edited = render();
-  ASSERT_EQ(edited.exitCode, 0) << edited.output;
-  EXPECT_NE(lineWith(edited.output, "not the movie's frame count (24)"), "") << edited.output;
-  EXPECT_EQ(lineWith(edited.output, "plate.mp4: 24 frames, from cache"), "");
-  EXPECT_TRUE(stdfs::exists(dir / "out3.0003.png"));
-  // The count checked again replaces the edited entry.
-  const CommandResult mended = render();
-  ASSERT_EQ(mended.exitCode, 0) << mended.output;
-  EXPECT_NE(lineWith(mended.output, "plate.mp4: 24 frames, from cache"), "") << mended.output;
-  // A count shorter than the container's is not taken: the movie is counted again, whole.
-  fs::writeTextFile(entry, "{\"frames\": 5}");
-  const CommandResult shortened = render();
-  ASSERT_EQ(shortened.exitCode, 0) << shortened.output;
-  EXPECT_NE(lineWith(shortened.output, "not the movie's frame count (24)"), "") << shortened.output;
-  EXPECT_NE(fs::readTextFile(entry).find("\"frames\": 24"), std::string::npos);
+  // Not a count, and a count shorter than the container's: each is not taken, the movie is
+  // counted again (the frame rendered) and the count replaces the entry for the next process.
+  for (const std::string& edit : {"{\"frames\": \"many\"}", "{\"frames\": 5}"}) {
+    fs::writeTextFile(entry, edit);
+    const CommandResult edited = render();
+    ASSERT_EQ(edited.exitCode, 0) << edited.output;
+    EXPECT_NE(lineWith(edited.output, "not the movie's frame count (24)"), "") << edit;
+    EXPECT_EQ(lineWith(edited.output, "plate.mp4: 24 frames, from cache"), "") << edit;
+    EXPECT_TRUE(stdfs::exists(dir / fmt::format("out{}.0003.png", runs))) << edit;
+    const CommandResult mended = render();
+    EXPECT_NE(lineWith(mended.output, "plate.mp4: 24 frames, from cache"), "") << edit;
+  }
 }
