@@ -78,6 +78,7 @@ struct MovieRun {
   RenderRequest request;
   StageTimes times;
   double seconds = 0.0, cpuSeconds = 0.0;
+  int64_t firstFrame = 0;
   int frames = 0;
 };
 
@@ -100,7 +101,8 @@ void renderBenchMovie(MovieRun& run, const std::string& input, const Preset& pre
   try {
     ClipInfo clip;
     planJob(input, std::nullopt, preset, "", allStages(), &clip);
-    run.request.lastFrame = clip.frames.front() + frames - 1;
+    run.firstFrame = clip.frames.front();
+    run.request.lastFrame = run.firstFrame + frames - 1;
     run.frames = renderJob(run.request, preset, allStages(), run.times).framesWritten;
   } catch (...) {
     log::setLevel(level);
@@ -299,7 +301,7 @@ void addBenchCommand(CLI::App& app, Invocation& invocation) {
                      invocation.commandLine);
     std::vector<std::string> warmArgs = {
         "--cache", cacheDir, "--frames",
-        fmt::format("{}-{}", *cold.request.lastFrame - cold.frames + 1, *cold.request.lastFrame)};
+        fmt::format("{}-{}", cold.firstFrame, *cold.request.lastFrame)};
     for (const std::string& set : sets) warmArgs.insert(warmArgs.end(), {"--set", set});
     const double warmSeconds =
         timedRender((folder / "pluvia_warm.mp4").string(), input, args->preset, warmArgs);

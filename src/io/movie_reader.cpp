@@ -28,6 +28,13 @@ constexpr int64_t kMaxForwardSkipFrames = 16;
 // Containers that estimate their frame count from the duration may be off by a frame or 1 %.
 constexpr double kFrameCountSlack = 0.01;
 
+// Whether `frames` falls short of the container's `listed` count by more than that: a truncated
+// or corrupt file (or a count that is not this file's).
+bool shortOfListed(int64_t frames, int64_t listed) {
+  return listed >= 1 &&
+         double(frames) < double(listed) - std::max(1.0, double(listed) * kFrameCountSlack);
+}
+
 // Frame counts this process has already checked, by movieFileIdentity. Commands open their
 // input more than once (the bench plans, then renders; the derain stage, preview and derain open
 // it again), and a count decodes up to a keyframe interval: 0.29 s of CPU for the 24-frame 1080p
@@ -87,9 +94,7 @@ class MovieReader final : public ClipReader {
     std::optional<int64_t> frames = checkedFrameCounts().find(path);
     // A count remembered from elsewhere (a cache) that the check would have refused as
     // truncated is not this file's: checked again.
-    if (frames && double(*frames) < double(probe_.frames) -
-                                        std::max(1.0, double(probe_.frames) * kFrameCountSlack))
-      frames.reset();
+    if (frames && shortOfListed(*frames, probe_.frames)) frames.reset();
     if (!frames) {
       frames = countFrames();
       checkedFrameCounts().remember(path, *frames);
@@ -223,9 +228,7 @@ class MovieReader final : public ClipReader {
       while (decoder_->skip(frameBytes())) ++frames;
     }
     decoder_.reset();
-    if (promised >= 1 &&
-        static_cast<double>(frames) <
-            static_cast<double>(promised) - std::max(1.0, promised * kFrameCountSlack)) {
+    if (shortOfListed(frames, promised)) {
       throw Error(fmt::format("movie {} is truncated or corrupt: its container lists {} frames, "
                               "but frame {} and those after it do not decode",
                               info_.path, promised, frames),
