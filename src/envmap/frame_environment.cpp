@@ -11,6 +11,7 @@
 #include "image/luminance.h"
 #include "image/ops.h"
 #include "image/resize.h"
+#include "optics/fresnel.h"
 
 namespace pluvia::envmap {
 namespace {
@@ -70,39 +71,85 @@ int rowOf(double y, int height) {
   return std::clamp(int(v * height), 0, height - 1);
 }
 
-// The day sky above the frame (rows before `first`): the CIE overcast profile of zenith the
-// brighter of the plate's own sky's and the scene's (sceneZenith), tinted as the plate's sky.
-void daySky(FrameEnvironment& result, std::vector<std::array<float, 3>>& profile, int first,
-            const SkySample& seen, bool framedSky, double sceneZenith) {
-  const int mapHeight = int(profile.size());
-  double zenith = sceneZenith;
+// The overcast sky assumed above a day plate: zenith the brighter of the plate's own sky's (the
+// CIE profile through its mean at the mean elevation it is seen at) and the scene's
+// (sceneZenith), tinted as the plate's sky.
+struct DaySky {
+  double zenith = 0.0;
   std::array<double, 3> tint{1.0, 1.0, 1.0};  // the sky's colour at unit luminance
-  if (framedSky) {
-    const double luminance = rec709Luminance(seen.meanRgb);
-    for (int c = 0; c < 3; ++c)
-      tint[size_t(c)] = seen.meanRgb[size_t(c)] / std::max(1e-6, luminance);
-    const double throughPlate =
-        3.0 * luminance / (1.0 + 2.0 * std::sin(seen.meanElevationDeg * M_PI / 180.0));
-    zenith = std::max(sceneZenith, throughPlate);
-  }
-  result.zenithLuminance = float(zenith);
-  result.skyFromPlate = framedSky && zenith > sceneZenith;
+  // What the plate's own sky is multiplied by to lie on that sky: over 1 where the plate clips or
+  // compresses it (a display-referred sky darker than the sky that lights the scene), else 1.
+  double plateSkyGain = 1.0;
+  bool fromPlate = false;
   // The sky at elevation e (cos theta = sin e).
-  const auto skyAt = [&](double elevationDeg) -> std::array<float, 3> {
+  std::array<float, 3> at(double elevationDeg) const {
     const double l =
         zenith * (1.0 + 2.0 * std::sin(std::max(0.0, elevationDeg) * M_PI / 180.0)) / 3.0;
     return {float(l * tint[0]), float(l * tint[1]), float(l * tint[2])};
-  };
-  for (int r = 0; r < std::min(first, mapHeight); ++r) {
-    const double elevation = 90.0 - 180.0 * (r + 0.5) / mapHeight;
-    if (elevation > 0.0) profile[size_t(r)] = skyAt(elevation);
   }
-  // The airlight (the fog's colour): a long path toward the horizon looks as the plate shows its
-  // own sky there, where it shows one.
-  result.horizonRgb = framedSky
-                          ? std::array<float, 3>{float(seen.meanRgb[0]), float(seen.meanRgb[1]),
-                                                 float(seen.meanRgb[2])}
-                          : skyAt(0.0);
+};
+
+DaySky daySky(const SkySample& seen, bool framedSky, double sceneZenith) {
+  DaySky sky;
+  sky.zenith = sceneZenith;
+  if (!framedSky) return sky;
+  const double luminance = rec709Luminance(seen.meanRgb);
+  for (size_t c = 0; c < 3; ++c) sky.tint[c] = seen.meanRgb[c] / std::max(1e-6, luminance);
+  const double throughPlate =
+      3.0 * luminance / (1.0 + 2.0 * std::sin(seen.meanElevationDeg * M_PI / 180.0));
+  sky.zenith = std::max(sceneZenith, throughPlate);
+  sky.fromPlate = sky.zenith > sceneZenith;
+  sky.plateSkyGain = throughPlate > 0.0 ? sky.zenith / throughPlate : 1.0;
+  return sky;
+}
+
+// The plate's own sky pixels (`skyShare`: the share of each sample that is sky) brought onto the
+// sky assumed above the frame: a clipped sky of 1.0 seen 15 deg up under a sky that lights the
+// scene at Lz 8 is really about 4, and a drop refracts that, not the clip. Their structure (the
+// clouds' gradient) is kept; the map then has no step at the frame's top edge.
+void liftPlateSky(cv::Mat& small, const cv::Mat& skyShare, double gain) {
+  if (gain <= 1.0 || skyShare.empty()) return;
+  for (int y = 0; y < small.rows; ++y) {
+    cv::Vec3f* row = small.ptr<cv::Vec3f>(y);
+    const float* share = skyShare.ptr<float>(y);
+    for (int x = 0; x < small.cols; ++x) row[x] *= float(1.0 + share[x] * (gain - 1.0));
+  }
+}
+
+// The ground below the frame on a day plate (rows after `last`, the frame's lowest, below the
+// horizon): level ground of the metered albedo under the assumed overcast sky, which it sees a
+// share kSkyViewFactor of (irradiance 7 pi Lz / 9 from a whole CIE overcast sky), wet: its water
+// film reflects what stands at the mirrored elevation (the profile above the horizon) with water's
+// Fresnel reflectance, which is what a drop sees of the ground near the horizon (over 0.2 within
+// 15 deg of it). The frame's lowest row (what stands there: a wall, a hedge) fades into it in log
+// space over the angle the panorama's unseen ground takes (ModelFillSettings::obstacleBlendDeg).
+void wetGround(std::vector<std::array<float, 3>>& profile, int last, const DaySky& sky) {
+  constexpr double kWaterIndex = 1.333, kBlendDeg = 60.0;
+  const int mapHeight = int(profile.size());
+  const auto elevationOf = [&](int r) { return 90.0 - 180.0 * (r + 0.5) / mapHeight; };
+  const double irradianceOverPi = kSkyViewFactor * 7.0 / 9.0 * sky.zenith;
+  const auto model = [&](int r) {
+    const double e = elevationOf(r);
+    const double reflectance =
+        optics::fresnelReflectance(std::sin(std::abs(e) * M_PI / 180.0), kWaterIndex);
+    const std::array<float, 3>& mirrored = profile[size_t(mapHeight - 1 - r)];
+    std::array<double, 3> rgb{};
+    for (size_t c = 0; c < 3; ++c)
+      rgb[c] = (1.0 - reflectance) * kMeteredSceneAlbedo * irradianceOverPi * sky.tint[c] +
+               reflectance * mirrored[c];
+    return rgb;
+  };
+  const double lastElevation = elevationOf(last);
+  const int anchor = std::max(last, mapHeight / 2);  // a frame above the horizon: from there
+  const std::array<float, 3> seen = profile[size_t(anchor)];
+  for (int r = anchor + 1; r < mapHeight; ++r) {
+    const double fade =
+        std::clamp(1.0 - (std::min(lastElevation, 0.0) - elevationOf(r)) / kBlendDeg, 0.0, 1.0);
+    const std::array<double, 3> ground = model(r);
+    for (size_t c = 0; c < 3; ++c)
+      profile[size_t(r)][c] = float(std::pow(std::max(1e-6, double(seen[c])), fade) *
+                                    std::pow(std::max(1e-6, ground[c]), 1.0 - fade));
+  }
 }
 
 }  // namespace
@@ -112,9 +159,33 @@ FrameEnvironment frameEnvironment(const Image& frame, const Camera& camera,
                                   int widthTexels) {
   FrameEnvironment result;
   const int mapWidth = widthTexels, mapHeight = widthTexels / 2;
+
+  // The sky above the frame. Rain falls from an overcast sky, whose radiance grows from the
+  // horizon to the zenith as (1 + 2 sin e) (CIE overcast, Huang et al.'s L(theta) = Lz (1 + 2 cos
+  // theta) / 3): the plate shows at most a band of it near the horizon, and a display-referred
+  // plate clips it (and a camera's highlight knee compresses it). So the sky is the brighter of
+  // two estimates: the profile through the frame's own sky at the mean elevation it is seen at,
+  // and the sky that lights the scene as brightly as the frame shows it: an upright surface of
+  // albedo a under it, seeing a share v of it, has radiance a E / pi with E = v kUprightIlluminance
+  // Lz, so Lz = pi (the scene's mean luminance) / (a v kUprightIlluminance), about 34 times the
+  // scene's mean (a = 0.125, envmap/scene_albedo.h; v = 2/3).
+  const SkySample seen = sampleSky(frame, camera, sky);
+  const double pixels = double(camera.width) * camera.height;
+  const bool framedSky = seen.pixels >= kMinSkyFraction * pixels;
+  const double sceneZenith =
+      M_PI * seen.sceneLuminance / (kMeteredSceneAlbedo * kSkyViewFactor * kUprightIlluminance);
+  const DaySky day = daySky(seen, framedSky, sceneZenith);
+
   const double scale = std::min(1.0, double(kSampleWidthPx) / std::max(1, camera.width));
   cv::Mat rgb = rgbMat(frame), small;
   cv::resize(rgb, small, scaledSize(rgb.cols, rgb.rows, scale), 0, 0, cv::INTER_AREA);
+  if (!nightPlate && framedSky) {
+    cv::Mat share;
+    cv::Mat(camera.height, camera.width, CV_8UC1, const_cast<uint8_t*>(sky.data()))
+        .convertTo(share, CV_32F);  // 1 where sky
+    cv::resize(share, share, small.size(), 0, 0, cv::INTER_AREA);
+    liftPlateSky(small, share, day.plateSkyGain);
+  }
   Camera view = camera;  // the same view at the sample size
   view.width = small.cols;
   view.height = small.rows;
@@ -148,20 +219,6 @@ FrameEnvironment frameEnvironment(const Image& frame, const Camera& camera,
       profile[size_t(r)][size_t(c)] = float(sum[size_t(from)][size_t(c)] / count[size_t(from)]);
   }
 
-  // The sky above the frame. Rain falls from an overcast sky, whose radiance grows from the
-  // horizon to the zenith as (1 + 2 sin e) (CIE overcast, Huang et al.'s L(theta) = Lz (1 + 2 cos
-  // theta) / 3): the plate shows at most a band of it near the horizon, and a display-referred
-  // plate clips it (and a camera's highlight knee compresses it). So the sky is the brighter of
-  // two estimates: the profile through the frame's own sky at the mean elevation it is seen at,
-  // and the sky that lights the scene as brightly as the frame shows it: an upright surface of
-  // albedo a under it, seeing a share v of it, has radiance a E / pi with E = v kUprightIlluminance
-  // Lz, so Lz = pi (the scene's mean luminance) / (a v kUprightIlluminance), about 34 times the
-  // scene's mean (a = 0.125, envmap/scene_albedo.h; v = 2/3).
-  const SkySample seen = sampleSky(frame, camera, sky);
-  const double pixels = double(camera.width) * camera.height;
-  const bool framedSky = seen.pixels >= kMinSkyFraction * pixels;
-  const double sceneZenith =
-      M_PI * seen.sceneLuminance / (kMeteredSceneAlbedo * kSkyViewFactor * kUprightIlluminance);
   if (nightPlate) {
     // At night the scene is lit by its lamps, not by the sky: the sky is what the plate shows of
     // it, or without sky in view the frame's top rows carried up (the profile already).
@@ -174,7 +231,20 @@ FrameEnvironment frameEnvironment(const Image& frame, const Camera& camera,
     result.zenithLuminance = ops::luminance(profile[0].data());
     result.skyFromPlate = true;
   } else {
-    daySky(result, profile, first, seen, framedSky, sceneZenith);
+    for (int r = 0; r < std::min(first, mapHeight); ++r) {
+      const double elevation = 90.0 - 180.0 * (r + 0.5) / mapHeight;
+      if (elevation > 0.0) profile[size_t(r)] = day.at(elevation);
+    }
+    result.zenithLuminance = float(day.zenith);
+    result.skyFromPlate = day.fromPlate;
+    // The airlight (the fog's colour): a long path toward the horizon looks as the plate shows
+    // its own sky there (as recorded, clip and all: the fog is composited over the plate), where
+    // it shows one.
+    result.horizonRgb = framedSky
+                            ? std::array<float, 3>{float(seen.meanRgb[0]), float(seen.meanRgb[1]),
+                                                   float(seen.meanRgb[2])}
+                            : day.at(0.0);
+    wetGround(profile, last, day);
   }
 
   EquirectMap& map = result.radiance;

@@ -5,12 +5,13 @@
 // the frame's average, which a uniform environment is, makes it invisible (the transfer function
 // integrates to about 1: the furnace test), which is why rain looked too faint before.
 // The map: inside the camera's field of view, the frame itself; elsewhere, the frame's mean
-// radiance at the same elevation (its rows seen at that height above or below the horizon),
-// the bottom rows' mean below the frame; above the frame, the sky: the CIE overcast sky (L = Lz
-// (1 + 2 cos theta) / 3, Huang et al.), brightening from the horizon to the zenith: the brighter
-// of the one through the frame's own sky where it shows one and the one that lights the scene
-// (mostly upright surfaces of the metered albedo, 0.125: envmap/scene_albedo.h) as brightly as the
-// frame shows it.
+// radiance at the same elevation (its rows seen at that height above or below the horizon);
+// above the frame, the sky: the CIE overcast sky (L = Lz (1 + 2 cos theta) / 3, Huang et al.),
+// brightening from the horizon to the zenith: the brighter of the one through the frame's own sky
+// where it shows one and the one that lights the scene (mostly upright surfaces of the metered
+// albedo, 0.125: envmap/scene_albedo.h) as brightly as the frame shows it, the frame's own sky
+// pixels lifted onto it where they are darker (clipped); below the frame (by day), wet level
+// ground under that sky, reached from the frame's lowest row.
 #include <array>
 #include <cstdint>
 #include <vector>

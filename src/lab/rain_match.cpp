@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include <fmt/format.h>
+#include <Eigen/Dense>
 
 #include "lab/real_rain_clip.h"
 #include "util/error.h"
@@ -14,24 +15,50 @@
 namespace pluvia::lab {
 namespace {
 
-// Visible streak length grows about as exposure^kLengthExponent (measured on NTURain's plates:
-// 3.1, 4.0 and 5.1 px at 1/1000, 1/500 and 1/250 s).
-constexpr double kLengthExponent = 0.4;
-// Streak angle per m/s of wind across the view before two steps give the secant: a 4.5 m/s fall.
-constexpr double kDegreesPerWindStart = -180.0 / M_PI / 4.5;
-// No step moves a number by more than this factor.
-constexpr double kMaxStepFactor = 3.0;
-// The first step goes this share of the way the model asks for (in log terms).
-constexpr double kFirstDamping = 0.5;
+// What a step observes, in log terms, and what it sets, each as a vector: the streaks' count per
+// megapixel, median length, brightness (the geometric mean of dI p90 and peak p90) and angle
+// (degrees); the rate, exposure and opacity (logs) and the wind across the view (m/s).
+using Vec4 = Eigen::Vector4d;
+constexpr int kAngle = 3;  // the angle's place in each
 
-double clampedFactor(double factor) {
-  if (!std::isfinite(factor) || factor <= 0.0) return 1.0;
-  return std::clamp(factor, 1.0 / kMaxStepFactor, kMaxStepFactor);
+Vec4 observed(const derain::StreakStats& s) {
+  return {std::log(s.streaksPerMpx), std::log(s.lengthP50Px),
+          0.5 * (std::log(s.deltaP90) + std::log(s.peakP90)), s.angleDeg};
+}
+Vec4 settingsOf(const RainLook& look) {
+  return {std::log(look.rateMmPerHour), std::log(look.exposureSeconds), std::log(look.opacity),
+          look.windRightMetersPerSecond};
+}
+RainLook lookOf(const Vec4& v) {
+  RainLook look;
+  look.rateMmPerHour = std::clamp(std::exp(v[0]), 0.1, 300.0);
+  look.exposureSeconds = std::clamp(std::exp(v[1]), 1e-4, 0.5);
+  look.opacity = std::clamp(std::exp(v[2]), 0.1, 8.0);
+  look.windRightMetersPerSecond = std::clamp(v[3], -15.0, 15.0);
+  return look;
 }
 
-// The three numbers a step moves, one at a time (the wind moves every step, with the angle).
-enum class Knob { exposure, rate, opacity };
-constexpr Knob kKnobs[] = {Knob::exposure, Knob::rate, Knob::opacity};
+// How the count, length and brightness answer the rate and the exposure (d observed / d setting,
+// logs). The exposure's column was measured on NTURain's plates with `gentle` (1/1000, 1/500 and
+// 1/250 s): the length grows as exposure^0.35-0.4, the brightness falls as exposure^-0.39 (a
+// drop's light spread along a longer streak) and the count as exposure^-0.2 (longer streaks are
+// fainter, fewer pass the threshold). The opacity is left where the base preset has it (1, the
+// physical streak): on the example street (1.43 to 2.3 at 1/255 s) it moved the count as
+// opacity^1.9, as a rate would, and the brightness as opacity^0.03 (the faint streaks it lifts
+// over the threshold hold the percentiles down), so a search moving it traded it against the rate
+// (12 mm/h matched as 0.8 mm/h at opacity 5).
+Eigen::Matrix<double, 3, 2> streakResponse() {
+  Eigen::Matrix<double, 3, 2> j;
+  j << 1.0, -0.2,  //
+      0.0, 0.4,    //
+      0.0, -0.39;
+  return j;
+}
+// Streak angle per m/s of wind across the view before two steps give the secant: a 4.5 m/s fall.
+constexpr double kDegreesPerWindStart = -180.0 / M_PI / 4.5;
+// No step moves the rate or the exposure by more than this factor.
+constexpr double kMaxStepFactor = 3.0;
+
 // The match weighs the angle beside the typical factor (which leaves it out): a step's score is
 // typical * exp(|angle error| / kAngleScaleDeg).
 constexpr double kAngleScaleDeg = 10.0;
@@ -41,33 +68,21 @@ double score(const RainMatchStep& step, const derain::StreakStats& target) {
   return step.typical * (std::isfinite(angleError) ? std::exp(angleError / kAngleScaleDeg) : 1.0);
 }
 
-// `from`'s look with one number moved the way the streak model asks, by the model's factor to the
-// power `damping` (negative: the other way), and the wind corrected for the angle.
-RainLook moved(const RainMatchStep& from, const derain::StreakStats& target, Knob knob,
-               double damping, double degreesPerWind) {
-  const derain::StreakStats& s = from.stats;
-  RainLook look = from.look;
-  const auto scale = [&](double& value, double factor, double lo, double hi) {
-    value = std::clamp(value * std::pow(clampedFactor(factor), damping), lo, hi);
-  };
-  switch (knob) {
-    case Knob::exposure:
-      scale(look.exposureSeconds,
-            std::pow(target.lengthP50Px / s.lengthP50Px, 1.0 / kLengthExponent), 1e-4, 0.5);
-      break;
-    case Knob::rate:
-      scale(look.rateMmPerHour, target.streaksPerMpx / s.streaksPerMpx, 0.1, 300.0);
-      break;
-    case Knob::opacity:
-      scale(look.opacity, std::sqrt((target.deltaP90 / s.deltaP90) * (target.peakP90 / s.peakP90)),
-            0.1, 8.0);
-      break;
-  }
-  if (std::isfinite(target.angleDeg) && std::isfinite(s.angleDeg))
-    look.windRightMetersPerSecond =
-        std::clamp(look.windRightMetersPerSecond + (target.angleDeg - s.angleDeg) / degreesPerWind,
-                   -15.0, 15.0);
-  return look;
+// `from`'s look with the rate and the exposure moved by `share` of the step that the response
+// says comes nearest the target's count, length and brightness (least squares: a chord step of
+// Gauss-Newton), and the wind by the angle's own secant.
+RainLook moved(const RainMatchStep& from, const derain::StreakStats& target, double share,
+               double degreesPerWind) {
+  const Vec4 error = observed(target) - observed(from.stats);
+  Vec4 step = Vec4::Zero();
+  if (error.head<3>().allFinite())
+    step.head<2>() =
+        streakResponse().householderQr().solve(Eigen::Vector3d(error.head<3>())) * share;
+  for (int i = 0; i < 2; ++i)
+    step[i] = std::clamp(step[i], -std::log(kMaxStepFactor), std::log(kMaxStepFactor));
+  if (std::isfinite(error[kAngle])) step[kAngle] = error[kAngle] / degreesPerWind;
+  if (!step.allFinite()) step.setZero();
+  return lookOf(settingsOf(from.look) + step);
 }
 
 // The angle's response to the wind: the secant through the two steps with the most different
@@ -107,14 +122,11 @@ RainMatch matchRain(const RainMatchSettings& settings, const RenderLook& render)
                             "streak brighter than its clean plate by 10 codes)",
                             settings.clip, clip.frames.size()),
                 {"match", {}, settings.clip});
-  // A coordinate search from the best step so far, one number per step in turn: a move that does
-  // better is kept and that number's next move goes further; one that does worse makes its next
-  // move half as far the other way (the numbers interact: a longer shutter also dims the streaks,
-  // so the model's way is not always better).
-  std::array<double, 3> damping;
-  damping.fill(kFirstDamping);
+  // Gauss-Newton steps from the best step so far, the rate, exposure and wind at once through a
+  // fixed response (the numbers interact: a longer shutter also dims the streaks and thins them
+  // out). A step that does worse halves the next one from the best (a line search).
+  double share = 1.0;
   RainLook look = settings.start;
-  size_t knob = 0;
   for (int step = 0; step < settings.steps; ++step) {
     const auto started = std::chrono::steady_clock::now();
     RainMatchStep result;
@@ -138,18 +150,17 @@ RainMatch matchRain(const RainMatchSettings& settings, const RenderLook& render)
     match.steps.push_back(result);
     const bool better =
         std::isfinite(result.typical) &&
-        (match.steps.size() == 1 || result.typical < match.steps[match.best].typical);
-    if (step > 0) damping[knob] *= better ? 1.5 : -0.5;
+        (match.steps.size() == 1 ||
+         score(result, match.reference) < score(match.steps[match.best], match.reference));
     if (better) match.best = match.steps.size() - 1;
+    share = better ? 1.0 : 0.5 * share;
     const RainMatchStep& from = match.steps[match.best];
     if (!(from.stats.streaksPerMpx > 0.0)) {
-      // Nothing visible: more and brighter rain before anything else can be measured.
+      // Nothing visible: more rain before anything else can be measured.
       look.rateMmPerHour = std::min(300.0, look.rateMmPerHour * kMaxStepFactor);
-      look.opacity = std::min(8.0, look.opacity * 2.0);
       continue;
     }
-    knob = step == 0 ? 0 : (knob + 1) % 3;
-    look = moved(from, match.reference, kKnobs[knob], damping[knob], degreesPerWind(match.steps));
+    look = moved(from, match.reference, share, degreesPerWind(match.steps));
   }
   return match;
 }

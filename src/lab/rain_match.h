@@ -2,21 +2,22 @@
 // `pluvia match`: what a preset needs to reproduce the rain of a reference clip of real rain.
 // The reference's clean plates are made once (lab/real_rain_clip.h); candidates are rendered on
 // them, and their streaks measured as the reference's are: frames minus clean plates estimated
-// from those frames, then the statistics of `pluvia report realism`. Each step moves the four
-// numbers that set the streaks' statistics toward the reference's:
-//  - the shutter (camera.exposure_s) sets the streaks' length: length grows about as
-//    exposure^0.4 at video scales (a drop's streak is its fall during the exposure plus its
-//    width, and longer streaks are fainter, so fewer of their ends pass the threshold);
-//  - the opacity (rain.opacity) their brightness (dI p90 and peak p90);
+// from those frames, then the statistics of `pluvia report realism`. Three numbers set the
+// streaks' statistics, and each statistic answers more than one of them:
+//  - the shutter (camera.exposure_s) sets the streaks' length (about exposure^0.4 at video
+//    scales), and a longer one also dims them (exposure^-0.39: a drop's light spread along a
+//    longer streak) and thins them out (fewer pass the threshold);
 //  - the rate (rain.rate_mm_h) their number per megapixel;
 //  - the wind across the view (rain.wind, toward the camera's right or left) their angle, by the
 //    secant through the steps with the most different winds (at first about 13 degrees of streak
 //    per m/s, a 4.5 m/s fall).
-// Each step starts from the best so far, corrects the wind for the angle, and moves one of the
-// other three, in turn, part of the way the model asks for: further after a move that did better,
-// half as far the other way after one that did worse (the numbers interact: a longer shutter also
-// dims the streaks). Steps are scored by the typical factor (derain::typicalFactor, which leaves
-// the angle out) times exp(|angle error| / 10 deg); the best is the match.
+// The opacity stays the base preset's (the physical streak's 1 for the shipped ones): it moves
+// the count as a rate does and hardly the brightness, so it cannot be told from the rate.
+// Each step is a Gauss-Newton step through that fixed response (the rate and exposure by least
+// squares on the count, length and brightness, the wind on the angle) from the best step so far;
+// one that does worse halves the next. Steps are scored by the typical factor
+// (derain::typicalFactor, which leaves the angle out) times exp(|angle error| / 10 deg); the best
+// is the match.
 #include <functional>
 #include <string>
 #include <vector>

@@ -293,8 +293,9 @@ StageInfo lightingStageInfo() {
          if (lighting.source != LightingSource::Frame) return "";
          return "drops lit by the plate and, above it, an overcast sky (zenith 3x the horizon): "
                 "the brighter of the plate's own sky and the sky that lights its scene as "
-                "brightly as the plate shows it (about 34x its mean luminance); a night plate "
-                "keeps only the sky it shows";
+                "brightly as the plate shows it (about 34x its mean luminance), the plate's own "
+                "sky lifted onto it where it clips, and below the frame wet ground mirroring "
+                "it; a night plate keeps only the sky it shows";
        },
        .reads =
            [](const LightingSettings& lighting, const Preset&) {

@@ -8,6 +8,7 @@
 
 #include "envmap/frame_environment.h"
 #include "image/equirect.h"
+#include "optics/fresnel.h"
 #include "stages/depth_guess.h"
 
 using namespace pluvia;
@@ -93,9 +94,41 @@ TEST(FrameEnvironment, TheOvercastSkyGoesThroughTheFramesOwnSky) {
   EXPECT_NEAR(env.horizonRgb[1], 0.9f, 1e-4);  // the airlight: the plate's own sky
   const float up = sampleEquirect(env.radiance, 0, 1, 0)[0];
   EXPECT_NEAR(up, zenith, 0.03 * zenith);  // the top row's centre is just off the zenith
-  // Straight down: the frame's bottom rows; ahead, slightly below the horizon: the frame itself.
-  EXPECT_NEAR(sampleEquirect(env.radiance, 0, -1, 0)[0], 0.05f, 1e-4);
+  // Ahead, slightly below the horizon: the frame itself.
   EXPECT_NEAR(sampleEquirect(env.radiance, 0, -0.2f, -1)[0], 0.05f, 1e-3);
+  // Straight down, more than 60 deg below the frame: wet level ground of albedo 0.125 seeing 2/3
+  // of the overcast sky (radiance 0.125 (2/3) (7/9) Lz), plus water's Fresnel reflectance at
+  // normal incidence (0.020) of the sky straight up (the map's rows at +-88.6 deg).
+  const double rowElevation = (90.0 - 180.0 * 0.5 / 64.0) * M_PI / 180.0;
+  const double fresnel = optics::fresnelReflectance(std::sin(rowElevation), 1.333);
+  ASSERT_NEAR(fresnel, 0.0204, 0.0005);
+  const double ground = (1.0 - fresnel) * 0.125 * 2.0 / 3.0 * 7.0 / 9.0 * zenith +
+                        fresnel * zenith * (1.0 + 2.0 * std::sin(rowElevation)) / 3.0;
+  EXPECT_NEAR(sampleEquirect(env.radiance, 0, -1, 0)[0], ground, 1e-3 * ground);
+}
+
+TEST(FrameEnvironment, TheGroundBelowTheFrameFadesFromTheFramesBottomRow) {
+  // A dark hedge at the frame's bottom (0.02) under a bright scene: just below the frame the map
+  // is still nearly the hedge, 60 deg further down the ground the sky lights; in between it
+  // rises steadily (a log-space blend), never under the hedge nor over the ground.
+  const Camera camera = Camera::fromFieldOfView(kWidth, kHeight, 50.0, 0.0, 1.6);
+  const envmap::FrameEnvironment env =
+      envmap::frameEnvironment(twoToneFrame(0.3f, 0.02f), camera, {}, false);
+  float previous = 0.0f;
+  for (double e = -25.0; e >= -85.0; e -= 10.0) {
+    const float v = sampleEquirect(env.radiance, 0, float(std::sin(e * M_PI / 180.0)),
+                                   -float(std::cos(e * M_PI / 180.0)))[0];
+    EXPECT_GE(v, previous) << e;
+    previous = v;
+  }
+  EXPECT_LT(sampleEquirect(env.radiance, 0, -0.45f, -0.89f)[0], 2.0 * 0.02);  // 27 deg down
+  // 85 deg down: the ground, and the sky 85 deg up at water's Fresnel reflectance there (0.020),
+  // which is 30 % of it under a sky 15 times brighter than the scene.
+  const double lz = env.zenithLuminance, up = 85.0 * M_PI / 180.0;
+  const double fresnel = optics::fresnelReflectance(std::sin(up), 1.333);
+  const double ground = (1.0 - fresnel) * 0.125 * 2.0 / 3.0 * 7.0 / 9.0 * lz +
+                        fresnel * lz * (1.0 + 2.0 * std::sin(up)) / 3.0;
+  EXPECT_NEAR(previous, ground, 0.03 * ground);
 }
 
 TEST(FrameEnvironment, ADimPlateSkyIsNoDarkerThanTheSkyThatLightsTheScene) {
@@ -106,6 +139,25 @@ TEST(FrameEnvironment, ADimPlateSkyIsNoDarkerThanTheSkyThatLightsTheScene) {
       envmap::frameEnvironment(twoToneFrame(0.5f, 0.3f), camera, topThirdSky(), false);
   EXPECT_NEAR(env.zenithLuminance, sceneZenith(0.3), 1e-3);
   EXPECT_FALSE(env.skyFromPlate);
+  // The plate's own sky is lifted onto that sky: a uniform 0.5 becomes the overcast sky at the
+  // mean elevation it is seen at, not the clip a drop would otherwise refract, and the map has no
+  // step at the frame's top edge.
+  const double e0 = meanSkyElevationDeg(camera, topThirdSky()) * M_PI / 180.0;
+  const double lifted = env.zenithLuminance * (1.0 + 2.0 * std::sin(e0)) / 3.0;
+  ASSERT_GT(lifted, 1.5 * 0.5);
+  const float inFrame =
+      sampleEquirect(env.radiance, 0, float(std::sin(e0)), -float(std::cos(e0)))[0];
+  EXPECT_NEAR(inFrame, lifted, 0.02 * lifted);
+  // The frame's top edge is 18.4 deg up (50 deg across 4:3): just inside and just above it.
+  const auto at = [&](double deg) {
+    const double r = deg * M_PI / 180.0;
+    return sampleEquirect(env.radiance, 0, float(std::sin(r)), -float(std::cos(r)))[0];
+  };
+  // (The plate's sky is uniform, the model rises by (1 + 2 sin 21 deg) / (1 + 2 sin e0).)
+  EXPECT_NEAR(at(16.0) / at(21.0), (1.0 + 2.0 * std::sin(e0)) / (1.0 + 2.0 * std::sin(0.3665)),
+              0.05);
+  // The airlight stays what the plate recorded: the fog is laid over the plate.
+  EXPECT_NEAR(env.horizonRgb[0], 0.5f, 1e-4);
 }
 
 TEST(FrameEnvironment, NoSkyInTheFrameGivesTheOvercastSkyThatLightsIt) {
