@@ -25,7 +25,7 @@
 namespace pluvia {
 namespace {
 
-constexpr const char* kStageVersion = "5";
+constexpr const char* kStageVersion = "6";  // 6: the plate's sky lifted, wet ground below the frame
 // A uniform environment needs no detail; an HDR is kept at most this wide (area-resampled, so
 // the power of a sun is kept): the drop shading resamples it to 256 x 128 anyway.
 constexpr int kUniformWidth = 8;
