@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "envmap/scene_albedo.h"
+#include "envmap/unseen_fill.h"
 #include "image/luminance.h"
 #include "image/ops.h"
 #include "image/resize.h"
@@ -33,15 +34,16 @@ constexpr double kSkyViewFactor = 2.0 / 3.0;
 constexpr double kMinSkyFraction = 0.01;
 
 // What the frame shows of its sky, and the scene's luminance under it.
-struct SkySample {
+struct PlateSkySample {
   double pixels = 0.0;
   std::array<double, 3> meanRgb{0, 0, 0};
   double meanElevationDeg = 0.0;  // of the sky pixels, 0 at least
   double sceneLuminance = 0.0;    // mean of the other pixels (all of them without sky)
 };
 
-SkySample sampleSky(const Image& frame, const Camera& camera, const std::vector<uint8_t>& sky) {
-  SkySample sample;
+PlateSkySample sampleSky(const Image& frame, const Camera& camera,
+                         const std::vector<uint8_t>& sky) {
+  PlateSkySample sample;
   double sceneSum = 0.0, scenePixels = 0.0, elevationSum = 0.0;
   for (int y = 0; y < camera.height; ++y)
     for (int x = 0; x < camera.width; ++x) {
@@ -89,7 +91,7 @@ struct DaySky {
   }
 };
 
-DaySky daySky(const SkySample& seen, bool framedSky, double sceneZenith) {
+DaySky daySky(const PlateSkySample& seen, bool framedSky, double sceneZenith) {
   DaySky sky;
   sky.zenith = sceneZenith;
   if (!framedSky) return sky;
@@ -124,7 +126,8 @@ void liftPlateSky(cv::Mat& small, const cv::Mat& skyShare, double gain) {
 // 15 deg of it). The frame's lowest row (what stands there: a wall, a hedge) fades into it in log
 // space over the angle the panorama's unseen ground takes (ModelFillSettings::obstacleBlendDeg).
 void wetGround(std::vector<std::array<float, 3>>& profile, int last, const DaySky& sky) {
-  constexpr double kWaterIndex = 1.333, kBlendDeg = 60.0;
+  constexpr double kWaterIndex = 1.333;
+  const double blendDeg = ModelFillSettings{}.obstacleBlendDeg;
   const int mapHeight = int(profile.size());
   const auto elevationOf = [&](int r) { return 90.0 - 180.0 * (r + 0.5) / mapHeight; };
   const double irradianceOverPi = kSkyViewFactor * 7.0 / 9.0 * sky.zenith;
@@ -144,7 +147,7 @@ void wetGround(std::vector<std::array<float, 3>>& profile, int last, const DaySk
   const std::array<float, 3> seen = profile[size_t(anchor)];
   for (int r = anchor + 1; r < mapHeight; ++r) {
     const double fade =
-        std::clamp(1.0 - (std::min(lastElevation, 0.0) - elevationOf(r)) / kBlendDeg, 0.0, 1.0);
+        std::clamp(1.0 - (std::min(lastElevation, 0.0) - elevationOf(r)) / blendDeg, 0.0, 1.0);
     const std::array<double, 3> ground = model(r);
     for (size_t c = 0; c < 3; ++c)
       profile[size_t(r)][c] = float(std::pow(std::max(1e-6, double(seen[c])), fade) *
@@ -169,7 +172,7 @@ FrameEnvironment frameEnvironment(const Image& frame, const Camera& camera,
   // albedo a under it, seeing a share v of it, has radiance a E / pi with E = v kUprightIlluminance
   // Lz, so Lz = pi (the scene's mean luminance) / (a v kUprightIlluminance), about 34 times the
   // scene's mean (a = 0.125, envmap/scene_albedo.h; v = 2/3).
-  const SkySample seen = sampleSky(frame, camera, sky);
+  const PlateSkySample seen = sampleSky(frame, camera, sky);
   const double pixels = double(camera.width) * camera.height;
   const bool framedSky = seen.pixels >= kMinSkyFraction * pixels;
   const double sceneZenith =
