@@ -57,7 +57,7 @@ nlohmann::json matchedPreset(const lab::RainMatch& match, const std::string& bas
 void addMatchCommand(CLI::App& app, Invocation& invocation) {
   auto* cmd = app.add_subcommand(
       "match",
-      "a preset fitted to a clip of real rain: rate, shutter, opacity and wind, rendered on its "
+      "a preset fitted to a clip of real rain: rate, shutter and wind, rendered on its "
       "clean plates until the streaks match");
   struct Args {
     std::string reference, output, base = "moderate";
