@@ -43,7 +43,7 @@ RainLook lookOf(const Vec4& v) {
 // 1/250 s): the length grows as exposure^0.35-0.4, the brightness falls as exposure^-0.39 (a
 // drop's light spread along a longer streak) and the count as exposure^-0.2 (longer streaks are
 // fainter, fewer pass the threshold). The opacity is left where the base preset has it (1, the
-// physical streak): on the example street (1.43 to 2.3 at 1/255 s) it moved the count as
+// physical streak): on the example street (2.3 to 3.2 at 1/255 s) it moved the count as
 // opacity^1.9, as a rate would, and the brightness as opacity^0.03 (the faint streaks it lifts
 // over the threshold hold the percentiles down), so a search moving it traded it against the rate
 // (12 mm/h matched as 0.8 mm/h at opacity 5).
