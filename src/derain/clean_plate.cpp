@@ -149,20 +149,19 @@ std::vector<CleanPlate> cleanPlatesAt(const std::vector<cv::Mat3f>& frames,
     stacks[k][place] = registerNeighbour(frames[size_t(record.frame)], greys[size_t(record.frame)],
                                          greys[size_t(at[k])], *dis, settings, record);
   });
+  // The invalid areas as wide as what the rain suppression leaves (moving objects, not a broad
+  // streak the agreement test refused), grown by the margin.
+  const cv::Mat wideOnly = cv::getStructuringElement(
+      cv::MORPH_ELLIPSE, cv::Size(settings.suppressDiameterPx, settings.suppressDiameterPx));
+  const int side = 2 * std::max(0, settings.distrustMarginPx) + 1;
+  const cv::Mat margin = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(side, side));
   for (size_t k = 0; k < at.size(); ++k) {
     stackMedian(stacks[k], greys[size_t(at[k])], settings, plates[k]);
-    if (settings.distrustMarginPx > 0) {
-      // The invalid areas as wide as what the rain suppression leaves (moving objects, not a
-      // broad streak the agreement test refused), grown by the margin.
-      cv::Mat1b wide;
-      cv::morphologyEx(
-          plates[k].valid == 0, wide, cv::MORPH_OPEN,
-          cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(settings.suppressDiameterPx,
-                                                                settings.suppressDiameterPx)));
-      const int side = 2 * settings.distrustMarginPx + 1;
-      cv::dilate(wide, wide, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(side, side)));
-      plates[k].valid.setTo(0, wide);
-    }
+    if (settings.distrustMarginPx <= 0) continue;
+    cv::Mat1b wide;
+    cv::morphologyEx(plates[k].valid == 0, wide, cv::MORPH_OPEN, wideOnly);
+    cv::dilate(wide, wide, margin);
+    plates[k].valid.setTo(0, wide);
   }
   return plates;
 }

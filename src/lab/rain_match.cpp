@@ -15,27 +15,11 @@
 namespace pluvia::lab {
 namespace {
 
-// What a step observes, in log terms, and what it sets, each as a vector: the streaks' count per
-// megapixel, median length, brightness (the geometric mean of dI p90 and peak p90) and angle
-// (degrees); the rate, exposure and opacity (logs) and the wind across the view (m/s).
-using Vec4 = Eigen::Vector4d;
-constexpr int kAngle = 3;  // the angle's place in each
-
-Vec4 observed(const derain::StreakStats& s) {
+// What a step observes of the streaks that the rate and the exposure set, in log terms: their
+// count per megapixel, median length and brightness (the geometric mean of dI p90 and peak p90).
+Eigen::Vector3d observed(const derain::StreakStats& s) {
   return {std::log(s.streaksPerMpx), std::log(s.lengthP50Px),
-          0.5 * (std::log(s.deltaP90) + std::log(s.peakP90)), s.angleDeg};
-}
-Vec4 settingsOf(const RainLook& look) {
-  return {std::log(look.rateMmPerHour), std::log(look.exposureSeconds), std::log(look.opacity),
-          look.windRightMetersPerSecond};
-}
-RainLook lookOf(const Vec4& v) {
-  RainLook look;
-  look.rateMmPerHour = std::clamp(std::exp(v[0]), 0.1, 300.0);
-  look.exposureSeconds = std::clamp(std::exp(v[1]), 1e-4, 0.5);
-  look.opacity = std::clamp(std::exp(v[2]), 0.1, 8.0);
-  look.windRightMetersPerSecond = std::clamp(v[3], -15.0, 15.0);
-  return look;
+          0.5 * (std::log(s.deltaP90) + std::log(s.peakP90))};
 }
 
 // How the count, length and brightness answer the rate and the exposure (d observed / d setting,
@@ -77,20 +61,25 @@ double score(const RainMatchStep& step, const derain::StreakStats& target) {
 // Gauss-Newton), and the wind by the angle's own secant.
 RainLook moved(const RainMatchStep& from, const derain::StreakStats& target, double share,
                double degreesPerWind) {
-  const Vec4 error = observed(target) - observed(from.stats);
-  Vec4 step = Vec4::Zero();
-  if (error.head<3>().allFinite()) {
+  RainLook look = from.look;
+  const Eigen::Vector3d error = observed(target) - observed(from.stats);
+  if (error.allFinite()) {
     const Eigen::DiagonalMatrix<double, 3> weight(1.0, 1.0, kBrightnessWeight);
-    step.head<2>() = (weight * streakResponse())
-                         .householderQr()
-                         .solve(Eigen::Vector3d(weight * error.head<3>())) *
-                     share;
+    const Eigen::Vector2d step =
+        (weight * streakResponse()).householderQr().solve(Eigen::Vector3d(weight * error)) * share;
+    const auto scaled = [](double value, double logStep, double lo, double hi) {
+      const double bounded =
+          std::clamp(logStep, -std::log(kMaxStepFactor), std::log(kMaxStepFactor));
+      return std::clamp(value * std::exp(bounded), lo, hi);
+    };
+    look.rateMmPerHour = scaled(look.rateMmPerHour, step[0], 0.1, 300.0);
+    look.exposureSeconds = scaled(look.exposureSeconds, step[1], 1e-4, 0.5);
   }
-  for (int i = 0; i < 2; ++i)
-    step[i] = std::clamp(step[i], -std::log(kMaxStepFactor), std::log(kMaxStepFactor));
-  if (std::isfinite(error[kAngle])) step[kAngle] = error[kAngle] / degreesPerWind;
-  if (!step.allFinite()) step.setZero();
-  return lookOf(settingsOf(from.look) + step);
+  const double angleError = target.angleDeg - from.stats.angleDeg;
+  if (std::isfinite(angleError))
+    look.windRightMetersPerSecond =
+        std::clamp(look.windRightMetersPerSecond + angleError / degreesPerWind, -15.0, 15.0);
+  return look;
 }
 
 // The angle's response to the wind: the secant through the two steps with the most different
