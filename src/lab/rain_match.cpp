@@ -15,33 +15,34 @@
 namespace pluvia::lab {
 namespace {
 
-// What a step observes of the streaks that the rate and the exposure set, in log terms: their
-// count per megapixel, median length and brightness (the geometric mean of dI p90 and peak p90).
-Eigen::Vector3d observed(const derain::StreakStats& s) {
-  return {std::log(s.streaksPerMpx), std::log(s.lengthP50Px),
-          0.5 * (std::log(s.deltaP90) + std::log(s.peakP90))};
-}
-
-// How the count, length and brightness answer the rate and the exposure (d observed / d setting,
-// logs). The exposure's column was measured on NTURain's plates with `gentle` (1/1000, 1/500 and
-// 1/250 s): the length grows as exposure^0.35-0.4, the brightness falls as exposure^-0.39 (a
-// drop's light spread along a longer streak) and the count as exposure^-0.2 (longer streaks are
-// fainter, fewer pass the threshold). The opacity is left where the base preset has it (1, the
+// How each ratio of the typical factor (derain::ratiosToReal, in its order: coverage, dI p90,
+// dI p99, streaks per Mpx, length p50, width p50, peak p90) answers the rate and the exposure
+// (d log ratio / d log setting). The exposure's column was measured on NTURain's plates with
+// `gentle` (1/1000, 1/500 and 1/250 s): the length grows as exposure^0.4, the brightness (dI and
+// peak) falls as exposure^-0.39 (a drop's light spread along a longer streak) and the count as
+// exposure^-0.2 (longer streaks are fainter, fewer pass the threshold); the coverage is the count
+// times the length. The rate moves the count and the coverage and not the brightness (on NTURain
+// 4 to 8 mm/h moved dI p90 by 3 %). The opacity is left where the base preset has it (1, the
 // physical streak): on the example street (2.3 to 3.2 at 1/255 s) it moved the count as
-// opacity^1.9, as a rate would, and the brightness as opacity^0.03 (the faint streaks it lifts
-// over the threshold hold the percentiles down), so a search moving it traded it against the rate
-// (12 mm/h matched as 0.8 mm/h at opacity 5).
-Eigen::Matrix<double, 3, 2> streakResponse() {
-  Eigen::Matrix<double, 3, 2> j;
-  j << 1.0, -0.2,  //
-      0.0, 0.4,    //
-      0.0, -0.39;
+// opacity^1.9, as a rate would, and the brightness as opacity^0.03, so a search moving it traded
+// it against the rate (12 mm/h matched as 0.8 mm/h at opacity 5).
+Eigen::Matrix<double, 7, 2> ratioResponse() {
+  Eigen::Matrix<double, 7, 2> j;
+  j << 1.0, 0.2,   // coverage
+      0.0, -0.39,  // dI p90
+      0.0, -0.39,  // dI p99
+      1.0, -0.2,   // streaks per Mpx
+      0.0, 0.4,    // length
+      0.0, 0.0,    // width
+      0.0, -0.39;  // peak p90
   return j;
 }
-// The brightness weighs this many times the count and the length in the least squares: it stands
-// for four of the seven ratios of the typical factor (coverage, dI p90 and p99, peak p90), which
-// as four residuals of its size would add 4 times its square, so sqrt(4).
-constexpr double kBrightnessWeight = 2.0;
+// The step is the one the response says lowers the typical factor most: the mean |log ratio|
+// after it, searched on a grid of log steps this fine within the largest step. The mean of
+// absolute values has flat valleys (between matching the count and matching the coverage, say),
+// so a small cost on the step's size picks the shortest move along them.
+constexpr double kStepGridLog = 0.01;
+constexpr double kStepSizeCost = 0.01;
 // Streak angle per m/s of wind across the view before two steps give the secant: a 4.5 m/s fall.
 constexpr double kDegreesPerWindStart = -180.0 / M_PI / 4.5;
 // No step moves the rate or the exposure by more than this factor.
@@ -57,23 +58,28 @@ double score(const RainMatchStep& step, const derain::StreakStats& target) {
 }
 
 // `from`'s look with the rate and the exposure moved by `share` of the step that the response
-// says comes nearest the target's count, length and brightness (least squares: a chord step of
-// Gauss-Newton), and the wind by the angle's own secant.
+// predicts lowers the typical factor most, and the wind by the angle's own secant.
 RainLook moved(const RainMatchStep& from, const derain::StreakStats& target, double share,
                double degreesPerWind) {
   RainLook look = from.look;
-  const Eigen::Vector3d error = observed(target) - observed(from.stats);
-  if (error.allFinite()) {
-    const Eigen::DiagonalMatrix<double, 3> weight(1.0, 1.0, kBrightnessWeight);
-    const Eigen::Vector2d step =
-        (weight * streakResponse()).householderQr().solve(Eigen::Vector3d(weight * error)) * share;
-    const auto scaled = [](double value, double logStep, double lo, double hi) {
-      const double bounded =
-          std::clamp(logStep, -std::log(kMaxStepFactor), std::log(kMaxStepFactor));
-      return std::clamp(value * std::exp(bounded), lo, hi);
-    };
-    look.rateMmPerHour = scaled(look.rateMmPerHour, step[0], 0.1, 300.0);
-    look.exposureSeconds = scaled(look.exposureSeconds, step[1], 1e-4, 0.5);
+  Eigen::Matrix<double, 7, 1> logRatios = Eigen::Matrix<double, 7, 1>::Constant(NAN);
+  for (size_t i = 0; i < from.ratios.size() && i < 7; ++i)
+    logRatios[int(i)] = std::log(from.ratios[i].second);
+  if (logRatios.allFinite()) {
+    const Eigen::Matrix<double, 7, 2> response = ratioResponse();
+    const int reach = int(std::lround(std::log(kMaxStepFactor) / kStepGridLog));
+    Eigen::Vector2d step(0.0, 0.0);
+    double bestCost = INFINITY;
+    for (int a = -reach; a <= reach; ++a)
+      for (int e = -reach; e <= reach; ++e) {
+        const Eigen::Vector2d candidate(a * kStepGridLog, e * kStepGridLog);
+        const double cost = (logRatios + response * candidate).cwiseAbs().mean() +
+                            kStepSizeCost * candidate.squaredNorm();
+        if (cost < bestCost) bestCost = cost, step = candidate;
+      }
+    step *= share;
+    look.rateMmPerHour = std::clamp(look.rateMmPerHour * std::exp(step[0]), 0.1, 300.0);
+    look.exposureSeconds = std::clamp(look.exposureSeconds * std::exp(step[1]), 1e-4, 0.5);
   }
   const double angleError = target.angleDeg - from.stats.angleDeg;
   if (std::isfinite(angleError))

@@ -7,15 +7,16 @@
 //  - the shutter (camera.exposure_s) sets the streaks' length (about exposure^0.4 at video
 //    scales), and a longer one also dims them (exposure^-0.39: a drop's light spread along a
 //    longer streak) and thins them out (fewer pass the threshold);
-//  - the rate (rain.rate_mm_h) their number per megapixel;
+//  - the rate (rain.rate_mm_h) their number per megapixel and the share of pixels they cover;
 //  - the wind across the view (rain.wind, toward the camera's right or left) their angle, by the
 //    secant through the steps with the most different winds (at first about 13 degrees of streak
 //    per m/s, a 4.5 m/s fall).
 // The opacity stays the base preset's (the physical streak's 1 for the shipped ones): it moves
 // the count as a rate does and hardly the brightness, so it cannot be told from the rate.
-// Each step is a Gauss-Newton step through that fixed response (the rate and exposure by least
-// squares on the count, length and brightness, the wind on the angle) from the best step so far;
-// one that does worse halves the next. Steps are scored by the typical factor
+// Each step moves from the best step so far: the rate and exposure by the step that fixed response
+// predicts lowers the typical factor most (its mean |log ratio|, which a least-squares step would
+// not: it traded the three brightness ratios for the length's one), the wind on the angle; a step
+// that does worse halves the next. Steps are scored by the typical factor
 // (derain::typicalFactor, which leaves the angle out) times exp(|angle error| / 10 deg); the best
 // is the match.
 #include <functional>

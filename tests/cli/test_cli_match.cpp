@@ -1,10 +1,10 @@
 // `pluvia match` on pluvia's own rain of known settings: the example plate rained at 12 mm/h with
 // a 1/400 s shutter and 2 m/s of wind to the right (darken, blur and fog off, as the match compares
-// streaks alone), then matched from `moderate` (8 mm/h, 1/1000 s, no wind across). The rate and
-// the streaks' angle are recovered; the shutter only within a factor of 2 (measured: 1/695 s: on
-// the clean plates estimated from rained frames the longer shutter's streaks come out dimmer than
-// the reference's, which the typical factor counts against it). The preset written extends the
-// base and resolves. Bad input loses nothing.
+// streaks alone), then matched from `moderate` (8 mm/h, 1/1000 s, no wind across). The rate, the
+// shutter and the streaks' angle are recovered (measured: 12.4 mm/h, 1/497 s, 0.8 degrees off; the
+// shutter comes out short because the walkers' outlines leave bright residue in the reference's
+// clean plates, which reads as brighter streaks: on a still frame of the same plate, 11.7 mm/h and
+// 1/375 s). The preset written extends the base and resolves. Bad input loses nothing.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -33,7 +33,7 @@ double numberAfter(const std::string& output, const std::string& label) {
 
 }  // namespace
 
-TEST(CliMatch, RecoversTheRateAndTheAngleOfKnownRain) {
+TEST(CliMatch, RecoversTheRateTheShutterAndTheAngleOfKnownRain) {
   const auto dir = freshTempDir("match");
   const stdfs::path truth = writeTextFile(
       dir, "truth.json",
@@ -51,12 +51,11 @@ TEST(CliMatch, RecoversTheRateAndTheAngleOfKnownRain) {
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const nlohmann::json matched = nlohmann::json::parse(fs::readTextFile(preset));
   EXPECT_EQ(matched["extends"], "moderate");
-  // The rate within 25 % of 12 mm/h (measured 9.96), the shutter within a factor of 2 of 1/400 s.
+  // The rate within 25 % of 12 mm/h, the shutter within 25 % of 1/400 s.
   const double rate = matched["rain"]["rate_mm_h"];
   EXPECT_NEAR(rate, 12.0, 0.25 * 12.0) << r.output;
   const double exposure = matched["camera"]["exposure_s"];
-  EXPECT_GT(exposure, 0.0025 / 2.0) << r.output;
-  EXPECT_LT(exposure, 0.0025 * 2.0) << r.output;
+  EXPECT_NEAR(exposure, 0.0025, 0.25 * 0.0025) << r.output;
   // The wind blows to the camera's right, and the match's streaks lean as the reference's do.
   EXPECT_EQ(matched["rain"]["wind"]["dir_deg"], 0) << r.output;
   const double referenceAngle = numberAfter(r.output, "angle");
