@@ -50,6 +50,7 @@ nlohmann::json reportJson(const derain::ClipDerainSummary& summary,
                        {"registration_residual_identity", w.identityResidual},
                        {"registration_residual_motion", w.motionResidual},
                        {"angle_deg", w.angleDeg},
+                       {"angle_found", w.angleFound},
                        {"iterations", w.iterations},
                        {"residual", w.residual},
                        {"noise_sigma", w.noiseSigma},
@@ -58,6 +59,7 @@ nlohmann::json reportJson(const derain::ClipDerainSummary& summary,
   return {{"input", input},
           {"pluvia_version", kVersion},
           {"angle_deg", summary.angleDeg},
+          {"windows_with_angle", summary.windowsWithAngle},
           {"rain_color", {summary.rainColor[0], summary.rainColor[1], summary.rainColor[2]}},
           {"iterations", summary.iterations},
           {"residual", summary.residual},
@@ -177,10 +179,9 @@ void addDerainCommand(CLI::App& app, Invocation& invocation) {
     if (matteWriter) matteWriter->close();
     if (!args->report.empty())
       fs::writeTextFile(args->report, reportJson(summary, settings, args->input).dump(2) + "\n");
-    log::info(fmt::format(
-        "derain: {} frames, rain angle {:.2f} deg, colour ({:.3f}, {:.3f}, {:.3f}), {:.1f} s",
-        frames.size(), summary.angleDeg, summary.rainColor[0], summary.rainColor[1],
-        summary.rainColor[2], summary.seconds));
+    log::info(fmt::format("derain: {} frames, {}, colour ({:.3f}, {:.3f}, {:.3f}), {:.1f} s",
+                          frames.size(), derain::describeRainAngle(summary), summary.rainColor[0],
+                          summary.rainColor[1], summary.rainColor[2], summary.seconds));
     invocation.exitCode = 0;
   });
 }

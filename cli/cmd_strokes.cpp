@@ -13,9 +13,14 @@
 #include "rain/stroke_library.h"
 #include "util/error.h"
 #include "util/fs.h"
+#include "util/log.h"
 
 namespace pluvia::cli {
 namespace {
+
+// Fewer strokes than this repeat visibly: every drop draws one of the library's strokes, so a
+// handful of shapes recur all over the frame.
+constexpr size_t kVariedLibraryStrokes = 20;
 
 // The library's two files, LIBRARY.json and the atlas beside it.
 std::vector<std::string> libraryFiles(const std::string& library) {
@@ -59,20 +64,29 @@ void addStrokesCommand(CLI::App& app, Invocation& invocation) {
 
     derain::ClipStrokes cut = derain::cutStrokesFromClip(args->input, args->clip, args->strokes);
     rain::StrokeLibrary& library = cut.library;
+    const std::string& angle = cut.angleDescription;
     if (library.strokes.empty()) {
-      throw Error(fmt::format("no rain strokes found in {} ({} frames, rain angle {:.1f} deg): "
-                              "nothing written",
-                              args->input, cut.frames, cut.angleDeg),
+      throw Error(fmt::format("no rain strokes found in {} ({} frames, {}): nothing written",
+                              args->input, cut.frames, angle),
                   {"strokes", {}, args->input});
     }
+    if (library.strokes.size() < kVariedLibraryStrokes)
+      log::warning(fmt::format(
+          "strokes: only {} stroke{} in {} ({}): a library this small repeats its shapes all "
+          "over the frame. The clip shows too little rain the derain can separate{}; more "
+          "frames, a clip with more visible rain, or rain.strokes builtin give varied rain",
+          library.strokes.size(), library.strokes.size() == 1 ? "" : "s", args->input, angle,
+          !cut.angleInEveryWindow
+              ? " (where no direction was seen, the mattes hold the registration's residue, "
+                "not rain: a fast camera may need shorter windows, --window 7)"
+              : ""));
     library.source = args->input;
     library.command = invocation.commandLine;
     rain::saveStrokeLibrary(library, args->output);
     std::cout << fmt::format(
-        "strokes: kept {} of {} candidates from {} frames of {}, rain angle {:.1f} deg, atlas "
-        "{}x{} -> {}\n",
-        library.strokes.size(), cut.candidates, cut.frames, args->input, cut.angleDeg,
-        library.atlas.width, library.atlas.height, args->output);
+        "strokes: kept {} of {} candidates from {} frames of {}, {}, atlas {}x{} -> {}\n",
+        library.strokes.size(), cut.candidates, cut.frames, args->input, angle, library.atlas.width,
+        library.atlas.height, args->output);
     invocation.exitCode = 0;
   });
 }

@@ -39,12 +39,31 @@ ClipDerainFrame crossFade(const ClipDerainFrame& earlier, const ClipDerainFrame&
   cv::addWeighted(earlier.matte, 1.0 - t, later.matte, t, 0.0, out.matte);
   out.covered = earlier.covered | later.covered;
   out.rainColor = earlier.rainColor * float(1.0 - t) + later.rainColor * float(t);
-  out.angleDeg = (1.0 - t) * earlier.angleDeg + t * later.angleDeg;
+  // A window that did not see the rain's direction has only the solver's start: the other's.
+  out.angleFound = earlier.angleFound || later.angleFound;
+  out.angleDeg = earlier.angleFound == later.angleFound
+                     ? (1.0 - t) * earlier.angleDeg + t * later.angleDeg
+                     : (later.angleFound ? later.angleDeg : earlier.angleDeg);
   out.noiseSigma = (1.0 - t) * earlier.noiseSigma + t * later.noiseSigma;
   return out;
 }
 
 }  // namespace
+
+std::string describeRainAngle(const ClipDerainSummary& summary) {
+  const size_t windows = summary.windows.size();
+  if (summary.windowsWithAngle == 0)
+    return fmt::format(
+        "rain direction not seen (no line in the mattes of any of the {} "
+        "windows; taken as vertical)",
+        windows);
+  return fmt::format(
+      "rain angle {:.1f} deg (found in {} of {} windows{})", summary.angleDeg,
+      summary.windowsWithAngle, windows,
+      summary.windowsWithAngle > 1
+          ? fmt::format(", {:.1f} to {:.1f} deg", summary.angleMinDeg, summary.angleMaxDeg)
+          : std::string());
+}
 
 ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings& settings,
                              const std::function<void(const ClipDerainFrame&)>& emit) {
@@ -65,12 +84,13 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
 
   ClipDerainSummary summary;
   double residualSquares = 0.0, angleSum = 0.0;
+  size_t angleFrames = 0;
   cv::Vec3d colorSum(0, 0, 0);
   size_t emitted = 0;
   const auto emitFrame = [&](const ClipDerainFrame& out) {
     emit(out);
     colorSum += cv::Vec3d(out.rainColor);
-    angleSum += out.angleDeg;
+    if (out.angleFound) angleSum += out.angleDeg, ++angleFrames;
     ++emitted;
   };
   // A quarter of each window is solved again by the next, and cross-faded.
@@ -135,15 +155,25 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
         : registration.moving() ? "motion"
                                 : "identity";
     stats.angleDeg = result.angleDeg;
+    stats.angleFound = result.angleFound;
+    if (result.angleFound) {
+      const bool first = summary.windowsWithAngle++ == 0;
+      summary.angleMinDeg =
+          first ? result.angleDeg : std::min(summary.angleMinDeg, result.angleDeg);
+      summary.angleMaxDeg =
+          first ? result.angleDeg : std::max(summary.angleMaxDeg, result.angleDeg);
+    }
     stats.iterations = result.iterations;
     stats.residual = result.residual;
     stats.noiseSigma = result.noiseSigma;
     stats.history = result.history;
     summary.windows.push_back(stats);
     log::info(fmt::format(
-        "derain: frames {}-{}: {} iterations, angle {:.2f} deg, residual {:.4f}, shift {:.1f} px",
-        stats.firstFrame, stats.lastFrame, stats.iterations, stats.angleDeg, stats.residual,
-        stats.maxShiftPx));
+        "derain: frames {}-{}: {} iterations, {}, residual {:.4f}, shift {:.1f} px",
+        stats.firstFrame, stats.lastFrame, stats.iterations,
+        stats.angleFound ? fmt::format("angle {:.2f} deg", stats.angleDeg)
+                         : std::string("no rain direction in the mattes (vertical assumed)"),
+        stats.residual, stats.maxShiftPx));
 
     residualSquares += result.residual * result.residual * double(window);
     std::vector<ClipDerainFrame> next;
@@ -161,6 +191,7 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
       out.matte = warpToFrame(result.alpha[size_t(k)], registration, k);
       out.rainColor = result.rainColor[size_t(k)];
       out.angleDeg = result.angleDeg;
+      out.angleFound = result.angleFound;
       out.noiseSigma = result.noiseSigma;
       const size_t waiting = i - pendingFirst;  // index among the earlier window's frames
       if (i >= pendingFirst && waiting < pending.size()) {
@@ -178,7 +209,7 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
     summary.iterations = std::max(summary.iterations, result.iterations);
   }
   for (const ClipDerainFrame& out : pending) emitFrame(out);
-  summary.angleDeg = angleSum / double(emitted);
+  summary.angleDeg = angleFrames > 0 ? angleSum / double(angleFrames) : 0.0;
   summary.rainColor = cv::Vec3f(colorSum / double(emitted));
   summary.residual = std::sqrt(residualSquares / double(window * starts.size()));
   summary.seconds = secondsSince(started);

@@ -27,10 +27,11 @@ struct ClipDerainFrame {
   // S on this frame's grid; where the window's reference frame did not see the pixel, the frame
   // itself median-filtered (5 px)
   cv::Mat clean;
-  cv::Mat matte;          // alpha on this frame's grid, CV_32FC1 (0 outside the reference frame)
-  cv::Mat covered;        // CV_8UC1, nonzero where the window's reference frame saw this pixel
-  cv::Vec3f rainColor;    // C^k
-  double angleDeg = 0.0;  // the window's D0
+  cv::Mat matte;            // alpha on this frame's grid, CV_32FC1 (0 outside the reference frame)
+  cv::Mat covered;          // CV_8UC1, nonzero where the window's reference frame saw this pixel
+  cv::Vec3f rainColor;      // C^k
+  double angleDeg = 0.0;    // the window's D0
+  bool angleFound = false;  // D0 was seen in the window's mattes (DerainResult::angleFound)
   double noiseSigma = 0.0;
 };
 
@@ -44,6 +45,7 @@ struct ClipDerainWindow {
   std::string registration;
   double identityResidual = 0.0, motionResidual = 0.0;
   double angleDeg = 0.0;
+  bool angleFound = false;
   int iterations = 0;
   double residual = 0.0;
   double noiseSigma = 0.0;
@@ -52,12 +54,20 @@ struct ClipDerainWindow {
 
 struct ClipDerainSummary {
   std::vector<ClipDerainWindow> windows;
-  double angleDeg = 0.0;  // over all windows (weighted by frames)
-  cv::Vec3f rainColor;    // mean C over all frames
-  int iterations = 0;     // largest over windows
-  double residual = 0.0;  // RMS over windows
+  // Over the frames of the windows whose mattes showed the rain's direction; 0 (vertical, the
+  // solver's start) when none did.
+  double angleDeg = 0.0;
+  size_t windowsWithAngle = 0;
+  double angleMinDeg = 0.0, angleMaxDeg = 0.0;  // over those windows
+  cv::Vec3f rainColor;                          // mean C over all frames
+  int iterations = 0;                           // largest over windows
+  double residual = 0.0;                        // RMS over windows
   double seconds = 0.0;
 };
+
+// "rain angle -33.0 deg (found in 3 of 4 windows, -35.2 to -31.0 deg)", or that no window's
+// mattes showed it.
+std::string describeRainAngle(const ClipDerainSummary& summary);
 
 // Calls `emit` once per frame, in frame order. Throws pluvia::Error naming the input when the
 // range holds fewer than 3 frames or a frame cannot be read or registered.

@@ -402,7 +402,10 @@ DerainResult solveDerain(const FrameStack& stack, const DerainSettings& settings
     removePersistentAlpha(problem, state);
     if (settings.estimateDirection) {
       const RainAngleEstimate estimate = estimateRainAngle(transientMattes(problem, state));
-      if (estimate.salience >= kMinDirectionSalience) state.angleDeg = estimate.angleDeg;
+      if (estimate.salience >= kMinDirectionSalience) {
+        state.angleDeg = estimate.angleDeg;
+        result.angleFound = true;
+      }
     }
     solveColor(problem, state);
     const int backgroundIterations = solveBackground(problem, state, settings);

@@ -47,9 +47,12 @@ struct DerainResult {
   std::vector<cv::Mat> alpha;        // alpha^k, CV_32FC1 in [0, 1]
   std::vector<cv::Vec3f> rainColor;  // C^k (R, G, B)
   double angleDeg = 0.0;             // D0 (frame_stack.h convention)
-  int iterations = 0;                // EM iterations run
-  double residual = 0.0;             // final dataRms
-  double noiseSigma = 0.0;           // robust (MAD) estimate of the per-channel sensor noise
+  // Whether D0 came from the mattes' spectrum (a salient line in some iteration); false: it
+  // stayed at DerainSettings::initialAngleDeg (no rain direction seen, or not estimated).
+  bool angleFound = false;
+  int iterations = 0;       // EM iterations run
+  double residual = 0.0;    // final dataRms
+  double noiseSigma = 0.0;  // robust (MAD) estimate of the per-channel sensor noise
   std::vector<DerainIteration> history;
 };
 

@@ -607,6 +607,8 @@ ClipStrokes cutStrokesFromClip(const std::string& input, const ClipDerainSetting
   out.library = collector.finish();
   out.candidates = collector.candidateCount();
   out.angleDeg = summary.angleDeg;
+  out.angleDescription = describeRainAngle(summary);
+  out.angleInEveryWindow = summary.windowsWithAngle == summary.windows.size();
   return out;
 }
 

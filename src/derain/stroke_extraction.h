@@ -92,7 +92,9 @@ struct ClipStrokes {
   rain::StrokeLibrary library;  // possibly empty: the caller says what that means
   size_t candidates = 0;
   size_t frames = 0;
-  double angleDeg = 0.0;
+  double angleDeg = 0.0;         // ClipDerainSummary's
+  std::string angleDescription;  // describeRainAngle's
+  bool angleInEveryWindow = false;
 };
 ClipStrokes cutStrokesFromClip(const std::string& input, const ClipDerainSettings& clip,
                                const StrokeExtractionSettings& extraction);

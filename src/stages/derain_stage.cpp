@@ -67,16 +67,14 @@ class DerainStage : public Stage {
     extraction.count = derain_.strokeCount;
     derain::ClipStrokes cut = derain::cutStrokesFromClip(input, settings, extraction);
     if (cut.library.strokes.empty()) {
-      throw Error(fmt::format("no rain strokes found in {} (frames {}-{}, rain angle {:.1f} deg); "
-                              "set derain.input to rain footage, or rain.strokes to builtin",
-                              input, settings.firstFrame, settings.lastFrame, cut.angleDeg),
+      throw Error(fmt::format("no rain strokes found in {} (frames {}-{}, {}); set derain.input "
+                              "to rain footage, or rain.strokes to builtin",
+                              input, settings.firstFrame, settings.lastFrame, cut.angleDescription),
                   {"derain", {}, input});
     }
-    log::info(
-        fmt::format("derain: {} strokes kept of {} candidates from frames {}-{} of {}, rain "
-                    "angle {:.1f} deg",
-                    cut.library.strokes.size(), cut.candidates, settings.firstFrame,
-                    settings.lastFrame, input, cut.angleDeg));
+    log::info(fmt::format("derain: {} strokes kept of {} candidates from frames {}-{} of {}, {}",
+                          cut.library.strokes.size(), cut.candidates, settings.firstFrame,
+                          settings.lastFrame, input, cut.angleDescription));
     if (clip.cache) clip.cache->store("derain", key, rain::strokeAtlasToJson(cut.library.atlas));
     clip.footageStrokes = std::move(cut.library.atlas);
   }

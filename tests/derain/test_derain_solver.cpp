@@ -45,6 +45,7 @@ TEST(DerainSolver, BeatsTheMedianByOneDecibelAndFindsTheDirection) {
     const double solverPsnr = cv::PSNR(result.background, truth.background, 1.0);
     EXPECT_GE(solverPsnr, medianPsnr + 1.0) << "angle " << angle;
     EXPECT_NEAR(result.angleDeg, angle, 2.0);
+    EXPECT_TRUE(result.angleFound) << "angle " << angle;
     // The mattes: far closer to the truth than no rain at all is.
     std::vector<cv::Mat> none;
     for (const cv::Mat& a : truth.alpha) none.push_back(cv::Mat::zeros(a.size(), CV_32F));
@@ -69,8 +70,9 @@ TEST(DerainSolver, ZeroIterationsIsTheMedianInitialisation) {
 }
 
 TEST(DerainSolver, IdenticalFramesGiveNoRainAndTheSmoothedBackground) {
-  // Three identical frames I: alpha stays 0, and S solves (3 + lambda L) S = 3 I exactly,
-  // L the 4-neighbour graph Laplacian, checked here against a dense solve built independently.
+  // Three identical frames I: alpha stays 0 (no rain direction is found), and S solves (3 + lambda
+  // L) S = 3 I exactly, L the 4-neighbour graph Laplacian, checked here against a dense solve built
+  // independently.
   const int w = 12, h = 9;
   cv::Mat frame(h, w, CV_32FC3);
   cv::randu(frame, 0.0, 1.0);
@@ -80,6 +82,9 @@ TEST(DerainSolver, IdenticalFramesGiveNoRainAndTheSmoothedBackground) {
   settings.cgTolerance = 1e-7;
   const DerainResult result = solveDerain(stack, settings);
   for (const cv::Mat& a : result.alpha) EXPECT_EQ(cv::countNonZero(a), 0);
+  // No rain, no direction: D0 stays where it started, and says so.
+  EXPECT_FALSE(result.angleFound);
+  EXPECT_EQ(result.angleDeg, 0.0);
   Eigen::MatrixXd system = 3.0 * Eigen::MatrixXd::Identity(w * h, w * h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
