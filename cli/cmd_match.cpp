@@ -41,13 +41,20 @@ nlohmann::json matchedPreset(const lab::RainMatch& match, const std::string& bas
       {"extends", baseReference(base)},
       {"description",
        fmt::format("Matched by pluvia match to the rain of {} (streaks rendered on its own clean "
-                   "plates, darken, blur and fog off): typical x{:.2f} ({})",
-                   reference, best.typical, ratios)}};
+                   "plates, darken, blur and fog off): typical x{:.2f} ({}){}",
+                   reference, best.typical, ratios,
+                   match.angleMatched
+                       ? std::string()
+                       : fmt::format("; its streaks' angle not matched (they spread {:.0f} deg), "
+                                     "the wind is the base's",
+                                     match.reference.angleSpreadDeg))}};
   preset["rain"]["rate_mm_h"] = std::round(look.rateMmPerHour * 1000.0) / 1000.0;
   preset["rain"]["opacity"] = std::round(look.opacity * 1000.0) / 1000.0;
-  preset["rain"]["wind"]["speed_m_s"] =
-      std::round(std::abs(look.windRightMetersPerSecond) * 1000.0) / 1000.0;
-  preset["rain"]["wind"]["dir_deg"] = look.windRightMetersPerSecond < 0.0 ? 180 : 0;
+  if (!look.baseWind) {
+    preset["rain"]["wind"]["speed_m_s"] =
+        std::round(std::abs(look.windRightMetersPerSecond) * 1000.0) / 1000.0;
+    preset["rain"]["wind"]["dir_deg"] = look.windRightMetersPerSecond < 0.0 ? 180 : 0;
+  }
   preset["camera"]["exposure_s"] = std::round(look.exposureSeconds * 1e6) / 1e6;
   return preset;
 }

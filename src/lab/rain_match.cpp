@@ -52,7 +52,8 @@ constexpr double kMaxStepFactor = 3.0;
 // typical * exp(|angle error| / kAngleScaleDeg).
 constexpr double kAngleScaleDeg = 10.0;
 
-double score(const RainMatchStep& step, const derain::StreakStats& target) {
+double score(const RainMatchStep& step, const derain::StreakStats& target, bool angleMatched) {
+  if (!angleMatched) return step.typical;
   const double angleError = std::abs(step.stats.angleDeg - target.angleDeg);
   return step.typical * (std::isfinite(angleError) ? std::exp(angleError / kAngleScaleDeg) : 1.0);
 }
@@ -82,7 +83,7 @@ RainLook moved(const RainMatchStep& from, const derain::StreakStats& target, dou
     look.exposureSeconds = std::clamp(look.exposureSeconds * std::exp(step[1]), 1e-4, 0.5);
   }
   const double angleError = target.angleDeg - from.stats.angleDeg;
-  if (std::isfinite(angleError))
+  if (!look.baseWind && std::isfinite(angleError))
     look.windRightMetersPerSecond =
         std::clamp(look.windRightMetersPerSecond + angleError / degreesPerWind, -15.0, 15.0);
   return look;
@@ -104,11 +105,16 @@ double degreesPerWind(const std::vector<RainMatchStep>& steps) {
 }  // namespace
 
 std::vector<std::string> lookOverrides(const RainLook& look) {
-  return {fmt::format("rain.rate_mm_h={:.4g}", look.rateMmPerHour),
-          fmt::format("camera.exposure_s={:.4g}", look.exposureSeconds),
-          fmt::format("rain.opacity={:.4g}", look.opacity),
-          fmt::format("rain.wind.speed_m_s={:.4g}", std::abs(look.windRightMetersPerSecond)),
-          fmt::format("rain.wind.dir_deg={}", look.windRightMetersPerSecond < 0.0 ? 180 : 0)};
+  std::vector<std::string> overrides{fmt::format("rain.rate_mm_h={:.4g}", look.rateMmPerHour),
+                                     fmt::format("camera.exposure_s={:.4g}", look.exposureSeconds),
+                                     fmt::format("rain.opacity={:.4g}", look.opacity)};
+  if (!look.baseWind) {
+    overrides.push_back(
+        fmt::format("rain.wind.speed_m_s={:.4g}", std::abs(look.windRightMetersPerSecond)));
+    overrides.push_back(
+        fmt::format("rain.wind.dir_deg={}", look.windRightMetersPerSecond < 0.0 ? 180 : 0));
+  }
+  return overrides;
 }
 
 RainMatch matchRain(const RainMatchSettings& settings, const RenderLook& render) {
@@ -128,8 +134,17 @@ RainMatch matchRain(const RainMatchSettings& settings, const RenderLook& render)
   // Gauss-Newton steps from the best step so far, the rate, exposure and wind at once through a
   // fixed response (the numbers interact: a longer shutter also dims the streaks and thins them
   // out). A step that does worse halves the next one from the best (a line search).
+  match.angleMatched = std::isfinite(match.reference.angleDeg) &&
+                       match.reference.angleSpreadDeg <= kMaxMatchedAngleSpreadDeg;
+  if (!match.angleMatched)
+    log::warning(fmt::format(
+        "match: {}'s streaks spread {:.0f} deg around {:.1f} deg (more than {:g}: no clear "
+        "direction), so the angle is not matched and the wind stays the base preset's",
+        settings.clip, match.reference.angleSpreadDeg, match.reference.angleDeg,
+        kMaxMatchedAngleSpreadDeg));
   double share = 1.0;
   RainLook look = settings.start;
+  look.baseWind = !match.angleMatched;
   for (int step = 0; step < settings.steps; ++step) {
     const auto started = std::chrono::steady_clock::now();
     RainMatchStep result;
@@ -151,10 +166,10 @@ RainMatch matchRain(const RainMatchSettings& settings, const RenderLook& render)
                     step + 1, look.rateMmPerHour, 1.0 / look.exposureSeconds, look.opacity,
                     look.windRightMetersPerSecond, result.typical));
     match.steps.push_back(result);
-    const bool better =
-        std::isfinite(result.typical) &&
-        (match.steps.size() == 1 ||
-         score(result, match.reference) < score(match.steps[match.best], match.reference));
+    const bool better = std::isfinite(result.typical) &&
+                        (match.steps.size() == 1 ||
+                         score(result, match.reference, match.angleMatched) <
+                             score(match.steps[match.best], match.reference, match.angleMatched));
     if (better) match.best = match.steps.size() - 1;
     share = better ? 1.0 : 0.5 * share;
     const RainMatchStep& from = match.steps[match.best];
@@ -172,8 +187,9 @@ std::string formatRainMatch(const RainMatch& match) {
   const derain::StreakStats& r = match.reference;
   std::string out = fmt::format(
       "{}: {:.0f} streaks/Mpx, length {:.1f} px, width {:.2f} px, dI p90 {:.1f}, peak p90 {:.1f}, "
-      "angle {:.1f} deg\n",
-      match.clip, r.streaksPerMpx, r.lengthP50Px, r.widthP50Px, r.deltaP90, r.peakP90, r.angleDeg);
+      "angle {:.1f} deg (spread {:.0f}{})\n",
+      match.clip, r.streaksPerMpx, r.lengthP50Px, r.widthP50Px, r.deltaP90, r.peakP90, r.angleDeg,
+      r.angleSpreadDeg, match.angleMatched ? "" : ": not matched, the base's wind kept");
   out += fmt::format("{:>4} {:>9} {:>10} {:>8} {:>8} {:>8} {:>7} {:>7} {:>7} {:>7} {:>7}\n", "step",
                      "rate mm/h", "exposure", "opacity", "wind m/s", "typical", "/Mpx", "length",
                      "dI p90", "peak", "angle");

@@ -18,7 +18,9 @@
 // not: it traded the three brightness ratios for the length's one), the wind on the angle; a step
 // that does worse halves the next. Steps are scored by the typical factor
 // (derain::typicalFactor, which leaves the angle out) times exp(|angle error| / 10 deg); the best
-// is the match.
+// is the match. A reference whose streaks do not agree on a direction (their angles spread more
+// than kMaxMatchedAngleSpreadDeg: a fast camera's misregistration or moving things outweigh the
+// rain's own lean) has no angle to match: the wind stays the base preset's, untouched.
 #include <functional>
 #include <string>
 #include <vector>
@@ -34,7 +36,14 @@ struct RainLook {
   double exposureSeconds = 1.0 / 250.0;
   double opacity = 1.0;
   double windRightMetersPerSecond = 0.0;  // toward the camera's right; negative: its left
+  bool baseWind = false;  // true: the base preset's wind, left as it is (no overrides)
 };
+
+// Above this spread of its streaks' angles (derain::StreakStats::angleSpreadDeg) a reference's
+// angle is not matched. NTURain ra1 spreads 11 deg, pluvia's gusty `moderate` on its plates 25;
+// NTURain's vehicle clip rb2, whose layer holds the fast camera's misregistration, 40 (its
+// measured angle, -59 deg, is not the rain's, about -30 by eye).
+inline constexpr double kMaxMatchedAngleSpreadDeg = 30.0;
 
 // The preset overrides ("rain.rate_mm_h=...") that render `look`.
 std::vector<std::string> lookOverrides(const RainLook& look);
@@ -63,6 +72,7 @@ struct RainMatchStep {
 struct RainMatch {
   std::string clip;  // its name
   derain::StreakStats reference;
+  bool angleMatched = true;  // false: its streaks spread too widely (kMaxMatchedAngleSpreadDeg)
   std::vector<RainMatchStep> steps;
   size_t best = 0;  // index into steps
 };

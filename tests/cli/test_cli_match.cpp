@@ -69,6 +69,29 @@ TEST(CliMatch, RecoversTheRateTheShutterAndTheAngleOfKnownRain) {
   EXPECT_EQ(plan.exitCode, 0) << plan.output;
 }
 
+TEST(CliMatch, RainWithoutAClearDirectionKeepsTheBasesWind) {
+  // Each drop blown its own way (10 m/s of spread): the streaks' angles spread about 60 deg, so
+  // there is no angle to match, and the preset written keeps the base's wind.
+  const auto dir = freshTempDir("match_wild");
+  const stdfs::path wild = writeTextFile(
+      dir, "wild.json",
+      R"({"pluvia": 1, "extends": "moderate", "rain": {"rate_mm_h": 12, "spread_m_s": 10}, )"
+      R"("darken": {"enabled": false}, "blur": {"enabled": false}, "fog": {"enabled": false}})");
+  const CommandResult rendered =
+      runPluvia({"render", exampleClip().string(), "-p", wild.string(), "--frames", "0-7",
+                 "--proxy", "0.3334", "-o", (dir / "rain.####.png").string(), "-q"});
+  ASSERT_EQ(rendered.exitCode, 0) << rendered.output;
+  const stdfs::path preset = dir / "matched.json";
+  const CommandResult r =
+      runPluvia({"match", (dir / "rain.####.png").string(), "-o", preset.string(), "--width", "256",
+                 "--frames", "8", "--steps", "2"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  expectOutputHas(r.output, {"not matched, the base's wind kept"});
+  const nlohmann::json matched = nlohmann::json::parse(fs::readTextFile(preset));
+  EXPECT_FALSE(matched["rain"].contains("wind")) << matched.dump(2);
+  EXPECT_TRUE(matched["rain"].contains("rate_mm_h"));
+}
+
 TEST(CliMatch, ABaseOrAReferenceIsNeverWrittenOver) {
   const auto dir = freshTempDir("match_refuse");
   const stdfs::path base = writeTextFile(dir, "base.json", R"({"pluvia": 1, "extends": "gentle"})");
