@@ -31,23 +31,35 @@ double numberAfter(const std::string& output, const std::string& label) {
   return std::stod(found[1]);
 }
 
+// The example's first 8 frames at a third of their size rained with `rain` (a preset's "rain"
+// and "camera" members, JSON) with darken, blur and fog off, then matched from `moderate` over
+// `steps` renders: the match's output; the preset it wrote is `dir`/matched.json.
+CommandResult matchKnownRain(const stdfs::path& dir, const std::string& rainAndCamera,
+                             const std::string& steps) {
+  const stdfs::path truth =
+      writeTextFile(dir, "truth.json",
+                    R"({"pluvia": 1, "extends": "moderate", )" + rainAndCamera +
+                        R"(, "darken": {"enabled": false}, "blur": {"enabled": false}, )"
+                        R"("fog": {"enabled": false}})");
+  const CommandResult rendered =
+      runPluvia({"render", exampleClip().string(), "-p", truth.string(), "--frames", "0-7",
+                 "--proxy", "0.3334", "-o", (dir / "rain.####.png").string(), "-q"});
+  EXPECT_EQ(rendered.exitCode, 0) << rendered.output;
+  return runPluvia({"match", (dir / "rain.####.png").string(), "-o",
+                    (dir / "matched.json").string(), "-p", "moderate", "--width", "256", "--frames",
+                    "8", "--steps", steps});
+}
+
 }  // namespace
 
 TEST(CliMatch, RecoversTheRateTheShutterAndTheAngleOfKnownRain) {
   const auto dir = freshTempDir("match");
-  const stdfs::path truth = writeTextFile(
-      dir, "truth.json",
-      R"({"pluvia": 1, "extends": "moderate", "rain": {"rate_mm_h": 12, "wind": )"
-      R"({"speed_m_s": 2, "dir_deg": 0}}, "camera": {"exposure_s": 0.0025}, "darken": )"
-      R"({"enabled": false}, "blur": {"enabled": false}, "fog": {"enabled": false}})");
-  const CommandResult rendered =
-      runPluvia({"render", exampleClip().string(), "-p", truth.string(), "--frames", "0-7",
-                 "--proxy", "0.3334", "-o", (dir / "rain.####.png").string(), "-q"});
-  ASSERT_EQ(rendered.exitCode, 0) << rendered.output;
   const stdfs::path preset = dir / "matched.json";
   const CommandResult r =
-      runPluvia({"match", (dir / "rain.####.png").string(), "-o", preset.string(), "-p", "moderate",
-                 "--width", "256", "--frames", "8", "--steps", "8"});
+      matchKnownRain(dir,
+                     R"("rain": {"rate_mm_h": 12, "wind": {"speed_m_s": 2, "dir_deg": 0}}, )"
+                     R"("camera": {"exposure_s": 0.0025})",
+                     "8");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const nlohmann::json matched = nlohmann::json::parse(fs::readTextFile(preset));
   EXPECT_EQ(matched["extends"], "moderate");
@@ -73,18 +85,9 @@ TEST(CliMatch, RainWithoutAClearDirectionKeepsTheBasesWind) {
   // Each drop blown its own way (10 m/s of spread): the streaks' angles spread about 60 deg, so
   // there is no angle to match, and the preset written keeps the base's wind.
   const auto dir = freshTempDir("match_wild");
-  const stdfs::path wild = writeTextFile(
-      dir, "wild.json",
-      R"({"pluvia": 1, "extends": "moderate", "rain": {"rate_mm_h": 12, "spread_m_s": 10}, )"
-      R"("darken": {"enabled": false}, "blur": {"enabled": false}, "fog": {"enabled": false}})");
-  const CommandResult rendered =
-      runPluvia({"render", exampleClip().string(), "-p", wild.string(), "--frames", "0-7",
-                 "--proxy", "0.3334", "-o", (dir / "rain.####.png").string(), "-q"});
-  ASSERT_EQ(rendered.exitCode, 0) << rendered.output;
   const stdfs::path preset = dir / "matched.json";
   const CommandResult r =
-      runPluvia({"match", (dir / "rain.####.png").string(), "-o", preset.string(), "--width", "256",
-                 "--frames", "8", "--steps", "2"});
+      matchKnownRain(dir, R"("rain": {"rate_mm_h": 12, "spread_m_s": 10})", "2");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   expectOutputHas(r.output, {"not matched, the base's wind kept"});
   const nlohmann::json matched = nlohmann::json::parse(fs::readTextFile(preset));
