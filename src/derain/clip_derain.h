@@ -45,7 +45,7 @@ struct ClipDerainWindow {
   std::string registration;
   double identityResidual = 0.0, motionResidual = 0.0;
   double angleDeg = 0.0;
-  bool angleFound = false;
+  bool angleFound = false;  // DerainResult::angleFound
   int iterations = 0;
   double residual = 0.0;
   double noiseSigma = 0.0;
