@@ -78,7 +78,7 @@ void addStrokesCommand(CLI::App& app, Invocation& invocation) {
           library.strokes.size(), library.strokes.size() == 1 ? "" : "s", args->input, angle,
           !cut.angleInEveryWindow
               ? " (where no direction was seen, the mattes hold the registration's residue, "
-                "not rain: a fast camera may need shorter windows, --window 7)"
+                "not rain)"
               : ""));
     library.source = args->input;
     library.command = invocation.commandLine;

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
+#include "derain/camera_speed.h"
 #include "derain/registration.h"
 #include "io/clip_reader.h"
 #include "util/error.h"
@@ -80,8 +81,32 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
                             input, frames.size()),
                 {"derain", {}, input});
   }
-  const size_t window = std::min(frames.size(), size_t(settings.window));
-
+  size_t window = std::min(frames.size(), size_t(settings.window));
+  if (settings.registration && window > 3) {
+    // A camera that crosses much of the frame within a window leaves its ends too little of the
+    // middle frame to register onto: the window is shortened to the camera's speed, measured by
+    // registering each frame of the first window onto the one before (the 90th percentile of
+    // their shifts; frames far apart may share too few features to measure it directly).
+    std::vector<cv::Mat> first;
+    std::vector<double> shifts;
+    for (size_t i = 0; i < window; ++i) {
+      first.push_back(rgbMat(reader->read(frames[i])));
+      if (i > 0)
+        shifts.push_back(
+            registerFrames({first[i - 1], first[i]}, 0, /*denseFlow=*/false).maxShiftPx);
+    }
+    const auto at = shifts.begin() + long(0.9 * double(shifts.size() - 1));
+    std::nth_element(shifts.begin(), at, shifts.end());
+    const int shortened = windowForCameraSpeed(int(window), *at, first[0].cols);
+    if (size_t(shortened) < window) {
+      log::info(fmt::format(
+          "derain: the camera moves up to {:.0f} px a frame (frames {}-{}, 90th percentile): "
+          "windows of {} frames instead of {}, so each end stays within {:g} of the frame's "
+          "width of its middle frame",
+          *at, frames.front(), frames[window - 1], shortened, window, kMaxSpanOfWidth));
+      window = size_t(shortened);
+    }
+  }
   ClipDerainSummary summary;
   double residualSquares = 0.0, angleSum = 0.0;
   size_t angleFrames = 0;

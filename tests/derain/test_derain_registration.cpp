@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "derain/camera_speed.h"
 #include "derain/clip_derain.h"
 #include "derain/derain_solver.h"
 #include "derain/registration.h"
@@ -255,6 +256,37 @@ TEST(DerainClip, WindowsOverlapAndCrossFadeSoTheCleanPlateHasNoStep) {
   ASSERT_GT(step, 0.0);
   for (int k = 5; k < 8; ++k)
     EXPECT_LT(meanAbs(clean[size_t(k)], clean[size_t(k + 1)]), 0.7 * step);
+}
+
+TEST(DerainClip, AFastCameraGetsWindowsShortEnoughToRegister) {
+  // The window keeps each end within a quarter of the frame's width of its middle frame.
+  EXPECT_EQ(windowForCameraSpeed(20, 50.0, 640), 7);   // 3 x 50 px <= 160 px < 4 x 50 px
+  EXPECT_EQ(windowForCameraSpeed(20, 1.6, 640), 20);   // a slow pan keeps the window
+  EXPECT_EQ(windowForCameraSpeed(20, 0.0, 640), 20);   // a locked-off camera too
+  EXPECT_EQ(windowForCameraSpeed(20, 900.0, 640), 3);  // never under 3 frames
+
+  // A camera panning 15 px a frame over a 200 px wide crop of a real photograph (the houses and
+  // the street), 12 frames: one window of all 12 would reach 90 px, nearly half the frame, from
+  // its middle frame. (Further right the crop reaches a white wall with too few features.)
+  const cv::Mat photo = realBackground(600);
+  if (photo.empty()) GTEST_SKIP() << "../shared/data absent";
+  const int width = 200, height = 150, stepPx = 15, frames = 12;
+  const auto dir = test::freshTempDir("derain_fast_pan");
+  const std::string pattern =
+      test::writePlateSequence(dir, 0, frames - 1, width, height, [&](Image& image, int f) {
+        image = imageFromMat(photo(cv::Rect(f * stepPx, 250, width, height)).clone());
+      });
+  ClipDerainSettings settings;  // the default window, 20 frames: all 12
+  const ClipDerainSummary summary = derainClip(pattern, settings, [](const ClipDerainFrame&) {});
+  ASSERT_FALSE(summary.windows.empty());
+  for (const ClipDerainWindow& w : summary.windows) {
+    // 7 frames at 15 px a frame (3 x 15 <= 50 < 4 x 15); measured 5, as the frame pairs'
+    // homographies move a corner up to 20 px.
+    EXPECT_LE(w.lastFrame - w.firstFrame + 1, 7);
+    EXPECT_GE(w.lastFrame - w.firstFrame + 1, 5);
+    EXPECT_NE(w.registration.find("motion"), std::string::npos)
+        << "frames " << w.firstFrame << "-" << w.lastFrame << ": " << w.registration;
+  }
 }
 
 }  // namespace
