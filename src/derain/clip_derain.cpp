@@ -82,12 +82,12 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
                 {"derain", {}, input});
   }
   size_t window = std::min(frames.size(), size_t(settings.window));
+  std::vector<cv::Mat> first;  // the first window's frames, when read to measure the camera
   if (settings.registration && window > 3) {
     // A camera that crosses much of the frame within a window leaves its ends too little of the
     // middle frame to register onto: the window is shortened to the camera's speed, measured by
     // registering each frame of the first window onto the one before (the 90th percentile of
     // their shifts; frames far apart may share too few features to measure it directly).
-    std::vector<cv::Mat> first;
     std::vector<double> shifts;
     for (size_t i = 0; i < window; ++i) {
       first.push_back(rgbMat(reader->read(frames[i])));
@@ -128,7 +128,7 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
     const size_t nextStart = w + 1 < starts.size() ? starts[w + 1] : frames.size();
     std::vector<cv::Mat> originals;
     for (size_t i = start; i < start + window; ++i)
-      originals.push_back(rgbMat(reader->read(frames[i])));
+      originals.push_back(i < first.size() ? first[i] : rgbMat(reader->read(frames[i])));
     const int reference = int(window / 2);
     Registration registration;
     registration.referenceToFrame.assign(window, cv::Matx33d::eye());
