@@ -102,10 +102,11 @@ void logGravityAndScale(const SfmReconstruction& sfm) {
     hi = std::max(hi, key.heightAboveGroundMeters);
   }
   log::info(fmt::format(
-      "depth: up from the {}{}; camera heights {:.2f} to {:.2f} m above the ground, which tilts "
-      "{:.1f} deg from +Y; {}",
+      "depth: up from the {}{}; camera heights {:.2f} to {:.2f} m above the ground (standard "
+      "deviation {:.1f} % of their mean), which tilts {:.1f} deg from +Y; {}",
       sfm.gravitySource,
       sfm.verticalLineCount > 0 ? fmt::format(" ({} lines)", sfm.verticalLineCount) : "", lo, hi,
+      100.0 * sfm.cameraHeightSpread,
       std::acos(std::clamp(sfm.groundNormal.y(), -1.0, 1.0)) * 180.0 / M_PI, cues));
   for (const std::string& warning : sfm.warnings) log::warning("depth: " + warning);
 }

@@ -112,6 +112,14 @@ GroundBelowCameras fitGroundBelowCameras(const std::vector<Eigen::Vector3d>& poi
       if (normal.dot(c) + offset <= options.inlierDistance) return false;
     return true;
   };
+  // The joint plane need only stay under the cameras: the RANSAC band is a fraction of the scene
+  // depth, over a metre when the ground points lie at a façade 60 m away (Sceaux Castle), and a
+  // camera 1.4 m over a plane that fits the ground and the cameras is no wall top.
+  auto underAll = [&](const Eigen::Vector3d& normal, double offset) {
+    for (const Eigen::Vector3d& c : cameras)
+      if (normal.dot(c) + offset <= 0.0) return false;
+    return true;
+  };
   GroundBelowCameras result;
   result.plane = fitPlane(points, up, options, belowAll);
   if (!result.plane.found || cameras.size() < 2) return result;
@@ -133,7 +141,7 @@ GroundBelowCameras fitGroundBelowCameras(const std::vector<Eigen::Vector3d>& poi
   }
   result.pointsOnlyTiltDeg =
       std::acos(std::clamp(joint.normal.dot(result.plane.normal), -1.0, 1.0)) * 180.0 / M_PI;
-  if (result.pointsOnlyTiltDeg > maxCameraTiltDeg || !belowAll(joint.normal, joint.offset))
+  if (result.pointsOnlyTiltDeg > maxCameraTiltDeg || !underAll(joint.normal, joint.offset))
     return result;
   joint.inliers = static_cast<int>(within(points, joint, options.inlierDistance).size());
   result.plane = joint;

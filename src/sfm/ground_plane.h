@@ -37,8 +37,9 @@ PlaneFit fitGroundPlane(const std::vector<Eigen::Vector3d>& points, const Eigen:
 // the plane along which the ground is flat and the cameras ride at one height. A street's points
 // constrain the tilt across the path well and the tilt along it poorly (its far end is a few
 // noisy points); the cameras constrain exactly that. When the joint normal is further than
-// maxCameraTiltDeg from the ground points' own (a crane shot, a drone climbing), the points'
-// plane is kept and `camerasUsed` is false.
+// maxCameraTiltDeg from the ground points' own (a crane shot, a drone climbing), or the joint
+// plane passes over a camera, the points' plane is kept and `camerasUsed` is false. RANSAC's
+// candidates must pass the inlier band below every camera; the joint plane only below.
 struct GroundBelowCameras {
   PlaneFit plane;
   bool camerasUsed = false;

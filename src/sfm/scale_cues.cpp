@@ -25,13 +25,18 @@ void checkHeights(SfmReconstruction& sfm, const SfmOptions& options) {
   double mean = 0.0;
   for (double h : heights) mean += h;
   mean /= static_cast<double>(heights.size());
-  const double spread = (*hi - *lo) / mean;
+  double variance = 0.0;
+  for (double h : heights) variance += (h - mean) * (h - mean);
+  variance /= static_cast<double>(heights.size());
+  // The standard deviation, not the range: one photo taken crouching (Sceaux Castle's first, a
+  // quarter of a metre under the others) should not by itself call a model bent.
+  const double spread = std::sqrt(variance) / mean;
   sfm.cameraHeightSpread = spread;
   if (spread > options.maxCameraHeightSpread)
     sfm.warnings.push_back(fmt::format(
-        "camera heights above the fitted ground range from {:.2f} to {:.2f} m ({:.0f} % of their "
-        "mean; at most {:.0f} % expected of a hand-held or vehicle camera): the ground or the "
-        "scale is doubtful",
+        "camera heights above the fitted ground range from {:.2f} to {:.2f} m (standard deviation "
+        "{:.0f} % of their mean; at most {:.0f} % expected of a hand-held or vehicle camera): the "
+        "ground or the scale is doubtful",
         *lo, *hi, 100.0 * spread, 100.0 * options.maxCameraHeightSpread));
 
   std::vector<double> pointHeights;
@@ -90,10 +95,11 @@ double bentness(const SfmReconstruction& sfm, const SfmOptions& options, std::st
                             : 0.0;
   const double worst = std::max(tilt, spread);
   if (reason && worst > 1.0)
-    *reason = tilt >= spread ? fmt::format("the ground tilts {:.1f} deg from the façades' vertical",
-                                           sfm.groundTiltFromVerticalDeg)
-                             : fmt::format("the camera heights spread {:.0f} % of their mean",
-                                           100.0 * sfm.cameraHeightSpread);
+    *reason = tilt >= spread
+                  ? fmt::format("the ground tilts {:.1f} deg from the façades' vertical",
+                                sfm.groundTiltFromVerticalDeg)
+                  : fmt::format("the camera heights' standard deviation is {:.0f} % of their mean",
+                                100.0 * sfm.cameraHeightSpread);
   return worst;
 }
 

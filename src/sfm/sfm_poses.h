@@ -66,7 +66,7 @@ struct SfmOptions {
   // (SfmReconstruction::warnings), not a failure: the tracking may still be right.
   VerticalLineOptions verticalLines;
   double maxGroundTiltFromVerticalDeg = 6.0;  // a steep street; beyond, the model may be bent
-  double maxCameraHeightSpread = 0.2;         // (highest - lowest) / mean camera height
+  double maxCameraHeightSpread = 0.1;         // standard deviation / mean camera height
   // Where façade lines show buildings, the points' 95th-percentile height above the ground should
   // exceed this many camera heights (a one-storey house is about 2 camera heights tall).
   double minStructureOverCameraHeight = 1.5;
@@ -112,7 +112,7 @@ struct SfmReconstruction {
   int verticalLineCount = 0;               // façade lines that agree on the vertical
   double groundTiltFromVerticalDeg = NAN;  // the ground's normal from the lines' vertical
   double structureHeightMeters = NAN;      // points' 95th-percentile height above the ground
-  double cameraHeightSpread = NAN;  // (highest - lowest) / mean camera height above the ground
+  double cameraHeightSpread = NAN;         // standard deviation / mean of the cameras' heights
   double medianCameraSpeedMetersPerSecond = NAN;  // with SfmOptions::framesPerSecond
   // Cues that disagree with the gravity or the scale, each with its numbers (scale_cues.h).
   std::vector<std::string> warnings;
