@@ -139,6 +139,12 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
                               frames[start + window - 1], input),
                   {"derain", {}, input});
     }
+    for (size_t i = 0; i < registration.placedFrames.size(); ++i)
+      log::warning(fmt::format(
+          "derain: frame {} has too few features to register onto frame {}; placed with frame "
+          "{}'s motion",
+          frames[start + size_t(registration.placedFrames[i])], frames[start + size_t(reference)],
+          frames[start + size_t(registration.placedWith[i])]));
     if (registration.lockedOff)
       log::info(
           fmt::format("derain: frames {}-{}: camera locked off (phase correlation), not "

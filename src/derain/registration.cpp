@@ -3,15 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include <fmt/format.h>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "derain/dense_flow.h"
 #include "image/luminance.h"
-#include "util/error.h"
-#include "util/log.h"
 #include "util/median.h"
 
 namespace pluvia::derain {
@@ -300,7 +297,7 @@ Registration registerFrames(const std::vector<cv::Mat>& frames, int reference, b
     registered[k] = true;
   }
   // A frame that could not be registered (blank, blurred, too few features) takes the motion of
-  // its nearest registered neighbour (the reference, at worst: identity), with a warning.
+  // its nearest registered neighbour (the reference, at worst: identity).
   for (int k : registration.placedFrames) {
     int nearest = reference;
     for (int d = 1; d < int(frames.size()); ++d) {
@@ -314,10 +311,7 @@ Registration registerFrames(const std::vector<cv::Mat>& frames, int reference, b
       }
     }
     registration.referenceToFrame[size_t(k)] = registration.referenceToFrame[size_t(nearest)];
-    log::warning(
-        fmt::format("derain: frame {} of the window has too few features to register "
-                    "onto frame {}; placed with frame {}'s motion",
-                    k, reference, nearest));
+    registration.placedWith.push_back(nearest);
   }
   for (size_t k = 0; k < frames.size(); ++k)
     registration.maxShiftPx = std::max(

@@ -32,8 +32,9 @@ struct Registration {
   double maxShiftPx = 0.0;
   // The camera was found locked off before any feature matching: every homography is identity.
   bool lockedOff = false;
-  // Frames that could not be registered and took their nearest registered neighbour's motion.
-  std::vector<int> placedFrames;
+  // Frames that could not be registered (too few feature matches) and took the motion of a
+  // registered neighbour, placedWith's frame at the same place (indices into the frames given).
+  std::vector<int> placedFrames, placedWith;
   // What the fitted motion explains (measured when it moved a frame by kStaticShiftPx): the mean
   // absolute difference of the rain-suppressed frames from the reference's (8-bit codes of
   // featureImage), with the frames as they are and resampled by the motion. The motion is kept
@@ -56,7 +57,8 @@ struct Registration {
 // quarter pixel, the camera is locked off and every homography is the identity (no feature is
 // matched, nothing is resampled). Otherwise ORB features on the median-filtered luminance (thin
 // rain streaks carry none; ratio test; RANSAC). A frame with too few matches takes its nearest
-// registered neighbour's homography, with a warning, and is listed in placedFrames. When no
+// registered neighbour's homography and is listed in placedFrames (the caller, who knows the
+// clip's frame numbers, says so). When no
 // frame moves more than half a pixel every homography is the identity. Then by what the motion
 // explains: it is kept only where it lowers the rain-suppressed temporal residual to under
 // kClearlyLowerResidual of the residual of the frames as they are (repeated texture, a façade's

@@ -52,6 +52,23 @@ TEST(CliDerain, RealPanningFootageGivesCleanPlateMattesAndReport) {
   EXPECT_LT(lit, matte.pixelCount() / 4);
 }
 
+// A blank frame (a flash, a lens cap) in panning footage is placed with a registered
+// neighbour's motion, and the warning names it by the clip's own frame numbers.
+TEST(CliDerain, AFrameTooBlankToRegisterIsNamedByItsClipFrameNumber) {
+  if (sharedData().empty()) GTEST_SKIP() << "../shared/data absent";
+  const auto real = sharedData() / "rain_real/nturain_ra1_real_rain_panning";
+  const auto dir = freshTempDir("cli_derain_blank");
+  for (int f = 101; f <= 106; ++f)
+    writeImageFile(dir / fmt::format("rain.{:04d}.png", f),
+                   f == 102 ? test::flatImage(640, 480, 0.5f, 0.5f, 0.5f)
+                            : readImageFile(real / fmt::format("{:05d}.jpg", f - 100)));
+  const CommandResult r = runPluvia({"derain", (dir / "rain.####.png").string(), "-o",
+                                     (dir / "clean.####.png").string(), "--window", "6"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  expectOutputHas(r.output, {"frame 102 has too few features to register onto frame 104; "
+                             "placed with frame 101's motion"});
+}
+
 TEST(CliDerain, FewerThanThreeFramesIsAClearErrorAndWritesNothing) {
   const auto dir = freshTempDir("cli_derain_two");
   for (int f : {1, 2})

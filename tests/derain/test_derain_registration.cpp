@@ -99,6 +99,7 @@ TEST(DerainRegistration, PanIsRegisteredAndBlankFramesTakeANeighboursMotion) {
   Registration gappy;
   ASSERT_NO_THROW(gappy = registerFrames(frames, 4));
   EXPECT_EQ(gappy.placedFrames, (std::vector<int>{1, 2}));
+  EXPECT_EQ(gappy.placedWith, (std::vector<int>{0, 3}));
   // Frame 1 takes frame 0's motion and frame 2 frame 3's (the nearest registered).
   EXPECT_EQ(gappy.referenceToFrame[1], gappy.referenceToFrame[0]);
   EXPECT_EQ(gappy.referenceToFrame[2], gappy.referenceToFrame[3]);
