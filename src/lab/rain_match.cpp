@@ -15,28 +15,32 @@
 namespace pluvia::lab {
 namespace {
 
-// How each ratio of the typical factor (derain::ratiosToReal, in its order: coverage, dI p90,
-// dI p99, streaks per Mpx, length p50, width p50, peak p90) answers the rate and the exposure
-// (d log ratio / d log setting). The exposure's column was measured on NTURain's plates with
-// `gentle` (1/1000, 1/500 and 1/250 s): the length grows as exposure^0.4, the brightness (dI and
-// peak) falls as exposure^-0.39 (a drop's light spread along a longer streak) and the count as
+// How each ratio of the typical factor (derain::ratiosToReal's, by name) answers the rate and the
+// exposure (d log ratio / d log setting). The exposure's column was measured on NTURain's plates
+// with `gentle` (1/1000, 1/500 and 1/250 s): the length grows as exposure^0.4, the brightness (dI
+// and peak) falls as exposure^-0.39 (a drop's light spread along a longer streak) and the count as
 // exposure^-0.2 (longer streaks are fainter, fewer pass the threshold); the coverage is the count
 // times the length. The rate moves the count and the coverage and not the brightness (on NTURain
 // 4 to 8 mm/h moved dI p90 by 3 %). The opacity is left where the base preset has it (1, the
 // physical streak): on the example street (2.3 to 3.2 at 1/255 s) it moved the count as
 // opacity^1.9, as a rate would, and the brightness as opacity^0.03, so a search moving it traded
 // it against the rate (12 mm/h matched as 0.8 mm/h at opacity 5).
-Eigen::Matrix<double, 7, 2> ratioResponse() {
-  Eigen::Matrix<double, 7, 2> j;
-  j << 1.0, 0.2,   // coverage
-      0.0, -0.39,  // dI p90
-      0.0, -0.39,  // dI p99
-      1.0, -0.2,   // streaks per Mpx
-      0.0, 0.4,    // length
-      0.0, 0.0,    // width
-      0.0, -0.39;  // peak p90
-  return j;
+struct RatioResponse {
+  const char* ratio;  // derain::ratiosToReal's name
+  double rate, exposure;
+};
+constexpr RatioResponse kRatioResponses[] = {
+    {"coverage", 1.0, 0.2},       {"deltaP90", 0.0, -0.39},  {"deltaP99", 0.0, -0.39},
+    {"streaksPerMpx", 1.0, -0.2}, {"lengthP50Px", 0.0, 0.4}, {"widthP50Px", 0.0, 0.0},
+    {"peakP90", 0.0, -0.39}};
+
+// The response's row for `ratio`; every ratio the typical factor averages has one.
+Eigen::RowVector2d responseOf(const std::string& ratio) {
+  for (const RatioResponse& r : kRatioResponses)
+    if (ratio == r.ratio) return {r.rate, r.exposure};
+  throw Error(fmt::format("match: no response for the ratio {}", ratio));
 }
+
 // The step is the one the response says lowers the typical factor most: the mean |log ratio|
 // after it, searched on a grid of log steps this fine within the largest step. The mean of
 // absolute values has flat valleys (between matching the count and matching the coverage, say),
@@ -63,11 +67,14 @@ double score(const RainMatchStep& step, const derain::StreakStats& target, bool 
 RainLook moved(const RainMatchStep& from, const derain::StreakStats& target, double share,
                double degreesPerWind) {
   RainLook look = from.look;
-  Eigen::Matrix<double, 7, 1> logRatios = Eigen::Matrix<double, 7, 1>::Constant(NAN);
-  for (size_t i = 0; i < from.ratios.size() && i < 7; ++i)
-    logRatios[int(i)] = std::log(from.ratios[i].second);
-  if (logRatios.allFinite()) {
-    const Eigen::Matrix<double, 7, 2> response = ratioResponse();
+  const int count = int(from.ratios.size());
+  Eigen::VectorXd logRatios(count);
+  Eigen::MatrixX2d response(count, 2);
+  for (int i = 0; i < count; ++i) {
+    logRatios[i] = std::log(from.ratios[size_t(i)].second);
+    response.row(i) = responseOf(from.ratios[size_t(i)].first);
+  }
+  if (count > 0 && logRatios.allFinite()) {
     const int reach = int(std::lround(std::log(kMaxStepFactor) / kStepGridLog));
     Eigen::Vector2d step(0.0, 0.0);
     double bestCost = INFINITY;
