@@ -58,11 +58,11 @@ struct Registration {
 // matched, nothing is resampled). Otherwise ORB features on the median-filtered luminance (thin
 // rain streaks carry none; ratio test; RANSAC). A frame with too few matches takes its nearest
 // registered neighbour's homography and is listed in placedFrames (the caller, who knows the
-// clip's frame numbers, says so). When no
-// frame moves more than half a pixel every homography is the identity. Then by what the motion
-// explains: it is kept only where it lowers the rain-suppressed temporal residual to under
-// kClearlyLowerResidual of the residual of the frames as they are (repeated texture, a façade's
-// windows, can fit a motion on a camera that never moved).
+// clip's frame numbers, says so). When no frame moves more than half a pixel every homography is
+// the identity. Then by what the motion explains: it is kept only where it lowers the
+// rain-suppressed temporal residual to under kClearlyLowerResidual of the residual of the frames
+// as they are (repeated texture, a façade's windows, can fit a motion on a camera that never
+// moved).
 // Last, where the motion is kept: each frame's dense refinement (Registration::dense), unless
 // `denseFlow` is false (the homography alone, as `pluvia report derain` compares).
 inline constexpr double kClearlyLowerResidual = 0.8;
