@@ -1,7 +1,6 @@
 // `pluvia match REFERENCE -o PRESET.json [-p BASE]`: a preset fitted to a clip of real rain
 // (lab/rain_match.h): candidates rendered on the reference's own clean plates until their streaks'
 // statistics match its rain's, the best written as a preset extending BASE.
-#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -48,14 +47,8 @@ nlohmann::json matchedPreset(const lab::RainMatch& match, const std::string& bas
                        : fmt::format("; its streaks' angle not matched (they spread {:.0f} deg), "
                                      "the wind is the base's",
                                      match.reference.angleSpreadDeg))}};
-  preset["rain"]["rate_mm_h"] = std::round(look.rateMmPerHour * 1000.0) / 1000.0;
-  preset["rain"]["opacity"] = std::round(look.opacity * 1000.0) / 1000.0;
-  if (!look.baseWind) {
-    preset["rain"]["wind"]["speed_m_s"] =
-        std::round(std::abs(look.windRightMetersPerSecond) * 1000.0) / 1000.0;
-    preset["rain"]["wind"]["dir_deg"] = look.windRightMetersPerSecond < 0.0 ? 180 : 0;
-  }
-  preset["camera"]["exposure_s"] = std::round(look.exposureSeconds * 1e6) / 1e6;
+  // The best step's own overrides: the preset renders exactly what the match measured.
+  for (const std::string& assignment : lab::lookOverrides(look)) applyOverride(preset, assignment);
   return preset;
 }
 
