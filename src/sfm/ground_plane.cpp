@@ -107,18 +107,18 @@ GroundBelowCameras fitGroundBelowCameras(const std::vector<Eigen::Vector3d>& poi
                                          const std::vector<Eigen::Vector3d>& cameras,
                                          const Eigen::Vector3d& up, const PlaneFitOptions& options,
                                          double maxCameraTiltDeg) {
-  auto belowAll = [&](const Eigen::Vector3d& normal, double offset) {
+  // Whether every camera stands more than `clearance` above the plane.
+  auto camerasClear = [&](const Eigen::Vector3d& normal, double offset, double clearance) {
     for (const Eigen::Vector3d& c : cameras)
-      if (normal.dot(c) + offset <= options.inlierDistance) return false;
+      if (normal.dot(c) + offset <= clearance) return false;
     return true;
   };
-  // The joint plane need only stay under the cameras: the RANSAC band is a fraction of the scene
-  // depth, over a metre when the ground points lie at a façade 60 m away (Sceaux Castle), and a
-  // camera 1.4 m over a plane that fits the ground and the cameras is no wall top.
-  auto underAll = [&](const Eigen::Vector3d& normal, double offset) {
-    for (const Eigen::Vector3d& c : cameras)
-      if (normal.dot(c) + offset <= 0.0) return false;
-    return true;
+  // RANSAC's candidates must clear the inlier band; the joint plane need only stay under the
+  // cameras: the band is a fraction of the scene depth, over a metre when the ground points lie
+  // at a façade 60 m away (Sceaux Castle), and a camera 1.4 m over a plane that fits the ground
+  // and the cameras is no wall top.
+  auto belowAll = [&](const Eigen::Vector3d& normal, double offset) {
+    return camerasClear(normal, offset, options.inlierDistance);
   };
   GroundBelowCameras result;
   result.plane = fitPlane(points, up, options, belowAll);
@@ -141,7 +141,7 @@ GroundBelowCameras fitGroundBelowCameras(const std::vector<Eigen::Vector3d>& poi
   }
   result.pointsOnlyTiltDeg =
       std::acos(std::clamp(joint.normal.dot(result.plane.normal), -1.0, 1.0)) * 180.0 / M_PI;
-  if (result.pointsOnlyTiltDeg > maxCameraTiltDeg || !underAll(joint.normal, joint.offset))
+  if (result.pointsOnlyTiltDeg > maxCameraTiltDeg || !camerasClear(joint.normal, joint.offset, 0.0))
     return result;
   joint.inliers = static_cast<int>(within(points, joint, options.inlierDistance).size());
   result.plane = joint;
