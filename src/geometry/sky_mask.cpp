@@ -28,20 +28,31 @@ cv::Mat componentsTouching(const cv::Mat& mask, const cv::Mat& seeds) {
   return out;
 }
 
-// Where the candidates are not riddled with specks: small regions left out of them (texture
-// specks, dark spots) that they enclose, at more than maxSpeckDensity of the pixels around.
-// The sky is clear or smoothly clouded; a wall with too few points is speckled even where it
-// is as bright as the sky and meets it at a weak edge.
-cv::Mat specklessMask(const cv::Mat& candidate, const SkyMaskSettings& settings) {
+// Where the candidates are not riddled with specks: small regions left out of them that they
+// enclose, holding a pixel too dark for the sky (a window, a stain, a shadowed joint), at more
+// than maxSpeckDensity of the pixels around. The sky is clear or smoothly clouded; a wall with
+// too few points is speckled even where it is as bright as the sky and meets it at a weak edge.
+// A cloud's wisps are left out of the candidates too (textured), but they are as bright as the
+// sky: counting them would carve square holes (the window) out of the sky around every cloud.
+cv::Mat specklessMask(const cv::Mat& candidate, const cv::Mat& bright,
+                      const SkyMaskSettings& settings) {
   const cv::Mat left = candidate == 0;
   cv::Mat labels, stats, centroids;
   const int count = cv::connectedComponentsWithStats(left, labels, stats, centroids, 8, CV_32S);
+  std::vector<char> dark(size_t(count), 0);
+  for (int y = 0; y < left.rows; ++y) {
+    const int* l = labels.ptr<int>(y);
+    const uchar* b = bright.ptr<uchar>(y);
+    for (int x = 0; x < left.cols; ++x)
+      if (!b[x]) dark[size_t(l[x])] = 1;
+  }
   std::vector<char> speck(size_t(count), 0);
   for (int l = 1; l < count; ++l) {
     const int x = stats.at<int>(l, cv::CC_STAT_LEFT), y = stats.at<int>(l, cv::CC_STAT_TOP);
+    const int area = stats.at<int>(l, cv::CC_STAT_AREA);
     const bool inside = x > 0 && y > 0 && x + stats.at<int>(l, cv::CC_STAT_WIDTH) < left.cols &&
                         y + stats.at<int>(l, cv::CC_STAT_HEIGHT) < left.rows;
-    speck[size_t(l)] = inside && stats.at<int>(l, cv::CC_STAT_AREA) <= settings.maxSpeckAreaPx;
+    speck[size_t(l)] = inside && area <= settings.maxSpeckAreaPx && dark[size_t(l)];
   }
   cv::Mat specks(left.size(), CV_32F);
   for (int y = 0; y < left.rows; ++y) {
@@ -122,10 +133,13 @@ cv::Mat skyMask(const cv::Mat& guide, const cv::Mat& sampleMask, const cv::Mat& 
   const size_t p99 = levels.size() * 99 / 100;
   std::nth_element(levels.begin(), levels.begin() + p99, levels.end());
   const double white = std::max<double>(levels[p99], 1.0);
-  cv::Mat candidate = (value >= settings.minBrightness * white) & (texture < settings.maxGradient);
+  const cv::Mat brightValue = value >= settings.minBrightness * white;
+  cv::Mat bright = brightValue.clone();
   if (!sinElevation.empty())
-    candidate &= sinElevation > std::sin(settings.minElevationDeg * M_PI / 180.0);
-  candidate &= specklessMask(candidate, settings);
+    bright &= sinElevation > std::sin(settings.minElevationDeg * M_PI / 180.0);
+  cv::Mat candidate = bright & (texture < settings.maxGradient);
+  const cv::Mat speckless = specklessMask(candidate, brightValue, settings);
+  candidate &= speckless;
   const double seedDistance = settings.minDistanceFraction * diagonal;
   // Seed regions: touching the top row, and at least as large as a disc of radius seedDistance
   // (smaller ones are gaps between the samples on a wall, not the sky). Edges separate them: a
@@ -146,13 +160,16 @@ cv::Mat skyMask(const cv::Mat& guide, const cv::Mat& sampleMask, const cv::Mat& 
       if (keep[l[x]]) o[x] = 255;
   }
   if (cv::countNonZero(seeds) == 0) return seeds;
-  // Growing into the margin the seeds leave around the samples, and no farther: through pixels
-  // with no edge of their own either (a faint roof line stops it), within seedDistance of a seed.
+  // Growing into the margin the seeds leave around the samples and around every edge (the
+  // texture test's window reaches past an edge: the sky within its half-width of a roof or a
+  // cloud fails it), and no farther: through bright, speckless pixels with no edge of their own
+  // (a faint roof line stops it), within seedDistance of a seed.
   cv::Mat fromSeeds;
   cv::distanceTransform(seeds == 0, fromSeeds, cv::DIST_L2, 3);
-  const cv::Mat grown = componentsTouching(
-      candidate & (distancePx > settings.growMinDistancePx) & noEdge & (fromSeeds <= seedDistance),
-      seeds);
+  const cv::Mat grown =
+      componentsTouching(bright & speckless & (distancePx > settings.growMinDistancePx) & noEdge &
+                             (fromSeeds <= seedDistance),
+                         seeds);
   // Holes in the sky holding no sample, not reaching the frame's border: a cloud's edge.
   cv::Mat border = cv::Mat::zeros(size, CV_8U);
   cv::rectangle(border, cv::Rect(0, 0, size.width, size.height), 255, 1);

@@ -9,7 +9,8 @@
 //    at least minElevationDeg above the horizon (nothing below it is sky);
 //  - seeds are candidate regions farther than minDistanceFraction of the diagonal from every
 //    depth sample, touching the top row and at least a disc of that radius in area;
-//  - they grow through candidates with no strong edge of their own up to growMinDistancePx of a
+//  - they grow through bright, speckless pixels with no strong edge of their own (textured or
+//    not: the texture test's window reaches past a roof line) up to growMinDistancePx of a
 //    sample and no more than the seed distance from the seeds (so the sky reaches a roof line
 //    without leaking into a wall);
 //  - holes inside the sky holding no sample and not reaching the frame's border (a cloud's
@@ -30,8 +31,9 @@ struct SkyMaskSettings {
   double minBrightness = 0.65;        // brightest channel, of the frame's 99th percentile
   double minElevationDeg = 1.5;       // above the ground camera's horizon
   // Specks (regions of at most maxSpeckAreaPx that fail the brightness or texture test,
-  // enclosed by pixels that pass) over more than maxSpeckDensity of the pixels within
-  // speckWindowRadiusPx make a wall, not sky: the sky is clear or smoothly clouded.
+  // enclosed by pixels that pass, holding a pixel that fails the brightness test) over more
+  // than maxSpeckDensity of the pixels within speckWindowRadiusPx make a wall, not sky: the sky
+  // is clear or smoothly clouded, and a cloud's textured wisps are as bright as the sky.
   int maxSpeckAreaPx = 400;
   int speckWindowRadiusPx = 12;
   double maxSpeckDensity = 0.005;
