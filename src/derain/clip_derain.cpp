@@ -9,6 +9,7 @@
 
 #include "derain/camera_speed.h"
 #include "derain/registration.h"
+#include "image/ops.h"
 #include "io/clip_reader.h"
 #include "util/error.h"
 #include "util/log.h"
@@ -26,6 +27,17 @@ std::vector<size_t> windowStarts(size_t count, size_t window, size_t overlap) {
     if (start + window >= count) break;
   }
   return starts;
+}
+
+// A frame of the footage with its NaN and infinite values (an EXR's) replaced by 0 and counted
+// in a warning, as the render does: the solve's sums and the rain colour would otherwise carry
+// them over the whole window.
+cv::Mat readFiniteFrame(ClipReader& reader, int64_t frame, const std::string& input) {
+  Image image = reader.read(frame);
+  if (const size_t bad = ops::replaceNonFinite(image))
+    log::warning(
+        fmt::format("derain: frame {}: {} NaN/Inf values in {} replaced by 0", frame, bad, input));
+  return rgbMat(image);
 }
 
 // Frames two windows both solved: the clean plate and the matte cross-faded from the earlier
@@ -90,7 +102,7 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
     // their shifts; frames far apart may share too few features to measure it directly).
     std::vector<double> shifts;
     for (size_t i = 0; i < window; ++i) {
-      first.push_back(rgbMat(reader->read(frames[i])));
+      first.push_back(readFiniteFrame(*reader, frames[i], input));
       if (i > 0)
         shifts.push_back(
             registerFrames({first[i - 1], first[i]}, 0, /*denseFlow=*/false).maxShiftPx);
@@ -128,7 +140,7 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
     const size_t nextStart = w + 1 < starts.size() ? starts[w + 1] : frames.size();
     std::vector<cv::Mat> originals;
     for (size_t i = start; i < start + window; ++i)
-      originals.push_back(i < first.size() ? first[i] : rgbMat(reader->read(frames[i])));
+      originals.push_back(i < first.size() ? first[i] : readFiniteFrame(*reader, frames[i], input));
     const int reference = int(window / 2);
     Registration registration;
     registration.referenceToFrame.assign(window, cv::Matx33d::eye());

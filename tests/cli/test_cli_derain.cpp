@@ -2,6 +2,7 @@
 // plate, mattes and a report whose angle says the rain falls near-vertically; bad input gets a
 // clear error and loses nothing.
 #include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -79,6 +80,30 @@ TEST(CliDerain, FewerThanThreeFramesIsAClearErrorAndWritesNothing) {
   EXPECT_EQ(r.exitCode, 1) << r.output;
   expectOutputHas(r.output, {"at least 3 frames", "rain.####.png"});
   EXPECT_FALSE(stdfs::exists(dir / "clean.0001.png"));
+}
+
+// An EXR frame holding NaN and infinite pixels: they are replaced by 0 and named, frame and
+// count, and neither reaches the clean plate (the solve's sums spread them over the window).
+TEST(CliDerain, NonFinitePixelsAreNamedAndKeptOutOfTheCleanPlate) {
+  const auto dir = freshTempDir("cli_derain_nan");
+  for (int f : {1, 2, 3}) {
+    Image frame = test::flatImage(48, 32, 0.3f, 0.35f, 0.4f);
+    if (f == 2)
+      for (int y = 10; y < 14; ++y)
+        for (int x = 20; x < 24; ++x)
+          for (int c = 0; c < 3; ++c)
+            frame.rgba[(size_t(y) * 48 + x) * 4 + c] =
+                y < 12 ? std::nanf("") : std::numeric_limits<float>::infinity();
+    writeImageFile(dir / fmt::format("rain.{:04d}.exr", f), frame);
+  }
+  const CommandResult r = runPluvia({"derain", (dir / "rain.####.exr").string(), "-o",
+                                     (dir / "clean.####.exr").string(), "--no-register"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  expectOutputHas(r.output, {"frame 2: 48 NaN/Inf values in", "rain.####.exr replaced by 0"});
+  for (int f : {1, 2, 3}) {
+    const Image clean = readImageFile(dir / fmt::format("clean.{:04d}.exr", f));
+    for (float v : clean.rgba) ASSERT_TRUE(std::isfinite(v)) << "frame " << f;
+  }
 }
 
 TEST(CliDerain, RefusesToOverwriteTheFootage) {
