@@ -160,16 +160,20 @@ cv::Mat skyMask(const cv::Mat& guide, const cv::Mat& sampleMask, const cv::Mat& 
       if (keep[l[x]]) o[x] = 255;
   }
   if (cv::countNonZero(seeds) == 0) return seeds;
-  // Growing into the margin the seeds leave around the samples and around every edge (the
-  // texture test's window reaches past an edge: the sky within its half-width of a roof or a
-  // cloud fails it), and no farther: through bright, speckless pixels with no edge of their own
-  // (a faint roof line stops it), within seedDistance of a seed.
+  // Growing into the margin the seeds leave around the samples, and no farther: through
+  // candidates with no edge of their own (a faint roof line stops it), within seedDistance of a
+  // seed. Then into the margin the texture test leaves around every edge, its window's
+  // half-width (the sky just above a roof or around a cloud fails it): bright, speckless pixels
+  // with no edge of their own, textured or not; a textured wall stops the sky at that width.
   cv::Mat fromSeeds;
   cv::distanceTransform(seeds == 0, fromSeeds, cv::DIST_L2, 3);
-  const cv::Mat grown =
-      componentsTouching(bright & speckless & (distancePx > settings.growMinDistancePx) & noEdge &
-                             (fromSeeds <= seedDistance),
-                         seeds);
+  const cv::Mat clearOfSamples = (distancePx > settings.growMinDistancePx) & noEdge;
+  cv::Mat grown =
+      componentsTouching(candidate & clearOfSamples & (fromSeeds <= seedDistance), seeds);
+  cv::Mat nearGrown;
+  cv::dilate(grown, nearGrown,
+             cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(window.width, window.height)));
+  grown |= nearGrown & bright & speckless & clearOfSamples;
   // Holes in the sky holding no sample, not reaching the frame's border: a cloud's edge.
   cv::Mat border = cv::Mat::zeros(size, CV_8U);
   cv::rectangle(border, cv::Rect(0, 0, size.width, size.height), 255, 1);

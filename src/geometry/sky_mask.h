@@ -9,10 +9,10 @@
 //    at least minElevationDeg above the horizon (nothing below it is sky);
 //  - seeds are candidate regions farther than minDistanceFraction of the diagonal from every
 //    depth sample, touching the top row and at least a disc of that radius in area;
-//  - they grow through bright, speckless pixels with no strong edge of their own (textured or
-//    not: the texture test's window reaches past a roof line) up to growMinDistancePx of a
+//  - they grow through candidates with no strong edge of their own up to growMinDistancePx of a
 //    sample and no more than the seed distance from the seeds (so the sky reaches a roof line
-//    without leaking into a wall);
+//    without leaking into a wall), then by the texture test's half-window through bright,
+//    speckless pixels with no strong edge (the sky just above a roof line fails that test);
 //  - holes inside the sky holding no sample and not reaching the frame's border (a cloud's
 //    edge) are filled.
 #include <optional>

@@ -70,5 +70,25 @@ TEST(SkyMask, CloudWispsAndATexturedWallLeaveNoHolesInTheBlueSky) {
   EXPECT_LT(fractionMarked(sky, wall), 0.01);
 }
 
+// A bright stucco wall under the sky (textured, no dark specks, a weak edge of 18 grey levels): the
+// sky reaches its edge and no farther than the texture test's half-window into it.
+TEST(SkyMask, TheSkyStopsAtABrightTexturedWall) {
+  cv::Mat img(kHeight, kWidth, CV_8UC3);
+  cv::RNG rng(3);
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x)
+      img.at<cv::Vec3b>(y, x) =
+          y < kSkyRows ? cv::Vec3b::all(240) : cv::Vec3b::all(uchar(222 + rng.uniform(-16, 17)));
+  const cv::Mat sky = estimateSkyMask(img, std::nullopt);
+  cv::Mat lowSky = cv::Mat::zeros(img.size(), CV_8U), wall = lowSky.clone();
+  lowSky(cv::Rect(0, kSkyRows - 20, kWidth, 18)).setTo(255);
+  wall(cv::Rect(0, kSkyRows + 6, kWidth, kHeight - kSkyRows - 6)).setTo(255);
+  // Measured: all of the sky's last rows and none of the wall from 6 rows under its edge.
+  // Growing through bright pixels with no edge as far as the seeds reach (17 px here), textured
+  // or not, took 11 % of that wall: its rows down to about 18 px under the edge.
+  EXPECT_GT(fractionMarked(sky, lowSky), 0.99);
+  EXPECT_LT(fractionMarked(sky, wall), 0.01);
+}
+
 }  // namespace
 }  // namespace pluvia
