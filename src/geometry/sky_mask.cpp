@@ -113,21 +113,29 @@ cv::Mat skyMask(const cv::Mat& guide, const cv::Mat& sampleMask, const cv::Mat& 
   // Texture: the part of the gradient that does not survive averaging over 9x9 pixels (blur of
   // |g| minus |blur of g|): about zero on a smooth gradient or a soft cloud edge, whose
   // gradients all point the same way, and most of |g| on texture and noise. The largest over
-  // the colour channels (a wall and the sky can have the same grey level).
-  cv::Mat value = channels[0].clone(), edge = cv::Mat::zeros(size, CV_32F), texture = edge.clone();
-  const cv::Size window(9, 9);
+  // the colour channels (a wall and the sky can have the same grey level). The same over 3x3
+  // pixels says whether a pixel within the 9x9 window's reach of an edge is textured itself.
+  cv::Mat value = channels[0].clone(), edge = cv::Mat::zeros(size, CV_32F), texture = edge.clone(),
+          nearTexture = edge.clone();
+  const cv::Size window(9, 9), nearWindow(3, 3);
+  const auto incoherent = [](const cv::Mat& gx, const cv::Mat& gy, const cv::Mat& magnitude,
+                             cv::Size around) {
+    cv::Mat meanMagnitude, meanX, meanY, coherent;
+    cv::blur(magnitude, meanMagnitude, around);
+    cv::blur(gx, meanX, around);
+    cv::blur(gy, meanY, around);
+    cv::magnitude(meanX, meanY, coherent);
+    return cv::Mat(meanMagnitude - coherent);
+  };
   for (const cv::Mat& c : channels) {
     cv::max(value, c, value);
-    cv::Mat gx, gy, magnitude, meanMagnitude, coherent;
+    cv::Mat gx, gy, magnitude;
     cv::Sobel(c, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
     cv::Sobel(c, gy, CV_32F, 0, 1, 3, 1.0 / 8.0);
     cv::magnitude(gx, gy, magnitude);
     cv::max(edge, magnitude, edge);
-    cv::blur(magnitude, meanMagnitude, window);
-    cv::blur(gx, gx, window);
-    cv::blur(gy, gy, window);
-    cv::magnitude(gx, gy, coherent);
-    cv::max(texture, meanMagnitude - coherent, texture);
+    cv::max(texture, incoherent(gx, gy, magnitude, window), texture);
+    cv::max(nearTexture, incoherent(gx, gy, magnitude, nearWindow), nearTexture);
   }
   std::vector<uchar> levels(value.begin<uchar>(), value.end<uchar>());
   const size_t p99 = levels.size() * 99 / 100;
@@ -164,7 +172,8 @@ cv::Mat skyMask(const cv::Mat& guide, const cv::Mat& sampleMask, const cv::Mat& 
   // candidates with no edge of their own (a faint roof line stops it), within seedDistance of a
   // seed. Then into the margin the texture test leaves around every edge, its window's
   // half-width (the sky just above a roof or around a cloud fails it): bright, speckless pixels
-  // with no edge of their own, textured or not; a textured wall stops the sky at that width.
+  // with no edge of their own and untextured over 3x3, joined to the sky through such pixels (a
+  // wall's edge or its texture stops it).
   cv::Mat fromSeeds;
   cv::distanceTransform(seeds == 0, fromSeeds, cv::DIST_L2, 3);
   const cv::Mat clearOfSamples = (distancePx > settings.growMinDistancePx) & noEdge;
@@ -173,7 +182,9 @@ cv::Mat skyMask(const cv::Mat& guide, const cv::Mat& sampleMask, const cv::Mat& 
   cv::Mat nearGrown;
   cv::dilate(grown, nearGrown,
              cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(window.width, window.height)));
-  grown |= nearGrown & bright & speckless & clearOfSamples;
+  grown = componentsTouching(grown | (nearGrown & bright & speckless & clearOfSamples &
+                                      (nearTexture < settings.maxGradient)),
+                             grown);
   // Holes in the sky holding no sample, not reaching the frame's border: a cloud's edge.
   cv::Mat border = cv::Mat::zeros(size, CV_8U);
   cv::rectangle(border, cv::Rect(0, 0, size.width, size.height), 255, 1);
