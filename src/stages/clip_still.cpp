@@ -26,6 +26,12 @@ constexpr int kStillFrames = 5;
 // seed and speck sizes are in pixels, so a proxy render and the full one find the same sky,
 // and a 4K plate does not cost seconds for a mask that needs no such detail.
 constexpr int kSkySidePx = 480;
+// A pixel of a frame this many display codes (8-bit grey, rain filtered out) off the still's
+// shows something else there: the camera moved, or something passed.
+constexpr int kMovedCodes = 20;
+// The sky finder's version in its cache key: a cache made by an earlier one holds its mask.
+// 2: a cloud's wisps are no wall's specks; the sky reaches a roof line past the texture test.
+constexpr uint64_t kSkyVersion = 2;
 
 // The still's entry: the frames it is made of and how many it takes. Empty (not cached) when
 // the session gives no key for its frames.
@@ -43,7 +49,7 @@ std::string skyKey(const ClipContext& clip, const Camera& camera) {
   const std::string still = stillKey(clip);
   if (still.empty()) return "";
   Hasher hasher;
-  hasher.add("sky").add(still).add(uint64_t(kSkySidePx));
+  hasher.add("sky").add(kSkyVersion).add(still).add(uint64_t(kSkySidePx));
   hasher.add(uint64_t(camera.width)).add(uint64_t(camera.height));
   for (double value : {camera.focalPx, camera.cx, camera.cy}) hasher.add(value);
   for (int i = 0; i < 9; ++i) hasher.add(camera.worldFromCamera(i / 3, i % 3));
@@ -107,6 +113,52 @@ const Image& clipStill(ClipContext& clip) {
   return *clip.still;
 }
 
+std::vector<uint8_t> skyInImage(const Image& image, const Camera& camera) {
+  const double scale = double(kSkySidePx) / std::max(image.width, image.height);
+  cv::Mat small, bgr;
+  cv::resize(rgbMat(image), small, scaledSize(image.width, image.height, scale), 0, 0,
+             scale < 1.0 ? cv::INTER_AREA : cv::INTER_LINEAR);
+  cv::cvtColor(small, bgr, cv::COLOR_RGB2BGR);
+  cv::Mat skySmall = estimateSkyMask(bgr, camera), sky;
+  cv::resize(skySmall, sky, cv::Size(image.width, image.height), 0, 0, cv::INTER_NEAREST);
+  std::vector<uint8_t> mask(size_t(image.width) * image.height);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      mask[size_t(y) * image.width + x] = sky.at<uchar>(y, x) ? 1 : 0;
+  return mask;
+}
+
+double stillMismatch(ClipContext& clip) {
+  const Image& still = clipStill(clip);
+  const std::vector<int64_t>& frames = clip.clip->frames;
+  const int count = std::min<int>(kStillFrames, int(frames.size()));
+  // Grey display codes at the sky's size, 5x5 median-filtered: thin rain streaks and noise
+  // leave, a moved picture stays.
+  const double scale = double(kSkySidePx) / std::max(still.width, still.height);
+  const auto grey = [&](const Image& image) {
+    cv::Mat small, codes;
+    cv::resize(rgbMat(image), small, scaledSize(image.width, image.height, scale), 0, 0,
+               cv::INTER_AREA);
+    cv::cvtColor(small, small, cv::COLOR_RGB2GRAY);
+    cv::max(small, 0.0, small);
+    cv::pow(small, 1.0 / 2.2, small);
+    small.convertTo(codes, CV_8U, 255.0);
+    cv::medianBlur(codes, codes, 5);
+    return codes;
+  };
+  const cv::Mat stillGrey = grey(still);
+  double worst = 0.0;
+  for (int s = 0; s < count; ++s) {
+    const cv::Mat frameGrey =
+        grey(clip.readWorking(frames[frames.size() * size_t(s) / size_t(count)]));
+    cv::Mat difference;
+    cv::absdiff(frameGrey, stillGrey, difference);
+    worst = std::max(
+        worst, double(cv::countNonZero(difference > kMovedCodes)) / double(difference.total()));
+  }
+  return worst;
+}
+
 const std::vector<uint8_t>& clipSky(ClipContext& clip, const Camera& camera) {
   if (clip.stillSky) return *clip.stillSky;
   const std::string key = skyKey(clip, camera);
@@ -119,21 +171,10 @@ const std::vector<uint8_t>& clipSky(ClipContext& clip, const Camera& camera) {
       }
     }
   }
-  const Image& still = clipStill(clip);
-  const double scale = double(kSkySidePx) / std::max(still.width, still.height);
-  cv::Mat small, bgr;
-  cv::resize(rgbMat(still), small, scaledSize(still.width, still.height, scale), 0, 0,
-             scale < 1.0 ? cv::INTER_AREA : cv::INTER_LINEAR);
-  cv::cvtColor(small, bgr, cv::COLOR_RGB2BGR);
-  cv::Mat skySmall = estimateSkyMask(bgr, camera), sky;
-  cv::resize(skySmall, sky, cv::Size(still.width, still.height), 0, 0, cv::INTER_NEAREST);
-  std::vector<uint8_t> mask(size_t(still.width) * still.height);
-  for (int y = 0; y < still.height; ++y)
-    for (int x = 0; x < still.width; ++x)
-      mask[size_t(y) * still.width + x] = sky.at<uchar>(y, x) ? 1 : 0;
-  clip.stillSky = std::move(mask);
+  clip.stillSky = skyInImage(clipStill(clip), camera);
   if (clip.cache && !key.empty())
-    clip.cache->storeBlob("sky", key, {{"width", still.width}, {"height", still.height}},
+    clip.cache->storeBlob("sky", key,
+                          {{"width", clip.still->width}, {"height", clip.still->height}},
                           clip.stillSky->data(), clip.stillSky->size());
   return *clip.stillSky;
 }

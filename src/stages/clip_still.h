@@ -22,6 +22,15 @@ const Image& clipStill(ClipContext& clip);
 // as geometry/sky_mask.h finds it. 1 where sky.
 const std::vector<uint8_t>& clipSky(ClipContext& clip, const Camera& camera);
 
+// The sky in one image (the still, or a frame of a moving camera's clip), as clipSky finds it.
+std::vector<uint8_t> skyInImage(const Image& image, const Camera& camera);
+
+// How far the still is from standing for the clip's frames: the largest share, over the frames
+// the still is the median of, of a frame's pixels that show something else than the still
+// (kMovedCodes off, rain filtered out). Near 0 on a locked-off camera with a few people passing;
+// a large part of the frame when the camera moves, and then the still's sky is no frame's.
+double stillMismatch(ClipContext& clip);
+
 // For the plan (StageInfo::cachedWork): "the still from the cache" when `cache` holds it for the
 // clip's frames (`framesKey`: render_job.h's workingFramesKey), else "".
 std::string cachedStillNote(const std::string& framesKey, const ArtifactCache& cache);

@@ -30,6 +30,11 @@
 namespace pluvia {
 namespace {
 
+// The guess takes each frame's own sky when more than this share of a frame shows something else
+// than the clip's still (stillMismatch): people passing a locked-off camera change a few per
+// cent; a pan or a walk, most of the frame.
+constexpr double kMaxStillMismatch = 0.15;
+
 // depth.source = "file": the sequence and how to decode it. An empty depth.file is refused here,
 // when the render builds its stages, before anything is read or written; errors name the preset
 // file `presetSource`.
@@ -96,6 +101,7 @@ class DepthStage : public Stage {
     if (perFrame_)
       return rasterizeDepthLayers(path_.cameraAt(double(first)), depth_.layers, double(first),
                                   rampValueAt);
+    if (skyPerFrame_) return guessOfFrame(clip.readWorking(first), double(first));
     return depthMeters_;
   }
 
@@ -114,6 +120,7 @@ class DepthStage : public Stage {
       const double at = static_cast<double>(frame.frame);
       depthMeters_ = rasterizeDepthLayers(path_.cameraAt(at), depth_.layers, at, rampValueAt);
     }
+    if (skyPerFrame_) depthMeters_ = guessOfFrame(frame.image, double(frame.frame));
     frame.image.planes[kDepthPlane] = depthMeters_;
   }
 
@@ -122,8 +129,21 @@ class DepthStage : public Stage {
     return Ramp::fromJson(value).valueAt(frame);
   }
 
-  // Over the whole clip, not the frames this process renders, so that chunks agree.
+  // Over the whole clip, not the frames this process renders, so that chunks agree. The sky is
+  // the still's (rain and passers-by left out) unless the camera moves: then the still is a
+  // blend of views, its sky no frame's (holes in a roof, sky cut off), and each frame's own sky
+  // is found in it.
   void prepareGuess(ClipContext& clip) {
+    const double mismatch = stillMismatch(clip);
+    skyPerFrame_ = mismatch > kMaxStillMismatch;
+    if (skyPerFrame_) {
+      log::info(fmt::format(
+          "depth: guessed from each frame (its own sky, ground under the camera, the rest at {:g} "
+          "m): the camera moves ({:.0f} % of a frame shows something else than the clip's "
+          "still); give depth.layers, a depth file or COLMAP for a better one",
+          depth_.backdropMeters, 100.0 * mismatch));
+      return;
+    }
     const Camera camera = path_.cameraAt(0.0);
     DepthGuess guess = guessDepth(clipSky(clip, camera), camera, depth_.backdropMeters);
     log::info(fmt::format(
@@ -131,6 +151,11 @@ class DepthStage : public Stage {
         "give depth.layers, a depth file or COLMAP for a better one",
         100.0 * guess.skyFraction, 100.0 * guess.groundFraction, depth_.backdropMeters));
     depthMeters_ = std::move(guess.depthMeters);
+  }
+
+  std::vector<float> guessOfFrame(const Image& image, double at) const {
+    const Camera camera = path_.cameraAt(at);
+    return guessDepth(skyInImage(image, camera), camera, depth_.backdropMeters).depthMeters;
   }
 
   // Every plate frame's depth file must exist before the first frame renders. The whole clip
@@ -174,6 +199,7 @@ class DepthStage : public Stage {
   std::optional<DepthSequence> file_;
   CameraPath path_;
   bool perFrame_ = false;
+  bool skyPerFrame_ = false;        // the guess, with each frame's own sky (a moving camera)
   std::vector<float> depthMeters_;  // a frame's depth, when it is not made per frame
 };
 
