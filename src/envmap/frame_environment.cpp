@@ -32,6 +32,15 @@ const double kUprightIlluminance =
 constexpr double kSkyViewFactor = 2.0 / 3.0;
 // A frame whose sky covers less than this is taken to show none.
 constexpr double kMinSkyFraction = 0.01;
+// A blue sky seen in the plate (blue its brightest channel, red its darkest), at least this
+// saturated ((max - min) / max of its mean linear RGB) over at least kMinClearSkyFraction of
+// the frame, is a clear sky: rain falls from it only in a passing shower, the sun lights the
+// scene, and the plate has measured the sky itself, give or take its blue's clip (a clear sky is
+// about as bright as the sunlit scene, not the several times an overcast sky lighting that scene
+// would need). Lund's deep blue sky: 0.78; Sceaux Castle's pale one, its blue at the clip: 0.31.
+// An overcast or hazy sky is grey (NTURain's: 0.14); a few bright bricks taken for sky are red.
+constexpr double kClearSkySaturation = 0.25;
+constexpr double kMinClearSkyFraction = 0.05;
 
 // What the frame shows of its sky, and the scene's luminance under it.
 struct PlateSkySample {
@@ -75,9 +84,14 @@ int rowOf(double y, int height) {
 
 // The overcast sky assumed above a day plate: zenith the brighter of the plate's own sky's (the
 // CIE profile through its mean at the mean elevation it is seen at) and the scene's
-// (sceneZenith), tinted as the plate's sky.
+// (sceneZenith), tinted as the plate's sky. Under a clear sky the plate's own, as it shows it.
 struct DaySky {
   double zenith = 0.0;
+  // What lights the ground below the frame, and its colour at unit luminance: under a clear sky
+  // the scene's zenith (sceneZenith) in white, its sun's light; else the sky's.
+  double groundZenith = 0.0;
+  std::array<double, 3> groundTint{1.0, 1.0, 1.0};
+  bool clear = false;
   std::array<double, 3> tint{1.0, 1.0, 1.0};  // the sky's colour at unit luminance
   // What the plate's own sky is multiplied by to lie on that sky: over 1 where the plate clips or
   // compresses it (a display-referred sky darker than the sky that lights the scene), else 1.
@@ -91,15 +105,23 @@ struct DaySky {
   }
 };
 
-DaySky daySky(const PlateSkySample& seen, bool framedSky, double sceneZenith) {
+DaySky daySky(const PlateSkySample& seen, double skyShare, double sceneZenith) {
   DaySky sky;
-  sky.zenith = sceneZenith;
-  if (!framedSky) return sky;
+  sky.zenith = sky.groundZenith = sceneZenith;
+  if (skyShare < kMinSkyFraction) return sky;
   const double luminance = rec709Luminance(seen.meanRgb);
   for (size_t c = 0; c < 3; ++c) sky.tint[c] = seen.meanRgb[c] / std::max(1e-6, luminance);
   const double throughPlate =
       3.0 * luminance / (1.0 + 2.0 * std::sin(seen.meanElevationDeg * M_PI / 180.0));
-  sky.zenith = std::max(sceneZenith, throughPlate);
+  const std::array<double, 3>& rgb = seen.meanRgb;
+  const bool blue = rgb[2] >= rgb[1] && rgb[1] >= rgb[0] && rgb[2] > 0.0;
+  if (blue && 1.0 - rgb[0] / rgb[2] >= kClearSkySaturation && skyShare >= kMinClearSkyFraction) {
+    sky.zenith = throughPlate;
+    sky.clear = sky.fromPlate = true;
+    return sky;
+  }
+  sky.zenith = sky.groundZenith = std::max(sceneZenith, throughPlate);
+  sky.groundTint = sky.tint;
   sky.fromPlate = sky.zenith > sceneZenith;
   sky.plateSkyGain = throughPlate > 0.0 ? sky.zenith / throughPlate : 1.0;
   return sky;
@@ -130,7 +152,7 @@ void wetGround(std::vector<std::array<float, 3>>& profile, int last, const DaySk
   const double blendDeg = ModelFillSettings{}.obstacleBlendDeg;
   const int mapHeight = int(profile.size());
   const auto elevationOf = [&](int r) { return 90.0 - 180.0 * (r + 0.5) / mapHeight; };
-  const double irradianceOverPi = kSkyViewFactor * 7.0 / 9.0 * sky.zenith;
+  const double irradianceOverPi = kSkyViewFactor * 7.0 / 9.0 * sky.groundZenith;
   const auto model = [&](int r) {
     const double e = elevationOf(r);
     const double reflectance =
@@ -138,7 +160,7 @@ void wetGround(std::vector<std::array<float, 3>>& profile, int last, const DaySk
     const std::array<float, 3>& mirrored = profile[size_t(mapHeight - 1 - r)];
     std::array<double, 3> rgb{};
     for (size_t c = 0; c < 3; ++c)
-      rgb[c] = (1.0 - reflectance) * kMeteredSceneAlbedo * irradianceOverPi * sky.tint[c] +
+      rgb[c] = (1.0 - reflectance) * kMeteredSceneAlbedo * irradianceOverPi * sky.groundTint[c] +
                reflectance * mirrored[c];
     return rgb;
   };
@@ -177,7 +199,7 @@ FrameEnvironment frameEnvironment(const Image& frame, const Camera& camera,
   const bool framedSky = seen.pixels >= kMinSkyFraction * pixels;
   const double sceneZenith =
       M_PI * seen.sceneLuminance / (kMeteredSceneAlbedo * kSkyViewFactor * kUprightIlluminance);
-  const DaySky day = daySky(seen, framedSky, sceneZenith);
+  const DaySky day = daySky(seen, seen.pixels / pixels, sceneZenith);
 
   const double scale = std::min(1.0, double(kSampleWidthPx) / std::max(1, camera.width));
   cv::Mat rgb = rgbMat(frame), small;
@@ -240,6 +262,7 @@ FrameEnvironment frameEnvironment(const Image& frame, const Camera& camera,
     }
     result.zenithLuminance = float(day.zenith);
     result.skyFromPlate = day.fromPlate;
+    result.clearSky = day.clear;
     // The airlight (the fog's colour): a long path toward the horizon looks as the plate shows
     // its own sky there (as recorded, clip and all: the fog is composited over the plate), where
     // it shows one.

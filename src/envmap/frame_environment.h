@@ -11,7 +11,9 @@
 // where it shows one and the one that lights the scene (mostly upright surfaces of the metered
 // albedo, 0.125: envmap/scene_albedo.h) as brightly as the frame shows it, the frame's own sky
 // pixels lifted onto it where they are darker (clipped); below the frame (by day), wet level
-// ground under that sky, reached from the frame's lowest row.
+// ground under that sky, reached from the frame's lowest row. A clear (blue) sky in the plate is
+// measured, not clipped: the sky above is the CIE profile through it, and the ground below is lit
+// as the scene is.
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -31,6 +33,9 @@ struct FrameEnvironment {
   // the plate's own sky (else it is the one that lights the scene as the plate shows it).
   float zenithLuminance = 0.0f;
   bool skyFromPlate = false;
+  // The plate shows a clear sky (blue): the sky above is its own, not lifted, and the ground
+  // below is lit as the scene is (by the sun).
+  bool clearSky = false;
 };
 
 // `sky`: width * height, 1 where the frame shows sky (empty: none known). A night plate is lit by

@@ -25,7 +25,7 @@
 namespace pluvia {
 namespace {
 
-constexpr const char* kStageVersion = "6";  // 6: the plate's sky lifted, wet ground below the frame
+constexpr const char* kStageVersion = "7";  // 7: a clear sky as the plate shows it
 // A uniform environment needs no detail; an HDR is kept at most this wide (area-resampled, so
 // the power of a sun is kept): the drop shading resamples it to 256 x 128 anyway.
 constexpr int kUniformWidth = 8;
@@ -240,6 +240,8 @@ class EnvironmentStage : public Stage {
           fmt::format("lighting: the sky above the plate has a zenith luminance of {:.3f} ({})",
                       plate.zenithLuminance,
                       night ? "a night plate: only the sky it shows, its lamps light the rest"
+                      : plate.clearSky ? "a clear sky: the plate's own, as it shows it; rain is "
+                                         "faint under it, its sun's glints not drawn"
                       : plate.skyFromPlate
                           ? "through the plate's own sky"
                           : "the sky that lights the scene as brightly as the plate shows it"));
@@ -295,7 +297,9 @@ StageInfo lightingStageInfo() {
                 "the brighter of the plate's own sky and the sky that lights its scene as "
                 "brightly as the plate shows it (about 34x its mean luminance), the plate's own "
                 "sky lifted onto it where it clips, and below the frame wet ground mirroring "
-                "it; a night plate keeps only the sky it shows";
+                "it; a clear (blue) sky in the plate is taken as it shows it, and the rain under "
+                "it is faint (its sun's glints are not drawn); a night plate keeps only the sky it "
+                "shows";
        },
        .reads =
            [](const LightingSettings& lighting, const Preset&) {

@@ -160,6 +160,48 @@ TEST(FrameEnvironment, ADimPlateSkyIsNoDarkerThanTheSkyThatLightsTheScene) {
   EXPECT_NEAR(env.horizonRgb[0], 0.5f, 1e-4);
 }
 
+TEST(FrameEnvironment, AClearBlueSkyIsTakenAsThePlateShowsIt) {
+  // A blue sky (linear 0.15 0.35 0.8: saturation 0.81) over a sunlit scene of 0.3: the sun lights
+  // the scene, and the plate has measured the sky, so it is not lifted to the overcast sky that
+  // would light that scene (sceneZenith(0.3), 5 times brighter here); the ground below the frame
+  // is still lit as brightly as the scene.
+  const Camera camera = Camera::fromFieldOfView(kWidth, kHeight, 50.0, 0.0, 1.6);
+  Image frame = twoToneFrame(0.3f, 0.3f);
+  const float blue[3] = {0.15f, 0.35f, 0.8f};
+  for (int y = 0; y < kHeight / 3; ++y)
+    for (int x = 0; x < kWidth; ++x)
+      for (int c = 0; c < 3; ++c) frame.pixel(x, y)[c] = blue[c];
+  const envmap::FrameEnvironment env =
+      envmap::frameEnvironment(frame, camera, topThirdSky(), false);
+  EXPECT_TRUE(env.clearSky);
+  const double luminance = 0.2126 * 0.15 + 0.7152 * 0.35 + 0.0722 * 0.8;
+  const double e0 = meanSkyElevationDeg(camera, topThirdSky()) * M_PI / 180.0;
+  const double zenith = 3.0 * luminance / (1.0 + 2.0 * std::sin(e0));
+  ASSERT_LT(5.0 * zenith, sceneZenith(0.3));
+  EXPECT_NEAR(env.zenithLuminance, zenith, 1e-4);
+  // The plate's sky as it shows it, and the sky above it blue too.
+  EXPECT_NEAR(sampleEquirect(env.radiance, 0, float(std::sin(e0)), -float(std::cos(e0)))[2], 0.8f,
+              0.02f);
+  const std::array<float, 3> up = sampleEquirect(env.radiance, 0, 1, 0);
+  EXPECT_NEAR(up[2] / up[0], 0.8 / 0.15, 0.05 * 0.8 / 0.15);
+  // Straight down: wet ground of albedo 0.125 lit in white as the scene is (under
+  // sceneZenith(0.3)), plus water's Fresnel reflectance (0.020) of the blue sky straight up.
+  const double rowElevation = (90.0 - 180.0 * 0.5 / 64.0) * M_PI / 180.0;
+  const double fresnel = optics::fresnelReflectance(std::sin(rowElevation), 1.333);
+  const std::array<float, 3> down = sampleEquirect(env.radiance, 0, -1, 0);
+  for (int c = 0; c < 3; ++c) {
+    const double ground =
+        (1.0 - fresnel) * 0.125 * 2.0 / 3.0 * 7.0 / 9.0 * sceneZenith(0.3) +
+        fresnel * zenith * (1.0 + 2.0 * std::sin(rowElevation)) / 3.0 * blue[c] / luminance;
+    EXPECT_NEAR(down[size_t(c)], ground, 0.01 * ground) << c;
+  }
+  // The same sky grey (saturation 0) is an overcast one, lifted as before.
+  const envmap::FrameEnvironment grey =
+      envmap::frameEnvironment(twoToneFrame(0.3f, 0.3f), camera, topThirdSky(), false);
+  EXPECT_FALSE(grey.clearSky);
+  EXPECT_NEAR(grey.zenithLuminance, sceneZenith(0.3), 1e-3);
+}
+
 TEST(FrameEnvironment, NoSkyInTheFrameGivesTheOvercastSkyThatLightsIt) {
   const Camera camera = Camera::fromFieldOfView(kWidth, kHeight, 50.0, 0.0, 1.6);
   const Image frame = twoToneFrame(0.2f, 0.2f);  // a grey wall, luminance 0.2
