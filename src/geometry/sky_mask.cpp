@@ -143,6 +143,11 @@ cv::Mat skyMask(const cv::Mat& guide, const cv::Mat& sampleMask, const cv::Mat& 
   const double white = std::max<double>(levels[p99], 1.0);
   const cv::Mat brightValue = value >= settings.minBrightness * white;
   cv::Mat bright = brightValue.clone();
+  // Warm colours (red well over blue in display codes: brick, terracotta, skin) are no sky; a
+  // sunset's orange sky is taken for the backdrop with them.
+  if (channels.size() == 3)
+    bright &=
+        ~((channels[2] > channels[0] * settings.maxRedOverBlue) & (channels[2] >= channels[1]));
   if (!sinElevation.empty())
     bright &= sinElevation > std::sin(settings.minElevationDeg * M_PI / 180.0);
   cv::Mat candidate = bright & (texture < settings.maxGradient);

@@ -90,5 +90,20 @@ TEST(SkyMask, TheSkyStopsAtABrightTexturedWall) {
   EXPECT_LT(fractionMarked(sky, wall), 0.01);
 }
 
+// A smooth, bright brick wall reaching the top of the frame beside the sky: warm, so no sky.
+TEST(SkyMask, ABrickWallIsNoSky) {
+  cv::Mat img(kHeight, kWidth, CV_8UC3, cv::Scalar(60, 60, 60));
+  img(cv::Rect(0, 0, kWidth / 2, kSkyRows)).setTo(cv::Scalar(240, 232, 225));  // BGR
+  img(cv::Rect(kWidth / 2, 0, kWidth / 2, kSkyRows)).setTo(cv::Scalar(150, 175, 235));
+  const cv::Mat sky = estimateSkyMask(img, std::nullopt);
+  cv::Mat left = cv::Mat::zeros(img.size(), CV_8U), right = left.clone();
+  left(cv::Rect(0, 0, kWidth / 2 - 6, kSkyRows - 6)).setTo(255);
+  right(cv::Rect(kWidth / 2 + 6, 0, kWidth / 2 - 6, kSkyRows - 6)).setTo(255);
+  // Measured: all of the sky, none of the brick (red 1.57 times blue); without the warm rule,
+  // all of the brick too.
+  EXPECT_GT(fractionMarked(sky, left), 0.99);
+  EXPECT_LT(fractionMarked(sky, right), 0.01);
+}
+
 }  // namespace
 }  // namespace pluvia
