@@ -30,7 +30,8 @@ constexpr int kSkySidePx = 480;
 // shows something else there: the camera moved, or something passed.
 constexpr int kMovedCodes = 20;
 // The sky finder's version in its cache key: a cache made by an earlier one holds its mask.
-// 2: a cloud's wisps are no wall's specks; the sky reaches a roof line past the texture test.
+// 2: a cloud's wisps are no wall's specks, warm colours (brick) are no sky, and the sky reaches a
+// roof line past the texture test.
 constexpr uint64_t kSkyVersion = 2;
 
 // The still's entry: the frames it is made of and how many it takes. Empty (not cached) when
