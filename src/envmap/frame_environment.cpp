@@ -196,10 +196,11 @@ FrameEnvironment frameEnvironment(const Image& frame, const Camera& camera,
   // scene's mean (a = 0.125, envmap/scene_albedo.h; v = 2/3).
   const PlateSkySample seen = sampleSky(frame, camera, sky);
   const double pixels = double(camera.width) * camera.height;
-  const bool framedSky = seen.pixels >= kMinSkyFraction * pixels;
+  const double skyShare = seen.pixels / pixels;
+  const bool framedSky = skyShare >= kMinSkyFraction;
   const double sceneZenith =
       M_PI * seen.sceneLuminance / (kMeteredSceneAlbedo * kSkyViewFactor * kUprightIlluminance);
-  const DaySky day = daySky(seen, seen.pixels / pixels, sceneZenith);
+  const DaySky day = daySky(seen, skyShare, sceneZenith);
 
   const double scale = std::min(1.0, double(kSampleWidthPx) / std::max(1, camera.width));
   cv::Mat rgb = rgbMat(frame), small;

@@ -181,15 +181,14 @@ cv::Mat skyMask(const cv::Mat& guide, const cv::Mat& sampleMask, const cv::Mat& 
   // wall's edge or its texture stops it).
   cv::Mat fromSeeds;
   cv::distanceTransform(seeds == 0, fromSeeds, cv::DIST_L2, 3);
-  const cv::Mat clearOfSamples = (distancePx > settings.growMinDistancePx) & noEdge;
-  cv::Mat grown =
-      componentsTouching(candidate & clearOfSamples & (fromSeeds <= seedDistance), seeds);
+  const cv::Mat growable = (distancePx > settings.growMinDistancePx) & noEdge;
+  cv::Mat grown = componentsTouching(candidate & growable & (fromSeeds <= seedDistance), seeds);
   cv::Mat nearGrown;
   cv::dilate(grown, nearGrown,
              cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(window.width, window.height)));
-  grown = componentsTouching(grown | (nearGrown & bright & speckless & clearOfSamples &
-                                      (nearTexture < settings.maxGradient)),
-                             grown);
+  grown = componentsTouching(
+      grown | (nearGrown & bright & speckless & growable & (nearTexture < settings.maxGradient)),
+      grown);
   // Holes in the sky holding no sample, not reaching the frame's border: a cloud's edge.
   cv::Mat border = cv::Mat::zeros(size, CV_8U);
   cv::rectangle(border, cv::Rect(0, 0, size.width, size.height), 255, 1);

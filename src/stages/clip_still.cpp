@@ -58,13 +58,21 @@ std::string skyKey(const ClipContext& clip, const Camera& camera) {
   return hasher.hex();
 }
 
-}  // namespace
-
-Image medianOfFrames(ClipContext& clip, const std::vector<int64_t>& frames, int maxFrames) {
+// Up to `maxFrames` of `frames`, spread evenly over them (the first included): the frames a
+// still is the median of.
+std::vector<int64_t> spreadFrames(const std::vector<int64_t>& frames, int maxFrames) {
   const int count = std::max(1, std::min<int>(maxFrames, int(frames.size())));
   std::vector<int64_t> spread;
   for (int s = 0; s < count; ++s)
     spread.push_back(frames[frames.size() * size_t(s) / size_t(count)]);
+  return spread;
+}
+
+}  // namespace
+
+Image medianOfFrames(ClipContext& clip, const std::vector<int64_t>& frames, int maxFrames) {
+  const std::vector<int64_t> spread = spreadFrames(frames, maxFrames);
+  const int count = int(spread.size());
   if (clip.reader) clip.reader->prefetch(spread);
   std::vector<Image> images;
   for (int64_t frame : spread) images.push_back(clip.readWorking(frame));
@@ -130,12 +138,15 @@ std::vector<uint8_t> skyInImage(const Image& image, const Camera& camera) {
 }
 
 double stillMismatch(ClipContext& clip) {
-  const Image& still = clipStill(clip);
-  const std::vector<int64_t>& frames = clip.clip->frames;
-  const int count = std::min<int>(kStillFrames, int(frames.size()));
+  // Kept beside the still: a render chunk after `pluvia prepare` decodes none of its frames.
+  const std::string still = stillKey(clip);
+  const std::string key = still.empty() ? "" : Hasher().add("still-motion").add(still).hex();
+  if (clip.cache && !key.empty())
+    if (auto cached = clip.cache->load("still-motion", key)) return cached->at("mismatch");
   // Grey display codes at the sky's size, 5x5 median-filtered: thin rain streaks and noise
   // leave, a moved picture stays.
-  const double scale = double(kSkySidePx) / std::max(still.width, still.height);
+  const Image& stillImage = clipStill(clip);
+  const double scale = double(kSkySidePx) / std::max(stillImage.width, stillImage.height);
   const auto grey = [&](const Image& image) {
     cv::Mat small, codes;
     cv::resize(rgbMat(image), small, scaledSize(image.width, image.height, scale), 0, 0,
@@ -147,16 +158,15 @@ double stillMismatch(ClipContext& clip) {
     cv::medianBlur(codes, codes, 5);
     return codes;
   };
-  const cv::Mat stillGrey = grey(still);
+  const cv::Mat stillGrey = grey(stillImage);
   double worst = 0.0;
-  for (int s = 0; s < count; ++s) {
-    const cv::Mat frameGrey =
-        grey(clip.readWorking(frames[frames.size() * size_t(s) / size_t(count)]));
+  for (int64_t frame : spreadFrames(clip.clip->frames, kStillFrames)) {
     cv::Mat difference;
-    cv::absdiff(frameGrey, stillGrey, difference);
+    cv::absdiff(grey(clip.readWorking(frame)), stillGrey, difference);
     worst = std::max(
         worst, double(cv::countNonZero(difference > kMovedCodes)) / double(difference.total()));
   }
+  if (clip.cache && !key.empty()) clip.cache->store("still-motion", key, {{"mismatch", worst}});
   return worst;
 }
 
