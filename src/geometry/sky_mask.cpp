@@ -1,5 +1,6 @@
 #include "geometry/sky_mask.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <opencv2/imgproc.hpp>
@@ -141,7 +142,8 @@ cv::Mat skyMask(const cv::Mat& guide, const cv::Mat& sampleMask, const cv::Mat& 
   const size_t p99 = levels.size() * 99 / 100;
   std::nth_element(levels.begin(), levels.begin() + p99, levels.end());
   const double white = std::max<double>(levels[p99], 1.0);
-  const cv::Mat brightValue = value >= settings.minBrightness * white;
+  const cv::Mat brightValue =
+      value >= std::max(settings.minBrightness * white, settings.minSkyCode);
   cv::Mat bright = brightValue.clone();
   // Warm colours (red well over blue in display codes: brick, terracotta, skin) are no sky; a
   // sunset's orange sky is taken for the backdrop with them.

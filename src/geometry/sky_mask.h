@@ -3,10 +3,11 @@
 // plate without tracking marks it, and the COLMAP densifier (sfm/sparse_densify.h, step 4) marks
 // it among its samples. Conservative:
 //  - candidates are bright (brightest channel at least minBrightness of the frame's near-white
-//    level) and not warm (brick is not sky), untextured (the incoherent gradient, the mean of
-//    |gradient| over 9x9 minus the |mean gradient|, below maxGradient: a smooth sky gradient or a
-//    soft cloud edge has almost none, texture and noise do), not riddled with specks (a wall), and,
-//    with a ground camera, at least minElevationDeg above the horizon (nothing below it is sky);
+//    level, and minSkyCode in display codes) and not warm (brick is not sky), untextured (the
+//    incoherent gradient, the mean of |gradient| over 9x9 minus the |mean gradient|, below
+//    maxGradient: a smooth sky gradient or a soft cloud edge has almost none, texture and noise
+//    do), not riddled with specks (a wall), and, with a ground camera, at least minElevationDeg
+//    above the horizon (nothing below it is sky);
 //  - seeds are candidate regions farther than minDistanceFraction of the diagonal from every
 //    depth sample, touching the top row and at least a disc of that radius in area;
 //  - they grow through candidates with no strong edge of their own up to growMinDistancePx of a
@@ -29,8 +30,13 @@ struct SkyMaskSettings {
   double growMinDistancePx = 6.0;     // from the nearest sample, for the grown sky
   double maxGradient = 3.0;           // incoherent gradient, grey levels per pixel
   double minBrightness = 0.65;        // brightest channel, of the frame's 99th percentile
-  double minElevationDeg = 1.5;       // above the ground camera's horizon
-  double maxRedOverBlue = 1.3;        // display codes: warmer (and red over green) is no sky
+  // and at least this display code: the sky lights the scene, so in a frame exposed for that
+  // scene it sits high in the range (overcast 180-255, blue 200 and over on every plate here);
+  // a frame whose brightest pixels stay below it shows no sky (a camera looking down at a wet
+  // road, whose lighter far part passed the relative test alone).
+  double minSkyCode = 140.0;
+  double minElevationDeg = 1.5;  // above the ground camera's horizon
+  double maxRedOverBlue = 1.3;   // display codes: warmer (and red over green) is no sky
   // Specks (regions of at most maxSpeckAreaPx that fail the brightness or texture test,
   // enclosed by pixels that pass, holding a pixel that fails the brightness test) over more
   // than maxSpeckDensity of the pixels within speckWindowRadiusPx make a wall, not sky: the sky

@@ -31,8 +31,9 @@ constexpr int kSkySidePx = 480;
 constexpr int kMovedCodes = 20;
 // The sky finder's version in its cache key: a cache made by an earlier one holds its mask.
 // 2: a cloud's wisps are no wall's specks, warm colours (brick) are no sky, and the sky reaches a
-// roof line past the texture test.
-constexpr uint64_t kSkyVersion = 2;
+// roof line past the texture test. 3: the sky sits at display code 140 or more (a road seen from
+// above is none).
+constexpr uint64_t kSkyVersion = 3;
 
 // The still's entry: the frames it is made of and how many it takes. Empty (not cached) when
 // the session gives no key for its frames.

@@ -105,5 +105,25 @@ TEST(SkyMask, ABrickWallIsNoSky) {
   EXPECT_LT(fractionMarked(sky, right), 0.01);
 }
 
+// A camera looking down at a wet road: a smooth grey, lighter toward the far (top) edge, with
+// faint ripples. Relative to the frame's own brightest pixels its top passes for sky; the sky
+// lights the scene, so it sits higher in the range than any part of a road exposed for.
+TEST(SkyMask, ADimRoadFillingTheFrameIsNoSky) {
+  cv::Mat road(kHeight, kWidth, CV_8UC3);
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x)
+      road.at<cv::Vec3b>(y, x) =
+          cv::Vec3b::all(uchar(120 - 60 * y / kHeight + 2 * std::sin(x * 0.3 + y * 0.2)));
+  cv::Mat top = cv::Mat::zeros(road.size(), CV_8U);
+  top(cv::Rect(0, 0, kWidth, kHeight / 3)).setTo(255);
+  // Measured: none of it. The same frame twice as bright (a grey sky at codes 180-240 above a
+  // lighter ground), and the road itself with no absolute floor: its top third is sky.
+  EXPECT_EQ(cv::countNonZero(estimateSkyMask(road, std::nullopt)), 0);
+  SkyMaskSettings relativeOnly;
+  relativeOnly.minSkyCode = 0.0;
+  EXPECT_GT(fractionMarked(estimateSkyMask(road, std::nullopt, 100.0, relativeOnly), top), 0.9);
+  EXPECT_GT(fractionMarked(estimateSkyMask(road * 2.0, std::nullopt), top), 0.9);
+}
+
 }  // namespace
 }  // namespace pluvia
