@@ -128,7 +128,8 @@ RealismReport runRealismReport(const RealismReportSettings& settings,
       RealismRow row;
       row.clip = clip.name;
       row.preset = preset;
-      row.stats = measureLayers(column.frames, plates, &column.layers);
+      // Measured as the real rain is: against plates estimated from the frames themselves.
+      row.stats = measureLayers(column.frames, cleanPlatesRgb(column.frames), &column.layers);
       row.ratios = ratiosToReal(row.stats, real.stats);
       std::vector<double> values;
       for (const auto& [name, ratio] : row.ratios) values.push_back(ratio);
@@ -200,7 +201,8 @@ std::string formatRealismReport(const RealismReport& report) {
   std::ostringstream out;
   out << fmt::format(
       "Visible rain streaks (dI > 10 codes with a ridge, at {} px wide; false alarms from the "
-      "negated layer subtracted), real footage against each preset on its clean plates:\n",
+      "negated layer subtracted), real footage against each preset on its clean plates (every "
+      "layer against plates estimated from its own frames):\n",
       report.widthPx);
   const std::vector<Column> columns = statColumns();
   for (const Column& c : columns) out << fmt::format("{:>{}}", c.header, c.width);
