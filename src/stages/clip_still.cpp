@@ -123,19 +123,29 @@ const Image& clipStill(ClipContext& clip) {
   return *clip.still;
 }
 
-std::vector<uint8_t> skyInImage(const Image& image, const Camera& camera) {
+SmallSky smallSkyOf(const Image& image, const Camera& camera) {
   const double scale = double(kSkySidePx) / std::max(image.width, image.height);
   cv::Mat small, bgr;
   cv::resize(rgbMat(image), small, scaledSize(image.width, image.height, scale), 0, 0,
              scale < 1.0 ? cv::INTER_AREA : cv::INTER_LINEAR);
   cv::cvtColor(small, bgr, cv::COLOR_RGB2BGR);
-  cv::Mat skySmall = estimateSkyMask(bgr, camera), sky;
-  cv::resize(skySmall, sky, cv::Size(image.width, image.height), 0, 0, cv::INTER_NEAREST);
-  std::vector<uint8_t> mask(size_t(image.width) * image.height);
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x)
-      mask[size_t(y) * image.width + x] = sky.at<uchar>(y, x) ? 1 : 0;
+  SmallSky out;
+  out.sky = estimateSkyMask(bgr, camera);
+  cv::cvtColor(small, out.grey, cv::COLOR_RGB2GRAY);
+  return out;
+}
+
+std::vector<uint8_t> fullSizeSky(const cv::Mat& small, int width, int height) {
+  cv::Mat sky;
+  cv::resize(small, sky, cv::Size(width, height), 0, 0, cv::INTER_NEAREST);
+  std::vector<uint8_t> mask(size_t(width) * height);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) mask[size_t(y) * width + x] = sky.at<uchar>(y, x) ? 1 : 0;
   return mask;
+}
+
+std::vector<uint8_t> skyInImage(const Image& image, const Camera& camera) {
+  return fullSizeSky(smallSkyOf(image, camera).sky, image.width, image.height);
 }
 
 double stillMismatch(ClipContext& clip) {

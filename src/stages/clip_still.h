@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <opencv2/core.hpp>
+
 #include "pipeline/stage.h"
 
 namespace pluvia {
@@ -24,6 +26,14 @@ const std::vector<uint8_t>& clipSky(ClipContext& clip, const Camera& camera);
 
 // The sky in one image (the still, or a frame of a moving camera's clip), as clipSky finds it.
 std::vector<uint8_t> skyInImage(const Image& image, const Camera& camera);
+
+// The same at the size the sky is found at (its longest side 480 px): the mask (CV_8U, 255 where
+// sky) and the image's grey (CV_32F, linear), and the mask brought to width x height (1 where sky).
+struct SmallSky {
+  cv::Mat sky, grey;
+};
+SmallSky smallSkyOf(const Image& image, const Camera& camera);
+std::vector<uint8_t> fullSizeSky(const cv::Mat& small, int width, int height);
 
 // How far the still is from standing for the clip's frames: the largest share, over the frames
 // the still is the median of, of a frame's pixels that show something else than the still

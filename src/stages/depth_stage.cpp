@@ -13,6 +13,7 @@
 //  - "none": everything at infinity (sky).
 #include <filesystem>
 #include <limits>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -23,6 +24,7 @@
 #include "stages/depth_guess.h"
 #include "stages/depth_settings.h"
 #include "stages/depth_tracking.h"
+#include "stages/frame_sky.h"
 #include "stages/registry.h"
 #include "util/error.h"
 #include "util/log.h"
@@ -101,11 +103,11 @@ class DepthStage : public Stage {
     if (perFrame_)
       return rasterizeDepthLayers(path_.cameraAt(double(first)), depth_.layers, double(first),
                                   rampValueAt);
-    if (skyPerFrame_) return guessOfFrame(clip.readWorking(first), double(first));
+    if (frameSky_) return guessOfFrame(clip, first, clip.readWorking(first));
     return depthMeters_;
   }
 
-  void process(ClipContext&, FrameContext& frame) override {
+  void process(ClipContext& clip, FrameContext& frame) override {
     if (file_ && !file_->singleFile()) {
       frame.image.planes[kDepthPlane] =
           file_->read(frame.frame, frame.image.width, frame.image.height);
@@ -120,7 +122,7 @@ class DepthStage : public Stage {
       const double at = static_cast<double>(frame.frame);
       depthMeters_ = rasterizeDepthLayers(path_.cameraAt(at), depth_.layers, at, rampValueAt);
     }
-    if (skyPerFrame_) depthMeters_ = guessOfFrame(frame.image, double(frame.frame));
+    if (frameSky_) depthMeters_ = guessOfFrame(clip, frame.frame, frame.image);
     frame.image.planes[kDepthPlane] = depthMeters_;
   }
 
@@ -135,11 +137,12 @@ class DepthStage : public Stage {
   // is found in it.
   void prepareGuess(ClipContext& clip) {
     const double mismatch = stillMismatch(clip);
-    skyPerFrame_ = mismatch > kMaxStillMismatch;
-    if (skyPerFrame_) {
+    if (mismatch > kMaxStillMismatch) {
+      frameSky_.emplace([this](double at) { return path_.cameraAt(at); });
       log::info(fmt::format(
-          "depth: guessed from each frame (its own sky, ground under the camera, the rest at {:g} "
-          "m): the camera moves ({:.0f} % of a frame shows something else than the clip's "
+          "depth: guessed from each frame (its own sky, voted with the frames beside it, ground "
+          "under the camera, the rest at {:g} m): the camera moves ({:.0f} % of a frame shows "
+          "something else than the clip's "
           "still); give depth.layers, a depth file or COLMAP for a better one",
           depth_.backdropMeters, 100.0 * mismatch));
       return;
@@ -153,9 +156,10 @@ class DepthStage : public Stage {
     depthMeters_ = std::move(guess.depthMeters);
   }
 
-  std::vector<float> guessOfFrame(const Image& image, double at) const {
-    const Camera camera = path_.cameraAt(at);
-    return guessDepth(skyInImage(image, camera), camera, depth_.backdropMeters).depthMeters;
+  std::vector<float> guessOfFrame(ClipContext& clip, int64_t frame, const Image& image) {
+    return guessDepth(frameSky_->at(clip, frame, image), path_.cameraAt(double(frame)),
+                      depth_.backdropMeters)
+        .depthMeters;
   }
 
   // Every plate frame's depth file must exist before the first frame renders. The whole clip
@@ -199,8 +203,8 @@ class DepthStage : public Stage {
   std::optional<DepthSequence> file_;
   CameraPath path_;
   bool perFrame_ = false;
-  bool skyPerFrame_ = false;        // the guess, with each frame's own sky (a moving camera)
-  std::vector<float> depthMeters_;  // a frame's depth, when it is not made per frame
+  std::optional<FrameSky> frameSky_;  // the guess, with each frame's own sky (a moving camera)
+  std::vector<float> depthMeters_;    // a frame's depth, when it is not made per frame
 };
 
 }  // namespace

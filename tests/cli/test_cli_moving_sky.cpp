@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include <fmt/format.h>
+#include <opencv2/core.hpp>
 
 #include "test_support.h"
 
@@ -83,6 +84,40 @@ TEST(CliMovingSky, ALockedOffCameraKeepsTheStillsSky) {
   const auto [sky, wall] = skyShares(dir / "out.0003.exr", 0);
   EXPECT_GT(sky, 0.98);
   EXPECT_LT(wall, 0.01);
+}
+
+// Frame 3 of a pan catches a flat, bright patch on the wall below the left roofs (glare, a pale
+// panel): on its own it reads as sky joined to the sky above. Its neighbours show the wall there,
+// so the vote keeps it backdrop, and the rest of the sky stays sky.
+TEST(CliMovingSky, APatchThatLooksLikeSkyInOneFrameOnlyStaysBackdrop) {
+  const auto dir = freshTempDir("cli_moving_sky_vote");
+  const cv::Rect patch(20, 50, 70, 50);
+  const std::string plate =
+      writePlateSequence(dir, 1, 5, kWidth, kHeight, [&](Image& image, int frame) {
+        paintView(image, 13 * (frame - 1));
+        if (frame != 3) return;
+        for (int y = patch.y; y < patch.y + patch.height; ++y)
+          for (int x = patch.x; x < patch.x + patch.width; ++x)
+            for (int c = 0; c < 3; ++c) image.pixel(x, y)[c] = 0.92f;
+      });
+  const CommandResult r = runPluvia({"render", plate, "-p", "moderate", "--set", "rain.rate_mm_h=0",
+                                     "--aov", "depth", "-o", (dir / "out.####.exr").string()});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  expectOutputHas(r.output, {"voted with the frames beside it"});
+  const ExrPixels pixels = readAllChannels(dir / "out.0003.exr");
+  const auto z = std::find(pixels.channels.begin(), pixels.channels.end(), "depth.Z");
+  ASSERT_NE(z, pixels.channels.end());
+  const size_t channel = size_t(z - pixels.channels.begin()), stride = pixels.channels.size();
+  double inPatch = 0, patchAsSky = 0;
+  for (int y = patch.y; y < patch.y + patch.height; ++y)
+    for (int x = patch.x; x < patch.x + patch.width; ++x) {
+      if (y < roofRow(x + 26) + 4) continue;  // the patch below the roof only
+      inPatch += 1;
+      patchAsSky += pixels.samples[(size_t(y) * kWidth + x) * stride + channel] >= 65504.0f;
+    }
+  // Measured: none of it (each frame's own sky took it all). The sky above the roofs stays sky.
+  EXPECT_LT(patchAsSky / inPatch, 0.05);
+  EXPECT_GT(skyShares(dir / "out.0003.exr", 26).first, 0.95);
 }
 
 }  // namespace
