@@ -37,8 +37,8 @@ const SmallSky& FrameSky::smallAt(ClipContext& clip, int64_t frame, const Image*
   if (auto found = recent_.find(frame); found != recent_.end()) return found->second;
   if (recent_.size() >= kKeptFrames) recent_.erase(recent_.begin());
   if (image) return recent_[frame] = smallSkyOf(*image, cameraAt_(double(frame)));
-  if (!neighbours_)
-    neighbours_ = clip.openWorkingReader ? clip.openWorkingReader() : clip.readWorking;
+  // Not clip.readWorking: the render's reader is decoding the next frames on its own thread.
+  if (!neighbours_) neighbours_ = clip.openWorkingReader();
   return recent_[frame] = smallSkyOf(neighbours_(frame), cameraAt_(double(frame)));
 }
 

@@ -32,7 +32,7 @@ class FrameSky {
   const SmallSky& smallAt(ClipContext& clip, int64_t frame, const Image* image);
 
   std::function<Camera(double)> cameraAt_;
-  std::function<Image(int64_t)> neighbours_;  // a reader of its own: the render's stays in order
+  std::function<Image(int64_t)> neighbours_;  // a reader of its own (clip.openWorkingReader)
   std::map<int64_t, SmallSky> recent_;        // the last frames' (frames render in order)
 };
 
