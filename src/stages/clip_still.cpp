@@ -59,6 +59,15 @@ std::string skyKey(const ClipContext& clip, const Camera& camera) {
   return hasher.hex();
 }
 
+// `image`'s linear RGB at the size the sky is found at (its longest side kSkySidePx).
+cv::Mat atSkySize(const Image& image, int interpolation) {
+  const double scale = double(kSkySidePx) / std::max(image.width, image.height);
+  cv::Mat small;
+  cv::resize(rgbMat(image), small, scaledSize(image.width, image.height, scale), 0, 0,
+             interpolation);
+  return small;
+}
+
 // Up to `maxFrames` of `frames`, spread evenly over them (the first included): the frames a
 // still is the median of.
 std::vector<int64_t> spreadFrames(const std::vector<int64_t>& frames, int maxFrames) {
@@ -124,10 +133,9 @@ const Image& clipStill(ClipContext& clip) {
 }
 
 SmallSky smallSkyOf(const Image& image, const Camera& camera) {
-  const double scale = double(kSkySidePx) / std::max(image.width, image.height);
-  cv::Mat small, bgr;
-  cv::resize(rgbMat(image), small, scaledSize(image.width, image.height, scale), 0, 0,
-             scale < 1.0 ? cv::INTER_AREA : cv::INTER_LINEAR);
+  const bool shrinks = std::max(image.width, image.height) > kSkySidePx;
+  const cv::Mat small = atSkySize(image, shrinks ? cv::INTER_AREA : cv::INTER_LINEAR);
+  cv::Mat bgr;
   cv::cvtColor(small, bgr, cv::COLOR_RGB2BGR);
   SmallSky out;
   out.sky = estimateSkyMask(bgr, camera);
@@ -156,20 +164,16 @@ double stillMismatch(ClipContext& clip) {
     if (auto cached = clip.cache->load("still-motion", key)) return cached->at("mismatch");
   // Grey display codes at the sky's size, 5x5 median-filtered: thin rain streaks and noise
   // leave, a moved picture stays.
-  const Image& stillImage = clipStill(clip);
-  const double scale = double(kSkySidePx) / std::max(stillImage.width, stillImage.height);
-  const auto grey = [&](const Image& image) {
+  const auto grey = [](const Image& image) {
     cv::Mat small, codes;
-    cv::resize(rgbMat(image), small, scaledSize(image.width, image.height, scale), 0, 0,
-               cv::INTER_AREA);
-    cv::cvtColor(small, small, cv::COLOR_RGB2GRAY);
+    cv::cvtColor(atSkySize(image, cv::INTER_AREA), small, cv::COLOR_RGB2GRAY);
     cv::max(small, 0.0, small);
     cv::pow(small, 1.0 / 2.2, small);
     small.convertTo(codes, CV_8U, 255.0);
     cv::medianBlur(codes, codes, 5);
     return codes;
   };
-  const cv::Mat stillGrey = grey(stillImage);
+  const cv::Mat stillGrey = grey(clipStill(clip));
   double worst = 0.0;
   for (int64_t frame : spreadFrames(clip.clip->frames, kStillFrames)) {
     cv::Mat difference;

@@ -142,8 +142,8 @@ class DepthStage : public Stage {
       log::info(fmt::format(
           "depth: guessed from each frame (its own sky, voted with the frames beside it, ground "
           "under the camera, the rest at {:g} m): the camera moves ({:.0f} % of a frame shows "
-          "something else than the clip's "
-          "still); give depth.layers, a depth file or COLMAP for a better one",
+          "something else than the clip's still); give depth.layers, a depth file or COLMAP for "
+          "a better one",
           depth_.backdropMeters, 100.0 * mismatch));
       return;
     }
