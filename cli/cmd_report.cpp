@@ -11,6 +11,7 @@
 
 #include "commands.h"
 #include "common.h"
+#include "io/clip_reader.h"
 #include "lab/depth_report.h"
 #include "lab/derain_report.h"
 #include "lab/envmap_report.h"
@@ -247,6 +248,12 @@ void addReportRealism(CLI::App& report) {
       for (const std::string& name : shippedPresetNames())
         if (name != "base") settings.presets.push_back(name);
     for (const std::string& preset : settings.presets) loadPreset(preset, args->sets);
+    // The clips' frames are inputs: no table or plot is written over one.
+    for (const std::string& clip : settings.clips) {
+      const std::vector<std::string> files = openClip(clip)->info().files;
+      refuseOverwritingInput(files, "--csv", {args->data.files.csv});
+      refuseOverwritingInput(files, "--plot", {args->data.files.plot});
+    }
     const lab::RealismReport result = lab::runRealismReport(
         settings, [&](const std::vector<cv::Mat3f>& plates, double fps, const std::string& preset) {
           return renderOnPlates(plates, fps, preset, args->sets);

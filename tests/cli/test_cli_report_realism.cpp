@@ -1,7 +1,8 @@
 // `pluvia report realism --quick` end to end on the real NTURain clip (skipped without the shared
 // data): the real rain's statistics and a preset's, their ratios and typical factor, the CSV,
 // the plot and the contact sheet; pluvia's own rain, taken as the "real" clip, scores as itself;
-// and a clip that cannot be read is an error naming it.
+// a clip that cannot be read is an error naming it; and no table is written over a frame of the
+// clip.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <string>
 
 #include "test_support.h"
+#include "util/fs.h"
 
 using namespace pluvia;
 using namespace pluvia::test;
@@ -69,6 +71,20 @@ TEST(CliReportRealism, PluviasOwnRainScoresAsItself) {
   const double typical =
       parseNumber(report.table.rows[1][report.table.column.at("typical")], report.table.lines[1]);
   EXPECT_LT(typical, 1.18) << report.result.output;
+}
+
+TEST(CliReportRealism, ATableNamingAFrameOfTheClipIsRefusedAndTheFrameKept) {
+  const auto dir = freshTempDir("report_realism_overwrite");
+  const std::string clip = writePlateSequence(dir, 1, 8, 64, 48, [](Image& image, int frame) {
+    for (float& v : image.rgba) v = 0.1f * float(frame % 5);
+  });
+  const stdfs::path frame = dir / "plate.0002.png";
+  const std::string before = fs::readTextFile(frame);
+  const CommandResult r =
+      runPluvia({"report", "realism", clip, "-p", "gentle", "--quick", "--csv", frame.string()});
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  expectOutputHas(r.output, {"--csv", "plate.0002.png", "refusing to overwrite"});
+  EXPECT_EQ(fs::readTextFile(frame), before);
 }
 
 TEST(CliReportRealism, AClipThatCannotBeReadIsNamed) {
