@@ -38,7 +38,7 @@ const SfmKeyframe& nearestKeyframe(const SfmReconstruction& sfm, int64_t frame) 
 
 SfmStatus statusFromName(const std::string& name) {
   for (SfmStatus s : {SfmStatus::Ok, SfmStatus::TooFewRegistered, SfmStatus::NoParallax,
-                      SfmStatus::NoGroundPlane, SfmStatus::ImplausibleCamera})
+                      SfmStatus::NoGroundPlane, SfmStatus::ImplausibleCamera, SfmStatus::Bent})
     if (name == sfmStatusName(s)) return s;
   throw Error("unknown SfM status \"" + name + "\" in cached reconstruction");
 }
@@ -125,6 +125,17 @@ bool keepSecondModel(const SfmReconstruction& first, const SfmReconstruction& se
                     : fmt::format("the second mapping gave no usable model ({}); kept the first",
                                   second.message);
   return keep;
+}
+
+void refuseUnusableModel(SfmReconstruction& sfm, const SfmOptions& options) {
+  std::string reason;
+  const double bent = sfm.ok() ? bentness(sfm, options, &reason) : 0.0;
+  if (bent <= options.maxUsableBentness) return;
+  sfm.status = SfmStatus::Bent;
+  sfm.message = fmt::format(
+      "the model is bent beyond use ({}: {:.1f} times the bound, refused past {:g}); its scale "
+      "and depth would be wrong",
+      reason, bent, options.maxUsableBentness);
 }
 
 std::vector<int64_t> trackingFrames(const std::vector<int64_t>& frames, int step) {
@@ -296,6 +307,7 @@ ClipTracking trackClip(const std::vector<int64_t>& frames,
     if (!keep) tracking = first;
     log::info("depth: mapped again: " + why);
   }
+  refuseUnusableModel(tracking.sfm, settings.sfm);
   tracking.seconds = secondsSince(started);
   logGravityAndScale(tracking.sfm);
   return tracking;
@@ -334,6 +346,7 @@ SfmReconstruction trackingFromModel(const std::filesystem::path& textModelFolder
     }
   SfmReconstruction sfm = reconstructionFromColmap(model, inModel, options, imageFolder);
   logGravityAndScale(sfm);
+  refuseUnusableModel(sfm, options);
   return sfm;
 }
 

@@ -55,6 +55,11 @@ struct ClipTracking {
 bool keepSecondModel(const SfmReconstruction& first, const SfmReconstruction& second,
                      const SfmOptions& options, std::string& why);
 
+// A model that stays bent past SfmOptions::maxUsableBentness (after the remap) gets status Bent
+// and a message naming why, so the depth stage stops (or falls back to the layers) instead of
+// rendering with its scale and depth.
+void refuseUnusableModel(SfmReconstruction& sfm, const SfmOptions& options);
+
 // Every step-th of `frames` from the first, and the last.
 std::vector<int64_t> trackingFrames(const std::vector<int64_t>& frames, int step);
 

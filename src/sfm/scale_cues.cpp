@@ -29,8 +29,9 @@ void checkHeights(SfmReconstruction& sfm, const SfmOptions& options) {
   for (double h : heights) variance += (h - mean) * (h - mean);
   variance /= static_cast<double>(heights.size());
   // The standard deviation, not the range: one photo taken crouching (Sceaux Castle's first, a
-  // quarter of a metre under the others) should not by itself call a model bent.
-  const double spread = std::sqrt(variance) / mean;
+  // quarter of a metre under the others) should not by itself call a model bent. Over the mean's
+  // magnitude: cameras below the ground (a mean near or under 0) are the most bent of all.
+  const double spread = std::sqrt(variance) / std::abs(mean);
   sfm.cameraHeightSpread = spread;
   if (spread > options.maxCameraHeightSpread)
     sfm.warnings.push_back(fmt::format(

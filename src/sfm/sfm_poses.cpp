@@ -83,6 +83,8 @@ const char* sfmStatusName(SfmStatus status) {
       return "no_ground_plane";
     case SfmStatus::ImplausibleCamera:
       return "implausible_camera";
+    case SfmStatus::Bent:
+      return "bent";
   }
   return "ok";
 }

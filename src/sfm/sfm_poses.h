@@ -67,6 +67,9 @@ struct SfmOptions {
   VerticalLineOptions verticalLines;
   double maxGroundTiltFromVerticalDeg = 6.0;  // a steep street; beyond, the model may be bent
   double maxCameraHeightSpread = 0.1;         // standard deviation / mean camera height
+  // A model bent this many times past those bounds (heights spreading 30 %, the ground 18 deg off
+  // the façades) is refused rather than warned about: its scale and depth would be wrong.
+  double maxUsableBentness = 3.0;
   // Where façade lines show buildings, the points' 95th-percentile height above the ground should
   // exceed this many camera heights (a one-storey house is about 2 camera heights tall).
   double minStructureOverCameraHeight = 1.5;
@@ -75,8 +78,8 @@ struct SfmOptions {
 };
 
 // ImplausibleCamera is set by the caller (clip_tracking.h), not by reconstructionFromColmap.
-enum class SfmStatus { Ok, TooFewRegistered, NoParallax, NoGroundPlane, ImplausibleCamera };
-// "ok", "too_few_registered", "no_parallax", "no_ground_plane", "implausible_camera".
+enum class SfmStatus { Ok, TooFewRegistered, NoParallax, NoGroundPlane, ImplausibleCamera, Bent };
+// "ok", "too_few_registered", "no_parallax", "no_ground_plane", "implausible_camera", "bent".
 const char* sfmStatusName(SfmStatus status);
 
 // A registered clip frame.

@@ -183,3 +183,37 @@ TEST(BentModel, IsDetectedAndAStraighterRemapReplacesIt) {
   EXPECT_NEAR(spread.cameraHeightSpread, 0.4023 / 1.375, 1e-3);
   EXPECT_NE(reason.find("camera heights' standard deviation is 29 %"), std::string::npos) << reason;
 }
+
+// A model still bent far past the bounds after the remap (a 29-photo walk came back from COLMAP
+// with cameras from 139 m below the fitted ground to 21 m above it) is refused with the reason, so
+// the render stops before its first frame instead of rendering with its scale; one bent within
+// maxUsableBentness is used, with the warning.
+TEST(BentModel, FarPastTheBoundsIsRefusedNotUsed) {
+  SfmOptions options;
+  SfmReconstruction broken = walk({-139.2, 1.6, 20.9, 3.0}, 1.2, 25);
+  checkScaleCues(broken, options);
+  refuseUnusableModel(broken, options);
+  EXPECT_EQ(broken.status, SfmStatus::Bent);
+  EXPECT_STREQ(sfmStatusName(broken.status), "bent");
+  EXPECT_NE(broken.message.find("bent beyond use"), std::string::npos) << broken.message;
+  EXPECT_NE(broken.message.find("camera heights' standard deviation"), std::string::npos)
+      << broken.message;
+
+  // Heights spreading 29 % (bentness 2.9) and a street 10 deg off the façades (1.7) stay usable.
+  SfmReconstruction spread = walk({0.9, 1.2, 2.0, 1.4}, 1.2, 25);
+  checkScaleCues(spread, options);
+  refuseUnusableModel(spread, options);
+  EXPECT_TRUE(spread.ok()) << spread.message;
+  SfmReconstruction tilted = walk({1.58, 1.62, 1.6, 1.61}, 1.2, 25);
+  tilted.verticalLineCount = 120;
+  tilted.groundTiltFromVerticalDeg = 10.0;
+  checkScaleCues(tilted, options);
+  refuseUnusableModel(tilted, options);
+  EXPECT_TRUE(tilted.ok()) << tilted.message;
+
+  // A ground 20 deg off the façades' vertical is no ground the cameras walked on.
+  tilted.groundTiltFromVerticalDeg = 20.0;
+  refuseUnusableModel(tilted, options);
+  EXPECT_EQ(tilted.status, SfmStatus::Bent);
+  EXPECT_NE(tilted.message.find("tilts 20.0 deg"), std::string::npos) << tilted.message;
+}
