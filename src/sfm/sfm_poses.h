@@ -77,7 +77,8 @@ struct SfmOptions {
   double framesPerSecond = 0.0;                 // the clip's; 0: unknown (photos), no speed cue
 };
 
-// ImplausibleCamera is set by the caller (clip_tracking.h), not by reconstructionFromColmap.
+// ImplausibleCamera and Bent are set by the caller (clip_tracking.h), not by
+// reconstructionFromColmap.
 enum class SfmStatus { Ok, TooFewRegistered, NoParallax, NoGroundPlane, ImplausibleCamera, Bent };
 // "ok", "too_few_registered", "no_parallax", "no_ground_plane", "implausible_camera", "bent".
 const char* sfmStatusName(SfmStatus status);

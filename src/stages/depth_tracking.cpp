@@ -16,7 +16,9 @@
 namespace pluvia {
 namespace {
 
-constexpr const char* kTrackingVersion = "4";  // 4: gravity from façade lines, sloping ground
+// 4: gravity from façade lines, sloping ground; 5: a model bent beyond use is refused (a cached
+// one from before would be used).
+constexpr const char* kTrackingVersion = "5";
 constexpr const char* kCacheStage = "depth";
 
 // The values the tracking depends on (not the layers or the fallback), by section and key: the
