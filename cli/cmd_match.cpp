@@ -1,6 +1,7 @@
 // `pluvia match REFERENCE -o PRESET.json [-p BASE]`: a preset fitted to a clip of real rain
 // (lab/rain_match.h): candidates rendered on the reference's own clean plates until their streaks'
 // statistics match its rain's, the best written as a preset extending BASE.
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -57,8 +58,8 @@ nlohmann::json matchedPreset(const lab::RainMatch& match, const std::string& bas
 void addMatchCommand(CLI::App& app, Invocation& invocation) {
   auto* cmd = app.add_subcommand(
       "match",
-      "a preset fitted to a clip of real rain: rate, shutter and wind, rendered on its "
-      "clean plates until the streaks match");
+      "a preset fitted to a clip of real rain: rate, shutter, wind and how deep the rain is seen, "
+      "rendered on its clean plates until the streaks match");
   struct Args {
     std::string reference, output, base = "moderate";
     lab::RainMatchSettings settings;
@@ -89,6 +90,8 @@ void addMatchCommand(CLI::App& app, Invocation& invocation) {
     settings.clip = args->reference;
     settings.start.rateMmPerHour = base.number("rain.rate_mm_h");
     settings.start.opacity = base.number("rain.opacity");
+    settings.start.farMeters = base.number("rain.far_m");
+    settings.minFarMeters = std::max(settings.minFarMeters, 2.0 * base.number("rain.near_m"));
     const double exposure = base.number("camera.exposure_s");
     settings.start.exposureSeconds = exposure > 0.0 ? exposure : kDaylightExposureSeconds;
     // The base's wind across the view (dir_deg 0 is the camera's right, 90 away from it).

@@ -2,12 +2,17 @@
 // `pluvia match`: what a preset needs to reproduce the rain of a reference clip of real rain.
 // The reference's clean plates are made once (lab/real_rain_clip.h); candidates are rendered on
 // them, and their streaks measured as the reference's are: frames minus clean plates estimated
-// from those frames, then the statistics of `pluvia report realism`. Three numbers set the
+// from those frames, then the statistics of `pluvia report realism`. Four numbers set the
 // streaks' statistics, and each statistic answers more than one of them:
 //  - the shutter (camera.exposure_s) sets the streaks' length (about exposure^0.4 at video
 //    scales), and a longer one also dims them (exposure^-0.39: a drop's light spread along a
 //    longer streak) and thins them out (fewer pass the threshold);
 //  - the rate (rain.rate_mm_h) their number per megapixel and the share of pixels they cover;
+//  - the farthest drops drawn (rain.far_m) how deep the rain is seen: real footage often shows
+//    only its near drops (NTURain's streaks are twice as long as pluvia's drawn to 8 m, and its
+//    frames carry no pepper of faint far specks; matched at 1.7 m), so a nearer far_m thins out
+//    the short faint streaks of far drops, which brightens the streaks left and lets a longer
+//    shutter lengthen them without losing them under the threshold;
 //  - the wind across the view (rain.wind, toward the camera's right or left) their angle, by the
 //    secant through the steps with the most different winds (at first about 13 degrees of streak
 //    per m/s, a 4.5 m/s fall).
@@ -35,6 +40,7 @@ struct RainLook {
   double rateMmPerHour = 8.0;
   double exposureSeconds = 1.0 / 250.0;
   double opacity = 1.0;
+  double farMeters = 8.0;                 // rain.far_m
   double windRightMetersPerSecond = 0.0;  // toward the camera's right; negative: its left
   bool baseWind = false;  // true: the base preset's wind, left as it is (no overrides)
 };
@@ -54,6 +60,9 @@ struct RainMatchSettings {
   int widthPx = 640;
   int steps = 6;  // renders
   RainLook start;
+  // rain.far_m stays above this (the drops must lie beyond near_m: at least 1 m, twice a base's
+  // own near_m).
+  double minFarMeters = 1.0;
 };
 
 // Renders the reference's clean plates (RGB codes) at `fps` with the base preset and these
