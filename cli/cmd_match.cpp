@@ -2,6 +2,7 @@
 // (lab/rain_match.h): candidates rendered on the reference's own clean plates until their streaks'
 // statistics match its rain's, the best written as a preset extending BASE.
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -82,7 +83,8 @@ void addMatchCommand(CLI::App& app, Invocation& invocation) {
       ->check(CLI::Range(64, 8192))
       ->capture_default_str();
   cmd->callback([=, &invocation] {
-    refuseOverwritingInput(openClip(args->reference)->info().files, "-o", {args->output});
+    const ClipInfo reference = openClip(args->reference)->info();
+    refuseOverwritingInput(reference.files, "-o", {args->output});
     refuseOverwritingInput({findPreset(args->base).string()}, "-o", {args->output});
     // The base's own rain is where the search starts (its automatic shutter: a day's).
     const Preset base = loadPreset(args->base, {});
@@ -90,8 +92,11 @@ void addMatchCommand(CLI::App& app, Invocation& invocation) {
     settings.clip = args->reference;
     settings.start.rateMmPerHour = base.number("rain.rate_mm_h");
     settings.start.opacity = base.number("rain.opacity");
-    settings.start.farMeters = base.number("rain.far_m");
     settings.minFarMeters = std::max(settings.minFarMeters, 2.0 * base.number("rain.near_m"));
+    // far_m 0 (every shipped base): as deep as a camera filming the reference at its own width
+    // sees the base's rain.
+    settings.start.farMeters = std::max(
+        settings.minFarMeters, drawnDepthMeters(rainSettings(base), base, reference.width));
     const double exposure = base.number("camera.exposure_s");
     settings.start.exposureSeconds = exposure > 0.0 ? exposure : kDaylightExposureSeconds;
     // The base's wind across the view (dir_deg 0 is the camera's right, 90 away from it).
@@ -102,8 +107,8 @@ void addMatchCommand(CLI::App& app, Invocation& invocation) {
     std::unique_ptr<PlateRenderer> renderer;
     const lab::RainMatch match =
         lab::matchRain(settings, [&](const std::vector<cv::Mat3f>& plates, double fps,
-                                     const std::vector<std::string>& overrides) {
-          if (!renderer) renderer = std::make_unique<PlateRenderer>(plates, fps);
+                                     int filmedWidthPx, const std::vector<std::string>& overrides) {
+          if (!renderer) renderer = std::make_unique<PlateRenderer>(plates, fps, filmedWidthPx);
           return renderer->render(args->base, overrides);
         });
     std::cout << lab::formatRainMatch(match);

@@ -254,9 +254,10 @@ void addReportRealism(CLI::App& report) {
       refuseOverwritingInput(files, "--csv", {args->data.files.csv});
       refuseOverwritingInput(files, "--plot", {args->data.files.plot});
     }
-    const lab::RealismReport result = lab::runRealismReport(
-        settings, [&](const std::vector<cv::Mat3f>& plates, double fps, const std::string& preset) {
-          return renderOnPlates(plates, fps, preset, args->sets);
+    const lab::RealismReport result =
+        lab::runRealismReport(settings, [&](const std::vector<cv::Mat3f>& plates, double fps,
+                                            int filmedWidthPx, const std::string& preset) {
+          return renderOnPlates(plates, fps, filmedWidthPx, preset, args->sets);
         });
     args->data.files.show(result, lab::formatRealismReport, lab::writeRealismReportCsv,
                           lab::writeRealismReportPlot);

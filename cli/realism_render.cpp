@@ -36,8 +36,15 @@ cv::Mat3f codesOf(const Image& image) {
 
 }  // namespace
 
-PlateRenderer::PlateRenderer(const std::vector<cv::Mat3f>& plates, double fps)
-    : folder_("pluvia-realism"), fps_(fps) {
+double drawnDepthMeters(const RainSettings& rain, const Preset& preset, int filmedWidthPx) {
+  if (rain.farMeters > 0.0) return rain.farMeters;
+  const double focalPx =
+      0.5 * filmedWidthPx / std::tan(0.5 * preset.number("camera.fov_deg") * M_PI / 180.0);
+  return streakDepthMeters(rain, focalPx);
+}
+
+PlateRenderer::PlateRenderer(const std::vector<cv::Mat3f>& plates, double fps, int filmedWidthPx)
+    : folder_("pluvia-realism"), fps_(fps), filmedWidthPx_(filmedWidthPx) {
   for (size_t i = 0; i < plates.size(); ++i)
     writePlate((folder_.path() / fmt::format("plate.{:04d}.png", i)).string(), plates[i]);
 }
@@ -49,6 +56,7 @@ std::vector<cv::Mat3f> PlateRenderer::render(const std::string& preset,
   request.output = OutputTarget::classify((folder_.path() / "rained.####.png").string());
   request.cacheDir = (folder_.path() / "cache").string();
   request.progress = false;
+  request.filmedWidthPx = filmedWidthPx_;
   std::vector<std::string> overrides = sets;
   for (const char* off : {"darken.enabled=false", "blur.enabled=false", "fog.enabled=false"})
     overrides.push_back(off);
@@ -68,9 +76,9 @@ std::vector<cv::Mat3f> PlateRenderer::render(const std::string& preset,
 }
 
 std::vector<cv::Mat3f> renderOnPlates(const std::vector<cv::Mat3f>& plates, double fps,
-                                      const std::string& preset,
+                                      int filmedWidthPx, const std::string& preset,
                                       const std::vector<std::string>& sets) {
-  return PlateRenderer(plates, fps).render(preset, sets);
+  return PlateRenderer(plates, fps, filmedWidthPx).render(preset, sets);
 }
 
 }  // namespace pluvia::cli

@@ -9,6 +9,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "preset/preset.h"
+#include "stages/rain_settings.h"
 #include "temporary_folder.h"
 
 namespace pluvia::cli {
@@ -16,10 +18,17 @@ namespace pluvia::cli {
 // Plates written once as a temporary PNG sequence (removed with the object), with a per-clip
 // analysis cache beside them (--cache), so that renders of several looks on the same plates
 // (`pluvia match`'s candidates) make the lighting, the depth guess and the lamps search once.
+// How deep the preset's rain is drawn by a camera `filmedWidthPx` wide: rain.far_m, or with 0
+// the depth that camera sees rain as streaks (rain/rain_depth.h).
+double drawnDepthMeters(const RainSettings& rain, const Preset& preset, int filmedWidthPx);
+
 class PlateRenderer {
  public:
-  // `plates`: RGB, 8-bit display codes as float 0-255, frames 0.. of a clip at `fps`.
-  PlateRenderer(const std::vector<cv::Mat3f>& plates, double fps);
+  // `plates`: RGB, 8-bit display codes as float 0-255, frames 0.. of a clip at `fps`, standing
+  // for footage filmed `filmedWidthPx` wide: rain.far_m 0 draws the rain as deep as that camera
+  // sees it, not as the plates' measuring width would (a 1280 px clip measured at 640 px shows
+  // its rain twice as deep as a 640 px camera would).
+  PlateRenderer(const std::vector<cv::Mat3f>& plates, double fps, int filmedWidthPx);
   // The rained frames in the plates' encoding, rounded to codes; darken, blur and fog off.
   std::vector<cv::Mat3f> render(const std::string& preset,
                                 const std::vector<std::string>& sets) const;
@@ -27,13 +36,14 @@ class PlateRenderer {
  private:
   TemporaryFolder folder_;
   double fps_;
+  int filmedWidthPx_;
 };
 
 // `plates`: RGB, 8-bit display codes as float 0-255, frames 0.. of a clip at `fps`. Returns the
 // rained frames in the same encoding, rounded to codes. The plates go through a temporary PNG
 // sequence (removed afterwards), read as sRGB as any 8-bit plate is.
 std::vector<cv::Mat3f> renderOnPlates(const std::vector<cv::Mat3f>& plates, double fps,
-                                      const std::string& preset,
+                                      int filmedWidthPx, const std::string& preset,
                                       const std::vector<std::string>& sets);
 
 }  // namespace pluvia::cli

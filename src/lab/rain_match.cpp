@@ -168,7 +168,8 @@ RainMatch matchRain(const RainMatchSettings& settings, const RenderLook& render)
     const auto started = std::chrono::steady_clock::now();
     RainMatchStep result;
     result.look = look;
-    const std::vector<cv::Mat3f> rendered = render(plates, clip.fps, lookOverrides(look));
+    const std::vector<cv::Mat3f> rendered =
+        render(plates, clip.fps, clip.filmedWidthPx, lookOverrides(look));
     // Measured as the reference is: against clean plates estimated from the frames themselves
     // (against the plates they were rendered on, the estimator's own error, which the
     // reference's rain carries, would be missing: pluvia's rain of known rate was matched at

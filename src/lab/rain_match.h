@@ -65,10 +65,11 @@ struct RainMatchSettings {
   double minFarMeters = 1.0;
 };
 
-// Renders the reference's clean plates (RGB codes) at `fps` with the base preset and these
-// overrides; returns the rained frames in the same encoding.
-using RenderLook = std::function<std::vector<cv::Mat3f>(
-    const std::vector<cv::Mat3f>& plates, double fps, const std::vector<std::string>& overrides)>;
+// Renders the reference's clean plates (RGB codes) at `fps`, filmed `filmedWidthPx` wide, with
+// the base preset and these overrides; returns the rained frames in the same encoding.
+using RenderLook = std::function<std::vector<cv::Mat3f>(const std::vector<cv::Mat3f>& plates,
+                                                        double fps, int filmedWidthPx,
+                                                        const std::vector<std::string>& overrides)>;
 
 struct RainMatchStep {
   RainLook look;

@@ -34,6 +34,7 @@ RealClip readRealClip(const std::string& path, int count, int widthPx) {
   clip.name = numbersOnly && file.has_parent_path() ? file.parent_path().filename().string()
                                                     : file.filename().string();
   if (info.isMovie) clip.fps = info.fps;
+  clip.filmedWidthPx = info.width;
   const double scale = double(widthPx) / info.width;
   const size_t n = std::min(info.frames.size(), size_t(count));
   if (n < 3)

@@ -19,6 +19,7 @@ struct RealClip {
   std::string name;  // its file name, or its folder's for a sequence named by numbers only
   double fps = kUnknownFps;
   std::vector<cv::Mat3f> frames;  // RGB, 8-bit display codes, at the measuring width
+  int filmedWidthPx = 0;          // the footage's own width: the camera that filmed the rain
 };
 
 // NTURain ra1 in the shared data (a sequence pattern); empty when it is not there.

@@ -124,7 +124,7 @@ RealismReport runRealismReport(const RealismReportSettings& settings,
     const RealismRow* nearest = nullptr;
     for (const std::string& preset : settings.presets) {
       const auto renderStarted = std::chrono::steady_clock::now();
-      SheetColumn column{preset, render(plateImages, clip.fps, preset), {}};
+      SheetColumn column{preset, render(plateImages, clip.fps, clip.filmedWidthPx, preset), {}};
       RealismRow row;
       row.clip = clip.name;
       row.preset = preset;

@@ -43,10 +43,12 @@ struct RealismReportSettings {
 };
 
 // Renders `preset` over the clean plates (RGB, 8-bit display codes as float 0-255, one per
-// frame, a clip at `fps`) and returns the rendered frames in the same encoding, rounded to
-// 8-bit codes as a video frame is.
-using RenderOnPlates = std::function<std::vector<cv::Mat3f>(const std::vector<cv::Mat3f>& plates,
-                                                            double fps, const std::string& preset)>;
+// frame, a clip at `fps`, filmed `filmedWidthPx` wide: the camera whose rain the preset draws)
+// and returns the rendered frames in the same encoding, rounded to 8-bit codes as a video frame
+// is.
+using RenderOnPlates =
+    std::function<std::vector<cv::Mat3f>(const std::vector<cv::Mat3f>& plates, double fps,
+                                         int filmedWidthPx, const std::string& preset)>;
 
 struct RealismRow {
   std::string clip;    // its file name

@@ -57,7 +57,7 @@ const SettingsTable<CameraSettings>& cameraTable() {
                numberParam("exposure_s", 0.02, {0.0, 1.0}, "s",
                            "shutter time; sets the streak length and brightness; 0: auto: the "
                            "plate's own (its files' ExposureTime), else a video camera's: "
-                           "1/1000 s on a day plate, the 180-degree shutter (half the frame "
+                           "1/600 s on a day plate, the 180-degree shutter (half the frame "
                            "time) on a night plate")),
           bind(&S::shutterAngleDeg,
                numberParam("shutter_angle_deg", 0.0, {0.0, 360.0}, "deg",

@@ -397,6 +397,8 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
   // length in pixels, so the rain and the depth land where they would on the full frame.
   context_.camera = cameraOfFrame(camera_, clip());
   context_.cameraPath = camera_.path(context_.camera);
+  context_.filmedScale = request.filmedWidthPx > 0 ? double(request.filmedWidthPx) / clip().width
+                                                   : 1.0 / request.proxyScale;
   context_.framesKey = framesKey_;
   // A movie's 8- or 16-bit codes looked up in the working space as they are unpacked: the
   // values toWorking_.apply() gives, without a pass over the frame.

@@ -45,6 +45,11 @@ struct RenderRequest {
   // Proxy render, in (0, 1]: every frame is resized by this factor right after reading, so the
   // camera, the analysis, the rain and the output all work at the reduced size. 1: full size.
   double proxyScale = 1.0;
+  // The width the footage was filmed at, when the input stands for footage filmed at another size
+  // (`pluvia report realism` renders on plates scaled to 640 px); 0: the input's own, before
+  // --proxy. rain.far_m 0 counts its pixels (rain/rain_depth.h), so a proxy or a measuring copy
+  // draws the rain the full-size camera sees.
+  int filmedWidthPx = 0;
   // How the output is written: movie codec, EXR sample type and compression (the rest of
   // WriterOptions is filled in from the clip and the preset).
   WriterOptions format;

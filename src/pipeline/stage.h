@@ -88,6 +88,9 @@ struct ClipContext {
   // so a --set change that touches none of these finds them.
   std::string framesKey;
   Camera camera;
+  // The width the footage was filmed at over the width rendered (1 / --proxy; RenderRequest::
+  // filmedWidthPx): how deep the camera sees rain counts the filmed camera's pixels.
+  double filmedScale = 1.0;
   double fps = 24.0;
   ArtifactCache* cache = nullptr;  // null without --cache
   StageTimes* times = nullptr;

@@ -87,7 +87,8 @@ struct SectionSpec {
   std::vector<std::string> inputs = {};   // artifacts read (pipeline stages only)
   std::vector<std::string> outputs = {};  // artifacts written
   std::vector<ParamSpec> params = {};
-  // Pairs of Number keys whose values must increase, {"near_m", "far_m"}: near_m < far_m.
+  // Pairs of Number keys whose values must increase, {"near_m", "far_m"}: near_m < far_m,
+  // unless either is 0 (resolved from the shot).
   std::vector<std::pair<std::string, std::string>> increasing = {};
   const ParamSpec* find(const std::string& key) const;
 };

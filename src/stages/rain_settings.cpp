@@ -1,5 +1,7 @@
 #include "stages/rain_settings.h"
 
+#include "rain/rain_depth.h"
+
 namespace pluvia {
 
 // The Ramp members (rate, the artist scales, the wind's speed and direction) are keyframable:
@@ -46,7 +48,11 @@ const SettingsTable<RainSettings>& rainTable() {
                             "with other handles get the same rain on the same frame numbers (any "
                             "frame costs at most 23 steps)")),
           bind(&S::farMeters,
-               numberParam("far_m", 15.0, {0.1, 1000.0}, "m", "farthest drops drawn")),
+               numberParam("far_m", 0.0, {0.0, 1000.0}, "m",
+                           "farthest drops drawn; 0: as deep as the camera sees rain as streaks "
+                           "(twice the depth at which the rain's median drop is one pixel wide: "
+                           "1.9 m at 8 mm/h on a 640 px wide 50 deg view, 5.7 m at 1920 px; "
+                           "the fog stands for the rain beyond)")),
           bind(&S::maxDrops, integerParam("max_drops", 100000, {0, 10000000}, "drops",
                                           "cap on the simulated drops")),
           bind(&S::lodPx,
@@ -110,6 +116,11 @@ const SettingsTable<RainSettings>& rainTable() {
                            "camera")),
       });
   return table;
+}
+
+double streakDepthMeters(const RainSettings& rain, double focalPx) {
+  const double rate = rain.rateMmPerHour.maxValue(), sizeScale = rain.sizeScale.maxValue();
+  return rate > 0.0 && sizeScale > 0.0 ? rain::streakDepthMeters(focalPx, rate, sizeScale) : 0.0;
 }
 
 RainSettings rainSettings(const Preset& p) {

@@ -30,7 +30,7 @@ struct RainSettings {
   Ramp opacity{1.0};
   double nearMeters = 0.0;  // 0: from the lens
   int64_t startFrame = 0;
-  double farMeters = 15.0;
+  double farMeters = 0.0;  // 0: from the camera (rain/rain_depth.h)
   int64_t maxDrops = 100000;
   double lodPx = 0.0;  // drops narrower than this (px) drawn as lines (far_drop_lines.h); 0: none
   DropShading shading = DropShading::Default;
@@ -62,5 +62,9 @@ struct RainSettings {
 // resolved preset.
 const SettingsTable<RainSettings>& rainTable();
 RainSettings rainSettings(const Preset& preset);
+
+// How deep a camera of focal length `focalPx` sees this rain as streaks (rain/rain_depth.h), for
+// the shot's heaviest rate and largest drops; 0 when no rain falls.
+double streakDepthMeters(const RainSettings& rain, double focalPx);
 
 }  // namespace pluvia

@@ -1,5 +1,6 @@
 // Rain: particles carrying stroke mattes, drawn on the GPU through headless EGL, shaded by the
 // environment (PRT) and composited over the plate (Wang et al. sections 3-4).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -15,8 +16,10 @@
 #include "rain/thin_lens.h"
 #include "stages/auto_exposure.h"
 #include "stages/cached_drop_radiance.h"
+#include "stages/clip_still.h"
 #include "stages/fog_settings.h"
 #include "stages/lights_settings.h"
+#include "stages/plate_lights.h"
 #include "stages/rain_settings.h"
 #include "stages/registry.h"
 #include "util/error.h"
@@ -45,15 +48,32 @@ double nearMeters(const RainSettings& rain, const CameraSettings& camera, const 
                   lens.nearestWithBlurMeters(kNearBlurFraction * clip.camera.width));
 }
 
+// rain.far_m, or with 0: by day the depth out to which the camera that filmed the plate sees this
+// rain as streaks (rain/rain_depth.h: from its focal length in pixels, a proxy's scaled back to
+// the full frame, for the shot's heaviest rate and largest drops), and at least twice the nearest
+// drops' depth. That rule was measured on daylight footage, where a drop's contrast is its sky's;
+// on a night plate a drop near a lamp stands out of the dark far beyond it (Garg and Nayar: the
+// visible depth grows with the drop's contrast over the noise), so the rain is drawn to
+// kNightFarMeters (the depth every preset drew to before the rule, not a measured one) for the
+// lamps' glints, and the drops far from the lamps stay dark.
+constexpr double kNightFarMeters = 8.0;
+double farMeters(const RainSettings& rain, const ClipContext& clip, double nearMeters,
+                 bool nightPlate) {
+  if (rain.farMeters > 0.0) return rain.farMeters;
+  if (nightPlate) return std::max(2.0 * nearMeters, kNightFarMeters);
+  return std::max(2.0 * nearMeters,
+                  streakDepthMeters(rain, clip.camera.focalPx * clip.filmedScale));
+}
+
 rain::DropSimulationSettings simulationSettings(const RainSettings& rain,
                                                 const CameraSettings& camera,
-                                                const ClipContext& clip) {
+                                                const ClipContext& clip, bool nightPlate) {
   rain::DropSimulationSettings s;
   s.distribution = rain.distribution;
   s.velocityModel = rain.velocity;
   s.minDiameterMm = rain.minDiameterMm;
   s.nearMeters = nearMeters(rain, camera, clip);
-  s.farMeters = rain.farMeters;
+  s.farMeters = farMeters(rain, clip, s.nearMeters, nightPlate);
   s.maxDrops = rain.maxDrops;
   s.seed = rain.seed;
   s.spreadMetersPerSecond = rain.spreadMetersPerSecond;
@@ -131,6 +151,7 @@ class RainStage : public Stage {
   void prepare(ClipContext& clip) override {
     fps_ = clip.fps;
     resolveAutoExposure(camera_, clip, "rain");
+    const bool nightPlate = rain_.farMeters == 0.0 && isNightPlate(plateLuminance(clipStill(clip)));
     const CameraPath path = clip.cameraPath;
     path_ = path;
     // D(theta) per steradian for drops lit by the local lights (lights stage), 512 bins in
@@ -140,7 +161,7 @@ class RainStage : public Stage {
       log::info(fmt::format("rain: camera tracked by COLMAP ({} keys, focal length {:.1f} px)",
                             path.keys().size(), path.cameraAt(0.0).focalPx));
     simulation_ = std::make_unique<rain::DropSimulation>(
-        simulationSettings(rain_, camera_, clip),
+        simulationSettings(rain_, camera_, clip, nightPlate),
         [path](double frame) { return path.cameraAt(frame); },
         [this](double frame) { return rainAt(rain_, frame); });
     // Capped by rain.max_drops: the densest frame (rain cells included) draws fewer drops than
@@ -155,9 +176,12 @@ class RainStage : public Stage {
           100.0 * double(simulation_->poolSize()) / wanted));
     }
     log::info(fmt::format(
-        "rain: drops from {:.2f} to {:g} m, simulated in segments of {} frames from frame {}",
-        simulation_->settings().nearMeters, rain_.farMeters, simulation_->settings().segmentFrames,
-        simulation_->settings().firstFrame));
+        "rain: drops from {:.2f} to {:.3g} m{}, simulated in segments of {} frames from frame {}",
+        simulation_->settings().nearMeters, simulation_->settings().farMeters,
+        rain_.farMeters > 0.0 ? ""
+        : nightPlate          ? " (rain.far_m 0 on a night plate: lamp-lit drops glint far)"
+                              : " (rain.far_m 0: as deep as this camera sees the rain as streaks)",
+        simulation_->settings().segmentFrames, simulation_->settings().firstFrame));
     atlas_ = loadAtlas(clip);
     streakParams_.focusMeters = camera_.focusMeters;
     streakParams_.fNumber = camera_.fNumber;

@@ -20,8 +20,7 @@ namespace stdfs = std::filesystem;
 
 namespace {
 
-// The ground, and a card 6 m away over the middle of the frame: closer than rain.far_m (8 m in
-// the base preset), so it hides drops behind it, and the fog differs over it.
+// The ground, and a card 6 m away over the middle of the frame: the fog differs over it.
 const std::string kLayers =
     R"(depth.layers=[{"type": "ground"}, )"
     R"({"type": "card", "distance_m": 6, "x0": 0.25, "x1": 0.75, "y0": 0.2, "y1": 0.9}])";

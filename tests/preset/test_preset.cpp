@@ -312,7 +312,7 @@ TEST(Preset, CameraPathAndLensKeys) {
   EXPECT_DOUBLE_EQ(plain.number("camera.focus_m"), 20.0);
   EXPECT_DOUBLE_EQ(plain.number("camera.f_number"), 4.0);
   EXPECT_DOUBLE_EQ(plain.number("camera.sensor_width_mm"), 6.2);
-  EXPECT_DOUBLE_EQ(plain.number("camera.exposure_s"), 0.0);  // auto: 1/1000 s by day
+  EXPECT_DOUBLE_EQ(plain.number("camera.exposure_s"), 0.0);  // auto: 1/600 s by day
   Camera base = Camera::fromFieldOfView(640, 360, 40, 0, 1.6);
   EXPECT_FALSE(cameraSettings(plain).path(base).moving());
 

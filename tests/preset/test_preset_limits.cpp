@@ -51,8 +51,11 @@ TEST(PresetLimits, ImpossibleValuesAreRefusedByValidation) {
   EXPECT_NE(errorOf("drizzle", {"rain.near_m=20", "rain.far_m=10"})
                 .find("/rain/near_m (20) must be less than /rain/far_m (10)"),
             std::string::npos);
-  EXPECT_NE(errorOf("moderate", {"rain.near_m=20"}).find("must be less than /rain/far_m (8)"),
+  EXPECT_NE(errorOf("moderate", {"rain.far_m=8", "rain.near_m=20"})
+                .find("must be less than /rain/far_m (8)"),
             std::string::npos);
+  // far_m 0 (the shipped presets') is resolved from the camera beyond near_m: no conflict.
+  EXPECT_NO_THROW(Preset::resolve("moderate", {"rain.near_m=20"}, presetSchema()));
   // Used to pass validation and fail in render.
   EXPECT_NE(errorOf("drizzle", {"rain.min_diameter_mm=6"}).find("/rain/min_diameter_mm"),
             std::string::npos);
