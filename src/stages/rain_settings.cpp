@@ -52,7 +52,8 @@ const SettingsTable<RainSettings>& rainTable() {
                            "farthest drops drawn; 0: as deep as the camera sees rain as streaks "
                            "(twice the depth at which the rain's median drop is one pixel wide: "
                            "1.9 m at 8 mm/h on a 640 px wide 50 deg view, 5.7 m at 1920 px; "
-                           "the fog stands for the rain beyond)")),
+                           "the fog stands for the rain beyond; 8 m on a night plate, where "
+                           "lamp-lit drops glint far)")),
           bind(&S::maxDrops, integerParam("max_drops", 100000, {0, 10000000}, "drops",
                                           "cap on the simulated drops")),
           bind(&S::lodPx,
