@@ -318,8 +318,9 @@ StageInfo rainStageInfo() {
              std::vector<std::string> reads{"image", "depth", "environment", "camera"};
              if (rain.strokeSource == StrokeSource::Derain) reads.push_back("footage_strokes");
              if (lightsSettings(p).drops) reads.push_back("lights");
-             // Auto exposure tells a night plate from a day one by its still.
-             if (cameraSettings(p).autoExposure()) reads.push_back("still");
+             // Auto exposure and rain.far_m 0 tell a night plate from a day one by its still.
+             if (cameraSettings(p).autoExposure() || rain.farMeters == 0.0)
+               reads.push_back("still");
              return reads;
            },
        // Every frame names the seed of its rain.
