@@ -17,11 +17,22 @@
 #include "preset/preset.h"
 #include "realism_render.h"
 #include "stages/auto_exposure.h"
+#include "stages/rain_settings.h"
 #include "util/error.h"
 #include "util/fs.h"
 
 namespace pluvia::cli {
 namespace {
+
+// How deep the base draws its rain for a camera `filmedWidthPx` wide: rain.far_m, or with 0 the
+// depth that camera sees rain as streaks by day (stages/rain_settings.h).
+double drawnDepthMeters(const Preset& base, int filmedWidthPx) {
+  const RainSettings rain = rainSettings(base);
+  if (rain.farMeters > 0.0) return rain.farMeters;
+  const double focalPx =
+      0.5 * filmedWidthPx / std::tan(0.5 * base.number("camera.fov_deg") * M_PI / 180.0);
+  return streakDepthMeters(rain, focalPx);
+}
 
 // How the preset names its base: a shipped preset by name, anything else by absolute path.
 std::string baseReference(const std::string& base) {
@@ -95,8 +106,8 @@ void addMatchCommand(CLI::App& app, Invocation& invocation) {
     settings.minFarMeters = std::max(settings.minFarMeters, 2.0 * base.number("rain.near_m"));
     // far_m 0 (every shipped base): as deep as a camera filming the reference at its own width
     // sees the base's rain.
-    settings.start.farMeters = std::max(
-        settings.minFarMeters, drawnDepthMeters(rainSettings(base), base, reference.width));
+    settings.start.farMeters =
+        std::max(settings.minFarMeters, drawnDepthMeters(base, reference.width));
     const double exposure = base.number("camera.exposure_s");
     settings.start.exposureSeconds = exposure > 0.0 ? exposure : kDaylightExposureSeconds;
     // The base's wind across the view (dir_deg 0 is the camera's right, 90 away from it).

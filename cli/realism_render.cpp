@@ -36,13 +36,6 @@ cv::Mat3f codesOf(const Image& image) {
 
 }  // namespace
 
-double drawnDepthMeters(const RainSettings& rain, const Preset& preset, int filmedWidthPx) {
-  if (rain.farMeters > 0.0) return rain.farMeters;
-  const double focalPx =
-      0.5 * filmedWidthPx / std::tan(0.5 * preset.number("camera.fov_deg") * M_PI / 180.0);
-  return streakDepthMeters(rain, focalPx);
-}
-
 PlateRenderer::PlateRenderer(const std::vector<cv::Mat3f>& plates, double fps, int filmedWidthPx)
     : folder_("pluvia-realism"), fps_(fps), filmedWidthPx_(filmedWidthPx) {
   for (size_t i = 0; i < plates.size(); ++i)

@@ -9,8 +9,6 @@
 
 #include <opencv2/core.hpp>
 
-#include "preset/preset.h"
-#include "stages/rain_settings.h"
 #include "temporary_folder.h"
 
 namespace pluvia::cli {
@@ -18,10 +16,6 @@ namespace pluvia::cli {
 // Plates written once as a temporary PNG sequence (removed with the object), with a per-clip
 // analysis cache beside them (--cache), so that renders of several looks on the same plates
 // (`pluvia match`'s candidates) make the lighting, the depth guess and the lamps search once.
-// How deep the preset's rain is drawn by a camera `filmedWidthPx` wide: rain.far_m, or with 0
-// the depth that camera sees rain as streaks (rain/rain_depth.h).
-double drawnDepthMeters(const RainSettings& rain, const Preset& preset, int filmedWidthPx);
-
 class PlateRenderer {
  public:
   // `plates`: RGB, 8-bit display codes as float 0-255, frames 0.. of a clip at `fps`, standing
