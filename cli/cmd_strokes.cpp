@@ -66,8 +66,9 @@ void addStrokesCommand(CLI::App& app, Invocation& invocation) {
     rain::StrokeLibrary& library = cut.library;
     const std::string& angle = cut.angleDescription;
     if (library.strokes.empty()) {
-      throw Error(fmt::format("no rain strokes found in {} ({} frames, {}): nothing written",
-                              args->input, cut.frames, angle),
+      throw Error(fmt::format("no rain strokes found in {} ({} frames, {}{}): nothing written",
+                              args->input, cut.frames, angle,
+                              cut.framesCut == 0 ? "; without a direction no frame was cut" : ""),
                   {"strokes", {}, args->input});
     }
     if (library.strokes.size() < kVariedLibraryStrokes)
@@ -76,10 +77,11 @@ void addStrokesCommand(CLI::App& app, Invocation& invocation) {
           "over the frame. The clip shows too little rain the derain can separate{}; more "
           "frames, a clip with more visible rain, or rain.strokes builtin give varied rain",
           library.strokes.size(), library.strokes.size() == 1 ? "" : "s", args->input, angle,
-          !cut.angleInEveryWindow
-              ? " (where no direction was seen, the mattes hold the registration's residue, "
-                "not rain)"
-              : ""));
+          cut.framesCut < cut.frames
+              ? fmt::format(" (only {} of the {} frames were cut: the others came before any "
+                            "window saw the rain's direction)",
+                            cut.framesCut, cut.frames)
+              : std::string()));
     library.source = args->input;
     library.command = invocation.commandLine;
     rain::saveStrokeLibrary(library, args->output);

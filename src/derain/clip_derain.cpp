@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
@@ -52,11 +53,14 @@ ClipDerainFrame crossFade(const ClipDerainFrame& earlier, const ClipDerainFrame&
   cv::addWeighted(earlier.matte, 1.0 - t, later.matte, t, 0.0, out.matte);
   out.covered = earlier.covered | later.covered;
   out.rainColor = earlier.rainColor * float(1.0 - t) + later.rainColor * float(t);
-  // A window that did not see the rain's direction has only the solver's start: the other's.
+  // A window that saw the rain's direction outranks one that kept an earlier window's, which
+  // outranks one that has only the solver's vertical start.
+  auto rank = [](const ClipDerainFrame& f) { return f.angleFound ? 2 : f.angleCarried ? 1 : 0; };
   out.angleFound = earlier.angleFound || later.angleFound;
-  out.angleDeg = earlier.angleFound == later.angleFound
+  out.angleCarried = !out.angleFound && (earlier.angleCarried || later.angleCarried);
+  out.angleDeg = rank(earlier) == rank(later)
                      ? (1.0 - t) * earlier.angleDeg + t * later.angleDeg
-                     : (later.angleFound ? later.angleDeg : earlier.angleDeg);
+                     : (rank(later) > rank(earlier) ? later.angleDeg : earlier.angleDeg);
   out.noiseSigma = (1.0 - t) * earlier.noiseSigma + t * later.noiseSigma;
   return out;
 }
@@ -122,6 +126,7 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
   ClipDerainSummary summary;
   double residualSquares = 0.0, angleSum = 0.0;
   size_t angleFrames = 0;
+  std::optional<double> lastFoundAngleDeg = settings.knownAngleDeg;
   cv::Vec3d colorSum(0, 0, 0);
   size_t emitted = 0;
   const auto emitFrame = [&](const ClipDerainFrame& out) {
@@ -181,6 +186,10 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
                             registration.denseFrames(), window - 1, registration.homographyResidual,
                             registration.flowResidual)));
     DerainSettings solver = settings.solver;
+    // A window whose mattes show no direction keeps the last one seen (rain turns slowly, and a
+    // window of few frames over a fast pan can hold too little of it); vertical until one is.
+    const bool carried = lastFoundAngleDeg.has_value();
+    if (carried) solver.initialAngleDeg = *lastFoundAngleDeg;
     if (registration.moving()) solver.registrationErrorPx = kResidualMisregistrationPx;
     const DerainResult result = solveDerain(warpToReference(originals, registration), solver);
 
@@ -199,6 +208,7 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
                                 : "identity";
     stats.angleDeg = result.angleDeg;
     stats.angleFound = result.angleFound;
+    if (result.angleFound) lastFoundAngleDeg = result.angleDeg;
     if (result.angleFound) {
       const bool first = summary.windowsWithAngle++ == 0;
       summary.angleMinDeg =
@@ -215,7 +225,10 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
         "derain: frames {}-{}: {} iterations, {}, residual {:.4f}, shift {:.1f} px",
         stats.firstFrame, stats.lastFrame, stats.iterations,
         stats.angleFound ? fmt::format("angle {:.2f} deg", stats.angleDeg)
-                         : std::string("no rain direction in the mattes (vertical assumed)"),
+        : carried
+            ? fmt::format("no rain direction in the mattes (the last one seen, {:.2f} deg, kept)",
+                          solver.initialAngleDeg)
+            : std::string("no rain direction in the mattes (vertical assumed)"),
         stats.residual, stats.maxShiftPx));
 
     residualSquares += result.residual * result.residual * double(window);
@@ -235,6 +248,7 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
       out.rainColor = result.rainColor[size_t(k)];
       out.angleDeg = result.angleDeg;
       out.angleFound = result.angleFound;
+      out.angleCarried = !result.angleFound && carried;
       out.noiseSigma = result.noiseSigma;
       const size_t waiting = i - pendingFirst;  // index among the earlier window's frames
       if (i >= pendingFirst && waiting < pending.size()) {

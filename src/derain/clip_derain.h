@@ -6,6 +6,7 @@
 // each frame's own pixel grid.
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,9 @@ struct ClipDerainSettings {
   int64_t firstFrame = INT64_MIN;  // frame range (inclusive); defaults: the whole clip
   int64_t lastFrame = INT64_MAX;
   bool registration = true;  // false: assume a locked-off camera
+  // The rain's direction when known beforehand (a first pass over the clip): windows whose
+  // mattes do not show it keep this one until a window sees it (ClipDerainFrame::angleCarried).
+  std::optional<double> knownAngleDeg;
 };
 
 struct ClipDerainFrame {
@@ -32,6 +36,9 @@ struct ClipDerainFrame {
   cv::Vec3f rainColor;      // C^k
   double angleDeg = 0.0;    // the window's D0
   bool angleFound = false;  // D0 was seen in the window's mattes (DerainResult::angleFound)
+  // Not seen there, but kept from an earlier window that saw it; neither: D0 is the solver's
+  // vertical start, a guess.
+  bool angleCarried = false;
   double noiseSigma = 0.0;
 };
 

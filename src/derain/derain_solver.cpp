@@ -18,9 +18,11 @@ namespace {
 // Added to every diagonal so each sub-problem stays positive definite where the data says
 // nothing (alpha where C == S, S where no frame saw the pixel). Small against any real weight.
 constexpr float kRidge = 1e-6f;
-// A new D0 is taken only when its line stands out of the spectrum this clearly; below, the
-// mattes hold no directional structure (no rain) and D0 keeps its value.
-constexpr double kMinDirectionSalience = 1.5;
+// A new D0 is taken only when its line stands out of the spectrum this clearly and this share
+// of the tiles agree on it (rain_direction.h); below, the mattes hold no directional structure
+// (no rain) and D0 keeps its value.
+constexpr double kMinDirectionSalience = 1.12;
+constexpr double kMinDirectionAgreement = 0.3;
 // The rain colour of a frame is refitted only when its mattes carry at least this much
 // sum of alpha^2 per pixel; below, C keeps its value (no rain to measure it on).
 constexpr double kMinAlphaEnergyPerPixel = 1e-5;
@@ -222,6 +224,24 @@ void removePersistentAlpha(const Problem& problem, State& state) {
 // The mattes with what stays in place through the window taken out (alpha minus its temporal
 // median): rain moves between frames, while what a misregistered edge or a compression
 // artefact leaves in alpha stays put and would otherwise pull D0 along the scene's lines.
+// The initialisation's rain: each frame's excess over the background S (the temporal median),
+// averaged over the channels, where valid. Its streaks give D0 before the first alpha solve,
+// which smooths alpha along D0.
+std::vector<cv::Mat> residualMattes(const Problem& problem, const State& state) {
+  std::vector<cv::Mat> mattes;
+  for (const PlanarFrame& frame : problem.frames) {
+    cv::Mat matte(problem.grid.height, problem.grid.width, CV_32F);
+    float* m = matte.ptr<float>();
+    for (size_t p = 0; p < problem.grid.count(); ++p) {
+      float excess = 0.0f;
+      for (int c = 0; c < 3; ++c) excess += frame.rgb[c][p] - state.background[c][p];
+      m[p] = frame.valid[p] > 0 ? std::max(0.0f, excess / 3.0f) : 0.0f;
+    }
+    mattes.push_back(matte);
+  }
+  return mattes;
+}
+
 std::vector<cv::Mat> transientMattes(const Problem& problem, const State& state) {
   const size_t n = problem.grid.count();
   std::vector<cv::Mat> mattes;
@@ -390,6 +410,17 @@ DerainResult solveDerain(const FrameStack& stack, const DerainSettings& settings
   result.noiseSigma = estimateNoiseSigma(problem, state);
   const std::vector<float> deadzone =
       alphaDeadzone(problem, state, result.noiseSigma, settings.registrationErrorPx);
+  // D0 taken from the mattes' spectrum when its line stands out clearly there (else it keeps
+  // its value): from the initialisation's residual first, then from each iteration's mattes.
+  auto takeDirection = [&](const std::vector<cv::Mat>& mattes) {
+    const RainAngleEstimate estimate = estimateRainAngle(mattes);
+    if (estimate.salience >= kMinDirectionSalience &&
+        estimate.agreement >= kMinDirectionAgreement) {
+      state.angleDeg = estimate.angleDeg;
+      result.angleFound = true;
+    }
+  };
+  if (settings.estimateDirection) takeDirection(residualMattes(problem, state));
   Energy energy = evaluate(problem, state, settings);
   result.history.push_back(
       {0, energy.objective, energy.dataRms / kCodeValueScale, state.angleDeg, elapsed(), 0, 0});
@@ -400,13 +431,7 @@ DerainResult solveDerain(const FrameStack& stack, const DerainSettings& settings
       alphaIterations[k] = solveAlpha(problem, state, k, settings, deadzone, state.alpha[k]);
     });
     removePersistentAlpha(problem, state);
-    if (settings.estimateDirection) {
-      const RainAngleEstimate estimate = estimateRainAngle(transientMattes(problem, state));
-      if (estimate.salience >= kMinDirectionSalience) {
-        state.angleDeg = estimate.angleDeg;
-        result.angleFound = true;
-      }
-    }
+    if (settings.estimateDirection) takeDirection(transientMattes(problem, state));
     solveColor(problem, state);
     const int backgroundIterations = solveBackground(problem, state, settings);
 

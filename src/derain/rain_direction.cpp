@@ -16,6 +16,12 @@ constexpr double kMinFrequency = 0.02;
 constexpr double kMaxFrequency = 0.45;
 constexpr double kCoarseStepDeg = 0.5;
 constexpr double kFineStepDeg = 0.02;
+// The spectrum is taken over tiles: rain covers the frame, while what else the mattes hold
+// (misregistered edges, a pillar's parallax, splashes) is local, so tiles that see rain agree on
+// a line where the one spectrum of the whole frame can be won by a few strong scene edges.
+constexpr int kTilePx = 96;
+// Tiles whose lines lie within this of one another vote together.
+constexpr double kAgreementDeg = 2.5;
 
 // Power spectrum summed over the mattes, each mean-subtracted and Hann-windowed, with the zero
 // frequency moved to the centre.
@@ -75,33 +81,101 @@ double lineEnergy(const cv::Mat& spectrum, double lineDeg) {
   return sum;
 }
 
-}  // namespace
+// One tile's best line in [-maxAngleDeg, maxAngleDeg] (coarse, then fine), its salience (energy
+// on it over the mean over the coarse lines) and that mean.
+struct TileLine {
+  double lineDeg = 0.0, salience = 1.0, meanEnergy = 0.0;
+  bool atRangeEnd = false;  // the best line lies at the searched range's end: beyond it, really
+};
 
-RainAngleEstimate estimateRainAngle(const std::vector<cv::Mat>& mattes, double maxAngleDeg) {
-  RainAngleEstimate estimate{0.0, 1.0};
-  if (mattes.empty() || mattes[0].cols < 8 || mattes[0].rows < 8) return estimate;
-  const cv::Mat spectrum = summedPowerSpectrum(mattes);
-  double bestDeg = 0.0, bestEnergy = -1.0, total = 0.0;
+TileLine bestLine(const cv::Mat& spectrum, double maxAngleDeg) {
+  TileLine out;
+  double bestEnergy = -1.0, total = 0.0;
   int lines = 0;
-  // A streak at angle t puts its energy on the spectral line at angle t (x right, y down): the
-  // perpendicular of (sin t, -cos t). So the search over lines is the search over streak angles.
   for (double deg = -maxAngleDeg; deg <= maxAngleDeg; deg += kCoarseStepDeg, ++lines) {
     const double e = lineEnergy(spectrum, deg);
     total += e;
-    if (e > bestEnergy) bestEnergy = e, bestDeg = deg;
+    if (e > bestEnergy) bestEnergy = e, out.lineDeg = deg;
   }
-  if (!(total > 0.0)) return estimate;
-  for (double deg = bestDeg - kCoarseStepDeg; deg <= bestDeg + kCoarseStepDeg;
+  if (!(total > 0.0)) return out;
+  out.meanEnergy = total / lines;
+  out.atRangeEnd = maxAngleDeg < 90.0 && std::abs(out.lineDeg) > maxAngleDeg - 1.0;
+  for (double deg = out.lineDeg - kCoarseStepDeg; deg <= out.lineDeg + kCoarseStepDeg;
        deg += kFineStepDeg) {
     const double e = lineEnergy(spectrum, deg);
-    if (e > bestEnergy) bestEnergy = e, bestDeg = deg;
+    if (e > bestEnergy) bestEnergy = e, out.lineDeg = deg;
   }
+  out.salience = bestEnergy / out.meanEnergy;
+  return out;
+}
+
+// a - b folded into (-90, 90]: lines at a and b differ by this much.
+double lineDifferenceDeg(double a, double b) {
+  return foldRainAngleDeg(a - b);
+}
+
+}  // namespace
+
+RainAngleEstimate estimateRainAngle(const std::vector<cv::Mat>& mattes, double maxAngleDeg) {
+  RainAngleEstimate estimate;
+  if (mattes.empty() || mattes[0].cols < 8 || mattes[0].rows < 8) return estimate;
+  const cv::Size size = mattes[0].size();
+  // Tiles of kTilePx (the whole side when shorter), overlapping by half.
+  const int tileW = std::min(kTilePx, size.width), tileH = std::min(kTilePx, size.height);
+  auto starts = [](int length, int tile) {
+    std::vector<int> out;
+    for (int s = 0; s + tile <= length; s += std::max(1, tile / 2)) out.push_back(s);
+    if (out.back() + tile < length) out.push_back(length - tile);
+    return out;
+  };
+  struct Tile {
+    cv::Mat spectrum;
+    TileLine line;
+  };
+  std::vector<Tile> tiles;
+  for (int y : starts(size.height, tileH))
+    for (int x : starts(size.width, tileW)) {
+      std::vector<cv::Mat> views;
+      for (const cv::Mat& m : mattes) views.push_back(m(cv::Rect(x, y, tileW, tileH)));
+      Tile t;
+      t.spectrum = summedPowerSpectrum(views);
+      t.line = bestLine(t.spectrum, maxAngleDeg);
+      if (t.line.meanEnergy > 0.0) tiles.push_back(std::move(t));
+    }
+  if (tiles.empty()) return estimate;
+
+  // Each tile votes for its best line with weight salience - 1; a tile whose best line lies at
+  // the range's end votes for a line outside it (a scene edge) and not at all. The lines within
+  // kAgreementDeg of the heaviest vote's neighbourhood give the angle (their weighted mean).
+  auto weight = [](const Tile& t) { return t.line.atRangeEnd ? 0.0 : t.line.salience - 1.0; };
+  double total = 0.0, bestSupport = -1.0, peakDeg = 0.0;
+  for (const Tile& t : tiles) total += weight(t);
+  if (!(total > 0.0)) return estimate;
+  for (const Tile& candidate : tiles) {
+    double support = 0.0;
+    for (const Tile& t : tiles)
+      if (std::abs(lineDifferenceDeg(t.line.lineDeg, candidate.line.lineDeg)) <= kAgreementDeg)
+        support += weight(t);
+    if (support > bestSupport) bestSupport = support, peakDeg = candidate.line.lineDeg;
+  }
+  double offsetSum = 0.0, agreeing = 0.0;
+  for (const Tile& t : tiles) {
+    const double offset = lineDifferenceDeg(t.line.lineDeg, peakDeg);
+    if (std::abs(offset) <= kAgreementDeg) offsetSum += weight(t) * offset, agreeing += weight(t);
+  }
+  const double lineDeg = peakDeg + (agreeing > 0.0 ? offsetSum / agreeing : 0.0);
+  // Its salience over all tiles: the geometric mean of each tile's energy on that line over
+  // its mean energy (a tile of other structure or of noise pulls it towards or below 1).
+  double logSum = 0.0;
+  for (const Tile& t : tiles)
+    logSum += std::log(std::max(lineEnergy(t.spectrum, lineDeg), 1e-30) / t.line.meanEnergy);
   // The streaks run perpendicular to the spectral line: direction (-sin, cos) of the line's angle.
-  const double a = bestDeg * M_PI / 180.0;
+  const double a = lineDeg * M_PI / 180.0;
   const double sx = -std::sin(a), sy = std::cos(a);
   // frame_stack.h: a streak (sin t, -cos t) has angle t.
   estimate.angleDeg = foldRainAngleDeg(std::atan2(sx, -sy) * 180.0 / M_PI);
-  estimate.salience = bestEnergy / (total / lines);
+  estimate.salience = std::exp(logSum / double(tiles.size()));
+  estimate.agreement = agreeing / total;
   return estimate;
 }
 

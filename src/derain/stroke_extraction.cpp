@@ -24,7 +24,7 @@ struct StrokeCollector::Frame {
   cv::Mat valid;  // CV_8UC1, 255 where solved
   cv::Mat edges;  // CV_32FC1: gradient magnitude of the background; empty: none given
   double angleDeg = 0.0;
-  double threshold = 0.0;  // alpha a stroke must exceed
+  double noiseSigma = 0.0;  // the solve's (StrokeCollector::addFrame)
   bool cut = false;
 };
 
@@ -158,6 +158,39 @@ cv::Mat trimToStroke(const cv::Mat& crop) {
   // side level goes too, so the rectangle holds the stroke and little else.
   out.setTo(0.0f, out < kTrimSideLevel * peak);
   return out;
+}
+
+// A streak modelled as a segment of length L whose ends soften as its sides do (a Gaussian of
+// sigma s, the drop's own blur): its profile along its length, Phi((x + L/2) / s) -
+// Phi((x - L/2) / s), is this long at half its peak.
+double segmentLengthPx(double lengthPx, double sigmaPx) {
+  lengthPx = std::max(lengthPx, 1e-3);  // a point: 2.355 sigmas
+  auto phi = [](double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); };
+  auto profile = [&](double x) {
+    return phi((x + 0.5 * lengthPx) / sigmaPx) - phi((x - 0.5 * lengthPx) / sigmaPx);
+  };
+  const double half = 0.5 * profile(0.0);
+  double inside = 0.0, outside = 0.5 * lengthPx + 6.0 * sigmaPx;
+  for (int i = 0; i < 50; ++i) {
+    const double x = 0.5 * (inside + outside);
+    (profile(x) > half ? inside : outside) = x;
+  }
+  return inside + outside;
+}
+
+// The streak's own half-maximum length from that of its matte blurred along it by blurSigmaPx:
+// the segment whose ends, softened by the streak's own sigma (its width over 2.355) and the blur
+// together, give the measured length, measured with its own sigma alone.
+double unblurredLengthPx(double measuredPx, double blurSigmaPx, double widthPx) {
+  const double ownSigma = std::max(widthPx, 1e-3) / (2.0 * std::sqrt(2.0 * std::log(2.0)));
+  const double blurredSigma = std::hypot(ownSigma, blurSigmaPx);
+  if (segmentLengthPx(0.0, blurredSigma) >= measuredPx) return segmentLengthPx(0.0, ownSigma);
+  double shorter = 0.0, longer = measuredPx;  // the blur only lengthens it
+  for (int i = 0; i < 50; ++i) {
+    const double length = 0.5 * (shorter + longer);
+    (segmentLengthPx(length, blurredSigma) < measuredPx ? shorter : longer) = length;
+  }
+  return segmentLengthPx(0.5 * (shorter + longer), ownSigma);
 }
 
 struct Measure {
@@ -363,8 +396,7 @@ void StrokeCollector::addFrame(int64_t frame, const cv::Mat& matte, double angle
     cv::Sobel(gray, dy, CV_32F, 0, 1, 3, 1.0 / 8.0);
     cv::magnitude(dx, dy, f.edges);
   }
-  const double noise = std::max(noiseSigma, matteNoise(f.matte, f.valid));
-  f.threshold = std::max(settings_.noiseFactor * noise, settings_.minContrast);
+  f.noiseSigma = noiseSigma;
   // A neighbour of another size (another clip) is no neighbour.
   if (!recent_.empty() && recent_.back().matte.size() != f.matte.size()) {
     if (!recent_.back().cut) {
@@ -388,7 +420,6 @@ void StrokeCollector::addFrame(int64_t frame, const cv::Mat& matte, double angle
 
 void StrokeCollector::cut(const Frame& f, const std::vector<const Frame*>& neighbours) {
   const int64_t frame = f.frame;
-  const double threshold = f.threshold;
   const cv::Mat& clean = f.matte;
   const Upright up = rotateUpright(clean, f.valid, f.angleDeg);
 
@@ -396,17 +427,17 @@ void StrokeCollector::cut(const Frame& f, const std::vector<const Frame*>& neigh
   for (const Frame* n : neighbours) neighbourMattes.push_back(n->matte);
   const std::vector<cv::Mat> aligned = alignedNeighbours(clean, neighbourMattes);
 
-  // Opening with a vertical line drops specks shorter than it; the vertical blur smooths the
-  // streaks along their length only.
-  cv::Mat opened, blurred;
-  const cv::Mat line = cv::getStructuringElement(
-      cv::MORPH_RECT, cv::Size(1, std::max(1, settings_.openingLengthPx)));
-  cv::morphologyEx(up.matte, opened, cv::MORPH_OPEN, line, cv::Point(-1, -1), 1,
-                   cv::BORDER_CONSTANT, 0.0);
+  // The blur along the rain (vertical on the upright canvas) smooths the streaks along their
+  // length only; the threshold stands above the blurred matte's noise, which the blur lowers by
+  // the root of the kernel's sum of squares.
+  cv::Mat blurred;
   const int radius = std::max(1, int(std::ceil(3.0 * settings_.blurSigmaPx)));
-  cv::GaussianBlur(opened, blurred, cv::Size(1, 2 * radius + 1), 0.0, settings_.blurSigmaPx,
-                   cv::BORDER_CONSTANT);
+  const cv::Mat kernel = cv::getGaussianKernel(2 * radius + 1, settings_.blurSigmaPx, CV_32F);
+  cv::filter2D(up.matte, blurred, CV_32F, kernel, cv::Point(-1, -1), 0.0, cv::BORDER_CONSTANT);
   blurred.setTo(0.0f, up.valid == 0);
+  const double noise =
+      std::max(f.noiseSigma * std::sqrt(kernel.dot(kernel)), matteNoise(blurred, up.valid));
+  const double threshold = std::max(settings_.noiseFactor * noise, settings_.minContrast);
 
   cv::Mat labels, stats, centroids;
   const cv::Mat mask = blurred > threshold;
@@ -471,8 +502,9 @@ void StrokeCollector::cut(const Frame& f, const std::vector<const Frame*>& neigh
 
     crop = trimToStroke(crop);
     const Measure m = measureStroke(crop);
-    if (m.contrast <= threshold || m.lengthPx < settings_.minLengthPx) continue;
-    if (m.widthPx <= 0.0 || m.lengthPx < settings_.minAspect * m.widthPx) continue;
+    const double ownLengthPx = unblurredLengthPx(m.lengthPx, settings_.blurSigmaPx, m.widthPx);
+    if (m.contrast <= threshold || ownLengthPx < settings_.minLengthPx) continue;
+    if (m.widthPx <= 0.0 || ownLengthPx < settings_.minAspect * m.widthPx) continue;
     if (m.bendPx > settings_.maxBendPx) continue;
     if (m.gap < kMinGap) continue;  // two strokes end to end, or one broken by noise
     if (m.fidelity < settings_.minFidelity) continue;
@@ -597,18 +629,36 @@ rain::StrokeLibrary StrokeCollector::finish() {
 
 ClipStrokes cutStrokesFromClip(const std::string& input, const ClipDerainSettings& clip,
                                const StrokeExtractionSettings& extraction) {
-  StrokeCollector collector(extraction);
-  ClipStrokes out;
-  const ClipDerainSummary summary = derainClip(input, clip, [&](const ClipDerainFrame& frame) {
-    collector.addFrame(frame.frame, frame.matte, frame.angleDeg, frame.noiseSigma, frame.clean,
-                       frame.covered);
-    ++out.frames;
-  });
-  out.library = collector.finish();
-  out.candidates = collector.candidateCount();
+  auto cutAll = [&](const ClipDerainSettings& settings, ClipDerainSummary& summary) {
+    StrokeCollector collector(extraction);
+    ClipStrokes out;
+    summary = derainClip(input, settings, [&](const ClipDerainFrame& frame) {
+      ++out.frames;
+      // Where no window has seen the rain's direction the mattes were solved and would be cut
+      // along the solver's vertical start: what lies along it in real mattes is the scene's
+      // vertical edges the registration left (window mullions, tree trunks, pillars), not rain.
+      if (!frame.angleFound && !frame.angleCarried) return;
+      ++out.framesCut;
+      collector.addFrame(frame.frame, frame.matte, frame.angleDeg, frame.noiseSigma, frame.clean,
+                         frame.covered);
+    });
+    out.library = collector.finish();
+    out.candidates = collector.candidateCount();
+    return out;
+  };
+  ClipDerainSummary summary;
+  ClipStrokes out = cutAll(clip, summary);
+  // Windows before the first one that saw the direction were not cut: solve and cut the clip
+  // again with the direction the later windows found as every window's start.
+  if (out.framesCut < out.frames && summary.windowsWithAngle > 0) {
+    ClipDerainSettings again = clip;
+    again.knownAngleDeg = summary.angleDeg;
+    ClipDerainSummary second;
+    ClipStrokes all = cutAll(again, second);
+    if (all.candidates > out.candidates) out = std::move(all), summary = second;
+  }
   out.angleDeg = summary.angleDeg;
   out.angleDescription = describeRainAngle(summary);
-  out.angleInEveryWindow = summary.windowsWithAngle == summary.windows.size();
   return out;
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 // Cutting single rain strokes out of derained mattes (Wang et al. section 2): each matte is
-// rotated so the rain is vertical, opened (erosion then dilation) to drop specks, blurred
-// vertically, thresholded above its noise and split into connected components. Each component
+// rotated so the rain is vertical, blurred vertically (along the rain), thresholded above its
+// noise and split into connected components. Each component
 // is a candidate stroke, turned exactly upright and trimmed, and rejected when it is too short,
 // not elongated, tilted, bent, broken, unlike a clean streak, clipped by the frame edge, lying
 // on an edge of the scene or still there in a neighbouring frame (static structure the solve
@@ -20,15 +20,18 @@ namespace pluvia::derain {
 
 struct StrokeExtractionSettings {
   int count = 64;          // strokes kept, best first
-  int minLengthPx = 9;     // shorter components are not strokes
+  int minLengthPx = 9;     // shorter streaks (their own length, the blur taken out): no strokes
   double minAspect = 2.4;  // length over width
-  // A component's peak alpha must exceed this many times the matte's noise level (and at
-  // least minContrast), so footage without rain yields no strokes. The noise level is the
-  // larger of the solve's noiseSigma and the matte's own (from its upper quartile).
+  // The upright matte is blurred along the rain by a Gaussian of this sigma: a matched filter
+  // for streaks, which keeps a long faint streak (one the solve's noise dead zone broke into
+  // dashes) whole and spreads a speck thin.
+  double blurSigmaPx = 3.0;
+  // A component of the blurred matte must exceed this many times its noise level (and at least
+  // minContrast), so footage without rain yields no strokes. The noise level is the larger of
+  // the solve's noiseSigma and the matte's own (from its upper quartile), each as the blur
+  // leaves it.
   double noiseFactor = 6.0;
   double minContrast = 0.02;
-  int openingLengthPx = 5;    // vertical extent of the opening's structuring element
-  double blurSigmaPx = 1.0;   // vertical Gaussian blur after the opening
   int isolationMarginPx = 6;  // margin around a stroke's box searched for other strokes
   // A stroke's own axis may differ from the clip's rain direction by this much (wind, the
   // estimate's error); it is then turned upright on its own. More: not a rain stroke.
@@ -92,9 +95,11 @@ struct ClipStrokes {
   rain::StrokeLibrary library;  // possibly empty: the caller says what that means
   size_t candidates = 0;
   size_t frames = 0;
+  // Of those, the frames cut: the ones whose window saw the rain's direction or kept an earlier
+  // window's (ClipDerainFrame::angleCarried).
+  size_t framesCut = 0;
   double angleDeg = 0.0;         // ClipDerainSummary's
   std::string angleDescription;  // describeRainAngle's
-  bool angleInEveryWindow = false;
 };
 ClipStrokes cutStrokesFromClip(const std::string& input, const ClipDerainSettings& clip,
                                const StrokeExtractionSettings& extraction);

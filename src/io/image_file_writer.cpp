@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <set>
 
 #include <Imath/half.h>
@@ -229,6 +230,21 @@ OIIO::ImageSpec makeSpec(const std::string& extension, Encoding encoding, int wi
   return spec;
 }
 
+// OpenImageIO's and OpenEXR's pools keep to --threads too (util/thread_limit.h). Set only when
+// the limit changes: setting "threads" resizes OpenImageIO's pool, and a resize while another
+// thread's write uses the pool trips its assertion (a render writing frames in parallel aborted
+// with "thread.cpp: size: Assertion 'm_size == ...threads.size()' failed").
+void applyThreadLimitToOiio() {
+  static std::mutex mutex;
+  static int applied = -1;
+  const std::lock_guard<std::mutex> lock(mutex);
+  const int limit = threadLimit();
+  if (limit == applied) return;
+  OIIO::attribute("threads", limit);
+  OIIO::attribute("exr_threads", limit);
+  applied = limit;
+}
+
 }  // namespace
 
 const std::vector<std::string>& exrCompressions() {
@@ -286,9 +302,7 @@ void writeImageFile(const std::string& path, int width, int height,
   OIIO::ImageSpec memorySpec = spec;
   void* proxy = &memory;
   memorySpec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
-  // OpenImageIO's and OpenEXR's pools keep to --threads too (util/thread_limit.h).
-  OIIO::attribute("threads", threadLimit());
-  OIIO::attribute("exr_threads", threadLimit());
+  applyThreadLimitToOiio();
   std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(path);
   if (!out) throw Error("cannot write " + path + ": " + oiioMessage(OIIO::geterror()), context);
   // The file's name only: DPX records it in its header, and a frame must not depend on the folder.

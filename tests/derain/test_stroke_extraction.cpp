@@ -97,6 +97,28 @@ TEST(StrokeExtraction, FindsEveryStreakAtAnAngleWithItsLength) {
   }
 }
 
+TEST(StrokeExtraction, AFaintStreakBrokenIntoDashesIsCutWhole) {
+  // A faint streak as the solve's noise dead zone leaves it: dashes of 5 px, 3 px apart (rb2,
+  // heavy rain filmed from a moving car). It is one streak of its full length, not nothing.
+  for (double angle : {0.0, -37.0}) {
+    cv::Mat matte = noiseMatte({320, 240}, 0.01, 21);
+    cv::Mat streak = cv::Mat::zeros(matte.size(), CV_32FC1);
+    drawStreak(streak, {160, 120, 48, 0.8, 0.15}, angle);
+    const cv::Vec2d d(std::sin(angle * M_PI / 180.0), -std::cos(angle * M_PI / 180.0));
+    for (int y = 0; y < streak.rows; ++y)
+      for (int x = 0; x < streak.cols; ++x) {
+        const double along = (x - 160) * d[0] + (y - 120) * d[1] + 24.0;  // 0 at one end
+        if (std::fmod(along + 80.0, 8.0) >= 5.0) streak.at<float>(y, x) = 0.0f;
+      }
+    matte = cv::max(matte, streak);
+    StrokeCollector collector(StrokeExtractionSettings{});
+    collector.addFrame(0, matte, angle, 0.01);
+    const rain::StrokeLibrary library = collector.finish();
+    ASSERT_EQ(library.strokes.size(), 1u) << "angle " << angle;
+    EXPECT_NEAR(library.strokes[0].lengthPx, 48.0, 0.2 * 48.0) << "angle " << angle;
+  }
+}
+
 TEST(StrokeExtraction, RainAtAnotherAngleThanTheEstimateIsNoStroke) {
   // Streaks 40 degrees off the rain direction given: not rain strokes of this footage.
   cv::Mat matte = noiseMatte({320, 240}, 0.01, 4);
