@@ -208,8 +208,8 @@ ClipDerainSummary derainClip(const std::string& input, const ClipDerainSettings&
                                 : "identity";
     stats.angleDeg = result.angleDeg;
     stats.angleFound = result.angleFound;
-    if (result.angleFound) lastFoundAngleDeg = result.angleDeg;
     if (result.angleFound) {
+      lastFoundAngleDeg = result.angleDeg;
       const bool first = summary.windowsWithAngle++ == 0;
       summary.angleMinDeg =
           first ? result.angleDeg : std::min(summary.angleMinDeg, result.angleDeg);

@@ -221,9 +221,6 @@ void removePersistentAlpha(const Problem& problem, State& state) {
   });
 }
 
-// The mattes with what stays in place through the window taken out (alpha minus its temporal
-// median): rain moves between frames, while what a misregistered edge or a compression
-// artefact leaves in alpha stays put and would otherwise pull D0 along the scene's lines.
 // The initialisation's rain: each frame's excess over the background S (the temporal median),
 // averaged over the channels, where valid. Its streaks give D0 before the first alpha solve,
 // which smooths alpha along D0.
@@ -242,6 +239,9 @@ std::vector<cv::Mat> residualMattes(const Problem& problem, const State& state) 
   return mattes;
 }
 
+// The mattes with what stays in place through the window taken out (alpha minus its temporal
+// median): rain moves between frames, while what a misregistered edge or a compression
+// artefact leaves in alpha stays put and would otherwise pull D0 along the scene's lines.
 std::vector<cv::Mat> transientMattes(const Problem& problem, const State& state) {
   const size_t n = problem.grid.count();
   std::vector<cv::Mat> mattes;

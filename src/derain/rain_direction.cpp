@@ -145,8 +145,9 @@ RainAngleEstimate estimateRainAngle(const std::vector<cv::Mat>& mattes, double m
   if (tiles.empty()) return estimate;
 
   // Each tile votes for its best line with weight salience - 1; a tile whose best line lies at
-  // the range's end votes for a line outside it (a scene edge) and not at all. The lines within
-  // kAgreementDeg of the heaviest vote's neighbourhood give the angle (their weighted mean).
+  // the range's end votes for a line outside it (a scene edge) and not at all. The tile line
+  // with the most vote within kAgreementDeg of it wins; the votes that near it give the angle
+  // (their weighted mean).
   auto weight = [](const Tile& t) { return t.line.atRangeEnd ? 0.0 : t.line.salience - 1.0; };
   double total = 0.0, bestSupport = -1.0, peakDeg = 0.0;
   for (const Tile& t : tiles) total += weight(t);
