@@ -127,6 +127,21 @@ bool keepSecondModel(const SfmReconstruction& first, const SfmReconstruction& se
   return keep;
 }
 
+void setFirstModelAside(const std::filesystem::path& workspace) {
+  std::filesystem::remove_all(workspace / "model.first");
+  std::filesystem::rename(workspace / "model", workspace / "model.first");
+}
+
+void keepModelFolder(const std::filesystem::path& workspace, bool second) {
+  const std::filesystem::path first = workspace / "model.first";
+  if (second) {
+    std::filesystem::remove_all(first);
+    return;
+  }
+  std::filesystem::remove_all(workspace / "model");  // absent when the remap built none
+  std::filesystem::rename(first, workspace / "model");
+}
+
 void refuseUnusableModel(SfmReconstruction& sfm, const SfmOptions& options) {
   std::string reason;
   const double bent = sfm.ok() ? bentness(sfm, options, &reason) : 0.0;
@@ -293,6 +308,7 @@ ClipTracking trackClip(const std::vector<int64_t>& frames,
       bentness(tracking.sfm, settings.sfm, &bent) > 1.0) {
     log::info(fmt::format("depth: the model looks bent ({}); mapping again on one thread", bent));
     const ClipTracking first = tracking;
+    setFirstModelAside(settings.workspace);
     request.remapOnly = true;
     request.threads = 1;
     request.firstMapperSeed = (settings.remapAttempts + 1) * request.mapperAttempts;
@@ -304,6 +320,7 @@ ClipTracking trackClip(const std::vector<int64_t>& frames,
       tracking.sfm.message = e.what();
     }
     const bool keep = keepSecondModel(first.sfm, tracking.sfm, settings.sfm, why);
+    keepModelFolder(settings.workspace, keep);
     if (!keep) tracking = first;
     log::info("depth: mapped again: " + why);
   }

@@ -55,6 +55,14 @@ struct ClipTracking {
 bool keepSecondModel(const SfmReconstruction& first, const SfmReconstruction& second,
                      const SfmOptions& options, std::string& why);
 
+// The remap of a bent model writes its own <workspace>/model: the first model's folder is moved
+// to <workspace>/model.first before it, and afterwards the folder of the model kept (second:
+// the remap's) is left as <workspace>/model and the other removed, so that folder, which
+// depth.colmap_model reads and the log points users at, always holds the model used (before, it
+// held the remap's model even when the first was kept).
+void setFirstModelAside(const std::filesystem::path& workspace);
+void keepModelFolder(const std::filesystem::path& workspace, bool second);
+
 // A model that stays bent past SfmOptions::maxUsableBentness (after the remap) gets status Bent
 // and a message naming why, so the depth stage stops (or falls back to the layers) instead of
 // rendering with its scale and depth.

@@ -3,12 +3,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <random>
 
 #include "sfm/clip_tracking.h"
 #include "sfm/ground_plane.h"
 #include "sfm/scale_cues.h"
 #include "sfm/sfm_poses.h"
+#include "test_support.h"
 
 using namespace pluvia;
 using namespace pluvia::sfm;
@@ -182,6 +186,36 @@ TEST(BentModel, IsDetectedAndAStraighterRemapReplacesIt) {
   EXPECT_GT(bentness(spread, options, &reason), 1.0);
   EXPECT_NEAR(spread.cameraHeightSpread, 0.4023 / 1.375, 1e-3);
   EXPECT_NE(reason.find("camera heights' standard deviation is 29 %"), std::string::npos) << reason;
+}
+
+// After a remap, <workspace>/model holds the model kept: the first one when the remap was not
+// straighter or built nothing (it once held the remap's model while the log said "kept the
+// first", so depth.colmap_model read a model the render never used).
+TEST(BentModel, TheWorkspaceKeepsTheFolderOfTheModelUsed) {
+  const std::filesystem::path ws = test::freshTempDir("remap_model_folder");
+  auto writeModel = [&](const std::string& which) {
+    std::filesystem::create_directories(ws / "model");
+    std::ofstream(ws / "model" / "images.txt") << which;
+  };
+  auto modelIs = [&]() {
+    std::ifstream in(ws / "model" / "images.txt");
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  for (const bool second : {false, true}) {
+    std::filesystem::remove_all(ws / "model");
+    writeModel("first");
+    setFirstModelAside(ws);
+    EXPECT_FALSE(std::filesystem::exists(ws / "model"));
+    writeModel("second");
+    keepModelFolder(ws, second);
+    EXPECT_EQ(modelIs(), second ? "second" : "first");
+    EXPECT_FALSE(std::filesystem::exists(ws / "model.first"));
+  }
+  // A remap that built no model wrote none: the first comes back.
+  writeModel("first");
+  setFirstModelAside(ws);
+  keepModelFolder(ws, false);
+  EXPECT_EQ(modelIs(), "first");
 }
 
 // A model still bent far past the bounds after the remap (a 29-photo walk came back from COLMAP
