@@ -32,9 +32,11 @@ struct ClipTrackingSettings {
   int maxFrames = 200;    // at most this many go to COLMAP (evenly thinned)
   int minFrames = 12;     // frames chosen by parallax: at least this many (or all the clip's)
   int remapAttempts = 2;  // mapper reruns after no ground plane or an implausible focal length
-  // A model that built but looks bent (scale_cues.h bentness above 1) is mapped once more on one
-  // thread with another seed, and the straighter of the two kept; false: kept as it is, warned.
-  bool remapBent = true;
+  // A model that built but looks bent (scale_cues.h bentness above 1) is mapped again on one
+  // thread with other seeds and the intrinsics the other way (refined while mapping if they were
+  // held), at most this many times, until one is bent no more; the straightest is kept. 0: kept
+  // as it is, warned.
+  int bentRemaps = 3;
   double maxFocalRatio = 2.0;      // COLMAP's focal length within this factor of the preset's
   double horizontalFovDeg = 60.0;  // COLMAP's starting focal length
   int maxImageSizePx = 1600;       // SIFT on frames downscaled to this longest side
@@ -55,9 +57,9 @@ struct ClipTracking {
 bool keepSecondModel(const SfmReconstruction& first, const SfmReconstruction& second,
                      const SfmOptions& options, std::string& why);
 
-// The remap of a bent model writes its own <workspace>/model: the first model's folder is moved
-// to <workspace>/model.first before it, and afterwards the folder of the model kept (second:
-// the remap's) is left as <workspace>/model and the other removed, so that folder, which
+// Each remap of a bent model writes its own <workspace>/model: the folder of the best model so
+// far is moved to <workspace>/model.first before it, and afterwards the folder of the model kept
+// (second: the remap's) is left as <workspace>/model and the other removed, so that folder, which
 // depth.colmap_model reads and the log points users at, always holds the model used (before, it
 // held the remap's model even when the first was kept).
 void setFirstModelAside(const std::filesystem::path& workspace);
