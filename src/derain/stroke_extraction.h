@@ -1,8 +1,8 @@
 #pragma once
 // Cutting single rain strokes out of derained mattes (Wang et al. section 2): each matte is
 // rotated so the rain is vertical, blurred vertically (along the rain), thresholded above its
-// noise and split into connected components. Each component
-// is a candidate stroke, turned exactly upright and trimmed, and rejected when it is too short,
+// noise and split into connected components. Each component is a candidate stroke, turned
+// exactly upright and trimmed, and rejected when it is too short,
 // not elongated, tilted, bent, broken, unlike a clean streak, clipped by the frame edge, lying
 // on an edge of the scene or still there in a neighbouring frame (static structure the solve
 // left in the matte); the rest are ranked by contrast, length, slimness, isolation and

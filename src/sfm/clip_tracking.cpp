@@ -127,19 +127,19 @@ bool keepSecondModel(const SfmReconstruction& first, const SfmReconstruction& se
   return keep;
 }
 
-void setFirstModelAside(const std::filesystem::path& workspace) {
-  std::filesystem::remove_all(workspace / "model.first");
-  std::filesystem::rename(workspace / "model", workspace / "model.first");
+void setKeptModelAside(const std::filesystem::path& workspace) {
+  std::filesystem::remove_all(workspace / "model.kept");
+  std::filesystem::rename(workspace / "model", workspace / "model.kept");
 }
 
-void keepModelFolder(const std::filesystem::path& workspace, bool second) {
-  const std::filesystem::path first = workspace / "model.first";
-  if (second) {
-    std::filesystem::remove_all(first);
+void keepModelFolder(const std::filesystem::path& workspace, bool remapped) {
+  const std::filesystem::path kept = workspace / "model.kept";
+  if (remapped) {
+    std::filesystem::remove_all(kept);
     return;
   }
   std::filesystem::remove_all(workspace / "model");  // absent when the remap built none
-  std::filesystem::rename(first, workspace / "model");
+  std::filesystem::rename(kept, workspace / "model");
 }
 
 void refuseUnusableModel(SfmReconstruction& sfm, const SfmOptions& options) {
@@ -310,7 +310,9 @@ ClipTracking trackClip(const std::vector<int64_t>& frames,
   // and heights spreading 9.4 and 9.9 %, though one seed registered only 12 of 29 photos).
   std::string bent;
   if (tracking.sfm.ok() && bentness(tracking.sfm, settings.sfm, &bent) > 1.0) {
-    request.fixIntrinsicsWhileMapping = !request.fixIntrinsicsWhileMapping;
+    // The other way from the model's own mapping (a failed no-ground retry may have turned the
+    // request since).
+    request.fixIntrinsicsWhileMapping = !tracking.run.intrinsicsHeldWhileMapping;
     request.remapOnly = true;
     request.threads = 1;
     for (int remap = 1;
@@ -322,7 +324,7 @@ ClipTracking trackClip(const std::vector<int64_t>& frames,
           bent, remap, settings.bentRemaps,
           request.fixIntrinsicsWhileMapping ? "held" : "refined"));
       const ClipTracking best = tracking;
-      setFirstModelAside(settings.workspace);
+      setKeptModelAside(settings.workspace);
       request.firstMapperSeed = (settings.remapAttempts + remap) * request.mapperAttempts;
       try {
         map();

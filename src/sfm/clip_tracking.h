@@ -57,13 +57,13 @@ struct ClipTracking {
 bool keepSecondModel(const SfmReconstruction& first, const SfmReconstruction& second,
                      const SfmOptions& options, std::string& why);
 
-// Each remap of a bent model writes its own <workspace>/model: the folder of the best model so
-// far is moved to <workspace>/model.first before it, and afterwards the folder of the model kept
-// (second: the remap's) is left as <workspace>/model and the other removed, so that folder, which
-// depth.colmap_model reads and the log points users at, always holds the model used (before, it
-// held the remap's model even when the first was kept).
-void setFirstModelAside(const std::filesystem::path& workspace);
-void keepModelFolder(const std::filesystem::path& workspace, bool second);
+// Each remap of a bent model writes its own <workspace>/model: the folder of the model kept so
+// far is moved to <workspace>/model.kept before it, and afterwards the folder of the model kept
+// now (remapped: the remap's) is left as <workspace>/model and the other removed, so that folder,
+// which depth.colmap_model reads and the log points users at, always holds the model used
+// (before, it held the remap's model even when the first was kept).
+void setKeptModelAside(const std::filesystem::path& workspace);
+void keepModelFolder(const std::filesystem::path& workspace, bool remapped);
 
 // A model that stays bent past SfmOptions::maxUsableBentness (after the remap) gets status Bent
 // and a message naming why, so the depth stage stops (or falls back to the layers) instead of

@@ -257,6 +257,7 @@ ColmapRun runColmapSparse(const ColmapRequest& request) {
     }
   }
   run.modelFolder = bestFolder;
+  run.intrinsicsHeldWhileMapping = fixIntrinsics;
   if (fixIntrinsics) refineIntrinsics(request, colmap, run);
   // The model used, where a user finds it (depth.colmap_model): <workspace>/model.
   const stdfs::path chosen = ws / "model";

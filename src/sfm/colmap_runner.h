@@ -66,6 +66,7 @@ struct ColmapRun {
   double seconds = 0.0;           // wall time of the steps
   // The freed focal length over the starting one when that refinement was kept, else 1.
   double focalRefinementRatio = 1.0;
+  bool intrinsicsHeldWhileMapping = false;  // the mapper held the starting intrinsics
 };
 
 // The COLMAP program to run when a request names none (the front end sets it from

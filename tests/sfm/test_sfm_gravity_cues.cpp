@@ -201,19 +201,19 @@ TEST(BentModel, TheWorkspaceKeepsTheFolderOfTheModelUsed) {
     std::ifstream in(ws / "model" / "images.txt");
     return std::string(std::istreambuf_iterator<char>(in), {});
   };
-  for (const bool second : {false, true}) {
+  for (const bool remapped : {false, true}) {
     std::filesystem::remove_all(ws / "model");
     writeModel("first");
-    setFirstModelAside(ws);
+    setKeptModelAside(ws);
     EXPECT_FALSE(std::filesystem::exists(ws / "model"));
     writeModel("second");
-    keepModelFolder(ws, second);
-    EXPECT_EQ(modelIs(), second ? "second" : "first");
-    EXPECT_FALSE(std::filesystem::exists(ws / "model.first"));
+    keepModelFolder(ws, remapped);
+    EXPECT_EQ(modelIs(), remapped ? "second" : "first");
+    EXPECT_FALSE(std::filesystem::exists(ws / "model.kept"));
   }
   // A remap that built no model wrote none: the first comes back.
   writeModel("first");
-  setFirstModelAside(ws);
+  setKeptModelAside(ws);
   keepModelFolder(ws, false);
   EXPECT_EQ(modelIs(), "first");
 }
