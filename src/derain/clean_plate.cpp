@@ -66,8 +66,11 @@ Registered registerNeighbour(const cv::Mat3f& colour, const Grey& neighbour, con
 
   cv::Mat2f backward;
   dis.calc(neighbour.bytes, reference.bytes, backward);
+  // The 1 px alone, without registration.cpp's tenth of the flow's length: with it, this
+  // median fell from 34.06 to 33.30 dB on report derain's moving camera (the solve: 32.02 dB
+  // with it, 32.09 without).
   const cv::Mat1b consistent =
-      forwardBackwardConsistent(forward, backward, points, settings.consistencyPx);
+      forwardBackwardConsistent(forward, backward, points, settings.consistencyPx, 0.0);
   return {remapCubic(colour, points), warpedGrey, covered & consistent};
 }
 

@@ -49,13 +49,16 @@ cv::Mat1b inBounds(const cv::Mat2f& points) {
 }
 
 cv::Mat1b forwardBackwardConsistent(const cv::Mat2f& forward, const cv::Mat2f& backward,
-                                    const cv::Mat2f& points, double tolerancePx) {
+                                    const cv::Mat2f& points, double tolerancePx, double relative) {
   cv::Mat2f back;
   cv::remap(backward, back, points, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
   cv::Mat1b out(forward.size());
   for (int y = 0; y < forward.rows; ++y) {
     for (int x = 0; x < forward.cols; ++x) {
-      out(y, x) = cv::norm(forward(y, x) + back(y, x)) < tolerancePx ? 255 : 0;
+      const double error = cv::norm(forward(y, x) + back(y, x), cv::NORM_L2SQR);
+      const double length =
+          cv::norm(forward(y, x), cv::NORM_L2SQR) + cv::norm(back(y, x), cv::NORM_L2SQR);
+      out(y, x) = error < relative * relative * length + tolerancePx * tolerancePx ? 255 : 0;
     }
   }
   return out;

@@ -21,10 +21,12 @@ cv::Mat2f landingPoints(const cv::Mat2f& flow);
 // 255 where the point lies inside an image of the points' size.
 cv::Mat1b inBounds(const cv::Mat2f& points);
 
-// 255 where following the forward flow to `points` (landingPoints(forward)) and then the
-// backward one returns within `tolerancePx`: occluded and mismatched pixels fail it.
+// 255 where following the forward flow f to `points` (landingPoints(forward)) and then the
+// backward one b returns close to where it started, |f + b|^2 < relative^2 (|f|^2 + |b|^2) +
+// tolerancePx^2: occluded and mismatched pixels fail it. The relative part is Sundaram, Brox and
+// Keutzer's (ECCV 2010: relative 0.1, tolerance 0.71 px): a long flow's error grows with it.
 cv::Mat1b forwardBackwardConsistent(const cv::Mat2f& forward, const cv::Mat2f& backward,
-                                    const cv::Mat2f& points, double tolerancePx);
+                                    const cv::Mat2f& points, double tolerancePx, double relative);
 
 // An image resampled at `points` (cubic: linear interpolation at half-pixel offsets blurs fine
 // texture by several codes), the border replicated.

@@ -20,9 +20,10 @@ struct StrokeCollector::Candidate {
 
 struct StrokeCollector::Frame {
   int64_t frame = 0;
-  cv::Mat matte;  // CV_32FC1 in [0, 1], no NaN
-  cv::Mat valid;  // CV_8UC1, 255 where solved
-  cv::Mat edges;  // CV_32FC1: gradient magnitude of the background; empty: none given
+  cv::Mat matte;       // CV_32FC1 in [0, 1], no NaN
+  cv::Mat valid;       // CV_8UC1, 255 where solved
+  cv::Mat background;  // CV_32FC1: the background's grey; empty: none given
+  cv::Mat edges;       // CV_32FC1: its gradient magnitude
   double angleDeg = 0.0;
   double noiseSigma = 0.0;  // the solve's (StrokeCollector::addFrame)
   bool cut = false;
@@ -34,7 +35,7 @@ constexpr int kAtlasMaxWidth = 1024;
 constexpr int kAtlasPadding = 2;  // zero texels around every stroke (bilinear, clamp-to-edge)
 constexpr int kCropMarginPx = 2;  // soft edge kept around a component's mask
 constexpr double kMinMotionResponse = 0.05;  // phase correlation peak taken as camera motion
-constexpr double kMaxMotionPx = 12.0;        // larger frame-to-frame motion: not the camera's
+constexpr double kMaxMotionPx = 12.0;        // between mattes, larger motion: not the camera's
 constexpr double kTrimLevel = 0.15;      // a crop ends where its rows fall below this of the peak
 constexpr double kTrimSideLevel = 0.05;  // and at its sides where its columns do
 constexpr double kMinGap = 0.6;        // a stroke's profile dipping below this inside: two strokes
@@ -310,30 +311,17 @@ double staticShare(const cv::Mat& matte, const std::vector<cv::Mat>& others, cv:
   return best;
 }
 
-// The neighbours' mattes with the camera's motion between them and `matte` undone (phase
-// correlation of the mattes, which static structure dominates).
-std::vector<cv::Mat> alignedNeighbours(const cv::Mat& matte,
-                                       const std::vector<cv::Mat>& neighbourMattes) {
-  std::vector<cv::Mat> aligned;
-  if (neighbourMattes.empty()) return aligned;
+// The shift that aligns `from` onto `to` (phase correlation); zero when its peak is weak, or
+// farther than maxPx.
+cv::Point2d cameraShift(const cv::Mat& from, const cv::Mat& to, double maxPx) {
   cv::Mat window;
-  cv::createHanningWindow(window, matte.size(), CV_32F);
-  for (const cv::Mat& neighbour : neighbourMattes) {
-    double response = 0.0;
-    // Copies: OpenCV multiplies the window into its inputs in place when their size needs
-    // no padding.
-    cv::Point2d shift = cv::phaseCorrelate(neighbour.clone(), matte.clone(), window, &response);
-    // A weak peak is no motion; a far one is rain falling (the same drops a frame later),
-    // not the camera.
-    if (!(response >= kMinMotionResponse) || std::hypot(shift.x, shift.y) > kMaxMotionPx)
-      shift = {0.0, 0.0};
-    const cv::Matx23d move(1, 0, shift.x, 0, 1, shift.y);
-    cv::Mat moved;
-    cv::warpAffine(neighbour, moved, move, matte.size(), cv::INTER_LINEAR, cv::BORDER_CONSTANT,
-                   0.0);
-    aligned.push_back(moved);
-  }
-  return aligned;
+  cv::createHanningWindow(window, to.size(), CV_32F);
+  double response = 0.0;
+  // Copies: OpenCV multiplies the window into its inputs in place when their size needs no
+  // padding.
+  const cv::Point2d shift = cv::phaseCorrelate(from.clone(), to.clone(), window, &response);
+  if (!(response >= kMinMotionResponse) || std::hypot(shift.x, shift.y) > maxPx) return {};
+  return shift;
 }
 
 // The blurred matte of the other components (labels but `label`) in `box` grown by `marginPx`.
@@ -386,12 +374,13 @@ void StrokeCollector::addFrame(int64_t frame, const cv::Mat& matte, double angle
       throw Error(
           "stroke extraction: the background must be CV_32FC3 or CV_32FC1 of the matte's size",
           {"strokes", frame, {}});
-    cv::Mat gray, dx, dy;
+    cv::Mat& gray = f.background;
     if (background.channels() == 3)
       cv::transform(background, gray, cv::Matx13f(1.0f / 3, 1.0f / 3, 1.0f / 3));
     else
       gray = background.clone();
     cv::patchNaNs(gray, 0.0);
+    cv::Mat dx, dy;
     cv::Sobel(gray, dx, CV_32F, 1, 0, 3, 1.0 / 8.0);
     cv::Sobel(gray, dy, CV_32F, 0, 1, 3, 1.0 / 8.0);
     cv::magnitude(dx, dy, f.edges);
@@ -423,9 +412,21 @@ void StrokeCollector::cut(const Frame& f, const std::vector<const Frame*>& neigh
   const cv::Mat& clean = f.matte;
   const Upright up = rotateUpright(clean, f.valid, f.angleDeg);
 
-  std::vector<cv::Mat> neighbourMattes;
-  for (const Frame* n : neighbours) neighbourMattes.push_back(n->matte);
-  const std::vector<cv::Mat> aligned = alignedNeighbours(clean, neighbourMattes);
+  // The neighbours' mattes with the camera's motion between them and this frame undone: the
+  // motion from the backgrounds where both frames have one (no rain falls there to be taken for
+  // the camera, so a fast pan is followed: rb2's 24 px a frame); else from the mattes, which
+  // static structure dominates, up to kMaxMotionPx (farther is rain falling: the same drops a
+  // frame later).
+  std::vector<cv::Mat> aligned;
+  for (const Frame* n : neighbours) {
+    const bool backgrounds = !f.background.empty() && !n->background.empty();
+    const cv::Point2d shift = backgrounds ? cameraShift(n->background, f.background, INFINITY)
+                                          : cameraShift(n->matte, clean, kMaxMotionPx);
+    cv::Mat moved;
+    cv::warpAffine(n->matte, moved, cv::Matx23d(1, 0, shift.x, 0, 1, shift.y), clean.size(),
+                   cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0.0);
+    aligned.push_back(moved);
+  }
 
   // The blur along the rain (vertical on the upright canvas) smooths the streaks along their
   // length only; the threshold stands above the blurred matte's noise, which the blur lowers by

@@ -42,9 +42,28 @@ stdfs::path sharedData() {
   return {};
 }
 
+namespace {
+stdfs::path processTempDir() {
+  return stdfs::temp_directory_path() / ("pluvia-test-" + std::to_string(::getpid()));
+}
+
+// A test process's folders go once its tests have all passed: the suite runs some 750
+// processes, and each one's folder (up to tens of MB) would otherwise stay in the temporary
+// folder after every run. A failed test's are kept to look at.
+class RemoveTempDirWhenPassed : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    if (!::testing::UnitTest::GetInstance()->Passed()) return;
+    std::error_code ignored;
+    stdfs::remove_all(processTempDir(), ignored);
+  }
+};
+[[maybe_unused]] const ::testing::Environment* const kRemoveTempDir =
+    ::testing::AddGlobalTestEnvironment(new RemoveTempDirWhenPassed);
+}  // namespace
+
 stdfs::path freshTempDir(const std::string& name) {
-  stdfs::path dir =
-      stdfs::temp_directory_path() / ("pluvia-test-" + std::to_string(::getpid())) / name;
+  stdfs::path dir = processTempDir() / name;
   stdfs::remove_all(dir);
   stdfs::create_directories(dir);
   return dir;

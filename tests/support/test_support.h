@@ -22,7 +22,8 @@ std::filesystem::path exampleClip();   // examples/street/street_plate.mp4
 // ../shared/data beside the checkout (or $PLUVIA_SHARED_DATA); empty when absent, in which
 // case tests that need it call GTEST_SKIP().
 std::filesystem::path sharedData();
-// A fresh, empty folder under the system temp dir, unique to this test.
+// A fresh, empty folder under the system temp dir, unique to this test; removed with the
+// process's other folders when all its tests pass.
 std::filesystem::path freshTempDir(const std::string& name);
 // This process's resident memory, from /proc/self/statm.
 size_t residentBytes();
