@@ -12,14 +12,16 @@
 
 #include "commands.h"
 #include "common.h"
+#include "image/srgb.h"
 #include "io/clip_reader.h"
 #include "lab/rain_match.h"
 #include "preset/preset.h"
 #include "realism_render.h"
-#include "stages/auto_exposure.h"
+#include "stages/plate_shutter.h"
 #include "stages/rain_settings.h"
 #include "util/error.h"
 #include "util/fs.h"
+#include "util/log.h"
 
 namespace pluvia::cli {
 namespace {
@@ -94,10 +96,12 @@ void addMatchCommand(CLI::App& app, Invocation& invocation) {
       ->check(CLI::Range(64, 8192))
       ->capture_default_str();
   cmd->callback([=, &invocation] {
-    const ClipInfo reference = openClip(args->reference)->info();
+    const std::unique_ptr<ClipReader> referenceReader = openClip(args->reference);
+    const ClipInfo reference = referenceReader->info();
     refuseOverwritingInput(reference.files, "-o", {args->output});
     refuseOverwritingInput({findPreset(args->base).string()}, "-o", {args->output});
-    // The base's own rain is where the search starts (its automatic shutter: a day's).
+    // The base's own rain is where the search starts, filmed with its shutter or, where it
+    // leaves it to the plate (every shipped base), the reference's own.
     const Preset base = loadPreset(args->base, {});
     lab::RainMatchSettings settings = args->settings;
     settings.clip = args->reference;
@@ -109,7 +113,21 @@ void addMatchCommand(CLI::App& app, Invocation& invocation) {
     settings.start.farMeters =
         std::max(settings.minFarMeters, drawnDepthMeters(base, reference.width));
     const double exposure = base.number("camera.exposure_s");
-    settings.start.exposureSeconds = exposure > 0.0 ? exposure : kDaylightExposureSeconds;
+    if (exposure > 0.0) {
+      settings.start.exposureSeconds = exposure;
+    } else {
+      const PlateShutter shutter = findPlateShutter(reference, reference.fps, [&](int64_t frame) {
+        Image image = referenceReader->read(frame);
+        if (!reference.isFloat)
+          for (size_t i = 0; i < image.rgba.size(); i += 4)
+            for (size_t c = 0; c < 3; ++c)
+              image.rgba[i + c] = float(srgbDecode(std::clamp(image.rgba[i + c], 0.0f, 1.0f)));
+        return image;
+      });
+      settings.start.exposureSeconds = shutter.seconds;
+      log::info(fmt::format("match: the reference's shutter 1/{:.0f} s, {}", 1.0 / shutter.seconds,
+                            shutter.source));
+    }
     // The base's wind across the view (dir_deg 0 is the camera's right, 90 away from it).
     settings.start.windRightMetersPerSecond =
         base.number("rain.wind.speed_m_s") *

@@ -4,8 +4,10 @@
 
 #include "commands.h"
 #include "common.h"
+#include "pipeline/camera_settings.h"
 #include "pipeline/render_job.h"
 #include "stages/lights_settings.h"
+#include "stages/plate_shutter.h"
 #include "stages/registry.h"
 #include "util/log.h"
 
@@ -50,6 +52,37 @@ void printFoundLamps(const std::string& input, std::optional<int64_t> movieFirst
   }
 }
 
+// The shutter the rain and splashes are filmed with and where it comes from (the preset, or the
+// plate: its metadata, its motion blur measured on 7 frames, else the 180-degree shutter), as a
+// render finds it.
+std::string shutterLine(const std::string& input, std::optional<int64_t> movieFirstFrame,
+                        const Preset& preset, const std::string& cache) {
+  RenderRequest request;
+  request.input = input;
+  request.movieFirstFrame = movieFirstFrame;
+  request.cacheDir = cache;
+  request.progress = false;
+  StageTimes times;
+  const log::Level level = log::level();
+  log::setLevel(log::Level::Warning);
+  RenderSession session(request, preset, allStages(), times);
+  std::string line;
+  if (session.plan().runs("rain") || session.plan().runs("splash")) {
+    CameraSettings camera = cameraSettings(preset);
+    const double fps = session.clipContext().fps;
+    std::string source = presetShutterSource(camera, fps);
+    if (source.empty()) {
+      const PlateShutter& shutter = clipPlateShutter(session.clipContext(), ShutterCache::LookUp);
+      camera.plateShutterSeconds = shutter.seconds;
+      source = shutter.source + "; camera.exposure_s or camera.shutter_angle_deg sets another";
+    }
+    line =
+        fmt::format("  shutter 1/{:.0f} s: {}\n", 1.0 / camera.exposureSecondsAt(fps, 0.0), source);
+  }
+  log::setLevel(level);
+  return line;
+}
+
 }  // namespace
 
 void addPlanCommand(CLI::App& app, Invocation& invocation) {
@@ -82,6 +115,7 @@ void addPlanCommand(CLI::App& app, Invocation& invocation) {
         clip.width, clip.height, clip.frames.size(), clip.frames.front(), clip.frames.back(),
         clip.fps, preset.source(), preset.hash());
     std::cout << plan.text();
+    std::cout << shutterLine(args->input, args->startFrame, preset, args->cache);
   });
 }
 

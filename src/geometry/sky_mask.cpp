@@ -66,6 +66,64 @@ cv::Mat specklessMask(const cv::Mat& candidate, const cv::Mat& bright,
   return specks <= settings.maxSpeckDensity;
 }
 
+// The seeds with the regions of `labels` (seed candidates, 0 for none) that lie across a line of
+// at most bridgePx from them and meet them in the same colour: a region joins when the mean
+// colour of its pixels next to the seeds and that of the seeds' pixels next to it agree within
+// bridgeCodes in every channel. Repeated until nothing joins (the sky between two wires joins
+// after the sky between the first wire and the top).
+cv::Mat bridgedAcrossLines(cv::Mat seeds, const cv::Mat& labels,
+                           const std::vector<cv::Mat>& channels, const SkyMaskSettings& settings) {
+  const cv::Mat reach = cv::getStructuringElement(
+      cv::MORPH_RECT, cv::Size(2 * settings.bridgePx + 1, 2 * settings.bridgePx + 1));
+  double maxLabel = 0.0;
+  cv::minMaxLoc(labels, nullptr, &maxLabel);
+  const size_t count = size_t(maxLabel) + 1, nc = channels.size();
+  for (int pass = 0; pass < 16; ++pass) {
+    cv::Mat nearSeeds;
+    cv::dilate(seeds, nearSeeds, reach);
+    // Per region: the mean colour of its pixels near the seeds, and of the seeds' pixels near it
+    // (those whose reach holds one of its pixels: a second dilation, of that region's label).
+    std::vector<std::vector<double>> regionSum(count, std::vector<double>(nc, 0.0)),
+        seedSum(count, std::vector<double>(nc, 0.0));
+    std::vector<int> regionCount(count, 0), seedCount(count, 0);
+    // Labels as floats (exact up to 2^24): OpenCV dilates no 32-bit integers.
+    cv::Mat regionNear = cv::Mat::zeros(labels.size(), CV_32F);
+    for (int y = 0; y < labels.rows; ++y)
+      for (int x = 0; x < labels.cols; ++x) {
+        const int l = labels.at<int>(y, x);
+        if (l <= 0 || seeds.at<uchar>(y, x) || !nearSeeds.at<uchar>(y, x)) continue;
+        regionNear.at<float>(y, x) = float(l);
+        ++regionCount[size_t(l)];
+        for (size_t c = 0; c < nc; ++c) regionSum[size_t(l)][c] += channels[c].at<uchar>(y, x);
+      }
+    cv::Mat seedNear;  // per seed pixel, a region label within reach (the largest: one is enough)
+    cv::dilate(regionNear, seedNear, reach);
+    for (int y = 0; y < labels.rows; ++y)
+      for (int x = 0; x < labels.cols; ++x) {
+        const int l = int(seedNear.at<float>(y, x));
+        if (l <= 0 || !seeds.at<uchar>(y, x)) continue;
+        ++seedCount[size_t(l)];
+        for (size_t c = 0; c < nc; ++c) seedSum[size_t(l)][c] += channels[c].at<uchar>(y, x);
+      }
+    std::vector<char> joins(count, 0);
+    bool any = false;
+    for (size_t l = 1; l < count; ++l) {
+      if (regionCount[l] == 0 || seedCount[l] == 0) continue;
+      bool agree = true;
+      for (size_t c = 0; c < nc; ++c)
+        agree = agree && std::abs(regionSum[l][c] / regionCount[l] -
+                                  seedSum[l][c] / seedCount[l]) <= settings.bridgeCodes;
+      joins[l] = agree;
+      any = any || agree;
+    }
+    if (!any) break;
+    for (int y = 0; y < labels.rows; ++y)
+      for (int x = 0; x < labels.cols; ++x)
+        if (joins[size_t(std::max(0, labels.at<int>(y, x)))]) seeds.at<uchar>(y, x) = 255;
+  }
+  return seeds;
+}
+
 }  // namespace
 
 std::vector<cv::Mat> colourChannels(const cv::Mat& guide) {
@@ -150,8 +208,10 @@ cv::Mat skyMask(const cv::Mat& guide, const cv::Mat& sampleMask, const cv::Mat& 
   if (channels.size() == 3)
     bright &=
         ~((channels[2] > channels[0] * settings.maxRedOverBlue) & (channels[2] >= channels[1]));
+  cv::Mat aboveHorizon(size, CV_8U, cv::Scalar(255));
   if (!sinElevation.empty())
-    bright &= sinElevation > std::sin(settings.minElevationDeg * M_PI / 180.0);
+    aboveHorizon = sinElevation > std::sin(settings.minElevationDeg * M_PI / 180.0);
+  if (!settings.horizonBoundsSeedsOnly) bright &= aboveHorizon;
   cv::Mat candidate = bright & (texture < settings.maxGradient);
   const cv::Mat speckless = specklessMask(candidate, brightValue, settings);
   candidate &= speckless;
@@ -164,8 +224,11 @@ cv::Mat skyMask(const cv::Mat& guide, const cv::Mat& sampleMask, const cv::Mat& 
   const int count = cv::connectedComponentsWithStats(
       candidate & noEdge & (distancePx > seedDistance), seedLabels, stats, centroids, 4, CV_32S);
   std::vector<char> keep(count, 0);
+  std::vector<char> topAboveHorizon(count, 0);
+  for (int x = 0; x < size.width; ++x)
+    if (aboveHorizon.at<uchar>(0, x)) topAboveHorizon[seedLabels.at<int>(0, x)] = 1;
   for (int l = 1; l < count; ++l)
-    keep[l] = stats.at<int>(l, cv::CC_STAT_TOP) == 0 &&
+    keep[l] = topAboveHorizon[l] &&
               stats.at<int>(l, cv::CC_STAT_AREA) >= M_PI * seedDistance * seedDistance;
   cv::Mat seeds = cv::Mat::zeros(size, CV_8U);
   for (int y = 0; y < size.height; ++y) {
@@ -175,6 +238,7 @@ cv::Mat skyMask(const cv::Mat& guide, const cv::Mat& sampleMask, const cv::Mat& 
       if (keep[l[x]]) o[x] = 255;
   }
   if (cv::countNonZero(seeds) == 0) return seeds;
+  seeds = bridgedAcrossLines(seeds, seedLabels, channels, settings);
   // Growing into the margin the seeds leave around the samples, and no farther: through
   // candidates with no edge of their own (a faint roof line stops it), within seedDistance of a
   // seed. Then into the margin the texture test leaves around every edge, its window's
@@ -191,13 +255,19 @@ cv::Mat skyMask(const cv::Mat& guide, const cv::Mat& sampleMask, const cv::Mat& 
   grown = componentsTouching(
       grown | (nearGrown & bright & speckless & growable & (nearTexture < settings.maxGradient)),
       grown);
-  // Holes in the sky holding no sample, not reaching the frame's border: a cloud's edge.
+  // Thin lines across the sky (wires, twigs: the sky on both sides), then holes in the sky
+  // holding no sample, not reaching the frame's border: a cloud's edge, a bird.
+  cv::morphologyEx(
+      grown, grown, cv::MORPH_CLOSE,
+      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * settings.lineRadiusPx + 1,
+                                                            2 * settings.lineRadiusPx + 1)),
+      cv::Point(-1, -1), 1, cv::BORDER_REPLICATE);
+  grown &= sampleMask == 0;
   cv::Mat border = cv::Mat::zeros(size, CV_8U);
   cv::rectangle(border, cv::Rect(0, 0, size.width, size.height), 255, 1);
   const cv::Mat notSky = grown == 0;
   cv::Mat holes = notSky & (componentsTouching(notSky, border | sampleMask) == 0);
-  if (!sinElevation.empty())
-    holes &= sinElevation > std::sin(settings.minElevationDeg * M_PI / 180.0);
+  if (!settings.horizonBoundsSeedsOnly) holes &= aboveHorizon;
   return grown | holes;
 }
 
@@ -210,7 +280,9 @@ cv::Mat estimateSkyMask(const cv::Mat& guide, const std::optional<Camera>& groun
   if (groundCamera)
     groundPlane(*groundCamera, guide.cols, guide.rows, groundMaxDistanceMeters, groundInverse,
                 sinElevation);
-  return skyMask(guide, noSamples, farFromSamples, sinElevation, settings);
+  SkyMaskSettings guessed = settings;
+  guessed.horizonBoundsSeedsOnly = true;
+  return skyMask(guide, noSamples, farFromSamples, sinElevation, guessed);
 }
 
 }  // namespace pluvia

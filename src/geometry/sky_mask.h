@@ -36,7 +36,19 @@ struct SkyMaskSettings {
   // road, whose lighter far part passed the relative test alone).
   double minSkyCode = 140.0;
   double minElevationDeg = 1.5;  // above the ground camera's horizon
-  double maxRedOverBlue = 1.3;   // display codes: warmer (and red over green) is no sky
+  // The horizon bounds where the sky may start (its seeds' top row), not how far it reaches
+  // below: where the camera is a guess (estimateSkyMask: the preset's tilt), a photo looking up
+  // has clear sky under the guess's horizon, and cutting it there drew a seam across the sky.
+  bool horizonBoundsSeedsOnly = false;
+  // Sky regions cut apart by a wire or a branch are joined when they come within bridgePx of
+  // each other (the line and the band the texture test leaves around it: about 10 px for a 1 px
+  // wire at the 480 px the sky is found at) and their colours on either side of it agree within
+  // bridgeCodes (display codes, each channel). The lines themselves, at most 2 lineRadiusPx wide
+  // between sky on both sides, are sky too: a wire is graded as the sky around it.
+  int bridgePx = 8;
+  double bridgeCodes = 6.0;
+  int lineRadiusPx = 3;
+  double maxRedOverBlue = 1.3;  // display codes: warmer (and red over green) is no sky
   // Specks (regions of at most maxSpeckAreaPx that fail the brightness or texture test,
   // enclosed by pixels that pass, holding a pixel that fails the brightness test) over more
   // than maxSpeckDensity of the pixels within speckWindowRadiusPx make a wall, not sky: the sky
@@ -63,7 +75,8 @@ cv::Mat skyMask(const cv::Mat& guide, const cv::Mat& sampleMask, const cv::Mat& 
                 const cv::Mat& sinElevation, const SkyMaskSettings& settings);
 
 // The same for a frame with no depth samples at all (the default depth's guess): every pixel
-// counts as far from a sample; the horizon test uses `groundCamera` when given.
+// counts as far from a sample; the horizon test uses `groundCamera` when given, for the seeds
+// alone (horizonBoundsSeedsOnly: that camera's tilt is the preset's guess).
 cv::Mat estimateSkyMask(const cv::Mat& guide, const std::optional<Camera>& groundCamera,
                         double groundMaxDistanceMeters = 100.0,
                         const SkyMaskSettings& settings = {});

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -133,6 +134,15 @@ ImageFileHeader readImageHeader(const std::string& path, std::optional<int64_t> 
     } else {
       header.metadata[name] = value->get_string();
     }
+  }
+  // A shutter angle, where the camera or the facility wrote one (no standard name: ARRI's
+  // "com.arri.camera.ShutterAngle", "shutterAngle", "ShutterAngle"), in degrees.
+  for (const OIIO::ParamValue& attribute : spec.extra_attribs) {
+    std::string name = attribute.name().string();
+    std::erase_if(name, [](char c) { return c == '_'; });
+    std::transform(name.begin(), name.end(), name.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    if (name.ends_with("shutterangle")) header.metadata["ShutterAngle"] = attribute.get_string();
   }
   return header;
 }

@@ -157,7 +157,8 @@ void describe(OIIO::ImageSpec& spec, const std::string& extension,
 // A metadata value as its field's type: the exposure fields a plate carries are numbers in
 // EXIF and EXR (written as text, OpenEXR's writer drops them with a debug line), the rest text.
 void setAttribute(OIIO::ImageSpec& spec, const std::string& key, const std::string& value) {
-  static const std::set<std::string> kReals{"ExposureTime", "FNumber", "Exif:FocalLength"};
+  static const std::set<std::string> kReals{"ExposureTime", "ShutterAngle", "FNumber",
+                                            "Exif:FocalLength"};
   char* end = nullptr;
   const double number = std::strtod(value.c_str(), &end);
   const bool isNumber = !value.empty() && end == value.c_str() + value.size();

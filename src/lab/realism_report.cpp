@@ -1,6 +1,7 @@
 #include "lab/realism_report.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -9,8 +10,10 @@
 #include <opencv2/imgproc.hpp>
 
 #include "derain/clean_plate.h"
+#include "derain/motion_blur.h"
 #include "image/contact_sheet.h"
 #include "image/luminance.h"
+#include "image/srgb.h"
 #include "io/clip_reader.h"
 #include "io/image_file_writer.h"
 #include "lab/real_rain_clip.h"
@@ -90,6 +93,30 @@ void writeContactSheet(const std::string& path, const std::vector<SheetColumn>& 
   writeImageFile(path, image.width, image.height, channels, {}, std::nullopt);
 }
 
+// The clip's shutter as its motion blur shows it (the frames' display codes taken as sRGB).
+std::string clipShutter(const RealClip& clip) {
+  std::vector<cv::Mat1f> greys;
+  for (const cv::Mat3f& rgb : clip.frames) {
+    cv::Mat1f grey(rgb.size());
+    for (int y = 0; y < rgb.rows; ++y)
+      for (int x = 0; x < rgb.cols; ++x) {
+        const cv::Vec3f& p = rgb(y, x);
+        const std::array<double, 3> linear{srgbDecode(p[0] / 255.0), srgbDecode(p[1] / 255.0),
+                                           srgbDecode(p[2] / 255.0)};
+        grey(y, x) = float(rec709Luminance(linear));
+      }
+    greys.push_back(grey);
+  }
+  // The middle 7, as a render measures its plate.
+  const size_t count = std::min<size_t>(greys.size(), 7), first = (greys.size() - count) / 2;
+  const derain::ShutterFromBlur found = derain::measureShutterFromBlur(
+      {greys.begin() + ptrdiff_t(first), greys.begin() + ptrdiff_t(first + count)});
+  if (!found.measured) return "not measured (" + found.summary + "): the 180-degree shutter";
+  return fmt::format("{}1/{:.0f} s at {:g} fps, from its motion blur ({})",
+                     found.upperBound ? "at most " : "", clip.fps / found.shutterFraction, clip.fps,
+                     found.summary);
+}
+
 }  // namespace
 
 RealismReport runRealismReport(const RealismReportSettings& settings,
@@ -116,9 +143,10 @@ RealismReport runRealismReport(const RealismReportSettings& settings,
     real.clip = clip.name;
     real.preset = "real";
     real.stats = measureLayers(clip.frames, plates, &columns[0].layers);
-    real.typical = 1.0;
+    real.typical = real.worst = 1.0;
     real.seconds = secondsSince(started);
     report.rows.push_back(real);
+    report.notes.push_back(fmt::format("{}: its shutter {}", clip.name, clipShutter(clip)));
     std::vector<cv::Mat3f> plateImages;
     for (const CleanPlate& plate : plates) plateImages.push_back(plate.plate);
     const RealismRow* nearest = nullptr;
@@ -134,17 +162,26 @@ RealismReport runRealismReport(const RealismReportSettings& settings,
       std::vector<double> values;
       for (const auto& [name, ratio] : row.ratios) values.push_back(ratio);
       row.typical = typicalFactor(values);
+      for (const auto& [name, ratio] : row.ratios)
+        if (const double off = std::max(ratio, 1.0 / ratio); off > row.worst)
+          row.worst = off, row.worstName = name;
       row.seconds = secondsSince(renderStarted);
       report.rows.push_back(row);
       columns.push_back(std::move(column));
     }
     for (const RealismRow& row : report.rows)
-      if (row.clip == clip.name && row.preset != "real" &&
-          (!nearest || row.typical < nearest->typical))
+      if (row.clip == clip.name && row.preset != "real" && (!nearest || row.worst < nearest->worst))
         nearest = &row;
-    if (nearest)
-      report.notes.push_back(fmt::format("{}: nearest preset {} (typical x{:.2f})", clip.name,
-                                         nearest->preset, nearest->typical));
+    if (nearest) {
+      int within = 0;
+      for (const auto& [name, ratio] : nearest->ratios)
+        within += std::max(ratio, 1.0 / ratio) <= kRealismBound;
+      report.notes.push_back(fmt::format(
+          "{}: nearest preset {} (worst x{:.2f}, its {}; {} of {} statistics within x{:.2f}; "
+          "typical x{:.2f})",
+          clip.name, nearest->preset, nearest->worst, nearest->worstName, within,
+          nearest->ratios.size(), kRealismBound, nearest->typical));
+    }
     if (!settings.imagesDir.empty()) {
       const size_t middle = clip.frames.size() / 2;
       const cv::Rect crop = busiestCrop(columns[0].layers[middle], plates[middle].valid,
@@ -178,6 +215,8 @@ std::vector<Column> statColumns() {
       {"preset", 10, [](const RealismRow& r) { return r.preset; }},
       {"typical", 8,
        [](const RealismRow& r) { return r.preset == "real" ? "-" : fixedOrDash(r.typical, 2); }},
+      {"worst", 7,
+       [](const RealismRow& r) { return r.preset == "real" ? "-" : fixedOrDash(r.worst, 2); }},
       {"cover%", 7, [](const RealismRow& r) { return percentOrDash(r.stats.coverage); }},
       {"dI p50", 7, number(&StreakStats::deltaP50, 1)},
       {"p90", 6, number(&StreakStats::deltaP90, 1)},
@@ -215,16 +254,20 @@ std::string formatRealismReport(const RealismReport& report) {
   for (const RealismRow& row : report.rows) {
     if (row.ratios.empty()) continue;
     if (!header) {
-      out << "\nRatios to real (typical = exp(mean |ln ratio|) over these):\n";
+      out << fmt::format(
+          "\nRatios to real (! outside x{:.2f}; worst = the largest max(r, 1/r); typical = "
+          "exp(mean |ln ratio|) over these):\n",
+          kRealismBound);
       out << fmt::format("{:>14}{:>10}", "clip", "preset");
       for (const auto& [name, ratio] : row.ratios) out << fmt::format("{:>14}", name);
-      out << fmt::format("{:>9}\n", "typical");
+      out << fmt::format("{:>9}{:>9}\n", "worst", "typical");
       header = true;
     }
     out << fmt::format("{:>14}{:>10}", row.clip.substr(0, 13), row.preset);
     for (const auto& [name, ratio] : row.ratios)
-      out << fmt::format("{:>14}", fixedOrDash(ratio, 2));
-    out << fmt::format("{:>9}\n", fixedOrDash(row.typical, 2));
+      out << fmt::format("{:>14}", fixedOrDash(ratio, 2) +
+                                       (std::max(ratio, 1.0 / ratio) > kRealismBound ? "!" : " "));
+    out << fmt::format("{:>9}{:>9}\n", fixedOrDash(row.worst, 2), fixedOrDash(row.typical, 2));
   }
   for (const std::string& note : report.notes) out << "note: " << note << "\n";
   return out.str();
@@ -233,7 +276,8 @@ std::string formatRealismReport(const RealismReport& report) {
 void writeRealismReportCsv(const RealismReport& report, const std::string& path) {
   size_t ratioColumns = 0;
   std::string header =
-      "clip,preset,typical,coverage,delta_p50,delta_p90,delta_p99,streaks_per_mpx,length_p50_px,"
+      "clip,preset,typical,worst,coverage,delta_p50,delta_p90,delta_p99,streaks_per_mpx,length_p50_"
+      "px,"
       "width_p50_px,peak_p90,angle_deg,angle_spread_deg,delta_dark_third,delta_bright_third,"
       "temporal_correlation,frames,seconds";
   for (const RealismRow& row : report.rows)
@@ -245,7 +289,7 @@ void writeRealismReportCsv(const RealismReport& report, const std::string& path)
   writeReportCsv(path, header, [&](std::ostream& out) {
     for (const RealismRow& r : report.rows) {
       const StreakStats& s = r.stats;
-      out << r.clip << "," << r.preset << "," << csvNumber(r.typical);
+      out << r.clip << "," << r.preset << "," << csvNumber(r.typical) << "," << csvNumber(r.worst);
       for (double v :
            {s.coverage, s.deltaP50, s.deltaP90, s.deltaP99, s.streaksPerMpx, s.lengthP50Px,
             s.widthP50Px, s.peakP90, s.angleDeg, s.angleSpreadDeg, s.deltaDarkThird,

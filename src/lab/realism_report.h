@@ -15,9 +15,13 @@
 // would skip that loss: pluvia's own rain, rendered again with its own preset on its own
 // estimated plates, then scored x1.28 (coverage x2.06, count x1.59), against x1.05 measured this
 // way.
-// Each preset's statistics are given as ratios to the real ones and as the typical factor,
+// Each preset's statistics are given as ratios to the real ones, each judged against the bound
+// kRealismBound (marked when outside it), with the worst of them and the typical factor,
 // exp(mean |ln ratio|) over coverage, dI p90, dI p99, streaks per Mpx, length p50, width p50 and
-// peak p90.
+// peak p90. The nearest preset is the one whose worst statistic is nearest to real: a look is
+// met when every statistic is, not on average. Each clip's own shutter, measured from its motion
+// blur (derain/motion_blur.h) as a render measures its plate's, is in the notes: the presets
+// film the rain with it (camera.exposure_s 0).
 #include <functional>
 #include <string>
 #include <vector>
@@ -32,6 +36,8 @@ using derain::StreakStats;
 
 // The statistics are taken at this width (the frames are scaled to it, keeping their aspect).
 inline constexpr int kReportWidthPx = 640;
+// A statistic is met within this factor of real, either way.
+inline constexpr double kRealismBound = 1.25;
 
 struct RealismReportSettings {
   std::vector<std::string> clips;    // real rain clips; empty: NTURain ra1 from sharedData
@@ -56,13 +62,16 @@ struct RealismRow {
   StreakStats stats;
   std::vector<std::pair<std::string, double>> ratios;  // to the real row (empty for it)
   double typical = 0.0;                                // typicalFactor(ratios); 1 for real
-  double seconds = 0.0;                                // plates (real) or render + measure
+  double worst = 0.0;  // the largest max(r, 1/r) over the ratios; 1 for real
+  std::string worstName;
+  double seconds = 0.0;  // plates (real) or render + measure
 };
 
 struct RealismReport {
   int widthPx = 0;
-  std::vector<RealismRow> rows;    // per clip: the real row, then each preset's
-  std::vector<std::string> notes;  // missing data, images written, the nearest preset per clip
+  std::vector<RealismRow> rows;  // per clip: the real row, then each preset's
+  // missing data, images written, each clip's shutter, the nearest preset per clip
+  std::vector<std::string> notes;
 };
 
 // Throws pluvia::Error naming the clip when a clip given cannot be read; the default clip

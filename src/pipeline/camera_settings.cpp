@@ -54,11 +54,11 @@ const SettingsTable<CameraSettings>& cameraTable() {
           // The exposure may ramp (the rain stage reads it per frame); the rest is fixed for
           // the shot.
           bind(&S::exposureSeconds,
-               numberParam("exposure_s", 0.02, {0.0, 1.0}, "s",
-                           "shutter time; sets the streak length and brightness; 0: auto: the "
-                           "plate's own (its files' ExposureTime), else a video camera's: "
-                           "1/600 s on a day plate, the 180-degree shutter (half the frame "
-                           "time) on a night plate")),
+               numberParam("exposure_s", 0.0, {0.0, 1.0}, "s",
+                           "shutter time; sets the streak length and brightness; 0: the plate "
+                           "camera's: what its files state (ExposureTime, a shutter angle), "
+                           "else measured from its motion blur, else the 180-degree shutter "
+                           "(half the frame time)")),
           bind(&S::shutterAngleDeg,
                numberParam("shutter_angle_deg", 0.0, {0.0, 360.0}, "deg",
                            "when > 0: exposure = shutter_angle / 360 / fps, overriding "
@@ -101,10 +101,10 @@ CameraPath CameraSettings::path(const Camera& base) const {
 double CameraSettings::exposureSecondsAt(double fps, double frame) const {
   if (shutterAngleDeg > 0.0) return shutterAngleDeg / 360.0 / fps;
   const double exposure = exposureSeconds.valueAt(frame);
-  return exposure > 0.0 ? exposure : autoExposureSeconds;
+  return exposure > 0.0 ? exposure : plateShutterSeconds;
 }
 
-bool CameraSettings::autoExposure() const {
+bool CameraSettings::shutterFromPlate() const {
   if (shutterAngleDeg > 0.0) return false;
   const std::vector<RampKey>& keys = exposureSeconds.keys();
   return std::any_of(keys.begin(), keys.end(), [](const RampKey& k) { return k.value <= 0.0; });

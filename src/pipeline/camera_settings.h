@@ -17,7 +17,7 @@ namespace pluvia {
 
 struct CameraSettings {
   double fovDeg = 36.0;          // horizontal field of view
-  Ramp exposureSeconds{0.02};    // 0: auto (autoExposureSeconds)
+  Ramp exposureSeconds{0.0};     // 0: the plate's (plateShutterSeconds)
   double shutterAngleDeg = 0.0;  // > 0: overrides exposureSeconds (angle / 360 / fps)
   double framesPerSecond = 0.0;  // 0: the clip's
   double tiltDeg = 0.0;          // positive looking down
@@ -31,19 +31,19 @@ struct CameraSettings {
   // depend on the camera hash it into their cache keys (the JSON text, so a key stays the same
   // however a number was written).
   nlohmann::json resolved;
-  // The shutter time a video camera's auto exposure takes for this plate, where exposureSeconds
-  // is 0: set by the stages that film the rain (stages/auto_exposure.h) before any frame.
-  double autoExposureSeconds = 0.0;
+  // The plate camera's shutter time, where exposureSeconds is 0: set by the stages that film the
+  // rain (stages/plate_shutter.h) before any frame.
+  double plateShutterSeconds = 0.0;
 
   // The camera of a frame `width` x `height` px: fovDeg, tiltDeg and heightMeters.
   Camera base(int width, int height) const;
   // The path over `base`'s intrinsics: the keys, or CameraPath::fixed(base) without keys.
   CameraPath path(const Camera& base) const;
   // The shutter time at clip frame `frame` of a clip at `fps`: the angle when given, else the
-  // exposure, else (exposure 0) the auto exposure.
+  // exposure, else (exposure 0) the plate's.
   double exposureSecondsAt(double fps, double frame) const;
-  // Whether some frame's exposure is left to the auto exposure (exposure_s 0, no angle).
-  bool autoExposure() const;
+  // Whether some frame's exposure is left to the plate's shutter (exposure_s 0, no angle).
+  bool shutterFromPlate() const;
   // The frame rate a render works and writes at: camera.fps when given, else the clip's. A farm
   // job takes it too, so that its assembled movie runs at the one-machine render's rate.
   double framesPerSecondOf(double clipFramesPerSecond) const;

@@ -411,6 +411,14 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
     return std::function<Image(int64_t)>(
         [this, reader](int64_t frame) { return workingFrame(*reader, frame); });
   };
+  if (request.proxyScale != 1.0) {
+    context_.openFilmedReader = [this] {
+      std::shared_ptr<ClipReader> reader =
+          openNumberedClipWithCache(request_.input, request_.movieFirstFrame, request_.cacheDir);
+      return std::function<Image(int64_t)>(
+          [this, reader](int64_t frame) { return workingFrame(*reader, frame); });
+    };
+  }
 }
 
 Image RenderSession::workingFrame(ClipReader& reader, int64_t frame) const {

@@ -93,6 +93,8 @@ class RenderSession {
   void prepareStagesNamed(const std::vector<std::string>& names);
   // The per-clip state the prepared stages filled in.
   const ClipContext& clipContext() const { return context_; }
+  // The same for a per-clip finding made outside the stages (`pluvia plan`: the plate's shutter).
+  ClipContext& clipContext() { return context_; }
   // The frame decoded, its NaN/Inf replaced (with a warning) and converted to the working space.
   FrameContext readFrame(int64_t frame);
   // Runs the per-frame stages (frames in increasing order); a frame no stage gave depth gets

@@ -73,6 +73,12 @@ struct PlateRainFinding {
   double measuredSeconds = 0.0;  // for the log too
 };
 
+// The shutter the plate was filmed with (stages/plate_shutter.h).
+struct PlateShutter {
+  double seconds = 0.0;
+  std::string source;  // where it comes from, and why, for the log and the plan
+};
+
 // Per-clip state, filled by per-clip stages in prepare() and read by per-frame stages.
 struct ClipContext {
   const ClipInfo* clip = nullptr;
@@ -82,6 +88,10 @@ struct ClipContext {
   // the stages' prepare() (Stage::prepareAhead); empty where none is to (a stage run alone, one
   // thread).
   std::function<std::function<Image(int64_t)>()> openWorkingReader;
+  // On a proxy render, a reader of the frames at the size they were filmed at, in the working
+  // space (the plate's shutter is measured on them, so a proxy films the rain as the final does);
+  // empty otherwise.
+  std::function<std::function<Image(int64_t)>()> openFilmedReader;
   // What readWorking gives, as part of a cache key: the plate (clipIdentity), the size it is
   // read at and the conversion into the working space. The per-clip results made from the
   // frames alone (the still, the sky, whether the plate was shot in rain) are cached under it,
@@ -115,6 +125,8 @@ struct ClipContext {
   // Measured on first use by a grading stage that leaves itself out on a plate shot in rain, or
   // ahead (plateRainAhead, on a thread of its own) and taken on first use.
   std::optional<PlateRainFinding> plateRain;
+  // Found on first use by a stage that films the rain with the plate's shutter.
+  std::optional<PlateShutter> plateShutter;
   std::future<PlateRainFinding> plateRainAhead;
 };
 

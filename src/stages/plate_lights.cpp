@@ -14,6 +14,9 @@ namespace pluvia {
 namespace {
 
 constexpr int kRimInnerPx = 1, kRimOuterPx = 4;
+// The surround ring, in blob radii, and its least extent.
+constexpr double kSurroundInnerRadii = 2.0, kSurroundOuterRadii = 4.0;
+constexpr int kSurroundInnerPx = 8, kSurroundOuterPx = 16;
 
 // A clipped blob larger than this share of the frame is a clipped sky or window, not a lamp.
 constexpr double kMaxLampShareOfFrame = 0.005;
@@ -28,6 +31,31 @@ constexpr double kMaxLampShareOfFrame = 0.005;
 constexpr double kNightMedianLuminance = 0.08;
 constexpr double kNightUpperLuminance = 0.3;
 constexpr double kLampRimOverClip = 0.4;
+
+// The mean luminance of the ring kSurroundInner..OuterRadii blob radii around blob `label`.
+double surroundLuminanceOf(const Image& still, const cv::Mat& labels, int label,
+                           const cv::Mat& stats) {
+  const double radius = std::sqrt(stats.at<int>(label, cv::CC_STAT_AREA) / M_PI);
+  const int inner = std::max(kSurroundInnerPx, int(std::lround(kSurroundInnerRadii * radius)));
+  const int outer = std::max(kSurroundOuterPx, int(std::lround(kSurroundOuterRadii * radius)));
+  const cv::Rect box = cv::Rect(stats.at<int>(label, cv::CC_STAT_LEFT) - outer,
+                                stats.at<int>(label, cv::CC_STAT_TOP) - outer,
+                                stats.at<int>(label, cv::CC_STAT_WIDTH) + 2 * outer,
+                                stats.at<int>(label, cv::CC_STAT_HEIGHT) + 2 * outer) &
+                       cv::Rect(0, 0, still.width, still.height);
+  cv::Mat outside = labels(box) != label, distance;
+  cv::distanceTransform(outside, distance, cv::DIST_L2, 3);
+  double sum = 0.0;
+  int count = 0;
+  for (int by = 0; by < box.height; ++by)
+    for (int bx = 0; bx < box.width; ++bx) {
+      const float d = distance.at<float>(by, bx);
+      if (d < inner || d > outer) continue;
+      sum += rec709Luminance(&still.rgba[(size_t(box.y + by) * still.width + box.x + bx) * 4]);
+      ++count;
+    }
+  return count > 0 ? sum / count : 0.0;
+}
 
 }  // namespace
 
@@ -101,6 +129,7 @@ std::vector<PlateBlob> findClippedBlobs(const Image& still, double clipLevel, in
         ++unclipped;
       }
     if (!blob.rimPixels.empty()) blob.rimLuminance = rimLuminance / blob.rimPixels.size();
+    blob.surroundLuminance = surroundLuminanceOf(still, labels, label, stats);
     const double peak = std::max({sum[0], sum[1], sum[2]});
     if (unclipped > 0 && peak > 0.0)
       for (int c = 0; c < 3; ++c) blob.rgb[size_t(c)] = sum[size_t(c)] / peak;
@@ -168,8 +197,10 @@ std::vector<FoundLamp> findPlateLamps(const Image& still, const LightsSettings& 
   std::vector<FoundLamp> lamps;
   for (const PlateBlob& blob :
        findClippedBlobs(still, settings.findClipLevel, settings.findMinAreaPx)) {
-    if (blob.areaPx > maxArea || blob.rimLuminance >= kLampRimOverClip * settings.findClipLevel)
-      continue;
+    const double darkRim = kLampRimOverClip * settings.findClipLevel;
+    const bool source =
+        blob.rimLuminance < darkRim || blob.surroundLuminance < 0.5 * darkRim;  // in its glow
+    if (blob.areaPx > maxArea || !source) continue;
     lamps.push_back(plateLamp(blob, camera, depth, backdropMeters, settings.findClipLevel,
                               settings.findCoreGain));
     const FoundLamp& l = lamps.back();

@@ -18,6 +18,9 @@ struct PlateBlob {
   std::array<double, 3> rgb{1, 1, 1};  // rim chromaticity, max channel 1
   std::vector<int> rimPixels;          // y * width + x of the ring just outside the blob
   double rimLuminance = 0.0;           // the ring's mean luminance (Rec. 709 weights)
+  // The mean luminance of a ring farther out, from 2 to 4 times the blob's radius (8 to 16 px
+  // at least): where a lamp's own glow has faded and a lit wall is still bright.
+  double surroundLuminance = 0.0;
 };
 
 // How bright a plate is: its luminance (Rec. 709 weights, working space) at two quantiles.
@@ -52,7 +55,9 @@ LightSpec foundLampLight(const FoundLamp& lamp);
 // unless settings.findOnDayPlates; otherwise the
 // clipped blobs in the dark (at most kMaxLampShareOfFrame of the frame, their rim under
 // kLampRimOverClip of the clip level), placed by plateLamp with `camera` (the clip's first
-// frame's) and `depth` (its depth; null: backdropMeters). Logs what it looked for and found.
+// frame's) and `depth` (its depth; null: backdropMeters). A blob whose rim is bright is a lamp
+// too when its surround is dark (under half that limit): a clipped core inside its own glow, as
+// a street lamp or a headlight films at night. Logs what it looked for and found.
 std::vector<FoundLamp> findPlateLamps(const Image& still, const LightsSettings& settings,
                                       const Camera& camera, const std::vector<float>* depth,
                                       double backdropMeters);

@@ -14,12 +14,12 @@
 #include "rain/drop_simulation.h"
 #include "rain/stroke_library.h"
 #include "rain/thin_lens.h"
-#include "stages/auto_exposure.h"
 #include "stages/cached_drop_radiance.h"
 #include "stages/clip_still.h"
 #include "stages/fog_settings.h"
 #include "stages/lights_settings.h"
 #include "stages/plate_lights.h"
+#include "stages/plate_shutter.h"
 #include "stages/rain_settings.h"
 #include "stages/registry.h"
 #include "util/error.h"
@@ -150,7 +150,7 @@ class RainStage : public Stage {
 
   void prepare(ClipContext& clip) override {
     fps_ = clip.fps;
-    resolveAutoExposure(camera_, clip, "rain");
+    resolvePlateShutter(camera_, clip, "rain");
     const bool nightPlate = rain_.farMeters == 0.0 && isNightPlate(plateLuminance(clipStill(clip)));
     const CameraPath path = clip.cameraPath;
     path_ = path;
@@ -318,9 +318,8 @@ StageInfo rainStageInfo() {
              std::vector<std::string> reads{"image", "depth", "environment", "camera"};
              if (rain.strokeSource == StrokeSource::Derain) reads.push_back("footage_strokes");
              if (lightsSettings(p).drops) reads.push_back("lights");
-             // Auto exposure and rain.far_m 0 tell a night plate from a day one by its still.
-             if (cameraSettings(p).autoExposure() || rain.farMeters == 0.0)
-               reads.push_back("still");
+             // rain.far_m 0 tells a night plate from a day one by its still.
+             if (rain.farMeters == 0.0) reads.push_back("still");
              return reads;
            },
        // Every frame names the seed of its rain.

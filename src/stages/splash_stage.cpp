@@ -18,8 +18,8 @@
 #include "rain/splash_rate.h"
 #include "rain/splashes.h"
 #include "rain/splatter.h"
-#include "stages/auto_exposure.h"
 #include "stages/cached_drop_radiance.h"
+#include "stages/plate_shutter.h"
 #include "stages/rain_settings.h"
 #include "stages/registry.h"
 #include "stages/splash_settings.h"
@@ -46,7 +46,7 @@ class SplashStage : public Stage {
     if (!clip.environment) throw Error("splash needs the lighting stage's environment", {"splash"});
     path_ = clip.cameraPath;
     fps_ = clip.fps;
-    resolveAutoExposure(camera_, clip, "splash");
+    resolvePlateShutter(camera_, clip, "splash");
     // A small map is enough: splashes are a few pixels across.
     optics::RadianceMapSettings map;
     map.outputWidth = 64;
@@ -196,11 +196,8 @@ StageInfo splashStageInfo() {
          return "";
        },
        .reads =
-           [](const SplashSettings&, const Preset& p) {
-             std::vector<std::string> reads{"image", "depth", "environment", "camera"};
-             // Auto exposure tells a night plate from a day one by its still.
-             if (cameraSettings(p).autoExposure()) reads.push_back("still");
-             return reads;
+           [](const SplashSettings&, const Preset&) {
+             return std::vector<std::string>{"image", "depth", "environment", "camera"};
            },
        .create =
            [](const SplashSettings& splash, const Preset& p) {

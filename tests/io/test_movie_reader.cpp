@@ -226,5 +226,19 @@ TEST(MovieReader, NotAMovieNamesTheFile) {
   }
 }
 
+// A camera's shutter tags (QuickTime metadata, names differing by maker) are read as the shutter
+// the plate states: an angle, and a speed as a fraction of a second.
+TEST(MovieReader, ShutterTagsAreTheStatedShutter) {
+  if (!programAvailable("ffmpeg")) GTEST_SKIP() << "ffmpeg not on PATH";
+  auto dir = test::freshTempDir("movie_shutter_tags");
+  const stdfs::path angle = dir / "angle.mov", speed = dir / "speed.mov";
+  ffmpeg({"-f", "lavfi", "-i", "testsrc2=s=64x48:r=24", "-frames:v", "3", "-movflags",
+          "use_metadata_tags", "-metadata", "shutter_angle=172.8", angle.string()});
+  ffmpeg({"-f", "lavfi", "-i", "testsrc2=s=64x48:r=24", "-frames:v", "3", "-movflags",
+          "use_metadata_tags", "-metadata", "com.sony.shutter_speed=1/100", speed.string()});
+  EXPECT_EQ(openClip(angle.string())->info().metadata.at("ShutterAngle"), "172.8");
+  EXPECT_EQ(openClip(speed.string())->info().metadata.at("ExposureTime"), "0.01");
+}
+
 }  // namespace
 }  // namespace pluvia

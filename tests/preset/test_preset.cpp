@@ -308,11 +308,11 @@ TEST(Preset, CameraPathAndLensKeys) {
   EXPECT_TRUE(plain.at("camera.path").empty());
   EXPECT_DOUBLE_EQ(plain.number("camera.shutter_angle_deg"), 0.0);
   // The shipped camera: a video camera's small sensor at f/4, focused on the default depth's
-  // backdrop, with a daylight shutter.
+  // backdrop, filming the rain with the plate's own shutter.
   EXPECT_DOUBLE_EQ(plain.number("camera.focus_m"), 20.0);
   EXPECT_DOUBLE_EQ(plain.number("camera.f_number"), 4.0);
   EXPECT_DOUBLE_EQ(plain.number("camera.sensor_width_mm"), 6.2);
-  EXPECT_DOUBLE_EQ(plain.number("camera.exposure_s"), 0.0);  // auto: 1/600 s by day
+  EXPECT_DOUBLE_EQ(plain.number("camera.exposure_s"), 0.0);  // the plate's shutter
   Camera base = Camera::fromFieldOfView(640, 360, 40, 0, 1.6);
   EXPECT_FALSE(cameraSettings(plain).path(base).moving());
 

@@ -68,3 +68,42 @@ TEST(PlateLights, TheSunnyWeirInShadeIsNotANightPlate) {
     for (int c = 0; c < 3; ++c) weir.rgba[i * 4 + c] *= 0.06f;
   EXPECT_TRUE(isNight(weir));
 }
+
+namespace {
+
+// A night plate (0.02) with a clipped disc of radius 3 px at (x, y) inside a glow of its own
+// (luminance 0.95 / (1 + (d / 5 px)^2), over 0.4 of the clip level at the rim) or inside a lit
+// wall (a 40 px square at 0.6 around it).
+Image lampPlate(bool glow, int x0, int y0) {
+  Image image = test::flatImage(160, 120, 0.02f, 0.02f, 0.02f);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const double d = std::hypot(x + 0.5 - x0, y + 0.5 - y0);
+      float v = 0.02f;
+      if (glow) v = std::max(v, float(0.95 / (1.0 + (d / 5.0) * (d / 5.0))));
+      if (!glow && std::abs(x - x0) < 20 && std::abs(y - y0) < 20) v = 0.6f;
+      if (d <= 3.0) v = 1.0f;
+      std::fill(image.pixel(x, y), image.pixel(x, y) + 3, v);
+    }
+  return image;
+}
+
+}  // namespace
+
+// A street lamp filmed at night is a clipped core inside its own glow: its rim is bright (it
+// failed the old test, a dark rim, and a real night clip's lamp was "0 lights found"), its
+// surround dark. A clipped patch on a lit wall has a bright surround and stays no lamp.
+TEST(PlateLights, ALampInItsOwnGlowIsFoundALitWallIsNot) {
+  const Camera camera = Camera::fromFieldOfView(160, 120, 50, 0, 1.6);
+  LightsSettings settings;
+  const std::vector<PlateBlob> glowing = findClippedBlobs(lampPlate(true, 80, 40), 0.95, 4);
+  ASSERT_EQ(glowing.size(), 1u);
+  EXPECT_GT(glowing[0].rimLuminance, 0.4 * 0.95);  // the old test's dark rim fails
+  EXPECT_LT(glowing[0].surroundLuminance, 0.2 * 0.95);
+  const std::vector<FoundLamp> lamps =
+      findPlateLamps(lampPlate(true, 80, 40), settings, camera, nullptr, 20.0);
+  ASSERT_EQ(lamps.size(), 1u);
+  EXPECT_NEAR(lamps[0].xPx, 80.0, 0.5);
+  EXPECT_NEAR(lamps[0].yPx, 40.0, 0.5);
+  EXPECT_TRUE(findPlateLamps(lampPlate(false, 80, 40), settings, camera, nullptr, 20.0).empty());
+}

@@ -1,0 +1,189 @@
+#include "stages/plate_shutter.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <opencv2/core.hpp>
+
+#include "derain/motion_blur.h"
+#include "image/luminance.h"
+#include "pipeline/cache.h"
+#include "pluvia/version.h"
+#include "util/hash.h"
+#include "util/log.h"
+#include "util/timer.h"
+
+namespace pluvia {
+
+namespace {
+
+constexpr size_t kFramesMeasured = 7;  // 5 frames measured, each with a neighbour either side
+
+// "0.004", "1/250" or "1/250 s" as seconds; 0 when it is none.
+double parseSeconds(const std::string& text) {
+  try {
+    const size_t slash = text.find('/');
+    if (slash == std::string::npos) return std::stod(text);
+    const double over = std::stod(text.substr(slash + 1));
+    return over > 0.0 ? std::stod(text.substr(0, slash)) / over : 0.0;
+  } catch (const std::exception&) {
+    return 0.0;
+  }
+}
+
+double parseDegrees(const std::string& text) {
+  try {
+    return std::stod(text);
+  } catch (const std::exception&) {
+    return 0.0;
+  }
+}
+
+std::string fraction(double seconds) {
+  return fmt::format("1/{:.0f} s", 1.0 / seconds);
+}
+
+std::string halfOpenSource(double fps, const std::string& why) {
+  return fmt::format("the 180-degree shutter at the plate's {:g} fps ({})", fps, why);
+}
+
+// The measurement's cache entry: the frames it is measured on. "" (not cached) without them.
+std::string shutterKey(const std::string& framesKey) {
+  if (framesKey.empty()) return "";
+  return Hasher()
+      .add("plate-shutter")
+      .add(kVersion)
+      .add(framesKey)
+      .add(uint64_t(kFramesMeasured))
+      .hex();
+}
+
+cv::Mat1f luminance(const Image& image) {
+  cv::Mat1f grey(image.height, image.width);
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const float* p = image.pixel(x, y);
+      grey(y, x) = std::max(0.0f, rec709LuminanceFloat(p));
+    }
+  }
+  return grey;
+}
+
+// The measured share of the frame time the shutter is open and what was seen, from the cache
+// or measured on 7 frames from the middle of the clip.
+derain::ShutterFromBlur measuredBlur(const ClipInfo& clip,
+                                     const std::function<Image(int64_t)>& read,
+                                     ArtifactCache* cache, const std::string& framesKey,
+                                     ShutterCache use) {
+  const std::string key = shutterKey(framesKey);
+  if (cache && !key.empty()) {
+    if (auto cached = cache->load("plate-shutter", key)) {
+      try {
+        derain::ShutterFromBlur found;
+        found.measured = cached->at("measured").get<bool>();
+        found.shutterFraction = cached->at("fraction").get<double>();
+        found.upperBound = cached->at("upper_bound").get<bool>();
+        found.summary = cached->at("summary").get<std::string>() + ", from cache";
+        return found;
+      } catch (const nlohmann::json::exception&) {
+        // malformed: measured again and stored over it
+      }
+    }
+  }
+  const auto started = std::chrono::steady_clock::now();
+  const size_t count = std::min(clip.frames.size(), kFramesMeasured);
+  const size_t first = (clip.frames.size() - count) / 2;
+  std::vector<cv::Mat1f> greys;
+  for (size_t i = first; i < first + count; ++i) greys.push_back(luminance(read(clip.frames[i])));
+  derain::ShutterFromBlur found = derain::measureShutterFromBlur(greys);
+  log::info(fmt::format("plate: shutter from the motion blur of {} frames in {:.1f} s: {}", count,
+                        secondsSince(started), found.summary));
+  if (cache && !key.empty() && use == ShutterCache::Store)
+    cache->store("plate-shutter", key,
+                 {{"measured", found.measured},
+                  {"fraction", found.shutterFraction},
+                  {"upper_bound", found.upperBound},
+                  {"summary", found.summary}});
+  return found;
+}
+
+}  // namespace
+
+std::optional<PlateShutter> statedShutter(const ClipInfo& clip, double fps) {
+  if (const auto it = clip.metadata.find("ExposureTime"); it != clip.metadata.end()) {
+    const double seconds = parseSeconds(it->second);
+    if (std::isfinite(seconds) && seconds >= 1e-5 && seconds <= 1.0)
+      return PlateShutter{seconds,
+                          fmt::format("the plate's metadata (ExposureTime {:g} s)", seconds)};
+  }
+  if (const auto it = clip.metadata.find("ShutterAngle"); it != clip.metadata.end()) {
+    const double degrees = parseDegrees(it->second);
+    if (std::isfinite(degrees) && degrees > 0.0 && degrees <= 360.0 && fps > 0.0)
+      return PlateShutter{
+          degrees / 360.0 / fps,
+          fmt::format("the plate's metadata (shutter angle {:g} deg at {:g} fps)", degrees, fps)};
+  }
+  return std::nullopt;
+}
+
+PlateShutter findPlateShutter(const ClipInfo& clip, double fps,
+                              const std::function<Image(int64_t)>& read, ArtifactCache* cache,
+                              const std::string& framesKey, ShutterCache use) {
+  if (std::optional<PlateShutter> stated = statedShutter(clip, fps)) return *stated;
+  if (clip.frames.size() < 3 || !read)
+    return {
+        0.5 / fps,
+        halfOpenSource(fps, fmt::format("no shutter in its metadata, and {} no motion "
+                                        "blur to measure",
+                                        clip.frames.size() == 1
+                                            ? std::string("a still shows")
+                                            : fmt::format("{} frames show", clip.frames.size())))};
+  const derain::ShutterFromBlur found = measuredBlur(clip, read, cache, framesKey, use);
+  if (!found.measured)
+    return {0.5 / fps,
+            halfOpenSource(fps, "no shutter in its metadata; its motion blur: " + found.summary)};
+  const double seconds = found.shutterFraction / fps;
+  return {seconds, fmt::format("{}measured from the plate's motion blur at {:g} fps ({})",
+                               found.upperBound ? "at most, " : "", fps, found.summary)};
+}
+
+const PlateShutter& clipPlateShutter(ClipContext& clip, ShutterCache use) {
+  if (clip.plateShutter) return *clip.plateShutter;
+  if (!clip.clip) return clip.plateShutter.emplace(PlateShutter{0.5 / clip.fps, "no plate"});
+  // A proxy's frames are measured at the size they were filmed at: the blur of an edge moving
+  // 2-3 px a frame is seen there and not at half the size.
+  const std::function<Image(int64_t)> read =
+      clip.openFilmedReader ? clip.openFilmedReader() : clip.readWorking;
+  return clip.plateShutter.emplace(
+      findPlateShutter(*clip.clip, clip.fps, read, clip.cache, clip.framesKey, use));
+}
+
+std::string presetShutterSource(const CameraSettings& camera, double fps) {
+  if (camera.shutterAngleDeg > 0.0)
+    return fmt::format("the preset's camera.shutter_angle_deg {:g} at {:g} fps",
+                       camera.shutterAngleDeg, fps);
+  if (camera.shutterFromPlate()) return "";
+  return camera.exposureSeconds.animated() ? "the preset's camera.exposure_s keys"
+                                           : "the preset's camera.exposure_s";
+}
+
+void resolvePlateShutter(CameraSettings& camera, ClipContext& clip, const char* stage) {
+  if (const std::string source = presetShutterSource(camera, clip.fps); !source.empty()) {
+    log::info(fmt::format("{}: shutter {} ({})", stage,
+                          fraction(camera.exposureSecondsAt(clip.fps, 0.0)), source));
+    return;
+  }
+  const PlateShutter& shutter = clipPlateShutter(clip);
+  camera.plateShutterSeconds = shutter.seconds;
+  log::info(
+      fmt::format("{}: shutter {}, {}; camera.exposure_s or camera.shutter_angle_deg "
+                  "sets another",
+                  stage, fraction(shutter.seconds), shutter.source));
+}
+
+}  // namespace pluvia
