@@ -1,4 +1,6 @@
 #include <iostream>
+#include <memory>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -15,6 +17,34 @@ namespace pluvia::cli {
 
 namespace {
 
+// A render session on the plan's clip, for what a render finds once per clip (the lamps, the
+// shutter), its log held to warnings while it lives: the plan prints what it found itself.
+class QuietSession {
+ public:
+  QuietSession(const std::string& input, std::optional<int64_t> movieFirstFrame,
+               const Preset& preset, const std::string& cache)
+      : level_(log::level()) {
+    request_.input = input;
+    request_.movieFirstFrame = movieFirstFrame;
+    request_.cacheDir = cache;
+    request_.progress = false;
+    log::setLevel(log::Level::Warning);
+    session_ = std::make_unique<RenderSession>(request_, preset, allStages(), times_);
+  }
+  ~QuietSession() {
+    session_.reset();  // what it logs as it ends, held too
+    log::setLevel(level_);
+  }
+  RenderSession& operator*() { return *session_; }
+  RenderSession* operator->() { return session_.get(); }
+
+ private:
+  log::Level level_;
+  RenderRequest request_;
+  StageTimes times_;
+  std::unique_ptr<RenderSession> session_;
+};
+
 // lights.find: the lamps the plate gives, one line each, on stderr (stdout holds only the resolved
 // preset's JSON, for a script to load) (they are
 // found in the clip's still and placed at the depth the depth stage gives its first frame, as a
@@ -23,22 +53,13 @@ void printFoundLamps(const std::string& input, std::optional<int64_t> movieFirst
                      const Preset& preset, const std::string& cache) {
   const LightsSettings lights = lightsSettings(preset);
   if (!lights.find) return;
-  RenderRequest request;
-  request.input = input;
-  request.movieFirstFrame = movieFirstFrame;
-  request.cacheDir = cache;
-  request.progress = false;
-  StageTimes times;
-  const log::Level level = log::level();
-  log::setLevel(log::Level::Warning);
-  RenderSession session(request, preset, allStages(), times);
-  if (!session.plan().runs("lights")) {
-    log::setLevel(level);
-    return;
+  std::optional<std::vector<FoundLamp>> found;
+  {
+    QuietSession session(input, movieFirstFrame, preset, cache);
+    if (!session->plan().runs("lights")) return;
+    session->prepareStagesNamed({"depth", "lights"});
+    found = session->clipContext().foundLamps;
   }
-  session.prepareStagesNamed({"depth", "lights"});
-  log::setLevel(level);
-  const auto& found = session.clipContext().foundLamps;
   std::cerr << fmt::format("lamps found in the plate (lights.find): {}\n",
                            found ? found->size() : 0);
   if (!found) return;
@@ -57,30 +78,18 @@ void printFoundLamps(const std::string& input, std::optional<int64_t> movieFirst
 // render finds it.
 std::string shutterLine(const std::string& input, std::optional<int64_t> movieFirstFrame,
                         const Preset& preset, const std::string& cache) {
-  RenderRequest request;
-  request.input = input;
-  request.movieFirstFrame = movieFirstFrame;
-  request.cacheDir = cache;
-  request.progress = false;
-  StageTimes times;
-  const log::Level level = log::level();
-  log::setLevel(log::Level::Warning);
-  RenderSession session(request, preset, allStages(), times);
-  std::string line;
-  if (session.plan().runs("rain") || session.plan().runs("splash")) {
-    CameraSettings camera = cameraSettings(preset);
-    const double fps = session.clipContext().fps;
-    std::string source = presetShutterSource(camera, fps);
-    if (source.empty()) {
-      const PlateShutter& shutter = clipPlateShutter(session.clipContext(), ShutterCache::LookUp);
-      camera.plateShutterSeconds = shutter.seconds;
-      source = shutter.source + "; camera.exposure_s or camera.shutter_angle_deg sets another";
-    }
-    line =
-        fmt::format("  shutter 1/{:.0f} s: {}\n", 1.0 / camera.exposureSecondsAt(fps, 0.0), source);
+  QuietSession session(input, movieFirstFrame, preset, cache);
+  if (!session->plan().runs("rain") && !session->plan().runs("splash")) return "";
+  CameraSettings camera = cameraSettings(preset);
+  const double fps = session->clipContext().fps;
+  std::string source = presetShutterSource(camera, fps);
+  if (source.empty()) {
+    const PlateShutter& shutter = clipPlateShutter(session->clipContext(), ShutterCache::LookUp);
+    camera.plateShutterSeconds = shutter.seconds;
+    source = shutter.source + "; camera.exposure_s or camera.shutter_angle_deg sets another";
   }
-  log::setLevel(level);
-  return line;
+  return fmt::format("  shutter 1/{:.0f} s: {}\n", 1.0 / camera.exposureSecondsAt(fps, 0.0),
+                     source);
 }
 
 }  // namespace
