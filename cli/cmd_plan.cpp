@@ -84,7 +84,9 @@ std::string shutterLine(const std::string& input, std::optional<int64_t> movieFi
   const double fps = session->clipContext().fps;
   std::string source = presetShutterSource(camera, fps);
   if (source.empty()) {
-    const PlateShutter& shutter = clipPlateShutter(session->clipContext(), ShutterCache::LookUp);
+    // Measured afresh: the plan leaves the cache as it found it.
+    session->clipContext().cache = nullptr;
+    const PlateShutter& shutter = clipPlateShutter(session->clipContext());
     camera.plateShutterSeconds = shutter.seconds;
     source = shutter.source + "; camera.exposure_s or camera.shutter_angle_deg sets another";
   }

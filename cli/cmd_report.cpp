@@ -22,6 +22,7 @@
 #include "lab/test_environment.h"
 #include "optics/environment_file.h"
 #include "optics/skylight_scattering.h"
+#include "pipeline/camera_settings.h"
 #include "realism_render.h"
 #include "util/error.h"
 #include "util/log.h"
@@ -254,10 +255,14 @@ void addReportRealism(CLI::App& report) {
       refuseOverwritingInput(files, "--csv", {args->data.files.csv});
       refuseOverwritingInput(files, "--plot", {args->data.files.plot});
     }
-    const lab::RealismReport result =
-        lab::runRealismReport(settings, [&](const std::vector<cv::Mat3f>& plates, double fps,
-                                            int filmedWidthPx, const std::string& preset) {
-          return renderOnPlates(plates, fps, filmedWidthPx, preset, args->sets);
+    const lab::RealismReport result = lab::runRealismReport(
+        settings, [&](const std::vector<cv::Mat3f>& plates, double fps, int filmedWidthPx,
+                      double shutterSeconds, const std::string& preset) {
+          // A preset that leaves the shutter to the plate films the clip's own.
+          std::vector<std::string> sets = args->sets;
+          if (cameraSettings(loadPreset(preset, sets)).shutterFromPlate())
+            sets.push_back(fmt::format("camera.exposure_s={:.6g}", shutterSeconds));
+          return renderOnPlates(plates, fps, filmedWidthPx, preset, sets);
         });
     args->data.files.show(result, lab::formatRealismReport, lab::writeRealismReportCsv,
                           lab::writeRealismReportPlot);

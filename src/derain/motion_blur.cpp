@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "derain/dense_flow.h"
+#include "rain/drop_physics.h"
 #include "util/error.h"
 
 namespace pluvia::derain {
@@ -174,7 +175,7 @@ struct Fit {
 Fit fitBins(const std::vector<SpeedBin>& bins) {
   int still = 0, moving = 0;
   for (const SpeedBin& b : bins) (b.acrossPx < kMovingPx ? still : moving) += 1;
-  if (still < 1 || moving < 2) return {};
+  if (still < 1 || moving < 1) return {};
   Fit best;
   double bestCost = std::numeric_limits<double>::infinity();
   for (double f = 0.01; f <= 1.0 + 1e-9; f *= 1.02) {
@@ -194,6 +195,12 @@ Fit fitBins(const std::vector<SpeedBin>& bins) {
 }
 
 }  // namespace
+
+double shutterFromStreaksSeconds(double lengthPx, double widthPx) {
+  static const double kDropSecondsPerLength = 1.5e-3 / rain::terminalVelocityMetersPerSecond(1.5);
+  if (!(widthPx > 0.0) || !(lengthPx > widthPx)) return 0.0;
+  return (lengthPx / widthPx - 1.0) * kDropSecondsPerLength;
+}
 
 double blurredEdgeWidthPx(double rampPx, double sigmaPx) {
   const double s = std::max(sigmaPx, 1e-6);
@@ -249,6 +256,10 @@ ShutterFromBlur measureShutterFromBlur(const std::vector<cv::Mat1f>& input) {
     if (const Fit f = fitBins(speedBins(samples, middle)); f.ok)
       perFrame.push_back(f.shutterFraction);
   std::sort(perFrame.begin(), perFrame.end());
+  if (perFrame.size() >= 2) {
+    result.lowFraction = perFrame[perFrame.size() / 4] / fit.shutterFraction;
+    result.highFraction = perFrame[(3 * perFrame.size()) / 4] / fit.shutterFraction;
+  }
   result.measured = true;
   result.shutterFraction = fit.shutterFraction;
   // A ramp under half the still blur cannot be seen: below that the fit only says "shorter",
@@ -270,10 +281,6 @@ ShutterFromBlur measureShutterFromBlur(const std::vector<cv::Mat1f>& input) {
     return result;
   }
   result.sigmaPx = fit.sigmaPx;
-  if (perFrame.size() >= 2) {
-    result.lowFraction = perFrame[perFrame.size() / 4] / fit.shutterFraction;
-    result.highFraction = perFrame[(3 * perFrame.size()) / 4] / fit.shutterFraction;
-  }
   result.summary = fmt::format(
       "{} edge profiles, {} of them moving across themselves {:g}-{:.0f} px a frame: the shutter "
       "open {}{:.1f} % of the frame ({}a {:.0f} deg shutter), a still edge blurred by {:.2f} px{}",

@@ -40,6 +40,14 @@ inline constexpr int kMinMovingEdges = 150;
 // The width model above, in px.
 double blurredEdgeWidthPx(double rampPx, double sigmaPx);
 
+// The other clock a plate may hold: the streaks of rain already in it. A drop of diameter D
+// falling at v(D) past the camera draws a streak v T f / z + D f / z long and D f / z wide
+// (Garg and Nayar), so T = (L / W - 1) D / v, and D / v(D) hardly depends on D (Atlas's fall
+// speeds: 0.25 ms at 0.5 and 1 mm, 0.31 ms at 2 mm, 0.37 ms at 3 mm; kDropSecondsPerLength, at
+// 1.5 mm). The streaks' widths are a pixel's blur at least, so this reads short. Seconds for
+// streaks of median length `lengthPx` and width `widthPx`; 0 when no longer than wide.
+double shutterFromStreaksSeconds(double lengthPx, double widthPx);
+
 // `greys`: 3 or more consecutive frames (CV_32F, linear light, one size). Frames wider than
 // 1024 px are measured at 1024 px (the shutter fraction does not depend on the scale). Throws
 // pluvia::Error for fewer than 3 frames or frames of different sizes.

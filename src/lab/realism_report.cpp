@@ -93,8 +93,15 @@ void writeContactSheet(const std::string& path, const std::vector<SheetColumn>& 
   writeImageFile(path, image.width, image.height, channels, {}, std::nullopt);
 }
 
-// The clip's shutter as its motion blur shows it (the frames' display codes taken as sRGB).
-std::string clipShutter(const RealClip& clip) {
+struct ClipShutter {
+  double seconds = 0.0;
+  std::string source;
+};
+
+// The clip's shutter as a render of it finds it (stages/plate_shutter.h): its motion blur on the
+// middle 7 frames (the display codes taken as sRGB), or, where that is a bound or nothing, the
+// streaks of its rain (`rain`: the real layer's) when shorter, or the 180-degree shutter.
+ClipShutter clipShutter(const RealClip& clip, const StreakStats& rain) {
   std::vector<cv::Mat1f> greys;
   for (const cv::Mat3f& rgb : clip.frames) {
     cv::Mat1f grey(rgb.size());
@@ -107,14 +114,24 @@ std::string clipShutter(const RealClip& clip) {
       }
     greys.push_back(grey);
   }
-  // The middle 7, as a render measures its plate.
   const size_t count = std::min<size_t>(greys.size(), 7), first = (greys.size() - count) / 2;
-  const derain::ShutterFromBlur found = derain::measureShutterFromBlur(
+  const derain::ShutterFromBlur blur = derain::measureShutterFromBlur(
       {greys.begin() + ptrdiff_t(first), greys.begin() + ptrdiff_t(first + count)});
-  if (!found.measured) return "not measured (" + found.summary + "): the 180-degree shutter";
-  return fmt::format("{}1/{:.0f} s at {:g} fps, from its motion blur ({})",
-                     found.upperBound ? "at most " : "", clip.fps / found.shutterFraction, clip.fps,
-                     found.summary);
+  ClipShutter shutter{0.5 / clip.fps,
+                      "the 180-degree shutter (its motion blur: " + blur.summary + ")"};
+  if (blur.measured) {
+    shutter = {blur.shutterFraction / clip.fps,
+               fmt::format("{}from its motion blur ({})", blur.upperBound ? "at most, " : "",
+                           blur.summary)};
+    if (!blur.upperBound) return shutter;
+  }
+  const double streaks = derain::shutterFromStreaksSeconds(rain.lengthP50Px, rain.widthP50Px);
+  if (streaks > 0.0 && streaks < shutter.seconds)
+    shutter = {streaks, fmt::format("from its rain's streaks ({:.1f} px long, {:.2f} px wide), "
+                                    "shorter than 1/{:.0f} s {}",
+                                    rain.lengthP50Px, rain.widthP50Px, 1.0 / shutter.seconds,
+                                    shutter.source)};
+  return shutter;
 }
 
 }  // namespace
@@ -146,13 +163,16 @@ RealismReport runRealismReport(const RealismReportSettings& settings,
     real.typical = real.worst = 1.0;
     real.seconds = secondsSince(started);
     report.rows.push_back(real);
-    report.notes.push_back(fmt::format("{}: its shutter {}", clip.name, clipShutter(clip)));
+    const ClipShutter shutter = clipShutter(clip, real.stats);
+    report.notes.push_back(fmt::format("{}: its shutter 1/{:.0f} s at {:g} fps, {}", clip.name,
+                                       1.0 / shutter.seconds, clip.fps, shutter.source));
     std::vector<cv::Mat3f> plateImages;
     for (const CleanPlate& plate : plates) plateImages.push_back(plate.plate);
     const RealismRow* nearest = nullptr;
     for (const std::string& preset : settings.presets) {
       const auto renderStarted = std::chrono::steady_clock::now();
-      SheetColumn column{preset, render(plateImages, clip.fps, clip.filmedWidthPx, preset), {}};
+      SheetColumn column{
+          preset, render(plateImages, clip.fps, clip.filmedWidthPx, shutter.seconds, preset), {}};
       RealismRow row;
       row.clip = clip.name;
       row.preset = preset;

@@ -19,9 +19,10 @@
 // kRealismBound (marked when outside it), with the worst of them and the typical factor,
 // exp(mean |ln ratio|) over coverage, dI p90, dI p99, streaks per Mpx, length p50, width p50 and
 // peak p90. The nearest preset is the one whose worst statistic is nearest to real: a look is
-// met when every statistic is, not on average. Each clip's own shutter, measured from its motion
-// blur (derain/motion_blur.h) as a render measures its plate's, is in the notes: the presets
-// film the rain with it (camera.exposure_s 0).
+// met when every statistic is, not on average. Each clip's own shutter, as a render of the clip
+// finds it (derain/motion_blur.h: its motion blur, or under that the streaks of its rain, or the
+// 180-degree shutter), is in the notes: the presets film the rain with it (camera.exposure_s 0;
+// the clean plates hold no rain to time it by).
 #include <functional>
 #include <string>
 #include <vector>
@@ -49,12 +50,12 @@ struct RealismReportSettings {
 };
 
 // Renders `preset` over the clean plates (RGB, 8-bit display codes as float 0-255, one per
-// frame, a clip at `fps`, filmed `filmedWidthPx` wide: the camera whose rain the preset draws)
-// and returns the rendered frames in the same encoding, rounded to 8-bit codes as a video frame
-// is.
-using RenderOnPlates =
-    std::function<std::vector<cv::Mat3f>(const std::vector<cv::Mat3f>& plates, double fps,
-                                         int filmedWidthPx, const std::string& preset)>;
+// frame, a clip at `fps`, filmed `filmedWidthPx` wide: the camera whose rain the preset draws,
+// with the clip's own shutter, `shutterSeconds`, where the preset leaves it to the plate) and
+// returns the rendered frames in the same encoding, rounded to 8-bit codes as a video frame is.
+using RenderOnPlates = std::function<std::vector<cv::Mat3f>(
+    const std::vector<cv::Mat3f>& plates, double fps, int filmedWidthPx, double shutterSeconds,
+    const std::string& preset)>;
 
 struct RealismRow {
   std::string clip;    // its file name

@@ -69,6 +69,9 @@ struct FoundLamp {
 // Whether the plate was shot in rain (stages/clip_plate_rain.h).
 struct PlateRainFinding {
   bool rained = false;
+  // The plate's own streaks' median length and half-maximum width (px at the 640 px measured):
+  // the shutter it was filmed with (stages/plate_shutter.h).
+  double streakLengthPx = 0.0, streakWidthPx = 0.0;
   std::string summary;           // what was measured, for the log
   double measuredSeconds = 0.0;  // for the log too
 };
@@ -77,6 +80,9 @@ struct PlateRainFinding {
 struct PlateShutter {
   double seconds = 0.0;
   std::string source;  // where it comes from, and why, for the log and the plan
+  // False where the plate's motion blur gave only an upper bound, or nothing (the 180-degree
+  // shutter): the streaks of rain already in the plate may say more.
+  bool firm = true;
 };
 
 // Per-clip state, filled by per-clip stages in prepare() and read by per-frame stages.

@@ -59,7 +59,10 @@ PlateRainFinding measureOn(const ClipInfo& clip, const std::function<Image(int64
   std::vector<cv::Mat3f> codes;
   for (size_t i = first; i < first + count; ++i) codes.push_back(displayCodes(read(frames[i])));
   const derain::PlateRain rain = derain::measurePlateRain(codes);
-  return {rain.rained, rain.summary(), secondsSince(start)};
+  // No streaks leave the medians NaN (which JSON cannot hold): 0, none.
+  const auto finiteOr0 = [](double v) { return std::isfinite(v) ? v : 0.0; };
+  return {rain.rained, finiteOr0(rain.stats.lengthP50Px), finiteOr0(rain.stats.widthP50Px),
+          rain.summary(), secondsSince(start)};
 }
 
 bool measurable(const ClipContext& clip) {
@@ -76,6 +79,8 @@ std::optional<PlateRainFinding> cachedFinding(const ClipContext& clip) {
     PlateRainFinding finding;
     finding.rained = cached->at("rained").get<bool>();
     finding.summary = cached->at("summary").get<std::string>();
+    finding.streakLengthPx = cached->at("streak_length_px").get<double>();
+    finding.streakWidthPx = cached->at("streak_width_px").get<double>();
     log::info(fmt::format("plate: {} in rain: {}, from cache", finding.rained ? "shot" : "not shot",
                           finding.summary));
     return finding;
@@ -90,7 +95,10 @@ const PlateRainFinding& keepMeasured(ClipContext& clip, const PlateRainFinding& 
   const std::string key = plateRainKey(clip.framesKey);
   if (clip.cache && !key.empty())
     clip.cache->store("plate-rain", key,
-                      {{"rained", finding.rained}, {"summary", finding.summary}});
+                      {{"rained", finding.rained},
+                       {"streak_length_px", finding.streakLengthPx},
+                       {"streak_width_px", finding.streakWidthPx},
+                       {"summary", finding.summary}});
   return clip.plateRain.emplace(finding);
 }
 
@@ -104,9 +112,12 @@ void startPlateRainCheck(ClipContext& clip) {
     clip.plateRain.emplace(*cached);
     return;
   }
-  clip.plateRainAhead = std::async(
-      std::launch::async,
-      [info = clip.clip, open = clip.openWorkingReader] { return measureOn(*info, open()); });
+  clip.plateRainAhead =
+      std::async(std::launch::async,
+                 [info = clip.clip,
+                  open = clip.openFilmedReader ? clip.openFilmedReader : clip.openWorkingReader] {
+                   return measureOn(*info, open());
+                 });
 }
 
 const PlateRainFinding& clipPlateRain(ClipContext& clip) {
@@ -119,7 +130,9 @@ const PlateRainFinding& clipPlateRain(ClipContext& clip) {
   }
   if (std::optional<PlateRainFinding> cached = cachedFinding(clip))
     return clip.plateRain.emplace(*cached);
-  return keepMeasured(clip, measureOn(*clip.clip, clip.readWorking));
+  // A proxy's at the size it was filmed at: the thresholds are real rain's at 640 px.
+  return keepMeasured(clip, measureOn(*clip.clip, clip.openFilmedReader ? clip.openFilmedReader()
+                                                                        : clip.readWorking));
 }
 
 bool leaveOutOnRainedPlate(ClipContext& clip, const std::string& stage, bool overRain) {

@@ -1,6 +1,8 @@
 #pragma once
 // Whether the clip was shot in rain (derain/plate_rain.h), measured once per clip on first use
-// on 9 consecutive frames from its middle (the same for every chunk of a farm render), and what
+// on 9 consecutive frames from its middle (the same for every chunk of a farm render; a proxy's
+// at the size they were filmed at), with its streaks' length and width (the shutter's clock on a
+// rained plate: stages/plate_shutter.h), and what
 // the grading stages (darken, blur, fog) do with it: a plate shot in rain already holds the veil
 // they would add, so each leaves itself out there unless its `over_rain` asks for it.
 #include <string>

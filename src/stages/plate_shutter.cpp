@@ -14,6 +14,7 @@
 #include "image/luminance.h"
 #include "pipeline/cache.h"
 #include "pluvia/version.h"
+#include "stages/clip_plate_rain.h"
 #include "util/hash.h"
 #include "util/log.h"
 #include "util/timer.h"
@@ -78,8 +79,7 @@ cv::Mat1f luminance(const Image& image) {
 // or measured on 7 frames from the middle of the clip.
 derain::ShutterFromBlur measuredBlur(const ClipInfo& clip,
                                      const std::function<Image(int64_t)>& read,
-                                     ArtifactCache* cache, const std::string& framesKey,
-                                     ShutterCache use) {
+                                     ArtifactCache* cache, const std::string& framesKey) {
   const std::string key = shutterKey(framesKey);
   if (cache && !key.empty()) {
     if (auto cached = cache->load("plate-shutter", key)) {
@@ -103,7 +103,7 @@ derain::ShutterFromBlur measuredBlur(const ClipInfo& clip,
   derain::ShutterFromBlur found = derain::measureShutterFromBlur(greys);
   log::info(fmt::format("plate: shutter from the motion blur of {} frames in {:.1f} s: {}", count,
                         secondsSince(started), found.summary));
-  if (cache && !key.empty() && use == ShutterCache::Store)
+  if (cache && !key.empty())
     cache->store("plate-shutter", key,
                  {{"measured", found.measured},
                   {"fraction", found.shutterFraction},
@@ -133,7 +133,7 @@ std::optional<PlateShutter> statedShutter(const ClipInfo& clip, double fps) {
 
 PlateShutter findPlateShutter(const ClipInfo& clip, double fps,
                               const std::function<Image(int64_t)>& read, ArtifactCache* cache,
-                              const std::string& framesKey, ShutterCache use) {
+                              const std::string& framesKey) {
   if (std::optional<PlateShutter> stated = statedShutter(clip, fps)) return *stated;
   if (clip.frames.size() < 3 || !read)
     return {
@@ -142,25 +142,40 @@ PlateShutter findPlateShutter(const ClipInfo& clip, double fps,
                                         "blur to measure",
                                         clip.frames.size() == 1
                                             ? std::string("a still shows")
-                                            : fmt::format("{} frames show", clip.frames.size())))};
-  const derain::ShutterFromBlur found = measuredBlur(clip, read, cache, framesKey, use);
+                                            : fmt::format("{} frames show", clip.frames.size()))),
+        false};
+  const derain::ShutterFromBlur found = measuredBlur(clip, read, cache, framesKey);
   if (!found.measured)
     return {0.5 / fps,
-            halfOpenSource(fps, "no shutter in its metadata; its motion blur: " + found.summary)};
+            halfOpenSource(fps, "no shutter in its metadata; its motion blur: " + found.summary),
+            false};
   const double seconds = found.shutterFraction / fps;
-  return {seconds, fmt::format("{}measured from the plate's motion blur at {:g} fps ({})",
-                               found.upperBound ? "at most, " : "", fps, found.summary)};
+  return {seconds,
+          fmt::format("{}measured from the plate's motion blur at {:g} fps ({})",
+                      found.upperBound ? "at most, " : "", fps, found.summary),
+          !found.upperBound};
 }
 
-const PlateShutter& clipPlateShutter(ClipContext& clip, ShutterCache use) {
+const PlateShutter& clipPlateShutter(ClipContext& clip) {
   if (clip.plateShutter) return *clip.plateShutter;
   if (!clip.clip) return clip.plateShutter.emplace(PlateShutter{0.5 / clip.fps, "no plate"});
   // A proxy's frames are measured at the size they were filmed at: the blur of an edge moving
   // 2-3 px a frame is seen there and not at half the size.
   const std::function<Image(int64_t)> read =
       clip.openFilmedReader ? clip.openFilmedReader() : clip.readWorking;
-  return clip.plateShutter.emplace(
-      findPlateShutter(*clip.clip, clip.fps, read, clip.cache, clip.framesKey, use));
+  PlateShutter shutter = findPlateShutter(*clip.clip, clip.fps, read, clip.cache, clip.framesKey);
+  if (shutter.firm || clip.clip->frames.size() < 3) return clip.plateShutter.emplace(shutter);
+  const PlateRainFinding& rain = clipPlateRain(clip);
+  const double streaks = derain::shutterFromStreaksSeconds(rain.streakLengthPx, rain.streakWidthPx);
+  if (!rain.rained || !(streaks > 0.0) || streaks > shutter.seconds)
+    return clip.plateShutter.emplace(shutter);
+  return clip.plateShutter.emplace(PlateShutter{
+      streaks,
+      fmt::format("the streaks of the plate's own rain ({:.1f} px long, {:.2f} px wide: "
+                  "(L / W - 1) D / v(D)), shorter than {} ({})",
+                  rain.streakLengthPx, rain.streakWidthPx, fraction(shutter.seconds),
+                  shutter.source),
+      true});
 }
 
 std::string presetShutterSource(const CameraSettings& camera, double fps) {

@@ -9,6 +9,9 @@
 //      it (an upper bound);
 //   3. the 180-degree shutter at the clip's frame rate (half the frame time), what cinema plates
 //      are filmed at, when neither says more (a still without EXIF, a plate where nothing moves).
+// A plate shot in rain (stages/clip_plate_rain.h) holds a better clock than a bound or that
+// guess: its own streaks (derain::shutterFromStreaksSeconds); shorter than the bound or the
+// guess, it is taken.
 #include <functional>
 #include <optional>
 #include <string>
@@ -21,20 +24,16 @@ namespace pluvia {
 // Step 1 alone: the shutter the files of `clip` state at `fps`, or none.
 std::optional<PlateShutter> statedShutter(const ClipInfo& clip, double fps);
 
-// Whether a measurement made is stored in the cache (a render) or only looked up there (`pluvia
-// plan`, which changes nothing).
-enum class ShutterCache { Store, LookUp };
-
 // Steps 1 to 3 for a clip at `fps` whose frames `read` gives in the working space (linear). The
 // measurement is cached in `cache` under `framesKey` (render_job.h's workingFramesKey) when both
 // are given.
 PlateShutter findPlateShutter(const ClipInfo& clip, double fps,
                               const std::function<Image(int64_t)>& read,
-                              ArtifactCache* cache = nullptr, const std::string& framesKey = "",
-                              ShutterCache use = ShutterCache::Store);
+                              ArtifactCache* cache = nullptr, const std::string& framesKey = "");
 
-// clip.plateShutter, found on first use.
-const PlateShutter& clipPlateShutter(ClipContext& clip, ShutterCache use = ShutterCache::Store);
+// clip.plateShutter, found on first use: findPlateShutter, refined by the plate's own rain
+// where that finding is not firm and the plate was shot in rain.
+const PlateShutter& clipPlateShutter(ClipContext& clip);
 
 // Sets camera.plateShutterSeconds from clipPlateShutter when the camera takes the plate's
 // shutter, and logs the shutter the stage films with and where it comes from.
