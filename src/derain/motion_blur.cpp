@@ -217,11 +217,14 @@ ShutterFromBlur measureShutterFromBlur(const std::vector<cv::Mat1f>& input) {
   std::vector<cv::Mat1f> greys;
   const double scale = std::min(1.0, double(kMaxWidthPx) / input.front().cols);
   for (const cv::Mat1f& g : input) {
-    cv::Mat1f small;
+    cv::Mat1f small, finite = g.clone();
+    // A NaN or infinite sample (a float plate's) is no edge: black.
+    for (float& v : finite)
+      if (!std::isfinite(v)) v = 0.0f;
     if (scale < 1.0)
-      cv::resize(g, small, cv::Size(), scale, scale, cv::INTER_AREA);
+      cv::resize(finite, small, cv::Size(), scale, scale, cv::INTER_AREA);
     else
-      small = g;
+      small = finite;
     greys.push_back(small);
   }
   std::vector<float> all;

@@ -11,6 +11,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "io/frame_size.h"
+#include "io/metadata_names.h"
 #include "io/oiio_message.h"
 #include "io/timecode.h"
 #include "util/error.h"
@@ -137,13 +138,9 @@ ImageFileHeader readImageHeader(const std::string& path, std::optional<int64_t> 
   }
   // A shutter angle, where the camera or the facility wrote one (no standard name: ARRI's
   // "com.arri.camera.ShutterAngle", "shutterAngle", "ShutterAngle"), in degrees.
-  for (const OIIO::ParamValue& attribute : spec.extra_attribs) {
-    std::string name = attribute.name().string();
-    std::erase_if(name, [](char c) { return c == '_'; });
-    std::transform(name.begin(), name.end(), name.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
-    if (name.ends_with("shutterangle")) header.metadata["ShutterAngle"] = attribute.get_string();
-  }
+  for (const OIIO::ParamValue& attribute : spec.extra_attribs)
+    if (metadataNameEndsWith(attribute.name().string(), "shutterangle"))
+      header.metadata["ShutterAngle"] = attribute.get_string();
   return header;
 }
 

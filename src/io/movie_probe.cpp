@@ -1,13 +1,13 @@
 #include "io/movie_probe.h"
 
 #include <algorithm>
-#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
 
 #include <fmt/format.h>
 
+#include "io/metadata_names.h"
 #include "util/error.h"
 #include "util/subprocess.h"
 
@@ -174,20 +174,15 @@ MovieProbe probeMovie(const std::string& path) {
   // seconds or ShutterAngle in degrees, OpenImageIO's and the EXR attributes' names.
   for (const auto& [key, text] : values) {
     if (!key.starts_with("format.tags.") && !key.starts_with(stream + "tags.")) continue;
-    std::string name = key.substr(key.find_last_of('.') + 1);  // ffprobe's flat keys hold "_"
-    std::erase_if(name, [](char c) { return c == '_' || c == '-' || c == ' '; });
-    std::transform(name.begin(), name.end(), name.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
-    if (name.ends_with("shutterangle")) probe.metadata["ShutterAngle"] = text;
-    if (name.ends_with("shutterspeed") || name.ends_with("exposuretime")) {
-      const size_t slash = text.find('/');
-      const double seconds = slash == std::string::npos ? std::atof(text.c_str())
-                                                        : std::atof(text.substr(0, slash).c_str()) /
-                                                              std::atof(text.c_str() + slash + 1);
-      if (std::isfinite(seconds) && seconds > 0.0)
-        probe.metadata["ExposureTime"] = fmt::format("{:g}", seconds);
-    }
+    const std::string name = key.substr(key.find_last_of('.') + 1);
+    if (metadataNameEndsWith(name, "shutterangle")) probe.metadata["ShutterAngle"] = text;
+    const double seconds = parseRate(text);  // "1/100" or "0.01"
+    if ((metadataNameEndsWith(name, "shutterspeed") ||
+         metadataNameEndsWith(name, "exposuretime")) &&
+        std::isfinite(seconds) && seconds > 0.0)
+      probe.metadata["ExposureTime"] = fmt::format("{:g}", seconds);
   }
+
   for (const char* field : {"color_primaries", "color_transfer", "color_space", "color_range"}) {
     const std::string text = value(stream + field);
     if (!text.empty() && text != "unknown") probe.metadata[std::string("ffmpeg:") + field] = text;

@@ -1,9 +1,7 @@
 #include "stages/plate_shutter.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
-#include <exception>
 #include <string>
 #include <vector>
 
@@ -17,6 +15,7 @@
 #include "stages/clip_plate_rain.h"
 #include "util/hash.h"
 #include "util/log.h"
+#include "util/parse_number.h"
 #include "util/timer.h"
 
 namespace pluvia {
@@ -24,26 +23,6 @@ namespace pluvia {
 namespace {
 
 constexpr size_t kFramesMeasured = 7;  // 5 frames measured, each with a neighbour either side
-
-// "0.004", "1/250" or "1/250 s" as seconds; 0 when it is none.
-double parseSeconds(const std::string& text) {
-  try {
-    const size_t slash = text.find('/');
-    if (slash == std::string::npos) return std::stod(text);
-    const double over = std::stod(text.substr(slash + 1));
-    return over > 0.0 ? std::stod(text.substr(0, slash)) / over : 0.0;
-  } catch (const std::exception&) {
-    return 0.0;
-  }
-}
-
-double parseDegrees(const std::string& text) {
-  try {
-    return std::stod(text);
-  } catch (const std::exception&) {
-    return 0.0;
-  }
-}
 
 std::string fraction(double seconds) {
   return fmt::format("1/{:.0f} s", 1.0 / seconds);
@@ -115,18 +94,26 @@ derain::ShutterFromBlur measuredBlur(const ClipInfo& clip,
 }  // namespace
 
 std::optional<PlateShutter> statedShutter(const ClipInfo& clip, double fps) {
+  // A field the files hold but that states no shutter is said, and the plate's shutter found as
+  // if it were not there.
+  const auto unusable = [&](const char* name, const std::string& text) {
+    log::warning(fmt::format("plate: {} '{}' in the metadata of {} states no shutter: left out",
+                             name, text, clip.path));
+  };
   if (const auto it = clip.metadata.find("ExposureTime"); it != clip.metadata.end()) {
-    const double seconds = parseSeconds(it->second);
+    const double seconds = parseWholeNumber<double>(it->second).value_or(0.0);
     if (std::isfinite(seconds) && seconds >= 1e-5 && seconds <= 1.0)
       return PlateShutter{seconds,
                           fmt::format("the plate's metadata (ExposureTime {:g} s)", seconds)};
+    unusable("ExposureTime", it->second);
   }
   if (const auto it = clip.metadata.find("ShutterAngle"); it != clip.metadata.end()) {
-    const double degrees = parseDegrees(it->second);
+    const double degrees = parseWholeNumber<double>(it->second).value_or(0.0);
     if (std::isfinite(degrees) && degrees > 0.0 && degrees <= 360.0 && fps > 0.0)
       return PlateShutter{
           degrees / 360.0 / fps,
           fmt::format("the plate's metadata (shutter angle {:g} deg at {:g} fps)", degrees, fps)};
+    unusable("ShutterAngle", it->second);
   }
   return std::nullopt;
 }

@@ -52,6 +52,16 @@ TEST(CliPlateShutter, TheShutterThePlateStatesFilmsTheRain) {
             std::string::npos);
 }
 
+// A field that states no shutter (a negative angle, text for a time) is said and left out.
+TEST(CliPlateShutter, MetadataThatStatesNoShutterIsSaidAndLeftOut) {
+  const stdfs::path dir = freshTempDir("plate_shutter_unusable");
+  const std::string angle = greyPlate(
+      dir, "angle", [](OIIO::ImageSpec& s) { s.attribute("com.arri.camera.ShutterAngle", -5.0f); });
+  const std::string log = renderLog(dir, angle, "d");
+  EXPECT_NE(log.find("plate: ShutterAngle '-5' in the metadata of"), std::string::npos) << log;
+  EXPECT_NE(log.find("rain: shutter 1/48 s, the 180-degree shutter"), std::string::npos) << log;
+}
+
 TEST(CliPlateShutter, AStillWithoutMetadataIsFilmedAtTheHalfOpenShutter) {
   const stdfs::path dir = freshTempDir("plate_shutter_still");
   const std::string plain = greyPlate(dir, "plain", [](OIIO::ImageSpec&) {});

@@ -3,6 +3,7 @@
 // of 32 instants over the open shutter, drawn at 4 times the size and reduced (a sensor's area
 // sampling), then a lens's Gaussian blur and noise.
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -99,6 +100,18 @@ TEST(MotionBlur, FindsAQuarterOpenShutter) {
   const ShutterFromBlur found = measureShutterFromBlur(filmedClip(0.25, {0, 0}, walkers(), 7));
   ASSERT_TRUE(found.measured) << found.summary;
   EXPECT_NEAR(found.shutterFraction, 0.25, 0.0625) << found.summary;
+}
+
+// NaN and infinite samples (a float plate's) are no edges, and the rest measures as before.
+TEST(MotionBlur, NonFiniteSamplesAreLeftOut) {
+  std::vector<cv::Mat1f> frames = filmedClip(0.5, {0, 0}, walkers(), 7);
+  for (cv::Mat1f& f : frames) {
+    f(10, 10) = std::numeric_limits<float>::quiet_NaN();
+    f(200, 300) = std::numeric_limits<float>::infinity();
+  }
+  const ShutterFromBlur found = measureShutterFromBlur(frames);
+  ASSERT_TRUE(found.measured) << found.summary;
+  EXPECT_NEAR(found.shutterFraction, 0.5, 0.125) << found.summary;
 }
 
 // A pan moves every edge; the ones lying along the pan stay sharp and give the lens's blur.
