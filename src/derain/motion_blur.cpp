@@ -196,10 +196,14 @@ Fit fitBins(const std::vector<SpeedBin>& bins) {
 
 }  // namespace
 
+double dropSecondsPerDiameter() {
+  static const double seconds = 1.5e-3 / rain::terminalVelocityMetersPerSecond(1.5);
+  return seconds;
+}
+
 double shutterFromStreaksSeconds(double lengthPx, double widthPx) {
-  static const double kDropSecondsPerLength = 1.5e-3 / rain::terminalVelocityMetersPerSecond(1.5);
   if (!(widthPx > 0.0) || !(lengthPx > widthPx)) return 0.0;
-  return (lengthPx / widthPx - 1.0) * kDropSecondsPerLength;
+  return (lengthPx / widthPx - 1.0) * dropSecondsPerDiameter();
 }
 
 double blurredEdgeWidthPx(double rampPx, double sigmaPx) {

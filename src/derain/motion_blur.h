@@ -43,10 +43,12 @@ double blurredEdgeWidthPx(double rampPx, double sigmaPx);
 // The other clock a plate may hold: the streaks of rain already in it. A drop of diameter D
 // falling at v(D) past the camera draws a streak v T f / z + D f / z long and D f / z wide
 // (Garg and Nayar), so T = (L / W - 1) D / v, and D / v(D) hardly depends on D (Atlas's fall
-// speeds: 0.25 ms at 0.5 and 1 mm, 0.31 ms at 2 mm, 0.37 ms at 3 mm; kDropSecondsPerLength, at
+// speeds: 0.25 ms at 0.5 and 1 mm, 0.31 ms at 2 mm, 0.37 ms at 3 mm; dropSecondsPerDiameter(), at
 // 1.5 mm). The streaks' widths are a pixel's blur at least, so this reads short. Seconds for
 // streaks of median length `lengthPx` and width `widthPx`; 0 when no longer than wide.
 double shutterFromStreaksSeconds(double lengthPx, double widthPx);
+// D / v(D) at D = 1.5 mm, the seconds a drop takes to fall its own diameter.
+double dropSecondsPerDiameter();
 
 // `greys`: 3 or more consecutive frames (CV_32F, linear light, one size). Frames wider than
 // 1024 px are measured at 1024 px (the shutter fraction does not depend on the scale). Throws

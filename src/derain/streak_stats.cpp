@@ -9,6 +9,7 @@
 #include <tbb/parallel_invoke.h>
 #include <opencv2/imgproc.hpp>
 
+#include "derain/motion_blur.h"
 #include "image/luminance.h"
 #include "util/error.h"
 
@@ -141,6 +142,7 @@ Streak streakOf(const ComponentSums& c) {
   s.widthPx = c.halfPeakArea / s.lengthPx;
   s.peakCodes = c.peak;
   s.meanCodes = c.weight / c.area;
+  s.energyCodesPx = c.weight;
   return s;
 }
 
@@ -193,6 +195,13 @@ Histogram codesHistogram() {
 }
 Histogram pixelsHistogram() {
   return Histogram(0.25, 2048);
+}
+// Of energies (codes x px): 2 to 16384; of energies over length squared (codes): 0.02 to 164.
+Histogram energyHistogram() {
+  return Histogram(2.0, 8192);
+}
+Histogram energyPerSquareLengthHistogram() {
+  return Histogram(0.02, 8192);
 }
 
 double quantileOfDifference(Histogram positive, const Histogram& negative, double q) {
@@ -277,7 +286,9 @@ StreakStatsAccumulator::Side::Side()
     : delta(codesHistogram()),
       length(pixelsHistogram()),
       width(pixelsHistogram()),
-      peak(codesHistogram()) {}
+      peak(codesHistogram()),
+      energy(energyHistogram()),
+      energyPerSquareLength(energyPerSquareLengthHistogram()) {}
 
 StreakStatsAccumulator::StreakStatsAccumulator(StreakDetectSettings settings)
     : settings_(settings) {}
@@ -321,6 +332,8 @@ void StreakStatsAccumulator::addSide(Side& side, const cv::Mat1f& layer,
     side.length.add(s.lengthPx);
     side.width.add(s.widthPx);
     side.peak.add(s.peakCodes);
+    side.energy.add(s.energyCodesPx);
+    side.energyPerSquareLength.add(s.energyCodesPx / (s.lengthPx * s.lengthPx));
     if (s.lengthPx < settings_.minElongation * s.widthPx) continue;
     const double w = s.lengthPx * s.meanCodes, doubled = 2.0 * s.angleDeg / kDegPerRad;
     side.angleWeight += w;
@@ -348,6 +361,9 @@ StreakStats StreakStatsAccumulator::result() const {
   s.lengthP50Px = quantileOfDifference(p.length, n.length, 0.5);
   s.widthP50Px = quantileOfDifference(p.width, n.width, 0.5);
   s.peakP90 = quantileOfDifference(p.peak, n.peak, 0.9);
+  s.energyP50CodesPx = quantileOfDifference(p.energy, n.energy, 0.5);
+  s.energyPerSquareLengthP50 =
+      quantileOfDifference(p.energyPerSquareLength, n.energyPerSquareLength, 0.5);
 
   // The false alarms' votes are subtracted like every other count: their doubled-angle vectors
   // from the sums, their weights from the total.
@@ -367,6 +383,12 @@ StreakStats StreakStatsAccumulator::result() const {
   s.deltaBrightThird = meanOfDifference(p.brightSum, p.brightPixels, n.brightSum, n.brightPixels);
   s.temporalCorrelation = pairs_ > 0 ? correlationSum_ / pairs_ : kNaN;
   return s;
+}
+
+double impliedDropContrastCodes(double energyPerSquareLength, double shutterSeconds) {
+  const double tau = dropSecondsPerDiameter();
+  const double lengthOverDiameter = (tau + std::max(shutterSeconds, 0.0)) / tau;
+  return energyPerSquareLength * (4.0 / M_PI) * lengthOverDiameter * lengthOverDiameter;
 }
 
 double typicalFactor(const std::vector<double>& ratios) {

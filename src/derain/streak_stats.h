@@ -68,6 +68,9 @@ struct Streak {
   double widthPx = 0.0;
   double peakCodes = 0.0;  // max dI (over ~50 pixels of noise sigma s: about h + 2.5 s)
   double meanCodes = 0.0;  // mean dI
+  // Sum of dI over its pixels (codes x px): a drop's light, which blur and the shutter only
+  // spread (impliedDropContrastCodes below).
+  double energyCodesPx = 0.0;
 };
 
 struct StreakDetection {
@@ -96,7 +99,10 @@ struct StreakStats {
   double streaksPerMpx = 0.0;  // per million valid pixels, false alarms subtracted, >= 0
   double lengthP50Px = 0.0;    // quantiles over streaks
   double widthP50Px = 0.0;
-  double peakP90 = 0.0;  // codes
+  double peakP90 = 0.0;           // codes
+  double energyP50CodesPx = 0.0;  // of each streak's sum of dI
+  // Of each streak's sum of dI over its length squared (codes): impliedDropContrastCodes.
+  double energyPerSquareLengthP50 = 0.0;
   // Axial mean of the elongated streaks' angles (weights length x mean dI) and its circular
   // spread (half the circular standard deviation of the doubled angles). NaN without streaks.
   double angleDeg = 0.0;
@@ -136,7 +142,7 @@ class StreakStatsAccumulator {
     Side();
     int64_t pixels = 0;
     int64_t streaks = 0;
-    Histogram delta, length, width, peak;
+    Histogram delta, length, width, peak, energy, energyPerSquareLength;
     double angleWeight = 0.0, angleCos = 0.0, angleSin = 0.0;  // of the doubled angles
     double darkSum = 0.0, brightSum = 0.0;
     int64_t darkPixels = 0, brightPixels = 0;
@@ -151,6 +157,17 @@ class StreakStatsAccumulator {
   double correlationSum_ = 0.0;
   int pairs_ = 0;
 };
+
+// Garg and Nayar's streak inverted: a drop of image diameter d against a background of B, at a
+// radiance of B + C while it lies over a pixel, draws a streak whose dI summed over its pixels is
+// C x (the disc's area, pi d^2 / 4) whatever the shutter and the blur (each instant adds its disc
+// for its share of the exposure). Its length is L = d + v T f / z with d = D f / z, so
+// d = L tau / (tau + T), tau = D / v(D) (dropSecondsPerDiameter(), nearly D's own). So
+// C = (sum dI / L^2) (4 / pi) ((tau + T) / tau)^2: the drop's contrast over its background in
+// codes, from a streak's energy over its length squared (`energyPerSquareLength`) and the
+// shutter. A resolved drop reads about a tenth high (the detector's threshold cuts its streak's
+// tapered ends, shortening L more than it loses of the sum); one under a pixel wide reads low.
+double impliedDropContrastCodes(double energyPerSquareLength, double shutterSeconds);
 
 // exp(mean |ln r|) over the finite positive ratios: the typical factor by which a set of
 // rendered/real ratios is off (2 and 0.5 are both off by 2). NaN when none is usable.

@@ -134,6 +134,29 @@ ClipShutter clipShutter(const RealClip& clip, const StreakStats& rain) {
   return shutter;
 }
 
+using Ratios = std::vector<std::pair<std::string, double>>;
+
+std::vector<double> ratioValues(const Ratios& ratios) {
+  std::vector<double> values;
+  for (const auto& [name, ratio] : ratios) values.push_back(ratio);
+  return values;
+}
+
+// The largest max(r, 1/r), and the statistic's name in `name` when given.
+double worstOf(const Ratios& ratios, std::string* name) {
+  double worst = 0.0;
+  for (const auto& [statistic, ratio] : ratios)
+    if (const double off = std::max(ratio, 1.0 / ratio); off > worst) {
+      worst = off;
+      if (name) *name = statistic;
+    }
+  return worst;
+}
+
+double dropContrastOf(const RealismRow& row) {
+  return impliedDropContrastCodes(row.stats.energyPerSquareLengthP50, row.shutterSeconds);
+}
+
 }  // namespace
 
 RealismReport runRealismReport(const RealismReportSettings& settings,
@@ -162,8 +185,9 @@ RealismReport runRealismReport(const RealismReportSettings& settings,
     real.stats = measureLayers(clip.frames, plates, &columns[0].layers);
     real.typical = real.worst = 1.0;
     real.seconds = secondsSince(started);
-    report.rows.push_back(real);
     const ClipShutter shutter = clipShutter(clip, real.stats);
+    real.shutterSeconds = shutter.seconds;
+    report.rows.push_back(real);
     report.notes.push_back(fmt::format("{}: its shutter 1/{:.0f} s at {:g} fps, {}", clip.name,
                                        1.0 / shutter.seconds, clip.fps, shutter.source));
     std::vector<cv::Mat3f> plateImages;
@@ -179,12 +203,13 @@ RealismReport runRealismReport(const RealismReportSettings& settings,
       // Measured as the real rain is: against plates estimated from the frames themselves.
       row.stats = measureLayers(column.frames, cleanPlatesRgb(column.frames), &column.layers);
       row.ratios = ratiosToReal(row.stats, real.stats);
-      std::vector<double> values;
-      for (const auto& [name, ratio] : row.ratios) values.push_back(ratio);
-      row.typical = typicalFactor(values);
-      for (const auto& [name, ratio] : row.ratios)
-        if (const double off = std::max(ratio, 1.0 / ratio); off > row.worst)
-          row.worst = off, row.worstName = name;
+      row.typical = typicalFactor(ratioValues(row.ratios));
+      row.worst = worstOf(row.ratios, &row.worstName);
+      row.exactStats = measureLayers(column.frames, plates);
+      row.exactRatios = ratiosToReal(row.exactStats, real.stats);
+      row.exactTypical = typicalFactor(ratioValues(row.exactRatios));
+      row.exactWorst = worstOf(row.exactRatios, nullptr);
+      row.shutterSeconds = shutter.seconds;
       row.seconds = secondsSince(renderStarted);
       report.rows.push_back(row);
       columns.push_back(std::move(column));
@@ -245,6 +270,8 @@ std::vector<Column> statColumns() {
       {"len p50", 8, number(&StreakStats::lengthP50Px, 1)},
       {"wid p50", 8, number(&StreakStats::widthP50Px, 2)},
       {"peak p90", 9, number(&StreakStats::peakP90, 1)},
+      {"E p50", 7, number(&StreakStats::energyP50CodesPx, 0)},
+      {"drop C", 7, [](const RealismRow& r) { return fixedOrDash(dropContrastOf(r), 1); }},
       {"angle", 7, number(&StreakStats::angleDeg, 1)},
       {"spread", 7, number(&StreakStats::angleSpreadDeg, 1)},
       {"dI dark", 8, number(&StreakStats::deltaDarkThird, 1)},
@@ -280,15 +307,22 @@ std::string formatRealismReport(const RealismReport& report) {
           kRealismBound);
       out << fmt::format("{:>14}{:>10}", "clip", "preset");
       for (const auto& [name, ratio] : row.ratios) out << fmt::format("{:>14}", name);
-      out << fmt::format("{:>9}{:>9}\n", "worst", "typical");
+      out << fmt::format("{:>9}{:>9}{:>9}{:>9}\n", "worst", "typical", "exact wo", "exact ty");
       header = true;
     }
     out << fmt::format("{:>14}{:>10}", row.clip.substr(0, 13), row.preset);
     for (const auto& [name, ratio] : row.ratios)
       out << fmt::format("{:>14}", fixedOrDash(ratio, 2) +
                                        (std::max(ratio, 1.0 / ratio) > kRealismBound ? "!" : " "));
-    out << fmt::format("{:>9}{:>9}\n", fixedOrDash(row.worst, 2), fixedOrDash(row.typical, 2));
+    out << fmt::format("{:>9}{:>9}{:>9}{:>9}\n", fixedOrDash(row.worst, 2),
+                       fixedOrDash(row.typical, 2), fixedOrDash(row.exactWorst, 2),
+                       fixedOrDash(row.exactTypical, 2));
   }
+  if (header)
+    out << "(exact: the rendered layer against the exact plates it was rendered on; the real "
+           "layer can only be taken against estimated ones, so the columns before it compare like "
+           "with like. drop C: each streak's sum of dI over its length squared, inverted at the "
+           "clip's shutter into its drop's contrast over the background, median, codes)\n";
   for (const std::string& note : report.notes) out << "note: " << note << "\n";
   return out.str();
 }
@@ -298,8 +332,9 @@ void writeRealismReportCsv(const RealismReport& report, const std::string& path)
   std::string header =
       "clip,preset,typical,worst,coverage,delta_p50,delta_p90,delta_p99,streaks_per_mpx,length_p50_"
       "px,"
-      "width_p50_px,peak_p90,angle_deg,angle_spread_deg,delta_dark_third,delta_bright_third,"
-      "temporal_correlation,frames,seconds";
+      "width_p50_px,peak_p90,energy_p50,drop_contrast_p50,angle_deg,angle_spread_deg,delta_dark_"
+      "third,delta_bright_third,temporal_correlation,frames,seconds,shutter_s,exact_worst,exact_"
+      "typical";
   for (const RealismRow& row : report.rows)
     if (!row.ratios.empty()) {
       for (const auto& [name, ratio] : row.ratios) header += ",ratio_" + name;
@@ -310,10 +345,13 @@ void writeRealismReportCsv(const RealismReport& report, const std::string& path)
     for (const RealismRow& r : report.rows) {
       const StreakStats& s = r.stats;
       out << r.clip << "," << r.preset << "," << csvNumber(r.typical) << "," << csvNumber(r.worst);
-      for (double v :
-           {s.coverage, s.deltaP50, s.deltaP90, s.deltaP99, s.streaksPerMpx, s.lengthP50Px,
-            s.widthP50Px, s.peakP90, s.angleDeg, s.angleSpreadDeg, s.deltaDarkThird,
-            s.deltaBrightThird, s.temporalCorrelation, double(s.frames), r.seconds})
+      for (double v : {s.coverage,        s.deltaP50,         s.deltaP90,
+                       s.deltaP99,        s.streaksPerMpx,    s.lengthP50Px,
+                       s.widthP50Px,      s.peakP90,          s.energyP50CodesPx,
+                       dropContrastOf(r), s.angleDeg,         s.angleSpreadDeg,
+                       s.deltaDarkThird,  s.deltaBrightThird, s.temporalCorrelation,
+                       double(s.frames),  r.seconds,          r.shutterSeconds,
+                       r.exactWorst,      r.exactTypical})
         out << "," << csvNumber(v);
       for (size_t i = 0; i < ratioColumns; ++i)
         out << "," << (i < r.ratios.size() ? csvNumber(r.ratios[i].second) : "");

@@ -22,7 +22,9 @@
 // met when every statistic is, not on average. Each clip's own shutter, as a render of the clip
 // finds it (derain/motion_blur.h: its motion blur, or under that the streaks of its rain, or the
 // 180-degree shutter), is in the notes: the presets film the rain with it (camera.exposure_s 0;
-// the clean plates hold no rain to time it by).
+// the clean plates hold no rain to time it by). With it each row's streaks are inverted into
+// their drops' contrast (derain::impliedDropContrastCodes): the light a drop brings, apart from
+// how the shutter and the blur spread it.
 #include <functional>
 #include <string>
 #include <vector>
@@ -65,7 +67,13 @@ struct RealismRow {
   double typical = 0.0;                                // typicalFactor(ratios); 1 for real
   double worst = 0.0;  // the largest max(r, 1/r) over the ratios; 1 for real
   std::string worstName;
-  double seconds = 0.0;  // plates (real) or render + measure
+  // The same layer taken against the exact plates it was rendered on (rendered - plate), not
+  // re-estimated: the method that skips the estimator's loss (above); empty for the real row.
+  StreakStats exactStats;
+  std::vector<std::pair<std::string, double>> exactRatios;
+  double exactTypical = 0.0, exactWorst = 0.0;
+  double shutterSeconds = 0.0;  // the clip's own (its drops' implied contrast needs it)
+  double seconds = 0.0;         // plates (real) or render + measure
 };
 
 struct RealismReport {

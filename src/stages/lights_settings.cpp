@@ -79,9 +79,10 @@ const SettingsTable<LightsSettings>& lightsTable() {
           // the clip hides.
           bind(&S::findCoreGain,
                numberParam("find_core_gain", 100.0, {1.0, 1e6}, "",
-                           "a found lamp's radiance is find_level times this (its clipped core "
-                           "hides how bright it is): intensity = gain * find_level * solid angle "
-                           "* distance^2")),
+                           "a found bulb's radiance (a clipped blob with a dark rim) is find_level "
+                           "times this (its clipped core hides how bright it is): intensity = gain "
+                           "* find_level * solid angle * distance^2; a clipped core inside its own "
+                           "glow is taken at find_level")),
           bind(&S::glare, "glare",
                {{"auto", GlareMode::Auto}, {"on", GlareMode::On}, {"off", GlareMode::Off}},
                "the veil bright sources spread as the eye sees them (CIE 2002 disability glare), "

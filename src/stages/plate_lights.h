@@ -23,7 +23,8 @@ struct PlateBlob {
   double surroundLuminance = 0.0;
 };
 
-// How bright a plate is: its luminance (Rec. 709 weights, working space) at two quantiles.
+// How bright a plate is: its luminance (Rec. 709 weights, working space) at two quantiles, lamps'
+// glows left out (a clipped core's bright surround that stays within a few of its radii).
 struct PlateLuminance {
   double median = 0.0;      // how dark the plate is
   double upperTenth = 0.0;  // the 90th percentile: how bright its brightest tenth is

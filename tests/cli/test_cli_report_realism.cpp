@@ -28,7 +28,8 @@ TEST(CliReportRealism, QuickReportMeasuresRealRainAndAPreset) {
   const CsvTable& table = report.table;
   ASSERT_TRUE(hasColumns(
       table, {"clip", "preset", "typical", "coverage", "delta_p99", "streaks_per_mpx",
-              "length_p50_px", "peak_p90", "angle_deg", "ratio_coverage", "ratio_peakP90"}));
+              "length_p50_px", "peak_p90", "angle_deg", "ratio_coverage", "ratio_peakP90",
+              "energy_p50", "drop_contrast_p50", "shutter_s", "exact_worst", "exact_typical"}));
   ASSERT_EQ(table.rows.size(), 2u) << r.output;  // real, heavy
   std::map<std::string, size_t> column = table.column;
   const auto value = [&](size_t row, const std::string& name) {
@@ -54,6 +55,13 @@ TEST(CliReportRealism, QuickReportMeasuresRealRainAndAPreset) {
     }
   EXPECT_NEAR(value(1, "worst"), worst, 1e-3);
   EXPECT_GE(value(1, "worst"), value(1, "typical"));
+  // Taken against the exact plates too; the real row has no such thing.
+  EXPECT_GE(value(1, "exact_worst"), value(1, "exact_typical"));
+  EXPECT_GE(value(1, "exact_typical"), 1.0);
+  // The streaks inverted into their drops' contrast at the clip's shutter, for both rows.
+  EXPECT_GT(value(0, "drop_contrast_p50"), 0.0);
+  EXPECT_GT(value(1, "drop_contrast_p50"), 0.0);
+  EXPECT_DOUBLE_EQ(value(0, "shutter_s"), value(1, "shutter_s"));
   if (worst > 1.25) EXPECT_NE(r.output.find("! "), std::string::npos) << r.output;
   // The clip's own shutter, as the presets film it: NTURain's slow pan blurs no edge visibly,
   // its rain's streaks are the clock.
@@ -87,6 +95,12 @@ TEST(CliReportRealism, PluviasOwnRainScoresAsItself) {
   const double typical =
       parseNumber(report.table.rows[1][report.table.column.at("typical")], report.table.lines[1]);
   EXPECT_LT(typical, 1.18) << report.result.output;
+  // The same drops, so the same light per drop: their streaks invert into the same contrast.
+  const auto contrast = [&](size_t row) {
+    return parseNumber(report.table.rows[row][report.table.column.at("drop_contrast_p50")],
+                       report.table.lines[row]);
+  };
+  EXPECT_NEAR(contrast(1) / contrast(0), 1.0, 0.2) << report.result.output;
 }
 
 TEST(CliReportRealism, ATableNamingAFrameOfTheClipIsRefusedAndTheFrameKept) {

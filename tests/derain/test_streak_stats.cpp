@@ -11,6 +11,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "derain/motion_blur.h"
 #include "derain/streak_stats.h"
 #include "util/error.h"
 
@@ -266,3 +267,41 @@ TEST(StreakStats, TypicalFactor) {
 }
 
 }  // namespace
+
+// A drop of 6 px brighter than its background by 150 codes, filmed over 4 times the time it
+// takes to fall its diameter: its disc swept 24 px (400 instants, each pixel's share of the
+// disc from 4 x 4 samples), over noise. Its streak's light inverts back into its contrast.
+TEST(StreakStats, AStreakInvertsIntoItsDropsContrast) {
+  constexpr double kDiameterPx = 6.0, kContrastCodes = 150.0, kShutterOverTau = 4.0;
+  constexpr int kInstants = 400;
+  cv::Mat1f layer = noise(11);
+  const cv::Point2d start(320.0, 160.0);
+  const double pathPx = kShutterOverTau * kDiameterPx;
+  for (int y = 150; y < 200; ++y)
+    for (int x = 310; x < 330; ++x) {
+      double covered = 0.0;
+      for (int i = 0; i < kInstants; ++i) {
+        const double cy = start.y + pathPx * (i + 0.5) / kInstants;
+        for (int sy = 0; sy < 4; ++sy)
+          for (int sx = 0; sx < 4; ++sx) {
+            const double dx = x - 0.375 + 0.25 * sx - start.x, dy = y - 0.375 + 0.25 * sy - cy;
+            covered += (dx * dx + dy * dy <= 0.25 * kDiameterPx * kDiameterPx) ? 1.0 : 0.0;
+          }
+      }
+      layer(y, x) += float(kContrastCodes * covered / (16.0 * kInstants));
+    }
+  const StreakDetection detection = detectStreaks(layer, allValid());
+  ASSERT_EQ(detection.streaks.size(), 1u);
+  const Streak& s = detection.streaks[0];
+  // Its ends taper over a diameter (less of the disc, for less of the exposure): the detector's
+  // 10 codes cut a few pixels off the full length.
+  EXPECT_GT(s.lengthPx, pathPx);
+  EXPECT_LE(s.lengthPx, pathPx + kDiameterPx + 1.0);
+  // The disc's area times its contrast, less the rim under the detector's 10 codes.
+  EXPECT_NEAR(s.energyCodesPx, kContrastCodes * M_PI / 4 * kDiameterPx * kDiameterPx,
+              0.1 * kContrastCodes * M_PI / 4 * kDiameterPx * kDiameterPx);
+  // The tapered ends cut off read it about a tenth high (167 codes here).
+  const double shutter = kShutterOverTau * dropSecondsPerDiameter();
+  EXPECT_NEAR(impliedDropContrastCodes(s.energyCodesPx / (s.lengthPx * s.lengthPx), shutter),
+              kContrastCodes, 0.15 * kContrastCodes);
+}

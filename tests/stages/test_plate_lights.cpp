@@ -105,5 +105,34 @@ TEST(PlateLights, ALampInItsOwnGlowIsFoundALitWallIsNot) {
   ASSERT_EQ(lamps.size(), 1u);
   EXPECT_NEAR(lamps[0].xPx, 80.0, 0.5);
   EXPECT_NEAR(lamps[0].yPx, 40.0, 0.5);
+  // Its disc is its glow's clipped centre: at the clip level, not find_core_gain times it.
+  const double solidAngle = lamps[0].areaPx / (camera.focalPx * camera.focalPx);
+  const Eigen::Vector3d ray = camera.rayCamera(lamps[0].xPx, lamps[0].yPx) * 20.0;
+  EXPECT_NEAR(lamps[0].intensity, 0.95 * solidAngle * ray.squaredNorm(), 1e-6 * lamps[0].intensity);
   EXPECT_TRUE(findPlateLamps(lampPlate(false, 80, 40), settings, camera, nullptr, 20.0).empty());
+}
+
+// A lamp close to the camera: a clipped core of radius 12 px in a glow fading over 30 px, which
+// fills a fifth of the frame with light over 0.3. The glow is the lamp's, not the scene's: the
+// plate is a night one. The same light spread flat over the frame's top (a sunlit strip holding a
+// clipped patch as big as the core) is a day plate.
+TEST(PlateLights, ALampsOwnGlowDoesNotMakeANightPlateDay) {
+  Image lamp = test::flatImage(160, 120, 0.02f, 0.02f, 0.02f);
+  for (int y = 0; y < lamp.height; ++y)
+    for (int x = 0; x < lamp.width; ++x) {
+      const double d = std::hypot(x + 0.5 - 80, y + 0.5 - 60);
+      const float v =
+          d <= 12 ? 1.0f : std::max(0.02f, float(0.9 / (1.0 + std::pow((d - 12) / 15, 2))));
+      std::fill(lamp.pixel(x, y), lamp.pixel(x, y) + 3, v);
+    }
+  int lit = 0;
+  for (size_t i = 0; i < lamp.pixelCount(); ++i) lit += lamp.rgba[i * 4] >= 0.3f;
+  ASSERT_GT(lit, int(lamp.pixelCount() / 10));  // the brightest tenth is glow
+  EXPECT_TRUE(isNight(lamp));
+  EXPECT_LT(plateLuminance(lamp).upperTenth, 0.3);
+
+  Image strip = plate(0.02f, 24, 0.5f);  // a fifth of the rows at 0.5
+  for (int y = 0; y < 8; ++y)
+    for (int x = 70; x < 130; ++x) std::fill(strip.pixel(x, y), strip.pixel(x, y) + 3, 1.0f);
+  EXPECT_FALSE(isNight(strip));
 }
