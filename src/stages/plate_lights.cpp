@@ -19,7 +19,7 @@ constexpr double kSurroundInnerRadii = 2.0, kSurroundOuterRadii = 4.0;
 constexpr int kSurroundInnerPx = 8, kSurroundOuterPx = 16;
 
 // A clipped blob larger than this share of the frame is a clipped sky or a lit facade, not a
-// lamp. A street lamp 10 m away on a hand-held night clip is a clipped disc of 1.4 % of the frame
+// lamp. A street lamp on a real night clip (a still camera) is a clipped disc of 1.4 % of the frame
 // (5818 px of 854 x 480, its glow fading to 0.025 two radii out), 7.6 % of a 320 x 240 crop
 // around it; 0.5 % lost it.
 constexpr double kMaxLampShareOfFrame = 0.1;
@@ -38,7 +38,7 @@ constexpr double kLampRimOverClip = 0.4;
 // to a clipped core (max channel at kGlowCoreLevel, lights.find_level's default) are a glow, left
 // out of the quantiles, when nine tenths of the region lie within kGlowCoreRadii of the core's
 // radius (plus kGlowMarginPx) around it and it fades away from it: the farther half of its
-// pixels under kGlowFade of the nearer half's mean luminance. The street lamp above fills 12 % of a
+// pixels under kGlowFade of the nearer half's mean luminance. The street lamp above fills 15 % of a
 // crop with its glow; the weir's sunlit wall, as bright far from its clipped railing as beside it,
 // stays in.
 constexpr float kGlowCoreLevel = 0.95f;
@@ -286,7 +286,7 @@ std::vector<FoundLamp> findPlateLamps(const Image& still, const LightsSettings& 
     // A clipped disc inside its own glow is the glow's saturated centre, not the bulb: taken at
     // the clip level (a lower bound). Over its whole disc, find_core_gain lit every drop in a
     // night clip's frame from a street lamp 20 m off: 142 times the real rain's coverage (the
-    // real drops that show are those near the lamp; the note on issue 57 has the figures).
+    // real drops that show are those near the lamp; README, "Night").
     lamps.push_back(plateLamp(blob, camera, depth, backdropMeters, settings.findClipLevel,
                               inGlow ? 1.0 : settings.findCoreGain));
     const FoundLamp& l = lamps.back();
