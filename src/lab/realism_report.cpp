@@ -136,6 +136,11 @@ ClipShutter clipShutter(const RealClip& clip, const StreakStats& rain) {
 
 using Ratios = std::vector<std::pair<std::string, double>>;
 
+// How far a ratio to real is off, either way: max(r, 1/r).
+double factorOff(double ratio) {
+  return std::max(ratio, 1.0 / ratio);
+}
+
 std::vector<double> ratioValues(const Ratios& ratios) {
   std::vector<double> values;
   for (const auto& [name, ratio] : ratios) values.push_back(ratio);
@@ -146,7 +151,7 @@ std::vector<double> ratioValues(const Ratios& ratios) {
 double worstOf(const Ratios& ratios, std::string* name) {
   double worst = 0.0;
   for (const auto& [statistic, ratio] : ratios)
-    if (const double off = std::max(ratio, 1.0 / ratio); off > worst) {
+    if (const double off = factorOff(ratio); off > worst) {
       worst = off;
       if (name) *name = statistic;
     }
@@ -219,8 +224,7 @@ RealismReport runRealismReport(const RealismReportSettings& settings,
         nearest = &row;
     if (nearest) {
       int within = 0;
-      for (const auto& [name, ratio] : nearest->ratios)
-        within += std::max(ratio, 1.0 / ratio) <= kRealismBound;
+      for (const auto& [name, ratio] : nearest->ratios) within += factorOff(ratio) <= kRealismBound;
       report.notes.push_back(fmt::format(
           "{}: nearest preset {} (worst x{:.2f}, its {}; {} of {} statistics within x{:.2f}; "
           "typical x{:.2f})",
@@ -312,8 +316,8 @@ std::string formatRealismReport(const RealismReport& report) {
     }
     out << fmt::format("{:>14}{:>10}", row.clip.substr(0, 13), row.preset);
     for (const auto& [name, ratio] : row.ratios)
-      out << fmt::format("{:>14}", fixedOrDash(ratio, 2) +
-                                       (std::max(ratio, 1.0 / ratio) > kRealismBound ? "!" : " "));
+      out << fmt::format("{:>14}",
+                         fixedOrDash(ratio, 2) + (factorOff(ratio) > kRealismBound ? "!" : " "));
     out << fmt::format("{:>9}{:>9}{:>9}{:>9}\n", fixedOrDash(row.worst, 2),
                        fixedOrDash(row.typical, 2), fixedOrDash(row.exactWorst, 2),
                        fixedOrDash(row.exactTypical, 2));
