@@ -25,8 +25,12 @@ struct ShutterFromBlur {
   // those edges could show, an upper bound.
   bool upperBound = false;
   double sigmaPx = 0.0;  // the blur of a still edge, at the measured size
-  int edges = 0;         // edge profiles fitted
-  int movingEdges = 0;   // of those, moving across themselves kMovingPx a frame or more
+  // The blur of a still edge at the frames' own size: the edges that do not move across
+  // themselves (their median width over sqrt(2 pi)), as every plate has them, static or panning;
+  // with fewer than kMinStillEdges of them the fit's sigma where the shutter is measured, else 0.
+  double stillBlurPx = 0.0;
+  int edges = 0;        // edge profiles fitted
+  int movingEdges = 0;  // of those, moving across themselves kMovingPx a frame or more
   // The middle half of the per-frame estimates, as fractions of the shutter (0 with one frame).
   double lowFraction = 0.0, highFraction = 0.0;
   std::string summary;  // what was measured, or why it could not be
@@ -36,6 +40,7 @@ struct ShutterFromBlur {
 // kMinMovingEdges of them, spread over at least two speeds.
 inline constexpr double kMovingPx = 2.0;
 inline constexpr int kMinMovingEdges = 150;
+inline constexpr int kMinStillEdges = 150;
 
 // The width model above, in px.
 double blurredEdgeWidthPx(double rampPx, double sigmaPx);

@@ -83,6 +83,9 @@ struct PlateShutter {
   // False where the plate's motion blur gave only an upper bound, or nothing (the 180-degree
   // shutter): the streaks of rain already in the plate may say more.
   bool firm = true;
+  // The blur of the plate's still edges (derain::ShutterFromBlur::stillBlurPx), px at the size
+  // the motion blur was measured at (the filmed size on a proxy); 0 where it was not measured.
+  double stillBlurPx = 0.0;
 };
 
 // Per-clip state, filled by per-clip stages in prepare() and read by per-frame stages.
@@ -133,6 +136,9 @@ struct ClipContext {
   std::optional<PlateRainFinding> plateRain;
   // Found on first use by a stage that films the rain with the plate's shutter.
   std::optional<PlateShutter> plateShutter;
+  // The blur of the plate's still edges, px at the size rendered, found on first use by the
+  // rain stage (stages/plate_shutter.h's clipPlateStillBlurPx); 0 where none was measured.
+  std::optional<double> plateStillBlurPx;
   std::future<PlateRainFinding> plateRainAhead;
 };
 

@@ -67,6 +67,7 @@ derain::ShutterFromBlur measuredBlur(const ClipInfo& clip,
         found.measured = cached->at("measured").get<bool>();
         found.shutterFraction = cached->at("fraction").get<double>();
         found.upperBound = cached->at("upper_bound").get<bool>();
+        found.stillBlurPx = cached->at("still_blur_px").get<double>();
         found.summary = cached->at("summary").get<std::string>() + ", from cache";
         return found;
       } catch (const nlohmann::json::exception&) {
@@ -87,6 +88,7 @@ derain::ShutterFromBlur measuredBlur(const ClipInfo& clip,
                  {{"measured", found.measured},
                   {"fraction", found.shutterFraction},
                   {"upper_bound", found.upperBound},
+                  {"still_blur_px", found.stillBlurPx},
                   {"summary", found.summary}});
   return found;
 }
@@ -135,12 +137,12 @@ PlateShutter findPlateShutter(const ClipInfo& clip, double fps,
   if (!found.measured)
     return {0.5 / fps,
             halfOpenSource(fps, "no shutter in its metadata; its motion blur: " + found.summary),
-            false};
+            false, found.stillBlurPx};
   const double seconds = found.shutterFraction / fps;
   return {seconds,
           fmt::format("{}measured from the plate's motion blur at {:g} fps ({})",
                       found.upperBound ? "at most, " : "", fps, found.summary),
-          !found.upperBound};
+          !found.upperBound, found.stillBlurPx};
 }
 
 const PlateShutter& clipPlateShutter(ClipContext& clip) {
@@ -162,7 +164,23 @@ const PlateShutter& clipPlateShutter(ClipContext& clip) {
                   "(L / W - 1) D / v(D)), shorter than {} ({})",
                   rain.streakLengthPx, rain.streakWidthPx, fraction(shutter.seconds),
                   shutter.source),
-      true});
+      true, shutter.stillBlurPx});
+}
+
+double clipPlateStillBlurPx(ClipContext& clip) {
+  if (clip.plateStillBlurPx) return *clip.plateStillBlurPx;
+  if (!clip.clip || clip.clip->frames.size() < 3) return clip.plateStillBlurPx.emplace(0.0);
+  // Where the shutter was measured the blur was measured with it; where the files state the
+  // shutter it is measured here (the same 7 frames and cache entry). Both read the frames at the
+  // size they were filmed at where a proxy is rendered.
+  double filmedPx = clipPlateShutter(clip).stillBlurPx;
+  if (statedShutter(*clip.clip, clip.fps)) {
+    const std::function<Image(int64_t)> read =
+        clip.openFilmedReader ? clip.openFilmedReader() : clip.readWorking;
+    filmedPx = measuredBlur(*clip.clip, read, clip.cache, clip.framesKey).stillBlurPx;
+  }
+  return clip.plateStillBlurPx.emplace(clip.openFilmedReader ? filmedPx / clip.filmedScale
+                                                             : filmedPx);
 }
 
 std::string presetShutterSource(const CameraSettings& camera, double fps) {

@@ -35,6 +35,11 @@ PlateShutter findPlateShutter(const ClipInfo& clip, double fps,
 // where that finding is not firm and the plate was shot in rain.
 const PlateShutter& clipPlateShutter(ClipContext& clip);
 
+// How blurred the plate's still edges are (its lens, sensor and codec): the sigma of their
+// Gaussian, px at the size rendered, measured with its motion blur (derain::ShutterFromBlur::
+// stillBlurPx); 0 for a clip of fewer than 3 frames or too few still edges. Found once per clip.
+double clipPlateStillBlurPx(ClipContext& clip);
+
 // Sets camera.plateShutterSeconds from clipPlateShutter when the camera takes the plate's
 // shutter, and logs the shutter the stage films with and where it comes from.
 void resolvePlateShutter(CameraSettings& camera, ClipContext& clip, const char* stage);

@@ -20,6 +20,7 @@
 #include "stages/lights_settings.h"
 #include "stages/plate_lights.h"
 #include "stages/plate_shutter.h"
+#include "stages/rain_plate_blur.h"
 #include "stages/rain_settings.h"
 #include "stages/registry.h"
 #include "util/error.h"
@@ -191,6 +192,20 @@ class RainStage : public Stage {
     streakParams_.lodPx = rain_.lodPx;
     streakParams_.meanMatte = rain::meanMatte(atlas_);
     streakParams_.strokeQuadScale = rain::strokeQuadScales(atlas_);
+    const double plateBlurPx = clipPlateStillBlurPx(clip);
+    plateBlurPx_ = rainBlurBeyondDrawnPx(plateBlurPx, streakParams_.minWidthPx);
+    if (plateBlurPx_ > 0.0)
+      log::info(
+          fmt::format("rain: the plate's still edges are blurred by sigma {:.2f} px: the "
+                      "rain is softened by {:.2f} px more than it is drawn",
+                      plateBlurPx, plateBlurPx_));
+    else
+      log::info(plateBlurPx > 0.0
+                    ? fmt::format("rain: the plate's still edges (sigma {:.2f} px) are as sharp "
+                                  "as the rain is drawn: left as drawn",
+                                  plateBlurPx)
+                    : std::string("rain: left as drawn (the plate's blur was not measured: "
+                                  "too few frames or still edges)"));
     if (!clip.environment) throw Error("rain needs the lighting stage's environment", {"rain"});
     // One shading for the clip, or one per key environment of a looming camera.
     if (clip.environment->keys.empty())
@@ -213,11 +228,13 @@ class RainStage : public Stage {
       lightDrops(streaks, frame);
       lightDrops(farStreaks_, frame);
     }
+    if (plateBlurPx_ > 0.0) plate_ = frame.image.rgba;
     if (keyShading_.empty()) {
       renderer_->render(frame.image, streaks, shading_, farStreaks_);
     } else {
       renderer_->render(frame.image, streaks, shadingAt(frame.frame), farStreaks_);
     }
+    blurRainOverPlate(frame.image, plate_, plateBlurPx_);
   }
 
  private:
@@ -295,6 +312,10 @@ class RainStage : public Stage {
   std::vector<std::pair<int64_t, rain::ShadingParams>>
       keyShading_;  // empty: shading_ for every frame
   std::unique_ptr<gpu::RainRenderer> renderer_;
+  // The plate camera's blur beyond the drawn streaks' (stages/rain_plate_blur.h), and the frame
+  // before the rain is drawn over it; 0 and empty where the plate's blur is not measured.
+  double plateBlurPx_ = 0.0;
+  std::vector<float> plate_;
   bool litDrops_ = false;
   CameraPath path_;
   optics::TransferTable transfer_;
