@@ -194,7 +194,17 @@ class RainStage : public Stage {
     streakParams_.strokeQuadScale = rain::strokeQuadScales(atlas_);
     const double plateBlurPx = clipPlateStillBlurPx(clip);
     plateBlurPx_ = rainBlurBeyondDrawnPx(plateBlurPx, streakParams_.minWidthPx);
-    if (plateBlurPx_ > 0.0)
+    // A night plate's strongest edges are lamps' glows and soft shadows: their widths measure
+    // the glow, not the lens (a real street-lamp clip reads sigma 2.15 px at 640 px, where its
+    // day frames' edges would be near 1), and softened by that its rain vanished (coverage
+    // x0.01 of real). Its rain is left as drawn.
+    if (plateBlurPx_ > 0.0 && (nightPlate || isNightPlate(plateLuminance(clipStill(clip))))) {
+      plateBlurPx_ = 0.0;
+      log::info(
+          fmt::format("rain: left as drawn on a night plate (its edges, sigma {:.2f} px, "
+                      "are glows and shadows, not the lens's blur)",
+                      plateBlurPx));
+    } else if (plateBlurPx_ > 0.0)
       log::info(
           fmt::format("rain: the plate's still edges are blurred by sigma {:.2f} px: the "
                       "rain is softened by {:.2f} px more than it is drawn",
@@ -339,8 +349,9 @@ StageInfo rainStageInfo() {
              std::vector<std::string> reads{"image", "depth", "environment", "camera"};
              if (rain.strokeSource == StrokeSource::Derain) reads.push_back("footage_strokes");
              if (lightsSettings(p).drops) reads.push_back("lights");
-             // rain.far_m 0 tells a night plate from a day one by its still.
-             if (rain.farMeters == 0.0) reads.push_back("still");
+             // A night plate is told from a day one by its still (for rain.far_m 0 and for
+             // the plate's blur on the rain).
+             reads.push_back("still");
              return reads;
            },
        // Every frame names the seed of its rain.
