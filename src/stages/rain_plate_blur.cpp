@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
+#include "stages/plate_shutter.h"
 #include "util/error.h"
+#include "util/log.h"
 
 namespace pluvia {
 
@@ -13,6 +16,33 @@ double rainBlurBeyondDrawnPx(double plateStillBlurPx, double minDrawnWidthPx) {
   const double drawn = minDrawnWidthPx / std::sqrt(2.0 * M_PI);
   if (!(plateStillBlurPx > drawn)) return 0.0;
   return std::sqrt(plateStillBlurPx * plateStillBlurPx - drawn * drawn);
+}
+
+double rainSofteningPx(ClipContext& clip, double minDrawnWidthPx, bool nightPlate) {
+  const double plateBlurPx = clipPlateStillBlurPx(clip);
+  const double softeningPx = rainBlurBeyondDrawnPx(plateBlurPx, minDrawnWidthPx);
+  if (softeningPx > 0.0 && nightPlate) {
+    log::info(
+        fmt::format("rain: left as drawn on a night plate (its edges, sigma {:.2f} px, are "
+                    "glows and shadows, not the lens's blur)",
+                    plateBlurPx));
+    return 0.0;
+  }
+  if (softeningPx > 0.0)
+    log::info(
+        fmt::format("rain: the plate's still edges are blurred by sigma {:.2f} px: the rain "
+                    "is softened by {:.2f} px more than it is drawn",
+                    plateBlurPx, softeningPx));
+  else if (plateBlurPx > 0.0)
+    log::info(
+        fmt::format("rain: the plate's still edges (sigma {:.2f} px) are as sharp as the "
+                    "rain is drawn: left as drawn",
+                    plateBlurPx));
+  else
+    log::info(
+        "rain: left as drawn (the plate's blur was not measured: too few frames or still "
+        "edges)");
+  return softeningPx;
 }
 
 void blurRainOverPlate(Image& frame, const std::vector<float>& plateRgba, double sigmaPx) {

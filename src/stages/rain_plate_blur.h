@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "image/image.h"
+#include "pipeline/stage.h"
 
 namespace pluvia {
 
@@ -18,6 +19,13 @@ namespace pluvia {
 // still edges (`plateStillBlurPx`, the sigma of their Gaussian): sqrt(plate^2 - drawn^2) with
 // drawn = minDrawnWidthPx / sqrt(2 pi); 0 where the plate is as sharp or its blur unknown (0).
 double rainBlurBeyondDrawnPx(double plateStillBlurPx, double minDrawnWidthPx);
+
+// The sigma, px, the rain stage blurs its layer by on `clip`: rainBlurBeyondDrawnPx of the
+// plate's still-edge blur (stages/plate_shutter.h's clipPlateStillBlurPx), or 0 on a night plate
+// (`nightPlate`), whose strongest edges are lamps' glows and soft shadows: their widths measure
+// the glow, not the lens (a real street-lamp clip reads sigma 2.15 px at 640 px), and softened
+// by that its rain vanished (coverage x0.01 of real). Logs which and why.
+double rainSofteningPx(ClipContext& clip, double minDrawnWidthPx, bool nightPlate);
 
 // Blurs the rain planes ("rain.R", "rain.G", "rain.B", "rain.A") of `frame` by `sigmaPx` and
 // composites them over `plateRgba` (the frame before the rain: interleaved RGBA, one value per

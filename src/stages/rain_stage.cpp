@@ -152,7 +152,7 @@ class RainStage : public Stage {
   void prepare(ClipContext& clip) override {
     fps_ = clip.fps;
     resolvePlateShutter(camera_, clip, "rain");
-    const bool nightPlate = rain_.farMeters == 0.0 && isNightPlate(plateLuminance(clipStill(clip)));
+    const bool nightPlate = isNightPlate(plateLuminance(clipStill(clip)));
     const CameraPath path = clip.cameraPath;
     path_ = path;
     // D(theta) per steradian for drops lit by the local lights (lights stage), 512 bins in
@@ -192,30 +192,7 @@ class RainStage : public Stage {
     streakParams_.lodPx = rain_.lodPx;
     streakParams_.meanMatte = rain::meanMatte(atlas_);
     streakParams_.strokeQuadScale = rain::strokeQuadScales(atlas_);
-    const double plateBlurPx = clipPlateStillBlurPx(clip);
-    plateBlurPx_ = rainBlurBeyondDrawnPx(plateBlurPx, streakParams_.minWidthPx);
-    // A night plate's strongest edges are lamps' glows and soft shadows: their widths measure
-    // the glow, not the lens (a real street-lamp clip reads sigma 2.15 px at 640 px, where its
-    // day frames' edges would be near 1), and softened by that its rain vanished (coverage
-    // x0.01 of real). Its rain is left as drawn.
-    if (plateBlurPx_ > 0.0 && (nightPlate || isNightPlate(plateLuminance(clipStill(clip))))) {
-      plateBlurPx_ = 0.0;
-      log::info(
-          fmt::format("rain: left as drawn on a night plate (its edges, sigma {:.2f} px, "
-                      "are glows and shadows, not the lens's blur)",
-                      plateBlurPx));
-    } else if (plateBlurPx_ > 0.0)
-      log::info(
-          fmt::format("rain: the plate's still edges are blurred by sigma {:.2f} px: the "
-                      "rain is softened by {:.2f} px more than it is drawn",
-                      plateBlurPx, plateBlurPx_));
-    else
-      log::info(plateBlurPx > 0.0
-                    ? fmt::format("rain: the plate's still edges (sigma {:.2f} px) are as sharp "
-                                  "as the rain is drawn: left as drawn",
-                                  plateBlurPx)
-                    : std::string("rain: left as drawn (the plate's blur was not measured: "
-                                  "too few frames or still edges)"));
+    plateBlurPx_ = rainSofteningPx(clip, streakParams_.minWidthPx, nightPlate);
     if (!clip.environment) throw Error("rain needs the lighting stage's environment", {"rain"});
     // One shading for the clip, or one per key environment of a looming camera.
     if (clip.environment->keys.empty())
