@@ -7,6 +7,7 @@
 #include "commands.h"
 #include "common.h"
 #include "pipeline/camera_settings.h"
+#include "pipeline/plate_lens.h"
 #include "pipeline/render_job.h"
 #include "stages/lights_settings.h"
 #include "stages/plate_shutter.h"
@@ -74,13 +75,18 @@ void printFoundLamps(const std::string& input, std::optional<int64_t> movieFirst
 }
 
 // The shutter the rain and splashes are filmed with and where it comes from (the preset, or the
-// plate: its metadata, its motion blur measured on 7 frames, else the 180-degree shutter), as a
-// render finds it.
-std::string shutterLine(const std::string& input, std::optional<int64_t> movieFirstFrame,
+// plate: its metadata, its motion blur measured on 7 frames, else the 180-degree shutter), and
+// the lens the rain is filmed through (the plate's where its files state it), as a render finds
+// them.
+std::string cameraLines(const std::string& input, std::optional<int64_t> movieFirstFrame,
                         const Preset& preset, const std::string& cache) {
   QuietSession session(input, movieFirstFrame, preset, cache);
   if (!session->plan().runs("rain") && !session->plan().runs("splash")) return "";
   CameraSettings camera = cameraSettings(preset);
+  const PlateLens& lens = session->clipContext().plateLens;
+  const std::string lensText = session->plan().runs("rain")
+                                   ? "  lens " + lensLine(withPlateLens(camera, lens), lens) + "\n"
+                                   : std::string();
   const double fps = session->clipContext().fps;
   std::string source = presetShutterSource(camera, fps);
   if (source.empty()) {
@@ -91,7 +97,8 @@ std::string shutterLine(const std::string& input, std::optional<int64_t> movieFi
     source = shutter.source + "; camera.exposure_s or camera.shutter_angle_deg sets another";
   }
   return fmt::format("  shutter 1/{:.0f} s: {}\n", 1.0 / camera.exposureSecondsAt(fps, 0.0),
-                     source);
+                     source) +
+         lensText;
 }
 
 }  // namespace
@@ -126,7 +133,7 @@ void addPlanCommand(CLI::App& app, Invocation& invocation) {
         clip.width, clip.height, clip.frames.size(), clip.frames.front(), clip.frames.back(),
         clip.fps, preset.source(), preset.hash());
     std::cout << plan.text();
-    std::cout << shutterLine(args->input, args->startFrame, preset, args->cache);
+    std::cout << cameraLines(args->input, args->startFrame, preset, args->cache);
   });
 }
 

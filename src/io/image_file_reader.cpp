@@ -92,6 +92,7 @@ const std::vector<std::string>& carriedMetadataNames() {
                                                "Model",
                                                "Exif:LensModel",
                                                "Exif:FocalLength",
+                                               "Exif:FocalLengthIn35mmFilm",
                                                "FNumber",
                                                "ExposureTime",
                                                "Exif:ISOSpeedRatings",

@@ -164,7 +164,8 @@ void setAttribute(OIIO::ImageSpec& spec, const std::string& key, const std::stri
   const bool isNumber = !value.empty() && end == value.c_str() + value.size();
   if (isNumber && kReals.count(key)) {
     spec.attribute(key, float(number));
-  } else if (isNumber && key == "Exif:ISOSpeedRatings" && number == std::floor(number)) {
+  } else if (isNumber && (key == "Exif:ISOSpeedRatings" || key == "Exif:FocalLengthIn35mmFilm") &&
+             number == std::floor(number)) {
     spec.attribute(key, int(number));
   } else {
     spec.attribute(key, value);

@@ -177,6 +177,10 @@ MovieProbe probeMovie(const std::string& path) {
     const std::string name = key.substr(key.find_last_of('.') + 1);
     if (metadataNameEndsWith(name, "shutterangle")) probe.metadata["ShutterAngle"] = text;
     const double seconds = parseRate(text);  // "1/100" or "0.01"
+    // A phone's lens (Apple's "com.apple.quicktime.camera.focal_length.35mm_equivalent"), as
+    // EXIF's FocalLengthIn35mmFilm (pipeline/plate_lens.h).
+    if (metadataNameEndsWith(key, "focallength.35mmequivalent"))
+      probe.metadata["Exif:FocalLengthIn35mmFilm"] = text;
     if ((metadataNameEndsWith(name, "shutterspeed") ||
          metadataNameEndsWith(name, "exposuretime")) &&
         std::isfinite(seconds) && seconds > 0.0)

@@ -78,6 +78,12 @@ const SettingsTable<CameraSettings>& cameraTable() {
           bind(&S::sensorWidthMm,
                numberParam("sensor_width_mm", 36.0, {1.0, 100.0}, "mm",
                            "sensor width; with fov_deg gives the focal length (defocus)")),
+          bind(&S::lensFromPlate,
+               booleanParam("lens_from_plate", true,
+                            "where the plate's files state its lens (EXIF or EXR FNumber, "
+                            "FocalLength, FocalLengthIn35mmFilm), film the rain through it: "
+                            "they replace fov_deg, f_number and sensor_width_mm; false: the "
+                            "preset's keys always")),
           unbound<S>(pathParam()),
       });
   return table;

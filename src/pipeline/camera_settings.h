@@ -25,6 +25,9 @@ struct CameraSettings {
   double focusMeters = 20.0;  // 0: no defocus
   double fNumber = 11.0;      // 0: pinhole
   double sensorWidthMm = 36.0;
+  // fovDeg, fNumber and sensorWidthMm replaced by what the plate's files state of its lens
+  // (pipeline/plate_lens.h), where they state it.
+  bool lensFromPlate = true;
   // camera.path: poses over clip frames; empty: a static camera from tiltDeg and heightMeters.
   std::vector<std::pair<double, CameraPose>> pathKeys;
   // The section as the preset resolved it (filled by SettingsTable::read): per-clip analyses that

@@ -33,6 +33,7 @@
 #include "image/image.h"
 #include "io/clip_reader.h"
 #include "optics/local_light.h"
+#include "pipeline/plate_lens.h"
 #include "preset/preset.h"
 #include "rain/streak_types.h"
 #include "util/timer.h"
@@ -107,6 +108,10 @@ struct ClipContext {
   // so a --set change that touches none of these finds them.
   std::string framesKey;
   Camera camera;
+  // What the plate's files state of its lens (pipeline/plate_lens.h), set by the render session:
+  // `camera` spans its view already; a stage that defocuses takes its aperture with
+  // withPlateLens.
+  PlateLens plateLens;
   // The width the footage was filmed at over the width rendered (1 / --proxy; RenderRequest::
   // filmedWidthPx): how deep the camera sees rain counts the filmed camera's pixels.
   double filmedScale = 1.0;

@@ -20,6 +20,7 @@
 #include "geometry/depth_layers.h"
 #include "io/depth_sequence.h"
 #include "pipeline/camera_settings.h"
+#include "pipeline/plate_lens.h"
 #include "stages/clip_still.h"
 #include "stages/depth_guess.h"
 #include "stages/depth_settings.h"
@@ -67,6 +68,7 @@ class DepthStage : public Stage {
   }
 
   void prepare(ClipContext& clip) override {
+    camera_ = withPlateLens(camera_, clip.plateLens);  // COLMAP starts from the plate's view
     prepareSource(clip);
     clip.firstFrameDepth = [this, &clip] { return firstFrameDepth(clip); };
   }

@@ -13,6 +13,7 @@
 #include "pipeline/cache.h"
 #include "pipeline/camera_settings.h"
 #include "pipeline/color_settings.h"
+#include "pipeline/plate_lens.h"
 #include "pluvia/version.h"
 #include "stages/clip_still.h"
 #include "stages/lighting_settings.h"
@@ -175,7 +176,6 @@ class EnvironmentStage : public Stage {
  public:
   EnvironmentStage(LightingSettings lighting, ColorSettings color, CameraSettings camera)
       : lighting_(std::move(lighting)), color_(std::move(color)), camera_(std::move(camera)) {
-    stitch_.horizontalFovDeg = camera_.fovDeg;
     stitch_.motion = lighting_.motion;
     stitch_.every = lighting_.everyFrames;
     stitch_.maxPanFrames = lighting_.panFrames;
@@ -185,6 +185,7 @@ class EnvironmentStage : public Stage {
   }
 
   void prepare(ClipContext& clip) override {
+    stitch_.horizontalFovDeg = withPlateLens(camera_, clip.plateLens).fovDeg;
     const LightingSource source = lighting_.source;
     if (source == LightingSource::Hdr) {
       const std::string& hdr = lighting_.hdrPath;

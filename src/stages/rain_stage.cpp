@@ -10,6 +10,7 @@
 #include "optics/drop_local_light.h"
 #include "optics/drop_shading.h"
 #include "pipeline/camera_settings.h"
+#include "pipeline/plate_lens.h"
 #include "rain/drop_glint.h"
 #include "rain/drop_simulation.h"
 #include "rain/stroke_library.h"
@@ -152,6 +153,8 @@ class RainStage : public Stage {
   void prepare(ClipContext& clip) override {
     fps_ = clip.fps;
     resolvePlateShutter(camera_, clip, "rain");
+    camera_ = withPlateLens(camera_, clip.plateLens);
+    log::info("rain: lens " + lensLine(camera_, clip.plateLens));
     const bool nightPlate = isNightPlate(plateLuminance(clipStill(clip)));
     const CameraPath path = clip.cameraPath;
     path_ = path;

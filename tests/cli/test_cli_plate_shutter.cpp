@@ -1,7 +1,7 @@
 // camera.exposure_s 0 (every shipped preset) films the rain with the plate camera's shutter: what
 // the plate's files state (ExposureTime, a shutter angle), else what its motion blur shows, else
 // the 180-degree shutter of its frame rate. The render's log and `pluvia plan` say which and the
-// value.
+// value. The lens the plate's files state films it too.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -122,4 +122,40 @@ TEST(CliPlateShutter, RealRainFootageIsFilmedAtTheShutterItsStreaksShow) {
   ASSERT_EQ(proxy.exitCode, 0) << proxy.output;
   EXPECT_NE(proxy.output.find("rain: shutter 1/846 s, " + streaks), std::string::npos)
       << proxy.output;
+}
+
+// The lens the plate states films the rain too (pipeline/plate_lens.h): a full-frame 50 mm at
+// f/1.4 (EXR aperture and EXIF focal lengths) defocuses near drops so much that the nearest
+// drawn are 0.95 m away (blurred over 5 % of the 96 px width: 20 m / (1 + 4.8 px / k), k = A f /
+// (s - f) px/mm = 0.2387 px), where the shipped phone-like lens draws from 0.30 m; the plan names
+// it; camera.lens_from_plate false keeps the preset's.
+TEST(CliPlateShutter, TheLensThePlateStatesFilmsTheRain) {
+  const stdfs::path dir = freshTempDir("plate_lens");
+  const std::string plate = greyPlate(dir, "lens", [](OIIO::ImageSpec& s) {
+    s.attribute("FNumber", 1.4f);
+    s.attribute("Exif:FocalLength", 50.0f);
+    s.attribute("Exif:FocalLengthIn35mmFilm", 50);
+  });
+  const std::string log = renderLog(dir, plate, "a");
+  EXPECT_NE(
+      log.find("rain: lens 39.6 deg view, f/1.4, 50.00 mm focal length on a 36.00 mm-wide "
+               "sensor, focused at 20 m: the plate's metadata (FNumber 1.4, FocalLength 50 mm, "
+               "FocalLengthIn35mmFilm 50 mm)"),
+      std::string::npos)
+      << log;
+  EXPECT_NE(log.find("rain: drops from 0.95 to"), std::string::npos) << log;
+  const auto plan = runPluvia({"plan", plate, "-p", "moderate"});
+  ASSERT_EQ(plan.exitCode, 0) << plan.output;
+  EXPECT_NE(plan.output.find("lens 39.6 deg view, f/1.4"), std::string::npos) << plan.output;
+
+  const auto preset =
+      runPluvia({"render", plate, "-p", "moderate", "--set", "camera.lens_from_plate=false", "-o",
+                 (dir / "b.####.exr").string()});
+  ASSERT_EQ(preset.exitCode, 0) << preset.output;
+  EXPECT_NE(preset.output.find(
+                "rain: lens 50.0 deg view, f/4, 6.65 mm focal length on a 6.20 "
+                "mm-wide sensor, focused at 20 m: the preset's (camera.lens_from_plate false"),
+            std::string::npos)
+      << preset.output;
+  EXPECT_NE(preset.output.find("rain: drops from 0.30 to"), std::string::npos) << preset.output;
 }
