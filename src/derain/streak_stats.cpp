@@ -288,7 +288,8 @@ StreakStatsAccumulator::Side::Side()
       width(pixelsHistogram()),
       peak(codesHistogram()),
       energy(energyHistogram()),
-      energyPerSquareLength(energyPerSquareLengthHistogram()) {}
+      energyPerSquareLength(energyPerSquareLengthHistogram()),
+      elongation(pixelsHistogram()) {}
 
 StreakStatsAccumulator::StreakStatsAccumulator(StreakDetectSettings settings)
     : settings_(settings) {}
@@ -334,6 +335,7 @@ void StreakStatsAccumulator::addSide(Side& side, const cv::Mat1f& layer,
     side.peak.add(s.peakCodes);
     side.energy.add(s.energyCodesPx);
     side.energyPerSquareLength.add(s.energyCodesPx / (s.lengthPx * s.lengthPx));
+    if (s.widthPx > 0.0) side.elongation.add(s.lengthPx / s.widthPx, s.energyCodesPx);
     if (s.lengthPx < settings_.minElongation * s.widthPx) continue;
     const double w = s.lengthPx * s.meanCodes, doubled = 2.0 * s.angleDeg / kDegPerRad;
     side.angleWeight += w;
@@ -361,6 +363,7 @@ StreakStats StreakStatsAccumulator::result() const {
   s.lengthP50Px = quantileOfDifference(p.length, n.length, 0.5);
   s.widthP50Px = quantileOfDifference(p.width, n.width, 0.5);
   s.peakP90 = quantileOfDifference(p.peak, n.peak, 0.9);
+  s.elongationByLightP50 = quantileOfDifference(p.elongation, n.elongation, 0.5);
   s.energyP50CodesPx = quantileOfDifference(p.energy, n.energy, 0.5);
   s.energyPerSquareLengthP50 =
       quantileOfDifference(p.energyPerSquareLength, n.energyPerSquareLength, 0.5);
@@ -408,7 +411,8 @@ std::vector<std::pair<std::string, double>> ratiosToReal(const StreakStats& rend
           {"streaksPerMpx", rendered.streaksPerMpx / real.streaksPerMpx},
           {"lengthP50Px", rendered.lengthP50Px / real.lengthP50Px},
           {"widthP50Px", rendered.widthP50Px / real.widthP50Px},
-          {"peakP90", rendered.peakP90 / real.peakP90}};
+          {"peakP90", rendered.peakP90 / real.peakP90},
+          {"elongationByLight", rendered.elongationByLightP50 / real.elongationByLightP50}};
 }
 
 cv::Mat1f lumaOf(const cv::Mat3f& image, ChannelOrder order) {

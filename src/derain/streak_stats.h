@@ -99,7 +99,11 @@ struct StreakStats {
   double streaksPerMpx = 0.0;  // per million valid pixels, false alarms subtracted, >= 0
   double lengthP50Px = 0.0;    // quantiles over streaks
   double widthP50Px = 0.0;
-  double peakP90 = 0.0;           // codes
+  double peakP90 = 0.0;  // codes
+  // Each streak's length over its width, the median weighted by the streak's light (its sum of
+  // dI): the shape of the streaks the light is in, what the eye reads as rain (long dashes) or
+  // as sleet (round flecks). The medians above count every streak alike, and most are faint.
+  double elongationByLightP50 = 0.0;
   double energyP50CodesPx = 0.0;  // of each streak's sum of dI
   // Of each streak's sum of dI over its length squared (codes): impliedDropContrastCodes.
   double energyPerSquareLengthP50 = 0.0;
@@ -142,7 +146,7 @@ class StreakStatsAccumulator {
     Side();
     int64_t pixels = 0;
     int64_t streaks = 0;
-    Histogram delta, length, width, peak, energy, energyPerSquareLength;
+    Histogram delta, length, width, peak, energy, energyPerSquareLength, elongation;
     double angleWeight = 0.0, angleCos = 0.0, angleSin = 0.0;  // of the doubled angles
     double darkSum = 0.0, brightSum = 0.0;
     int64_t darkPixels = 0, brightPixels = 0;
@@ -173,8 +177,8 @@ double impliedDropContrastCodes(double energyPerSquareLength, double shutterSeco
 // rendered/real ratios is off (2 and 0.5 are both off by 2). NaN when none is usable.
 double typicalFactor(const std::vector<double>& ratios);
 
-// rendered / real for the seven numbers that define "typical": coverage, deltaP90, deltaP99,
-// streaksPerMpx, lengthP50Px, widthP50Px, peakP90 (named as here).
+// rendered / real for the eight numbers that define "typical": coverage, deltaP90, deltaP99,
+// streaksPerMpx, lengthP50Px, widthP50Px, peakP90 and elongationByLight (named as here).
 std::vector<std::pair<std::string, double>> ratiosToReal(const StreakStats& rendered,
                                                          const StreakStats& real);
 

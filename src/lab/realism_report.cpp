@@ -274,6 +274,7 @@ std::vector<Column> statColumns() {
       {"len p50", 8, number(&StreakStats::lengthP50Px, 1)},
       {"wid p50", 8, number(&StreakStats::widthP50Px, 2)},
       {"peak p90", 9, number(&StreakStats::peakP90, 1)},
+      {"L/W lit", 8, number(&StreakStats::elongationByLightP50, 2)},
       {"E p50", 7, number(&StreakStats::energyP50CodesPx, 0)},
       {"drop C", 7, [](const RealismRow& r) { return fixedOrDash(dropContrastOf(r), 1); }},
       {"angle", 7, number(&StreakStats::angleDeg, 1)},
@@ -283,6 +284,11 @@ std::vector<Column> statColumns() {
       {"corr", 6, number(&StreakStats::temporalCorrelation, 3)},
       {"time s", 7, [](const RealismRow& r) { return fixedOrDash(r.seconds, 1); }},
   };
+}
+
+// A ratio's column: its name and a space before it, at least 14 wide.
+int ratioWidth(const std::string& name) {
+  return std::max(14, int(name.size()) + 1);
 }
 
 }  // namespace
@@ -310,14 +316,16 @@ std::string formatRealismReport(const RealismReport& report) {
           "exp(mean |ln ratio|) over these):\n",
           kRealismBound);
       out << fmt::format("{:>14}{:>10}", "clip", "preset");
-      for (const auto& [name, ratio] : row.ratios) out << fmt::format("{:>14}", name);
+      for (const auto& [name, ratio] : row.ratios)
+        out << fmt::format("{:>{}}", name, ratioWidth(name));
       out << fmt::format("{:>9}{:>9}{:>9}{:>9}\n", "worst", "typical", "exact wo", "exact ty");
       header = true;
     }
     out << fmt::format("{:>14}{:>10}", row.clip.substr(0, 13), row.preset);
     for (const auto& [name, ratio] : row.ratios)
-      out << fmt::format("{:>14}",
-                         fixedOrDash(ratio, 2) + (factorOff(ratio) > kRealismBound ? "!" : " "));
+      out << fmt::format("{:>{}}",
+                         fixedOrDash(ratio, 2) + (factorOff(ratio) > kRealismBound ? "!" : " "),
+                         ratioWidth(name));
     out << fmt::format("{:>9}{:>9}{:>9}{:>9}\n", fixedOrDash(row.worst, 2),
                        fixedOrDash(row.typical, 2), fixedOrDash(row.exactWorst, 2),
                        fixedOrDash(row.exactTypical, 2));
@@ -336,7 +344,8 @@ void writeRealismReportCsv(const RealismReport& report, const std::string& path)
   std::string header =
       "clip,preset,typical,worst,coverage,delta_p50,delta_p90,delta_p99,streaks_per_mpx,length_p50_"
       "px,"
-      "width_p50_px,peak_p90,energy_p50,drop_contrast_p50,angle_deg,angle_spread_deg,delta_dark_"
+      "width_p50_px,peak_p90,elongation_by_light_p50,energy_p50,drop_contrast_p50,angle_deg,angle_"
+      "spread_deg,delta_dark_"
       "third,delta_bright_third,temporal_correlation,frames,seconds,shutter_s,exact_worst,exact_"
       "typical";
   for (const RealismRow& row : report.rows)
@@ -349,13 +358,27 @@ void writeRealismReportCsv(const RealismReport& report, const std::string& path)
     for (const RealismRow& r : report.rows) {
       const StreakStats& s = r.stats;
       out << r.clip << "," << r.preset << "," << csvNumber(r.typical) << "," << csvNumber(r.worst);
-      for (double v : {s.coverage,        s.deltaP50,         s.deltaP90,
-                       s.deltaP99,        s.streaksPerMpx,    s.lengthP50Px,
-                       s.widthP50Px,      s.peakP90,          s.energyP50CodesPx,
-                       dropContrastOf(r), s.angleDeg,         s.angleSpreadDeg,
-                       s.deltaDarkThird,  s.deltaBrightThird, s.temporalCorrelation,
-                       double(s.frames),  r.seconds,          r.shutterSeconds,
-                       r.exactWorst,      r.exactTypical})
+      for (double v : {s.coverage,
+                       s.deltaP50,
+                       s.deltaP90,
+                       s.deltaP99,
+                       s.streaksPerMpx,
+                       s.lengthP50Px,
+                       s.widthP50Px,
+                       s.peakP90,
+                       s.elongationByLightP50,
+                       s.energyP50CodesPx,
+                       dropContrastOf(r),
+                       s.angleDeg,
+                       s.angleSpreadDeg,
+                       s.deltaDarkThird,
+                       s.deltaBrightThird,
+                       s.temporalCorrelation,
+                       double(s.frames),
+                       r.seconds,
+                       r.shutterSeconds,
+                       r.exactWorst,
+                       r.exactTypical})
         out << "," << csvNumber(v);
       for (size_t i = 0; i < ratioColumns; ++i)
         out << "," << (i < r.ratios.size() ? csvNumber(r.ratios[i].second) : "");

@@ -17,8 +17,9 @@
 // way.
 // Each preset's statistics are given as ratios to the real ones, each judged against the bound
 // kRealismBound (marked when outside it), with the worst of them and the typical factor,
-// exp(mean |ln ratio|) over coverage, dI p90, dI p99, streaks per Mpx, length p50, width p50 and
-// peak p90. The nearest preset is the one whose worst statistic is nearest to real: a look is
+// exp(mean |ln ratio|) over coverage, dI p90, dI p99, streaks per Mpx, length p50, width p50,
+// peak p90 and the elongation by light (the shape of the streaks the light is in: dashes or
+// flecks). The nearest preset is the one whose worst statistic is nearest to real: a look is
 // met when every statistic is, not on average. Each clip's own shutter, as a render of the clip
 // finds it (derain/motion_blur.h: its motion blur, or under that the streaks of its rain, or the
 // 180-degree shutter), is in the notes: the presets film the rain with it (camera.exposure_s 0;

@@ -29,7 +29,8 @@ TEST(CliReportRealism, QuickReportMeasuresRealRainAndAPreset) {
   ASSERT_TRUE(hasColumns(
       table, {"clip", "preset", "typical", "coverage", "delta_p99", "streaks_per_mpx",
               "length_p50_px", "peak_p90", "angle_deg", "ratio_coverage", "ratio_peakP90",
-              "energy_p50", "drop_contrast_p50", "shutter_s", "exact_worst", "exact_typical"}));
+              "energy_p50", "drop_contrast_p50", "shutter_s", "exact_worst", "exact_typical",
+              "elongation_by_light_p50", "ratio_elongationByLight"}));
   ASSERT_EQ(table.rows.size(), 2u) << r.output;  // real, heavy
   std::map<std::string, size_t> column = table.column;
   const auto value = [&](size_t row, const std::string& name) {

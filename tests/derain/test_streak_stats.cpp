@@ -128,6 +128,25 @@ INSTANTIATE_TEST_SUITE_P(Lines, KnownStreaks,
                                            Case{40.0, 0.0, 40.0}, Case{25.0, 75.0, 50.0},
                                            Case{30.0, 90.0, 40.0}, Case{16.0, -60.0, 40.0}));
 
+// Where the light is: 10 long bright streaks (24 px by 2, 60 codes: each about 2900 codes px)
+// among 30 faint short ones (4 px by 2, 25 codes: about 200). Counted alike, the streaks' median
+// length is a short one's; weighted by their light, the median shape is the long ones' 24 / 2.
+TEST(StreakStats, TheElongationByLightIsTheShapeOfTheStreaksTheLightIsIn) {
+  cv::Mat1f layer = noise(5);
+  const std::vector<cv::Point2d> centres = gridCentres(11);
+  for (size_t i = 0; i < centres.size(); ++i) {
+    if (i % 4 == 0)
+      drawStreak(layer, centres[i], 24.0, 0.0, 60.0);
+    else
+      drawStreak(layer, centres[i], 4.0, 0.0, 25.0);
+  }
+  StreakStatsAccumulator accumulator;
+  accumulator.add({layer, rampPlate(), allValid()});
+  const StreakStats stats = accumulator.result();
+  EXPECT_LT(stats.lengthP50Px, 8.0);
+  EXPECT_NEAR(stats.elongationByLightP50, 24.0 / kWidthPx, 0.2 * 24.0 / kWidthPx);
+}
+
 TEST(StreakStats, DetectsEachStreakOnceWithItsAngle) {
   cv::Mat1f layer = noise(3);
   drawStreak(layer, {200.5, 150.0}, 30.0, 20.0, 50.0);
@@ -256,14 +275,15 @@ TEST(StreakStats, TypicalFactor) {
   real.lengthP50Px = rendered.lengthP50Px = 20.0;
   real.widthP50Px = rendered.widthP50Px = 2.0;
   real.peakP90 = rendered.peakP90 = 60.0;
+  real.elongationByLightP50 = rendered.elongationByLightP50 = 6.0;
   const auto ratios = ratiosToReal(rendered, real);
-  ASSERT_EQ(ratios.size(), 7u);
+  ASSERT_EQ(ratios.size(), 8u);
   EXPECT_EQ(ratios[0].first, "coverage");
   EXPECT_DOUBLE_EQ(ratios[0].second, 2.0);
   EXPECT_DOUBLE_EQ(ratios[3].second, 0.5);
   std::vector<double> values;
   for (const auto& [name, value] : ratios) values.push_back(value);
-  EXPECT_NEAR(typicalFactor(values), std::exp(2.0 * std::log(2.0) / 7.0), 1e-12);
+  EXPECT_NEAR(typicalFactor(values), std::exp(2.0 * std::log(2.0) / 8.0), 1e-12);
 }
 
 }  // namespace
