@@ -31,7 +31,9 @@ double statedNumber(const ClipInfo& clip, const char* name, double low, double h
 
 }  // namespace
 
-PlateLens statedLens(const ClipInfo& clip, int pictureWidth, int pictureHeight) {
+PlateLens statedLens(const ClipInfo& clip) {
+  const int pictureWidth = clip.displayWindow ? clip.displayWindow->width : clip.width;
+  const int pictureHeight = clip.displayWindow ? clip.displayWindow->height : clip.height;
   PlateLens lens;
   std::vector<std::string> parts;
   lens.fNumber = statedNumber(clip, "FNumber", 0.5, 128.0);

@@ -24,11 +24,10 @@ struct PlateLens {
   std::string stated;   // what the files state, for the log and the plan; "" when nothing
 };
 
-// What the files of `clip` state of its lens, for its picture of `pictureWidth` x
-// `pictureHeight` px (the display window where it has one: the 35 mm equivalent spans the
-// picture's diagonal as 43.27 mm spans 36 x 24 mm film's). A field that states no lens (text, 0,
-// out of range) is said and left out.
-PlateLens statedLens(const ClipInfo& clip, int pictureWidth, int pictureHeight);
+// What the files of `clip` state of its lens, for its picture (the display window where it has
+// one, else the frame: the 35 mm equivalent spans the picture's diagonal as 43.27 mm spans
+// 36 x 24 mm film's). A field that states no lens (text, 0, out of range) is said and left out.
+PlateLens statedLens(const ClipInfo& clip);
 
 // `camera` with what `lens` states put in, where camera.lens_from_plate: the view, the f-number,
 // and the sensor width the focal length spans in that view (2 f tan(fov / 2)).

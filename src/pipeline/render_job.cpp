@@ -394,14 +394,12 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
   context_.cache = cache_ ? &*cache_ : nullptr;
   context_.times = &times;
   context_.fps = writerOptions_.fps;
+  // The plate's own lens where its files state it: the view the clip's camera spans (the stages
+  // take the rest from ClipContext::plateLens).
+  context_.plateLens = statedLens(clip());
+  camera_ = withPlateLens(camera_, context_.plateLens);
   // From the clip's size as read: a proxy's smaller frames get a proportionally shorter focal
   // length in pixels, so the rain and the depth land where they would on the full frame.
-  // The plate's own lens where its files state it: the view the clip's camera spans, and the
-  // aperture the stages that film the rain take from ClipContext::plateLens.
-  context_.plateLens =
-      statedLens(clip(), clip().displayWindow ? clip().displayWindow->width : clip().width,
-                 clip().displayWindow ? clip().displayWindow->height : clip().height);
-  camera_ = withPlateLens(camera_, context_.plateLens);
   context_.camera = cameraOfFrame(camera_, clip());
   context_.cameraPath = camera_.path(context_.camera);
   context_.filmedScale = request.filmedWidthPx > 0 ? double(request.filmedWidthPx) / clip().width

@@ -109,8 +109,9 @@ struct ClipContext {
   std::string framesKey;
   Camera camera;
   // What the plate's files state of its lens (pipeline/plate_lens.h), set by the render session:
-  // `camera` spans its view already; a stage that defocuses takes its aperture with
-  // withPlateLens.
+  // `camera` spans its view already; a stage that reads the lens from its own CameraSettings
+  // (the depth stage's COLMAP start, the lighting stitch's view, the rain's aperture) takes it
+  // through withPlateLens.
   PlateLens plateLens;
   // The width the footage was filmed at over the width rendered (1 / --proxy; RenderRequest::
   // filmedWidthPx): how deep the camera sees rain counts the filmed camera's pixels.

@@ -26,7 +26,8 @@ constexpr const char* kCacheStage = "depth";
 // number is written.
 constexpr const char* kTrackingDepthKeys[] = {"frame_step", "max_frames", "colmap_image_px",
                                               "scale", "first_frame_depth_m"};
-constexpr const char* kTrackingCameraKeys[] = {"fov_deg", "height_m"};
+// lens_from_plate: whether the plate's stated view replaces fov_deg as COLMAP's start.
+constexpr const char* kTrackingCameraKeys[] = {"fov_deg", "lens_from_plate", "height_m"};
 
 }  // namespace
 

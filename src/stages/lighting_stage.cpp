@@ -153,7 +153,8 @@ void ignoreMalformedEntry(const ClipContext& clip, const std::string& key, const
 // the lens's aperture finds the environment in the cache.
 nlohmann::json lightingCamera(const CameraSettings& camera) {
   nlohmann::json used;
-  for (const char* key : {"fov_deg", "tilt_deg", "height_m", "path"})
+  // lens_from_plate: whether the plate's stated view replaces fov_deg in the stitch.
+  for (const char* key : {"fov_deg", "lens_from_plate", "tilt_deg", "height_m", "path"})
     if (camera.resolved.contains(key)) used[key] = camera.resolved.at(key);
   return used;
 }
