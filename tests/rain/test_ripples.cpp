@@ -5,6 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+#include <vector>
+
+#include "geometry/camera.h"
+#include "image/image.h"
+#include "rain/ripple_field.h"
 #include "rain/ripples.h"
 
 using namespace pluvia::rain;
@@ -101,4 +107,97 @@ TEST(Ripples, ALifeEndsWhereTheSlopeFallsUnderVisibilityAndGrowsWithTheDrop) {
   // A drop too small to raise a visible ring has none; none before its impact.
   EXPECT_EQ(rippleLifeSeconds(impactOf(0.02)), 0.0);  // A k = 0.1 D k = 7e-4
   EXPECT_EQ(rippleRing(impactOf(2.0), -0.1).amplitudeMeters, 0.0);
+}
+
+namespace {
+
+// A camera 1.6 m above level water (y = 0), looking 40 degrees down, and its depth plane.
+struct WaterView {
+  pluvia::Camera camera = pluvia::Camera::fromFieldOfView(160, 120, 60.0, 40.0, 1.6);
+  std::vector<float> depth;
+  WaterView() {
+    depth.assign(size_t(camera.width) * size_t(camera.height),
+                 std::numeric_limits<float>::infinity());
+    for (int y = 0; y < camera.height; ++y)
+      for (int x = 0; x < camera.width; ++x) {
+        const Eigen::Vector3d ray = camera.worldFromCamera * camera.rayCamera(x + 0.5, y + 0.5);
+        if (ray.y() >= 0.0) continue;
+        const double t = camera.positionMeters.y() / -ray.y();
+        depth[size_t(y) * size_t(camera.width) + size_t(x)] = float(t);  // rayCamera's z is -1
+      }
+  }
+  // The world point on the water at pixel (x, y).
+  Eigen::Vector3d point(int x, int y) const {
+    const double z = depth[size_t(y) * size_t(camera.width) + size_t(x)];
+    return camera.positionMeters +
+           camera.worldFromCamera * (camera.rayCamera(x + 0.5, y + 0.5) * z);
+  }
+};
+
+}  // namespace
+
+TEST(RippleField, SlopesOnlyInsideTheWaterAndAlongTheRing) {
+  const WaterView view;
+  const int w = view.camera.width, h = view.camera.height;
+  std::vector<uint8_t> water(size_t(w) * size_t(h), 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w / 2; ++x) water[size_t(y) * size_t(w) + size_t(x)] = 1;  // left half
+  Impact impact = impactOf(3.0);
+  impact.point = view.point(w / 2, 3 * h / 4);  // on the water's right edge
+  std::vector<float> sx(water.size(), 0.0f), sz(water.size(), 0.0f);
+  addRippleSlopes(view.camera, view.depth, water, {&impact}, 0.15, sx, sz);
+  const RippleRing ring = rippleRing(impact, 0.15);
+  int inside = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * size_t(w) + size_t(x);
+      const bool sloped = sx[i] != 0.0f || sz[i] != 0.0f;
+      if (!water[i]) {
+        EXPECT_FALSE(sloped) << x << "," << y;
+        continue;
+      }
+      const Eigen::Vector3d p = view.point(x, y);
+      const double r = std::hypot(p.x() - impact.point.x(), p.z() - impact.point.z());
+      if (std::abs(r - ring.radiusMeters) > 4.0 * ring.packetWidthMeters) EXPECT_FALSE(sloped);
+      if (sloped) {
+        ++inside;
+        // Radial, and the profile's own slope.
+        EXPECT_NEAR(std::hypot(sx[i], sz[i]), std::abs(rippleRadialSlope(ring, r)), 1e-5);
+      }
+    }
+  EXPECT_GT(inside, 20);
+}
+
+TEST(RippleField, ATiltedWaterMirrorsTheKnownSkyByFresnel) {
+  // A sky of 1 above the horizon and 0 below, and a sky growing with elevation: the pixel's
+  // change is R' L(r') - R0 L(r0), computed here by hand for one pixel.
+  const WaterView view;
+  const int w = view.camera.width, h = view.camera.height;
+  const size_t i = size_t(h - 20) * size_t(w) + size_t(w / 2);
+  std::vector<float> sx(size_t(w) * size_t(h), 0.0f), sz(sx.size(), 0.0f);
+  sz[i] = 0.05f;  // dh/dz: the normal leans towards -z
+  pluvia::Image image(w, h);
+  for (float& v : image.rgba) v = 0.5f;
+  auto sky = [](const Eigen::Vector3d& d) {
+    const float l = float(std::max(0.0, d.normalized().y()) * 4.0);
+    return std::array<float, 3>{l, l, l};
+  };
+  shadeRippleMirror(image, view.camera, view.depth, sx, sz, sky);
+  const Eigen::Vector3d p = view.point(w / 2, h - 20);
+  const Eigen::Vector3d v = (p - view.camera.positionMeters).normalized();
+  const Eigen::Vector3d n = Eigen::Vector3d(0.0, 1.0, -0.05).normalized();
+  const double c0 = -v.y(), c1 = -v.dot(n);
+  const Eigen::Vector3d r0 = v + 2 * c0 * Eigen::Vector3d::UnitY(), r1 = v + 2 * c1 * n;
+  // Fresnel at water by hand: unpolarised (Rs + Rp) / 2.
+  auto fresnel = [](double ci) {
+    const double st = std::sqrt(1 - ci * ci) / 1.333, ct = std::sqrt(1 - st * st);
+    const double rs = (ci - 1.333 * ct) / (ci + 1.333 * ct),
+                 rp = (ct - 1.333 * ci) / (ct + 1.333 * ci);
+    return 0.5 * (rs * rs + rp * rp);
+  };
+  const double expected = 0.5 + fresnel(c1) * 4.0 * r1.y() - fresnel(c0) * 4.0 * r0.y();
+  EXPECT_NEAR(image.rgba[i * 4], expected, 1e-5);
+  EXPECT_GT(std::abs(expected - 0.5), 1e-3);  // the tilt shows
+  // Untouched pixels keep the plate exactly.
+  EXPECT_EQ(image.rgba[(i + 1) * 4], 0.5f);
 }
