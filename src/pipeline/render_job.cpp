@@ -140,9 +140,10 @@ void refuseSingleFileForManyFrames(const OutputTarget& output, const std::vector
       {"write", {}, output.path});
 }
 
-// The grading stages' AOVs: what darken, blur and fog changed (stages/depth_grading.h).
+// The AOVs of what a stage changed (stages/depth_grading.h, GradingAov): darken, blur, fog and
+// ripples.
 bool isGradingAov(const std::string& aov) {
-  return aov == "darken" || aov == "blur" || aov == "fog";
+  return aov == "darken" || aov == "blur" || aov == "fog" || aov == "ripples";
 }
 
 void ensureAovPlanes(Image& image, const std::vector<std::string>& aovs) {

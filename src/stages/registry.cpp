@@ -7,9 +7,9 @@ namespace pluvia {
 
 const std::vector<StageInfo>& allStages() {
   static const std::vector<StageInfo> stages{
-      derainStageInfo(), lightingStageInfo(), depthStageInfo(),   darkenStageInfo(),
-      blurStageInfo(),   fogStageInfo(),      rainbowStageInfo(), lightsStageInfo(),
-      rainStageInfo(),   splashStageInfo(),   glareStageInfo()};
+      derainStageInfo(),  lightingStageInfo(), depthStageInfo(),   darkenStageInfo(),
+      blurStageInfo(),    fogStageInfo(),      rainbowStageInfo(), lightsStageInfo(),
+      ripplesStageInfo(), rainStageInfo(),     splashStageInfo(),  glareStageInfo()};
   return stages;
 }
 

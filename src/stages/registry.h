@@ -8,7 +8,8 @@
 
 namespace pluvia {
 
-// derain, lighting, depth, darken, blur, fog, rainbow, lights, rain, splash, glare. Darken, blur
+// derain, lighting, depth, darken, blur, fog, rainbow, lights, ripples, rain, splash, glare.
+// Ripples lie on the ground, under the rain that falls in front of them. Darken, blur
 // and fog act on the plate before the rain is composited: rain falls in front of the scene, so the
 // scene's fog must not cover the drops (fog reaches the drops per drop instead, through their own
 // depth). The rainbow and the lights' halos are light scattered by the whole rain volume along each
@@ -28,6 +29,7 @@ StageInfo blurStageInfo();
 StageInfo fogStageInfo();
 StageInfo lightsStageInfo();
 StageInfo rainbowStageInfo();
+StageInfo ripplesStageInfo();
 StageInfo rainStageInfo();
 StageInfo splashStageInfo();
 StageInfo glareStageInfo();
