@@ -114,8 +114,9 @@ void addRenderOutputOptions(CLI::App* cmd, RenderOutputOptions& options) {
   cmd->add_option("--exr-compression", options.exrCompression,
                   "EXR compression: piz (default), zip, zips, dwaa, dwab, b44, b44a, pxr24, rle, "
                   "none");
-  cmd->add_option("--aov", options.aov,
-                  "extra outputs: rain,matte,depth,lights,splash,ripples,glare,darken,blur,fog");
+  cmd->add_option(
+      "--aov", options.aov,
+      "extra outputs: rain,matte,depth,lights,wet_ground,splash,ripples,glare,darken,blur,fog");
   cmd->add_option("--proxy", options.proxy,
                   "render at this fraction of the plate's size, in (0, 1], for quick looks");
   cmd->add_flag("--mkdir", options.makeFolders,
@@ -124,8 +125,9 @@ void addRenderOutputOptions(CLI::App* cmd, RenderOutputOptions& options) {
 }
 
 std::vector<std::string> RenderOutputOptions::aovs() const {
-  static const std::vector<std::string> kKnown = {"rain",    "matte", "depth",  "lights", "splash",
-                                                  "ripples", "glare", "darken", "blur",   "fog"};
+  static const std::vector<std::string> kKnown = {"rain",       "matte",  "depth",   "lights",
+                                                  "wet_ground", "splash", "ripples", "glare",
+                                                  "darken",     "blur",   "fog"};
   std::vector<std::string> list;
   for (size_t start = 0; !aov.empty() && start <= aov.size();) {
     const size_t comma = aov.find(',', start);

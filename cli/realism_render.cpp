@@ -51,7 +51,8 @@ std::vector<cv::Mat3f> PlateRenderer::render(const std::string& preset,
   request.progress = false;
   request.filmedWidthPx = filmedWidthPx_;
   std::vector<std::string> overrides = sets;
-  for (const char* off : {"darken.enabled=false", "blur.enabled=false", "fog.enabled=false"})
+  for (const char* off : {"wet_ground.enabled=false", "darken.enabled=false", "blur.enabled=false",
+                          "fog.enabled=false"})
     overrides.push_back(off);
   overrides.push_back(fmt::format("camera.fps={:g}", fps_));
   const Preset resolved = loadPreset(preset, overrides);

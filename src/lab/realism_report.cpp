@@ -158,6 +158,25 @@ double worstOf(const Ratios& ratios, std::string* name) {
   return worst;
 }
 
+// A ratio to real; NaN where real has none.
+double ratioTo(double value, double real) {
+  return real > 0.0 ? value / real : std::nan("");
+}
+
+Ratios groundRatiosToReal(const GroundStats& row, const GroundStats& real) {
+  return {{"blobs/Mpx", ratioTo(row.blobsPerMpx, real.blobsPerMpx)},
+          {"area p50", ratioTo(row.areaP50Px, real.areaP50Px)},
+          {"life", ratioTo(row.lifetimeFrames, real.lifetimeFrames)},
+          {"dI p90", ratioTo(row.deltaP90, real.deltaP90)}};
+}
+
+// The ground's crop: the bottom rows of the frame, centred.
+cv::Rect groundCrop(cv::Size frame, cv::Size crop) {
+  crop.width = std::min(crop.width, frame.width);
+  crop.height = std::min(crop.height, frame.height - int(kGroundTopFraction * frame.height));
+  return {(frame.width - crop.width) / 2, frame.height - crop.height, crop.width, crop.height};
+}
+
 double dropContrastOf(const RealismRow& row) {
   return impliedDropContrastCodes(row.stats.energyPerSquareLengthP50, row.shutterSeconds);
 }
@@ -188,7 +207,8 @@ RealismReport runRealismReport(const RealismReportSettings& settings,
     real.clip = clip.name;
     real.preset = "real";
     real.stats = measureLayers(clip.frames, plates, &columns[0].layers);
-    real.typical = real.worst = 1.0;
+    real.typical = real.worst = real.groundWorst = 1.0;
+    real.ground = measureGroundLayers(columns[0].layers);
     real.seconds = secondsSince(started);
     const ClipShutter shutter = clipShutter(clip, real.stats);
     real.shutterSeconds = shutter.seconds;
@@ -214,6 +234,9 @@ RealismReport runRealismReport(const RealismReportSettings& settings,
       row.exactRatios = ratiosToReal(row.exactStats, real.stats);
       row.exactTypical = typicalFactor(ratioValues(row.exactRatios));
       row.exactWorst = worstOf(row.exactRatios, nullptr);
+      row.ground = measureGroundLayers(column.layers);
+      row.groundRatios = groundRatiosToReal(row.ground, real.ground);
+      row.groundWorst = worstOf(row.groundRatios, nullptr);
       row.shutterSeconds = shutter.seconds;
       row.seconds = secondsSince(renderStarted);
       report.rows.push_back(row);
@@ -241,6 +264,13 @@ RealismReport runRealismReport(const RealismReportSettings& settings,
                                     .string();
       writeContactSheet(sheet, columns, crop, middle);
       report.notes.push_back("contact sheet: " + sheet);
+      const std::string ground =
+          (std::filesystem::path(settings.imagesDir) /
+           (std::filesystem::path(clip.name).stem().string() + "_ground_sheet.png"))
+              .string();
+      writeContactSheet(ground, columns, groundCrop(clip.frames[middle].size(), crop.size()),
+                        middle);
+      report.notes.push_back("ground contact sheet: " + ground);
     }
   }
   return report;
@@ -335,6 +365,28 @@ std::string formatRealismReport(const RealismReport& report) {
            "layer can only be taken against estimated ones, so the columns before it compare like "
            "with like. drop C: each streak's sum of dI over its length squared, inverted at the "
            "clip's shutter into its drop's contrast over the background, median, codes)\n";
+  out << fmt::format(
+      "\nGround (the frame's bottom third: blobs of |dI| > {:g} codes, 2-400 px, at most x{:g} "
+      "longer than wide: splashes and ripples, not streaks; ratios to real, ! outside x{:.2f}):\n",
+      kGroundBlobCodes, kRoundAspect, kGroundBound);
+  out << fmt::format("{:>14}{:>10}{:>10}{:>9}{:>8}{:>8}{:>11}{:>10}{:>8}{:>8}{:>8}\n", "clip",
+                     "preset", "blobs/Mpx", "area p50", "life fr", "dI p90", "r blobs", "r area",
+                     "r life", "r dI", "worst");
+  for (const RealismRow& row : report.rows) {
+    const GroundStats& g = row.ground;
+    out << fmt::format("{:>14}{:>10}{:>10}{:>9}{:>8}{:>8}", row.clip.substr(0, 13), row.preset,
+                       fixedOrDash(g.blobsPerMpx, 0), fixedOrDash(g.areaP50Px, 1),
+                       fixedOrDash(g.lifetimeFrames, 2), fixedOrDash(g.deltaP90, 1));
+    const std::array<int, 4> widths{11, 10, 8, 8};
+    for (size_t i = 0; i < widths.size(); ++i) {
+      const double ratio = i < row.groundRatios.size() ? row.groundRatios[i].second : std::nan("");
+      const bool off = std::isfinite(ratio) && factorOff(ratio) > kGroundBound;
+      out << fmt::format("{:>{}}",
+                         row.preset == "real" ? "-" : fixedOrDash(ratio, 2) + (off ? "!" : " "),
+                         widths[i]);
+    }
+    out << fmt::format("{:>8}\n", row.preset == "real" ? "-" : fixedOrDash(row.groundWorst, 2));
+  }
   for (const std::string& note : report.notes) out << "note: " << note << "\n";
   return out.str();
 }
@@ -347,7 +399,8 @@ void writeRealismReportCsv(const RealismReport& report, const std::string& path)
       "width_p50_px,peak_p90,elongation_by_light_p50,energy_p50,drop_contrast_p50,angle_deg,angle_"
       "spread_deg,delta_dark_"
       "third,delta_bright_third,temporal_correlation,frames,seconds,shutter_s,exact_worst,exact_"
-      "typical";
+      "typical,ground_blobs_per_mpx,ground_area_p50_px,ground_lifetime_frames,ground_delta_p90,"
+      "ground_worst";
   for (const RealismRow& row : report.rows)
     if (!row.ratios.empty()) {
       for (const auto& [name, ratio] : row.ratios) header += ",ratio_" + name;
@@ -378,7 +431,12 @@ void writeRealismReportCsv(const RealismReport& report, const std::string& path)
                        r.seconds,
                        r.shutterSeconds,
                        r.exactWorst,
-                       r.exactTypical})
+                       r.exactTypical,
+                       r.ground.blobsPerMpx,
+                       r.ground.areaP50Px,
+                       r.ground.lifetimeFrames,
+                       r.ground.deltaP90,
+                       r.groundWorst})
         out << "," << csvNumber(v);
       for (size_t i = 0; i < ratioColumns; ++i)
         out << "," << (i < r.ratios.size() ? csvNumber(r.ratios[i].second) : "");

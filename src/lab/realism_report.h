@@ -26,6 +26,9 @@
 // the clean plates hold no rain to time it by). With it each row's streaks are inverted into
 // their drops' contrast (derain::impliedDropContrastCodes): the light a drop brings, apart from
 // how the shutter and the blur spread it.
+//
+// The ground row (lab/ground_layer.h): what lands, the layer's roundish blobs over the frame's
+// bottom third, each preset's against real by the same ratios, judged against kGroundBound.
 #include <functional>
 #include <string>
 #include <vector>
@@ -33,6 +36,7 @@
 #include <opencv2/core.hpp>
 
 #include "derain/streak_stats.h"
+#include "lab/ground_layer.h"
 
 namespace pluvia::lab {
 
@@ -42,6 +46,8 @@ using derain::StreakStats;
 inline constexpr int kReportWidthPx = 640;
 // A statistic is met within this factor of real, either way.
 inline constexpr double kRealismBound = 1.25;
+// The ground's statistics are met within this factor (issue 58).
+inline constexpr double kGroundBound = 1.5;
 
 struct RealismReportSettings {
   std::vector<std::string> clips;    // real rain clips; empty: NTURain ra1 from sharedData
@@ -73,6 +79,9 @@ struct RealismRow {
   StreakStats exactStats;
   std::vector<std::pair<std::string, double>> exactRatios;
   double exactTypical = 0.0, exactWorst = 0.0;
+  GroundStats ground;  // its layers' ground (lab/ground_layer.h)
+  std::vector<std::pair<std::string, double>> groundRatios;  // to the real row's
+  double groundWorst = 0.0;
   double shutterSeconds = 0.0;  // the clip's own (its drops' implied contrast needs it)
   double seconds = 0.0;         // plates (real) or render + measure
 };

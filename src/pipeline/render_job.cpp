@@ -140,10 +140,11 @@ void refuseSingleFileForManyFrames(const OutputTarget& output, const std::vector
       {"write", {}, output.path});
 }
 
-// The AOVs of what a stage changed (stages/depth_grading.h, GradingAov): darken, blur, fog and
-// ripples.
+// The AOVs of what a stage changed (stages/depth_grading.h, GradingAov): wet_ground, darken,
+// blur, fog, ripples and splash.
 bool isGradingAov(const std::string& aov) {
-  return aov == "darken" || aov == "blur" || aov == "fog" || aov == "ripples";
+  return aov == "wet_ground" || aov == "darken" || aov == "blur" || aov == "fog" ||
+         aov == "ripples" || aov == "splash";
 }
 
 void ensureAovPlanes(Image& image, const std::vector<std::string>& aovs) {

@@ -138,8 +138,8 @@ const PlateRainFinding& clipPlateRain(ClipContext& clip) {
 bool leaveOutOnRainedPlate(ClipContext& clip, const std::string& stage, bool overRain) {
   if (overRain || !clipPlateRain(clip).rained) return false;
   log::info(fmt::format(
-      "{0}: left out: the plate was shot in rain and holds its own veil; {0}.over_rain = true "
-      "adds it anyway",
+      "{0}: left out: the plate was shot in rain and already shows what it adds; {0}.over_rain = "
+      "true adds it anyway",
       stage));
   return true;
 }
@@ -163,7 +163,7 @@ std::string cachedPlateRainNote(const ClipInfo& clip, const std::string& framesK
 ParamSpec overRainParam() {
   return booleanParam("over_rain", false,
                       "also on a plate shot in rain (its own streaks, found at render time); "
-                      "false: left out there, the plate holds its own veil");
+                      "false: left out there, the plate shows it already");
 }
 
 }  // namespace pluvia

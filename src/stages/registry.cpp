@@ -7,9 +7,10 @@ namespace pluvia {
 
 const std::vector<StageInfo>& allStages() {
   static const std::vector<StageInfo> stages{
-      derainStageInfo(),  lightingStageInfo(), depthStageInfo(),   darkenStageInfo(),
-      blurStageInfo(),    fogStageInfo(),      rainbowStageInfo(), lightsStageInfo(),
-      ripplesStageInfo(), rainStageInfo(),     splashStageInfo(),  glareStageInfo()};
+      derainStageInfo(), lightingStageInfo(), depthStageInfo(), wetGroundStageInfo(),
+      darkenStageInfo(), blurStageInfo(),     fogStageInfo(),   rainbowStageInfo(),
+      lightsStageInfo(), ripplesStageInfo(),  rainStageInfo(),  splashStageInfo(),
+      glareStageInfo()};
   return stages;
 }
 

@@ -30,6 +30,7 @@ StageInfo fogStageInfo();
 StageInfo lightsStageInfo();
 StageInfo rainbowStageInfo();
 StageInfo ripplesStageInfo();
+StageInfo wetGroundStageInfo();
 StageInfo rainStageInfo();
 StageInfo splashStageInfo();
 StageInfo glareStageInfo();

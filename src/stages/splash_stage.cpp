@@ -3,7 +3,8 @@
 // the CPU over the plate after the rain (rain/splash_draw.h): the droplets shaded like the drops
 // (the environment convolved with the drop's transfer function, looked up along each particle's
 // view direction), the crown's sheet as the environment it mirrors over what lies behind it
-// (rain/splashes.h, crownSheetReflection); their coverage in the "splash" plane.
+// (rain/splashes.h, crownSheetReflection). Their AOV "splash" (stages/depth_grading.h,
+// GradingAov) is what they changed, RGB, and their coverage, A.
 #include <cmath>
 #include <limits>
 
@@ -19,6 +20,7 @@
 #include "rain/splashes.h"
 #include "rain/splatter.h"
 #include "stages/cached_drop_radiance.h"
+#include "stages/depth_grading.h"
 #include "stages/plate_shutter.h"
 #include "stages/rain_settings.h"
 #include "stages/registry.h"
@@ -58,7 +60,6 @@ class SplashStage : public Stage {
   }
 
   void process(ClipContext&, FrameContext& frame) override {
-    std::vector<float>& alpha = frame.image.plane("splash");
     const std::vector<float>* depth = frame.image.findPlane(kDepthPlane);
     const double f = double(frame.frame);
     const double rate = rain_.rateMmPerHour.valueAt(f);
@@ -144,12 +145,16 @@ class SplashStage : public Stage {
         }
       }
     });
+    GradingAov aov(frame.image, "splash");
+    coverage_.assign(frame.image.pixelCount(), 0.0f);
     // The splatters lie on the surface, under the crowns and droplets.
     std::vector<rain::ShadedImpact> splatters;
     for (auto& some : flashes) splatters.insert(splatters.end(), some.begin(), some.end());
-    rain::drawSplatters(frame.image, alpha, *depth, camera, splatters, flash, open, close, opacity);
-    rain::drawProjectedParticles(frame.image, alpha, *depth, camera.width, camera.height,
+    rain::drawSplatters(frame.image, coverage_, *depth, camera, splatters, flash, open, close,
+                        opacity);
+    rain::drawProjectedParticles(frame.image, coverage_, *depth, camera.width, camera.height,
                                  projected_);
+    aov.finish(frame.image, coverage_);
   }
 
  private:
@@ -183,6 +188,7 @@ class SplashStage : public Stage {
   EquirectMap radiance_;     // the drops' shading, for the droplets
   rain::SplashMemo memo_;
   std::vector<std::vector<rain::ProjectedParticle>> projected_;  // per block of impacts
+  std::vector<float> coverage_;  // the frame's splash coverage, kept between frames
 };
 
 }  // namespace

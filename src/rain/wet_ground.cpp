@@ -1,0 +1,149 @@
+#include "rain/wet_ground.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Geometry>
+#include <opencv2/imgproc.hpp>
+
+#include "image/luminance.h"
+#include "optics/fresnel.h"
+#include "optics/wet_surface.h"
+#include "util/parallel.h"
+
+namespace pluvia::rain {
+namespace {
+
+constexpr double kDiscontinuity =
+    0.25;  // as rain/splashes.h: neighbours further apart are not one surface
+
+// Three depths lie on one plane when 1 / z's second difference is under this share of its first.
+constexpr double kPlanarity = 0.1;
+constexpr int kMaterialPx = 15;
+
+bool continuous(double a, double b) {
+  return std::isfinite(a) && std::isfinite(b) && a > 0.0 && b > 0.0 &&
+         std::abs(a - b) <= kDiscontinuity * std::min(a, b);
+}
+
+Eigen::Vector3d worldPoint(const Camera& camera, double px, double py, double depth) {
+  return camera.positionMeters + camera.worldFromCamera * (camera.rayCamera(px, py) * depth);
+}
+
+}  // namespace
+
+std::vector<float> wetGroundWeights(const Camera& camera, const std::vector<float>& depth,
+                                    double fullTiltDeg, double fadeDeg) {
+  const int w = camera.width, h = camera.height;
+  std::vector<float> weights(depth.size(), 0.0f);
+  const double full = std::cos(fullTiltDeg * M_PI / 180.0);
+  const double none = std::cos(std::min(fullTiltDeg + fadeDeg, 90.0) * M_PI / 180.0);
+  forEachRow(h, [&](int y) {
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * size_t(w) + size_t(x);
+      const double z = depth[i];
+      if (!(std::isfinite(z) && z > 0.0)) continue;
+      // The neighbour on either side that continues the surface (the right one first), or, at
+      // grazing angles where depth grows faster than that from pixel to pixel, both when 1 / z
+      // runs straight through the three (on a plane 1 / z is affine in the image).
+      auto along = [&](int dx, int dy, Eigen::Vector3d& edge) {
+        auto depthAt = [&](int s) {
+          const int nx = x + s * dx, ny = y + s * dy;
+          return nx < 0 || ny < 0 || nx >= w || ny >= h
+                     ? std::numeric_limits<double>::quiet_NaN()
+                     : double(depth[size_t(ny) * size_t(w) + size_t(nx)]);
+        };
+        auto point = [&](int s, double zs) {
+          return worldPoint(camera, x + s * dx + 0.5, y + s * dy + 0.5, zs);
+        };
+        const double after = depthAt(1), before = depthAt(-1);
+        if (continuous(z, after)) return edge = point(1, after) - point(0, z), true;
+        if (continuous(z, before)) return edge = point(0, z) - point(-1, before), true;
+        const bool finite =
+            std::isfinite(after) && std::isfinite(before) && after > 0.0 && before > 0.0;
+        if (finite && std::abs(1.0 / after + 1.0 / before - 2.0 / z) <=
+                          kPlanarity * std::abs(1.0 / after - 1.0 / before))
+          return edge = 0.5 * (point(1, after) - point(-1, before)), true;
+        return false;
+      };
+      Eigen::Vector3d ex, ey;
+      if (!along(1, 0, ex) || !along(0, 1, ey)) continue;
+      Eigen::Vector3d n = ex.cross(ey);
+      const double length = n.norm();
+      if (!(length > 0.0)) continue;
+      n /= length;
+      // The face the camera sees.
+      if (n.dot(camera.positionMeters - worldPoint(camera, x + 0.5, y + 0.5, z)) < 0.0) n = -n;
+      weights[i] = float(std::clamp((n.y() - none) / std::max(full - none, 1e-9), 0.0, 1.0));
+    }
+  });
+  return weights;
+}
+
+std::array<double, 3> levelIrradiance(const EquirectMap& environment) {
+  // Each row's cosine-weighted solid angle exactly: the integral of cos(theta) over the row's band
+  // of polar angles [theta0, theta1] (above the horizon), (cos^2 theta0 - cos^2 theta1) / 2, times
+  // its texel's azimuth 2 pi / width.
+  std::array<double, 3> sum{0, 0, 0};
+  for (int y = 0; y < environment.height; ++y) {
+    const double up0 = std::cos(M_PI * y / environment.height);
+    const double up1 = std::max(0.0, std::cos(M_PI * (y + 1) / environment.height));
+    if (up0 <= 0.0) break;
+    const double weight = 0.5 * (up0 * up0 - up1 * up1) * 2.0 * M_PI / environment.width;
+    for (int x = 0; x < environment.width; ++x) {
+      const float* texel = environment.texel(x, y);
+      for (size_t c = 0; c < 3; ++c) sum[c] += texel[c] * weight;
+    }
+  }
+  return sum;
+}
+
+double filmCoverage(const float* rgb) {
+  const double high = std::max({rgb[0], rgb[1], rgb[2]}), low = std::min({rgb[0], rgb[1], rgb[2]});
+  if (!(high > 0.0)) return 1.0;
+  return std::clamp(1.0 - (high - std::max(low, 0.0)) / high / kSoakingSaturation, 0.0, 1.0);
+}
+
+void wetGround(Image& image, const Camera& camera, const std::vector<float>& weights,
+               double wetness, double gloss, const WetGroundLight& light, double eta) {
+  const optics::WetFilm water = optics::wetFilm(eta);
+  const double irradiance = rec709Luminance(light.irradiance);
+  // The material is a region's, not a pixel's: the colour is taken over kMaterialPx around each
+  // pixel, so the grey blades in a lawn's texture do not glitter.
+  cv::Mat local;
+  cv::blur(image.rgbaMat(), local, cv::Size(kMaterialPx, kMaterialPx), cv::Point(-1, -1),
+           cv::BORDER_REFLECT);
+  forEachRow(image.height, [&](int y) {
+    for (int x = 0; x < image.width; ++x) {
+      const size_t i = size_t(y) * size_t(image.width) + size_t(x);
+      const double weight = wetness * weights[i];
+      if (weight <= 0.0) continue;
+      const Eigen::Vector3d view =
+          (camera.worldFromCamera * camera.rayCamera(x + 0.5, y + 0.5)).normalized();
+      const double cosView = std::abs(view.y());
+      const double reflectance = optics::fresnelReflectance(cosView, eta);
+      const std::array<float, 3> mirrored =
+          gloss > 0.0 ? sampleEquirect(light.gloss, float(view.x()), float(std::abs(view.y())),
+                                       float(view.z()))
+                      : std::array<float, 3>{0.0f, 0.0f, 0.0f};
+      float* rgb = image.pixel(x, y);
+      const double film = filmCoverage(local.ptr<float>(y) + size_t(x) * 4);
+      // The albedo, pi Y / E of luminances: per channel it would take the environment's colour
+      // for the light's, and an environment without the plate's sun (a blue sky alone) would
+      // turn sunlit stone red. Over 1 the pixel is lit by more than the environment holds (a sun
+      // it leaves out, a lamp): taken as 1, the film darkens it least.
+      const double albedo =
+          irradiance > 0.0 ? std::min(1.0, M_PI * std::max(0.0, rec709Luminance(rgb)) / irradiance)
+                           : 1.0;
+      const double ratio = optics::wetRadianceRatio(water, albedo, cosView);
+      for (size_t c = 0; c < 3; ++c) {
+        const double dry = std::max(0.0f, rgb[c]);
+        const double wet = dry * ratio + gloss * film * reflectance * mirrored[c];
+        rgb[c] = float(rgb[c] + weight * (wet - rgb[c]));
+      }
+    }
+  });
+}
+
+}  // namespace pluvia::rain
