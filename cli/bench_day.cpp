@@ -9,7 +9,8 @@ namespace pluvia {
 
 std::vector<std::string> dayBenchOverrides() {
   return {"fog.model=skylight",          "rainbow.sun=direction", "rainbow.sun_elevation_deg=30",
-          "rainbow.sun_azimuth_deg=180", "camera.height_m=1.6",   "camera.tilt_deg=10"};
+          "rainbow.sun_azimuth_deg=180", "camera.height_m=1.6",   "camera.tilt_deg=10",
+          "ripples.enabled=true"};
 }
 
 void printDayStageRatios(const StageTimes& times, int frames) {
@@ -23,7 +24,7 @@ void printDayStageRatios(const StageTimes& times, int frames) {
                            frames);
   std::cout << fmt::format("{:<10} {:>10} {:>14}\n", "stage", "ms/frame", "/ rain stage");
   std::cout << fmt::format("{:<10} {:>10.2f} {:>14}\n", "rain", rain, "1");
-  for (const char* stage : {"splash", "fog", "rainbow"}) {
+  for (const char* stage : {"wet_ground", "splash", "ripples", "fog", "rainbow"}) {
     const double ms = msPerFrame(stage);
     std::cout << fmt::format("{:<10} {:>10.2f} {:>14.3f}\n", stage, ms,
                              rain > 0.0 ? ms / rain : 0.0);

@@ -334,7 +334,7 @@ TEST(CliIo, ExrOverscanIsRenderedAndKept) {
   auto r = runPluvia({"render", (dir / "plate.#.exr").string(), "-p", "heavy", "-o",
                       (dir / "out.#.exr").string(), "--exr-type", "float", "--aov", "rain", "--set",
                       "fog.enabled=false", "--set", "darken.enabled=false", "--set",
-                      "blur.enabled=false"});
+                      "blur.enabled=false", "--set", "wet_ground.enabled=false"});
   ASSERT_EQ(r.exitCode, 0) << r.output;
   auto in = OIIO::ImageInput::open((dir / "out.1.exr").string());
   ASSERT_TRUE(in);

@@ -34,10 +34,10 @@ double numberAfter(const std::string& output, const std::string& label) {
 }
 
 // The example's first 8 frames at `proxy` of their size rained with `rain` (a preset's "rain"
-// and "camera" members, JSON) with darken, blur and fog off, then matched from `moderate` at a
-// stated 1/600 s over `steps` renders at `widthPx`: the match's output; the preset it wrote is
-// `dir`/matched.json. (From `moderate` alone the search would start at the reference's own
-// shutter, here the walkers' motion blur's upper bound of 1/500 s, and a rate, a shutter and a
+// and "camera" members, JSON) with wet ground, darken, blur and fog off, then matched from
+// `moderate` at a stated 1/600 s over `steps` renders at `widthPx`: the match's output; the preset
+// it wrote is `dir`/matched.json. (From `moderate` alone the search would start at the reference's
+// own shutter, here the walkers' motion blur's upper bound of 1/500 s, and a rate, a shutter and a
 // depth trade against each other: from there 8 steps end at 17.5 mm/h and 1/601 s, x1.07.)
 CommandResult matchKnownRain(const stdfs::path& dir, const std::string& rainAndCamera,
                              const std::string& steps, const std::string& proxy = "0.3334",
@@ -45,8 +45,8 @@ CommandResult matchKnownRain(const stdfs::path& dir, const std::string& rainAndC
   const stdfs::path truth =
       writeTextFile(dir, "truth.json",
                     R"({"pluvia": 1, "extends": "moderate", )" + rainAndCamera +
-                        R"(, "darken": {"enabled": false}, "blur": {"enabled": false}, )"
-                        R"("fog": {"enabled": false}})");
+                        R"(, "wet_ground": {"enabled": false}, "darken": {"enabled": false}, )"
+                        R"("blur": {"enabled": false}, "fog": {"enabled": false}})");
   const CommandResult rendered =
       runPluvia({"render", exampleClip().string(), "-p", truth.string(), "--frames", "0-7",
                  "--proxy", proxy, "-o", (dir / "rain.####.png").string(), "-q"});

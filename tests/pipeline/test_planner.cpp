@@ -139,7 +139,8 @@ TEST(Planner, PlanShowsWhoMakesAndReadsEachArtifact) {
   EXPECT_EQ(find(planWith({"depth.source=colmap"}), "camera").madeBy,
             (std::vector<std::string>{"camera.path", "depth"}));
   // A plate graded over its own rain on purpose: nothing asks whether it rained.
-  EXPECT_EQ(find(planWith({"darken.over_rain=true", "blur.over_rain=true", "fog.over_rain=true"}),
+  EXPECT_EQ(find(planWith({"wet_ground.over_rain=true", "darken.over_rain=true",
+                           "blur.over_rain=true", "fog.over_rain=true"}),
                  "plate_rain")
                 .name,
             "");
