@@ -230,7 +230,9 @@ RealismReport runRealismReport(const RealismReportSettings& settings,
       row.ratios = ratiosToReal(row.stats, real.stats);
       row.typical = typicalFactor(ratioValues(row.ratios));
       row.worst = worstOf(row.ratios, &row.worstName);
-      row.exactStats = measureLayers(column.frames, plates);
+      std::vector<cv::Mat1f> exactLayers;
+      row.exactStats = measureLayers(column.frames, plates, &exactLayers);
+      row.groundExact = measureGroundLayers(exactLayers);
       row.exactRatios = ratiosToReal(row.exactStats, real.stats);
       row.exactTypical = typicalFactor(ratioValues(row.exactRatios));
       row.exactWorst = worstOf(row.exactRatios, nullptr);
@@ -369,9 +371,9 @@ std::string formatRealismReport(const RealismReport& report) {
       "\nGround (the frame's bottom third: blobs of |dI| > {:g} codes, 2-400 px, at most x{:g} "
       "longer than wide: splashes and ripples, not streaks; ratios to real, ! outside x{:.2f}):\n",
       kGroundBlobCodes, kRoundAspect, kGroundBound);
-  out << fmt::format("{:>14}{:>10}{:>10}{:>9}{:>8}{:>8}{:>11}{:>10}{:>8}{:>8}{:>8}\n", "clip",
+  out << fmt::format("{:>14}{:>10}{:>10}{:>9}{:>8}{:>8}{:>11}{:>10}{:>8}{:>8}{:>8}{:>12}\n", "clip",
                      "preset", "blobs/Mpx", "area p50", "life fr", "dI p90", "r blobs", "r area",
-                     "r life", "r dI", "worst");
+                     "r life", "r dI", "worst", "exact /Mpx");
   for (const RealismRow& row : report.rows) {
     const GroundStats& g = row.ground;
     out << fmt::format("{:>14}{:>10}{:>10}{:>9}{:>8}{:>8}", row.clip.substr(0, 13), row.preset,
@@ -385,8 +387,13 @@ std::string formatRealismReport(const RealismReport& report) {
                          row.preset == "real" ? "-" : fixedOrDash(ratio, 2) + (off ? "!" : " "),
                          widths[i]);
     }
-    out << fmt::format("{:>8}\n", row.preset == "real" ? "-" : fixedOrDash(row.groundWorst, 2));
+    out << fmt::format("{:>8}{:>12}\n",
+                       row.preset == "real" ? "-" : fixedOrDash(row.groundWorst, 2),
+                       row.preset == "real" ? "-" : fixedOrDash(row.groundExact.blobsPerMpx, 0));
   }
+  out << "(exact /Mpx: the blobs of what the preset added, its frames less the plates it was "
+         "rendered on; the columns before it take every layer against plates estimated from its "
+         "own frames, whose residue, moving water and compression, counts on both sides)\n";
   for (const std::string& note : report.notes) out << "note: " << note << "\n";
   return out.str();
 }

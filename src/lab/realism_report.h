@@ -82,6 +82,7 @@ struct RealismRow {
   GroundStats ground;  // its layers' ground (lab/ground_layer.h)
   std::vector<std::pair<std::string, double>> groundRatios;  // to the real row's
   double groundWorst = 0.0;
+  GroundStats groundExact;      // of the layer against the exact plates (empty for the real row)
   double shutterSeconds = 0.0;  // the clip's own (its drops' implied contrast needs it)
   double seconds = 0.0;         // plates (real) or render + measure
 };
