@@ -33,9 +33,13 @@ double wetAlbedo(const WetFilm& film, double albedo) {
 }
 
 double wetRadianceRatio(const WetFilm& film, double albedo, double cosView) {
+  return wetRadianceRatioAt(film, albedo,
+                            fresnelReflectance(std::clamp(cosView, 0.0, 1.0), film.eta));
+}
+
+double wetRadianceRatioAt(const WetFilm& film, double albedo, double viewReflectance) {
   const double a = std::clamp(albedo, 0.0, 1.0);
-  const double escape = 1.0 - fresnelReflectance(std::clamp(cosView, 0.0, 1.0), film.eta);
-  return (1.0 - film.externalDiffuse) * escape /
+  return (1.0 - film.externalDiffuse) * (1.0 - viewReflectance) /
          (film.eta * film.eta * (1.0 - film.internalDiffuse * a));
 }
 

@@ -30,5 +30,8 @@ double wetAlbedo(const WetFilm& film, double albedo);
 // L_wet(theta) / L_dry: what the film does to the surface's own (diffuse) radiance seen at
 // cos theta = `cosView` (0..1), without the gloss.
 double wetRadianceRatio(const WetFilm& film, double albedo, double cosView);
+// The same with Fresnel's reflectance R(theta) at the view angle given (made once per pixel of a
+// camera that stays).
+double wetRadianceRatioAt(const WetFilm& film, double albedo, double viewReflectance);
 
 }  // namespace pluvia::optics

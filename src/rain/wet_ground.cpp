@@ -105,30 +105,47 @@ double filmCoverage(const float* rgb) {
   return std::clamp(1.0 - (high - std::max(low, 0.0)) / high / kSoakingSaturation, 0.0, 1.0);
 }
 
+std::vector<float> levelFilmReflectance(const Camera& camera, const std::vector<float>& weights,
+                                        double eta) {
+  std::vector<float> reflectance(weights.size(), 0.0f);
+  forEachRow(camera.height, [&](int y) {
+    for (int x = 0; x < camera.width; ++x) {
+      const size_t i = size_t(y) * size_t(camera.width) + size_t(x);
+      if (weights[i] <= 0.0f) continue;
+      const Eigen::Vector3d view =
+          (camera.worldFromCamera * camera.rayCamera(x + 0.5, y + 0.5)).normalized();
+      reflectance[i] = float(optics::fresnelReflectance(std::abs(view.y()), eta));
+    }
+  });
+  return reflectance;
+}
+
 void wetGround(Image& image, const Camera& camera, const std::vector<float>& weights,
-               double wetness, double gloss, const WetGroundLight& light, double eta) {
+               const std::vector<float>& reflectance, double wetness, double gloss,
+               const WetGroundLight& light, double eta) {
   const optics::WetFilm water = optics::wetFilm(eta);
   const double irradiance = rec709Luminance(light.irradiance);
   // The material is a region's, not a pixel's: the colour is taken over kMaterialPx around each
   // pixel, so the grey blades in a lawn's texture do not glitter.
   cv::Mat local;
-  cv::blur(image.rgbaMat(), local, cv::Size(kMaterialPx, kMaterialPx), cv::Point(-1, -1),
-           cv::BORDER_REFLECT);
+  if (gloss > 0.0)
+    cv::blur(image.rgbaMat(), local, cv::Size(kMaterialPx, kMaterialPx), cv::Point(-1, -1),
+             cv::BORDER_REFLECT);
   forEachRow(image.height, [&](int y) {
     for (int x = 0; x < image.width; ++x) {
       const size_t i = size_t(y) * size_t(image.width) + size_t(x);
       const double weight = wetness * weights[i];
       if (weight <= 0.0) continue;
-      const Eigen::Vector3d view =
-          (camera.worldFromCamera * camera.rayCamera(x + 0.5, y + 0.5)).normalized();
-      const double cosView = std::abs(view.y());
-      const double reflectance = optics::fresnelReflectance(cosView, eta);
-      const std::array<float, 3> mirrored =
-          gloss > 0.0 ? sampleEquirect(light.gloss, float(view.x()), float(std::abs(view.y())),
-                                       float(view.z()))
-                      : std::array<float, 3>{0.0f, 0.0f, 0.0f};
+      const double r = reflectance[i];
+      std::array<float, 3> mirrored{0.0f, 0.0f, 0.0f};
+      if (gloss > 0.0) {
+        const Eigen::Vector3d view =
+            (camera.worldFromCamera * camera.rayCamera(x + 0.5, y + 0.5)).normalized();
+        mirrored = sampleEquirect(light.gloss, float(view.x()), float(std::abs(view.y())),
+                                  float(view.z()));
+      }
       float* rgb = image.pixel(x, y);
-      const double film = filmCoverage(local.ptr<float>(y) + size_t(x) * 4);
+      const double film = gloss > 0.0 ? filmCoverage(local.ptr<float>(y) + size_t(x) * 4) : 0.0;
       // The albedo, pi Y / E of luminances: per channel it would take the environment's colour
       // for the light's, and an environment without the plate's sun (a blue sky alone) would
       // turn sunlit stone red. Over 1 the pixel is lit by more than the environment holds (a sun
@@ -136,10 +153,10 @@ void wetGround(Image& image, const Camera& camera, const std::vector<float>& wei
       const double albedo =
           irradiance > 0.0 ? std::min(1.0, M_PI * std::max(0.0, rec709Luminance(rgb)) / irradiance)
                            : 1.0;
-      const double ratio = optics::wetRadianceRatio(water, albedo, cosView);
+      const double ratio = optics::wetRadianceRatioAt(water, albedo, r);
       for (size_t c = 0; c < 3; ++c) {
         const double dry = std::max(0.0f, rgb[c]);
-        const double wet = dry * ratio + gloss * film * reflectance * mirrored[c];
+        const double wet = dry * ratio + gloss * film * r * mirrored[c];
         rgb[c] = float(rgb[c] + weight * (wet - rgb[c]));
       }
     }

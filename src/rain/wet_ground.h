@@ -44,9 +44,16 @@ struct WetGroundLight {
   std::array<double, 3> irradiance{};  // levelIrradiance of the environment
 };
 
+// Fresnel's reflectance of the level film (index `eta`) along each pixel's view ray, where
+// weights[i] > 0 (else 0): what wetGround takes, made once per camera.
+std::vector<float> levelFilmReflectance(const Camera& camera, const std::vector<float>& weights,
+                                        double eta);
+
 // Wets `image` (RGB; alpha kept) by weight `wetness` * weights[i] (0..1 per pixel), the film's
-// mirror weighted by `gloss` (0..1; 0: the darkening alone).
+// mirror weighted by `gloss` (0..1; 0: the darkening alone); `reflectance`:
+// levelFilmReflectance of the same camera, weights and eta.
 void wetGround(Image& image, const Camera& camera, const std::vector<float>& weights,
-               double wetness, double gloss, const WetGroundLight& light, double eta);
+               const std::vector<float>& reflectance, double wetness, double gloss,
+               const WetGroundLight& light, double eta);
 
 }  // namespace pluvia::rain

@@ -6,6 +6,7 @@
 // and the film mirrors nothing: the guess calls ground whatever lies low in the frame (a wall's
 // foot, a river), which the mirror of the sky would paint over.
 #include <algorithm>
+#include <cstring>
 
 #include "optics/drop_shading.h"
 #include "rain/wet_ground.h"
@@ -48,24 +49,44 @@ class WetGroundStage : public Stage {
     const std::vector<float>* depth = frame.image.findPlane(kDepthPlane);
     if (leftOut_ || !depth) return;
     const Camera camera = path_.cameraAt(double(frame.frame));
-    std::vector<float> weights =
-        rain::wetGroundWeights(camera, *depth, wet_.maxTiltDeg, wet_.fadeDeg);
-    if (guessBackdropMeters_ > 0.0)
-      for (size_t i = 0; i < weights.size(); ++i)
-        weights[i] *= float(std::clamp(
-            2.0 * (guessBackdropMeters_ - (*depth)[i]) / guessBackdropMeters_, 0.0, 1.0));
+    const std::vector<float>& weights = weightsFor(camera, *depth);
     GradingAov aov(frame.image, "wet_ground");
     const double gloss = guessBackdropMeters_ > 0.0 ? 0.0 : wet_.gloss;
-    rain::wetGround(frame.image, camera, weights, wet_.wetness, gloss, light_, optics::kWaterEta);
+    rain::wetGround(frame.image, camera, weights, reflectance_, wet_.wetness, gloss, light_,
+                    optics::kWaterEta);
     aov.finish(frame.image, weights);
   }
 
  private:
+  // The frame's wet weights and the film's reflectance per pixel, made again only when the depth
+  // or the camera changes (a locked-off camera over a static depth makes them once).
+  const std::vector<float>& weightsFor(const Camera& camera, const std::vector<float>& depth) {
+    const bool same =
+        weightsDepth_.size() == depth.size() &&
+        std::memcmp(weightsDepth_.data(), depth.data(), depth.size() * sizeof(float)) == 0 &&
+        weightsCamera_.positionMeters == camera.positionMeters &&
+        weightsCamera_.worldFromCamera == camera.worldFromCamera &&
+        weightsCamera_.focalPx == camera.focalPx && weightsCamera_.cx == camera.cx &&
+        weightsCamera_.cy == camera.cy;
+    if (same) return weights_;
+    weights_ = rain::wetGroundWeights(camera, depth, wet_.maxTiltDeg, wet_.fadeDeg);
+    if (guessBackdropMeters_ > 0.0)
+      for (size_t i = 0; i < weights_.size(); ++i)
+        weights_[i] *= float(
+            std::clamp(2.0 * (guessBackdropMeters_ - depth[i]) / guessBackdropMeters_, 0.0, 1.0));
+    reflectance_ = rain::levelFilmReflectance(camera, weights_, optics::kWaterEta);
+    weightsDepth_ = depth;
+    weightsCamera_ = camera;
+    return weights_;
+  }
+
   WetGroundSettings wet_;
   double guessBackdropMeters_;
   bool leftOut_ = false;
   CameraPath path_;
   rain::WetGroundLight light_;
+  std::vector<float> weights_, reflectance_, weightsDepth_;
+  Camera weightsCamera_;
 };
 
 }  // namespace
