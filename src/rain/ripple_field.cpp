@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "optics/fresnel.h"
+#include "rain/depth_surface.h"
 #include "util/parallel.h"
 
 namespace pluvia::rain {
@@ -12,10 +13,6 @@ namespace {
 constexpr double kWaterIndex = 1.333;
 constexpr double kPacketReach = 4.0;  // the slope's reach, in packet half widths (ripples.cpp)
 constexpr int kBandRows = 16;         // rows drawn by one task
-
-Eigen::Vector3d worldPoint(const Camera& camera, double px, double py, double depth) {
-  return camera.positionMeters + camera.worldFromCamera * (camera.rayCamera(px, py) * depth);
-}
 
 struct RingBox {
   const Impact* impact;

@@ -10,21 +10,15 @@
 #include "optics/drop_shading.h"
 #include "optics/fresnel.h"
 #include "rain/counter_stream.h"
+#include "rain/depth_surface.h"
 #include "util/parallel.h"
 
 namespace pluvia::rain {
 namespace {
 
-// Neighbours further apart than this (relative) are different surfaces; ground seen at a
-// grazing angle changes faster than 5 % per pixel in a small frame, hence the margin.
-constexpr double kDiscontinuity = 0.25;
 // Constants of the splash's look (splashes.h).
 constexpr double kCrownRadiusPerDiameter = 2.0, kCrownLifePerDropTime = 20.0;
 constexpr double kDropletDiameterFraction = 0.15, kDropletSpeedFraction = 0.2;
-
-Eigen::Vector3d worldPoint(const Camera& camera, double px, double py, double depth) {
-  return camera.positionMeters + camera.worldFromCamera * (camera.rayCamera(px, py) * depth);
-}
 
 double crownLifeSeconds(const Impact& impact) {
   return kCrownLifePerDropTime * impact.diameterMm * 1e-3 / impact.speedMetersPerSecond;
@@ -43,7 +37,7 @@ double surfaceDepth(const std::vector<float>& depth, int w, int h, double px, do
   const double z00 = at(x0, y0), z10 = at(x1, y0), z01 = at(x0, y1), z11 = at(x1, y1);
   const double nearest = at(std::clamp(int(px), 0, w - 1), std::clamp(int(py), 0, h - 1));
   const double lo = std::min({z00, z10, z01, z11}), hi = std::max({z00, z10, z01, z11});
-  if (!std::isfinite(hi) || !(lo > 0.0) || hi - lo > kDiscontinuity * lo) return nearest;
+  if (!std::isfinite(hi) || !(lo > 0.0) || hi - lo > kDepthDiscontinuity * lo) return nearest;
   const double inverse =
       (1.0 - fy) * ((1.0 - fx) / z00 + fx / z10) + fy * ((1.0 - fx) / z01 + fx / z11);
   return inverse > 0.0 ? 1.0 / inverse : nearest;
@@ -77,10 +71,6 @@ std::vector<float> upFacingAreaPerPixel(const Camera& camera, const std::vector<
   const int w = camera.width, h = camera.height;
   std::vector<float> area(depth.size(), 0.0f);
   const double minUp = std::cos(maxTiltDeg * M_PI / 180.0);
-  auto continuous = [](double a, double b) {
-    return std::isfinite(a) && std::isfinite(b) && a > 0.0 && b > 0.0 &&
-           std::abs(a - b) <= kDiscontinuity * std::min(a, b);
-  };
   forEachRow(h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * size_t(w) + size_t(x);
@@ -89,7 +79,7 @@ std::vector<float> upFacingAreaPerPixel(const Camera& camera, const std::vector<
       const double z = depth[i];
       if (!(z <= maxDepthMeters)) continue;
       const double zx = depth[i + size_t(dx)], zy = depth[i + size_t(dy) * size_t(w)];
-      if (!continuous(z, zx) || !continuous(z, zy)) continue;
+      if (!depthsContinuous(z, zx) || !depthsContinuous(z, zy)) continue;
       const Eigen::Vector3d p = worldPoint(camera, x + 0.5, y + 0.5, z);
       const Eigen::Vector3d ex = (worldPoint(camera, x + 0.5 + dx, y + 0.5, zx) - p) * dx;
       const Eigen::Vector3d ey = (worldPoint(camera, x + 0.5, y + 0.5 + dy, zy) - p) * dy;

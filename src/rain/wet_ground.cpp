@@ -10,26 +10,15 @@
 #include "image/luminance.h"
 #include "optics/fresnel.h"
 #include "optics/wet_surface.h"
+#include "rain/depth_surface.h"
 #include "util/parallel.h"
 
 namespace pluvia::rain {
 namespace {
 
-constexpr double kDiscontinuity =
-    0.25;  // as rain/splashes.h: neighbours further apart are not one surface
-
 // Three depths lie on one plane when 1 / z's second difference is under this share of its first.
 constexpr double kPlanarity = 0.1;
 constexpr int kMaterialPx = 15;
-
-bool continuous(double a, double b) {
-  return std::isfinite(a) && std::isfinite(b) && a > 0.0 && b > 0.0 &&
-         std::abs(a - b) <= kDiscontinuity * std::min(a, b);
-}
-
-Eigen::Vector3d worldPoint(const Camera& camera, double px, double py, double depth) {
-  return camera.positionMeters + camera.worldFromCamera * (camera.rayCamera(px, py) * depth);
-}
 
 }  // namespace
 
@@ -58,8 +47,8 @@ std::vector<float> wetGroundWeights(const Camera& camera, const std::vector<floa
           return worldPoint(camera, x + s * dx + 0.5, y + s * dy + 0.5, zs);
         };
         const double after = depthAt(1), before = depthAt(-1);
-        if (continuous(z, after)) return edge = point(1, after) - point(0, z), true;
-        if (continuous(z, before)) return edge = point(0, z) - point(-1, before), true;
+        if (depthsContinuous(z, after)) return edge = point(1, after) - point(0, z), true;
+        if (depthsContinuous(z, before)) return edge = point(0, z) - point(-1, before), true;
         const bool finite =
             std::isfinite(after) && std::isfinite(before) && after > 0.0 && before > 0.0;
         if (finite && std::abs(1.0 / after + 1.0 / before - 2.0 / z) <=
