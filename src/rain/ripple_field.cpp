@@ -80,25 +80,61 @@ void addRippleSlopes(const Camera& camera, const std::vector<float>& depth,
   });
 }
 
+namespace {
+
+// Bilinear RGB of `image` at pixel position (px, py), pixel centres at +0.5; false when the four
+// texels are not all inside the frame and on the water.
+bool sampleWater(const Image& image, const std::vector<uint8_t>& water, double px, double py,
+                 std::array<float, 3>& rgb) {
+  const double fx = px - 0.5, fy = py - 0.5;
+  const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
+  if (x0 < 0 || y0 < 0 || x0 + 1 >= image.width || y0 + 1 >= image.height) return false;
+  const double ax = fx - x0, ay = fy - y0;
+  rgb = {0.0f, 0.0f, 0.0f};
+  for (int dy = 0; dy < 2; ++dy)
+    for (int dx = 0; dx < 2; ++dx) {
+      const size_t i = size_t(y0 + dy) * size_t(image.width) + size_t(x0 + dx);
+      if (!water[i]) return false;
+      const double weight = (dx ? ax : 1.0 - ax) * (dy ? ay : 1.0 - ay);
+      for (int c = 0; c < 3; ++c) rgb[c] += float(weight * image.rgba[i * 4 + size_t(c)]);
+    }
+  return true;
+}
+
+}  // namespace
+
 void shadeRippleMirror(Image& image, const Camera& camera, const std::vector<float>& depth,
                        const std::vector<float>& slopeX, const std::vector<float>& slopeZ,
-                       const EnvironmentLookup& environment) {
+                       const EnvironmentLookup& environment, const Image* plate,
+                       const std::vector<uint8_t>* water) {
   const int w = camera.width, h = camera.height;
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitY();
   forEachRow(h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * size_t(w) + size_t(x);
       if (slopeX[i] == 0.0f && slopeZ[i] == 0.0f) continue;
       const Eigen::Vector3d p = worldPoint(camera, x + 0.5, y + 0.5, depth[i]);
       const Eigen::Vector3d v = (p - camera.positionMeters).normalized();
-      const Eigen::Vector3d up = Eigen::Vector3d::UnitY();
       const Eigen::Vector3d n = Eigen::Vector3d(-slopeX[i], 1.0, -slopeZ[i]).normalized();
       const double cosLevel = -v.dot(up), cosTilted = -v.dot(n);
       if (!(cosLevel > 0.0) || !(cosTilted > 0.0)) continue;  // seen from below: not this water
       const Eigen::Vector3d level = v + 2.0 * cosLevel * up, tilted = v + 2.0 * cosTilted * n;
-      const double rLevel = optics::fresnelReflectance(cosLevel, kWaterIndex);
       const double rTilted = optics::fresnelReflectance(cosTilted, kWaterIndex);
-      const std::array<float, 3> lLevel = environment(level), lTilted = environment(tilted);
       float* px = &image.rgba[i * 4];
+      if (plate && water && tilted.y() > 0.0) {
+        // The view ray whose level reflection is the tilted one, and where it meets the frame.
+        const Eigen::Vector3d seen(tilted.x(), -tilted.y(), tilted.z());
+        double qx, qy, qz;
+        std::array<float, 3> shown;
+        if (camera.project(camera.positionMeters + seen, qx, qy, qz) &&
+            sampleWater(*plate, *water, qx, qy, shown)) {
+          const double rAtQ = optics::fresnelReflectance(tilted.y(), kWaterIndex);
+          for (int c = 0; c < 3; ++c) px[c] = std::max(0.0f, float(rTilted / rAtQ * shown[c]));
+          continue;
+        }
+      }
+      const double rLevel = optics::fresnelReflectance(cosLevel, kWaterIndex);
+      const std::array<float, 3> lLevel = environment(level), lTilted = environment(tilted);
       for (int c = 0; c < 3; ++c)
         px[c] = std::max(0.0f, px[c] + float(rTilted * lTilted[c] - rLevel * lLevel[c]));
     }

@@ -31,10 +31,17 @@ void addRippleSlopes(const Camera& camera, const std::vector<float>& depth,
 
 using EnvironmentLookup = std::function<std::array<float, 3>(const Eigen::Vector3d& direction)>;
 
-// Adds R' L(r') - R0 L(r0) to the RGB of `image` where a slope is non-zero (keeping it
-// non-negative); `environment` gives L along a world direction.
+// The water shaded as a mirror where a slope is non-zero (keeping it non-negative).
+//  - `environment` gives L along a world direction: the pixel changes by R' L(r') - R0 L(r0).
+//  - With `plate` (the frame before the rings) and its `water` mask, the water mirrors the plate's
+//    own reflection instead wherever it shows the tilted ray's: the level water at pixel q shows
+//    the scene along r0(q), so the pixel whose view ray is r' mirrored in the level (q: r0(q) =
+//    r') holds L(r') R0(q), its light from below taken as none (a puddle over dark ground); the
+//    pixel becomes (R' / R0(q)) plate(q), the plate's trees, sky and lamps displaced by the ring
+//    as in real puddles. Where q falls off the frame or off the water, the environment's L.
 void shadeRippleMirror(Image& image, const Camera& camera, const std::vector<float>& depth,
                        const std::vector<float>& slopeX, const std::vector<float>& slopeZ,
-                       const EnvironmentLookup& environment);
+                       const EnvironmentLookup& environment, const Image* plate = nullptr,
+                       const std::vector<uint8_t>* water = nullptr);
 
 }  // namespace pluvia::rain

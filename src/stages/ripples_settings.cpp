@@ -8,14 +8,16 @@ const SettingsTable<RipplesSettings>& ripplesTable() {
       {.name = "ripples",
        .help = "Rings on level ground where drops strike it (from the depth plane): capillary-"
                "gravity rings spreading at the minimum phase speed (0.231 m/s), damped as on "
-               "film-covered water, mirroring the environment with Fresnel's reflectance; drawn "
+               "film-covered water, mirroring the plate's own reflection displaced (the "
+               "environment where the plate does not show it) with Fresnel's reflectance; drawn "
                "where a pixel resolves their crests; what they change is the \"ripples\" AOV.",
        .inputs = {"image", "depth", "environment", "camera"},
        .outputs = {"image", "ripples"}},
       {
-          bind(&S::enabled, booleanParam("enabled", false,
-                                         "run this stage (off by default: the rings mirror the "
-                                         "environment alone, which under an even sky is faint)")),
+          bind(&S::enabled,
+               booleanParam("enabled", false,
+                            "run this stage (off by default: the rings read too strong "
+                            "yet, and cost 11 times the rain stage)")),
           bind(&S::minDiameterMm, numberParam("min_diameter_mm", 0.5, {0.1, 6.0}, "mm",
                                               "drops smaller than this raise no ring")),
           bind(&S::maxTiltDeg,

@@ -7,8 +7,8 @@
 namespace pluvia {
 
 struct RipplesSettings {
-  // Off by default until the rings read: mirroring the environment alone, a puddle seen from above
-  // under an even sky changes by under a code (issue 58: the plate's own reflection must move).
+  // Off by default: the plate's own reflection displaced by the rings reads as rippled water but
+  // too strongly (the ring's first amplitude is a look), and it costs 11 times the rain stage.
   bool enabled = false;
   double minDiameterMm = 0.5;  // smaller drops raise no visible ring
   double maxTiltDeg = 5.0;     // standing water is level

@@ -1,7 +1,8 @@
 // Ripples: where the rain's drops strike level ground, the rings of rain/ripples.h, drawn before
 // the rain falls in front of them (rain/ripple_field.h): the impacts are the splash stage's
 // kind (rain/splashes.h, impactsBorn: deterministic per birth frame and tile), those still
-// ringing at the frame's shutter midpoint; the water mirrors the lighting stage's environment.
+// ringing at the frame's shutter midpoint; the water mirrors the plate's own reflection displaced
+// by the rings, and the lighting stage's environment where the plate does not show it.
 #include <cmath>
 
 #include "image/equirect.h"
@@ -66,10 +67,17 @@ class RipplesStage : public Stage {
     GradingAov aov(frame.image, "ripples");
     std::vector<float> slopeX(water.size(), 0.0f), slopeZ(water.size(), 0.0f);
     rain::addRippleSlopes(camera, *depth, water, alive, now, slopeX, slopeZ);
+    // The plate before the rings, for the water to mirror its own reflection displaced.
+    Image plate;
+    plate.width = frame.image.width;
+    plate.height = frame.image.height;
+    plate.rgba = frame.image.rgba;
     rain::shadeRippleMirror(
-        frame.image, camera, *depth, slopeX, slopeZ, [&](const Eigen::Vector3d& d) {
+        frame.image, camera, *depth, slopeX, slopeZ,
+        [&](const Eigen::Vector3d& d) {
           return sampleEquirect(environment_, float(d.x()), float(d.y()), float(d.z()));
-        });
+        },
+        &plate, &water);
     aov.finish(frame.image, {});
   }
 

@@ -10,6 +10,7 @@
 
 #include "geometry/camera.h"
 #include "image/image.h"
+#include "optics/fresnel.h"
 #include "rain/ripple_field.h"
 #include "rain/ripples.h"
 
@@ -200,4 +201,42 @@ TEST(RippleField, ATiltedWaterMirrorsTheKnownSkyByFresnel) {
   EXPECT_GT(std::abs(expected - 0.5), 1e-3);  // the tilt shows
   // Untouched pixels keep the plate exactly.
   EXPECT_EQ(image.rgba[(i + 1) * 4], 0.5f);
+}
+
+TEST(RippleField, ATiltedWaterMirrorsThePlatesOwnReflectionDisplaced) {
+  // The plate's water holds a linear ramp (bilinear sampling reads it exactly); a tilt turns the
+  // reflected ray from r0 to r', and the pixel shows what the level water shows where its own
+  // reflection is r' (q: the view ray r' mirrored in the level), times R' / R0(q).
+  const WaterView view;
+  const int w = view.camera.width, h = view.camera.height;
+  auto ramp = [](double px, double py) { return 0.1 + 0.001 * (px - 0.5) + 0.002 * (py - 0.5); };
+  pluvia::Image image(w, h);
+  std::vector<uint8_t> water(size_t(w) * size_t(h), 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * size_t(w) + size_t(x);
+      water[i] = std::isfinite(view.depth[i]);
+      for (int c = 0; c < 3; ++c) image.rgba[i * 4 + c] = float(ramp(x + 0.5, y + 0.5));
+    }
+  const pluvia::Image plate = image;
+  const size_t i = size_t(h - 20) * size_t(w) + size_t(w / 2);
+  std::vector<float> sx(size_t(w) * size_t(h), 0.0f), sz(sx.size(), 0.0f);
+  sx[i] = 0.03f;
+  sz[i] = 0.05f;
+  auto none = [](const Eigen::Vector3d&) { return std::array<float, 3>{0.0f, 0.0f, 0.0f}; };
+  shadeRippleMirror(image, view.camera, view.depth, sx, sz, none, &plate, &water);
+  // By hand.
+  const Eigen::Vector3d p = view.point(w / 2, h - 20);
+  const Eigen::Vector3d v = (p - view.camera.positionMeters).normalized();
+  const Eigen::Vector3d n = Eigen::Vector3d(-0.03, 1.0, -0.05).normalized();
+  const Eigen::Vector3d r1 = v - 2.0 * v.dot(n) * n;
+  double qx, qy, qz;
+  ASSERT_TRUE(view.camera.project(
+      view.camera.positionMeters + Eigen::Vector3d(r1.x(), -r1.y(), r1.z()), qx, qy, qz));
+  EXPECT_GT(std::hypot(qx - (w / 2 + 0.5), qy - (h - 20 + 0.5)), 1.0) << "the ring moves it";
+  const double expected = pluvia::optics::fresnelReflectance(-v.dot(n), 1.333) /
+                          pluvia::optics::fresnelReflectance(r1.y(), 1.333) * ramp(qx, qy);
+  EXPECT_NEAR(image.rgba[i * 4], expected, 1e-5);
+  EXPECT_NEAR(image.rgba[i * 4 + 2], expected, 1e-5);
+  EXPECT_EQ(image.rgba[(i + 1) * 4], plate.rgba[(i + 1) * 4]) << "untouched pixels keep the plate";
 }
