@@ -94,24 +94,27 @@ double filmCoverage(const float* rgb) {
   return std::clamp(1.0 - (high - std::max(low, 0.0)) / high / kSoakingSaturation, 0.0, 1.0);
 }
 
-std::vector<float> levelFilmReflectance(const Camera& camera, const std::vector<float>& weights,
-                                        double eta) {
-  std::vector<float> reflectance(weights.size(), 0.0f);
+LevelFilmView levelFilmView(const Camera& camera, const std::vector<float>& weights,
+                            const WetGroundLight& light, double eta) {
+  LevelFilmView view;
+  view.reflectance.assign(weights.size(), 0.0f);
+  view.mirrored.assign(weights.size(), {0.0f, 0.0f, 0.0f});
   forEachRow(camera.height, [&](int y) {
     for (int x = 0; x < camera.width; ++x) {
       const size_t i = size_t(y) * size_t(camera.width) + size_t(x);
       if (weights[i] <= 0.0f) continue;
-      const Eigen::Vector3d view =
+      const Eigen::Vector3d ray =
           (camera.worldFromCamera * camera.rayCamera(x + 0.5, y + 0.5)).normalized();
-      reflectance[i] = float(optics::fresnelReflectance(std::abs(view.y()), eta));
+      view.reflectance[i] = float(optics::fresnelReflectance(std::abs(ray.y()), eta));
+      view.mirrored[i] =
+          sampleEquirect(light.gloss, float(ray.x()), float(std::abs(ray.y())), float(ray.z()));
     }
   });
-  return reflectance;
+  return view;
 }
 
-void wetGround(Image& image, const Camera& camera, const std::vector<float>& weights,
-               const std::vector<float>& reflectance, double wetness, double gloss,
-               const WetGroundLight& light, double eta) {
+void wetGround(Image& image, const std::vector<float>& weights, const LevelFilmView& view,
+               double wetness, double gloss, const WetGroundLight& light, double eta) {
   const optics::WetFilm water = optics::wetFilm(eta);
   const double irradiance = rec709Luminance(light.irradiance);
   // The material is a region's, not a pixel's: the colour is taken over kMaterialPx around each
@@ -125,14 +128,7 @@ void wetGround(Image& image, const Camera& camera, const std::vector<float>& wei
       const size_t i = size_t(y) * size_t(image.width) + size_t(x);
       const double weight = wetness * weights[i];
       if (weight <= 0.0) continue;
-      const double r = reflectance[i];
-      std::array<float, 3> mirrored{0.0f, 0.0f, 0.0f};
-      if (gloss > 0.0) {
-        const Eigen::Vector3d view =
-            (camera.worldFromCamera * camera.rayCamera(x + 0.5, y + 0.5)).normalized();
-        mirrored = sampleEquirect(light.gloss, float(view.x()), float(std::abs(view.y())),
-                                  float(view.z()));
-      }
+      const double r = view.reflectance[i];
       float* rgb = image.pixel(x, y);
       const double film = gloss > 0.0 ? filmCoverage(local.ptr<float>(y) + size_t(x) * 4) : 0.0;
       // The albedo, pi Y / E of luminances: per channel it would take the environment's colour
@@ -145,7 +141,7 @@ void wetGround(Image& image, const Camera& camera, const std::vector<float>& wei
       const double ratio = optics::wetRadianceRatioAt(water, albedo, r);
       for (size_t c = 0; c < 3; ++c) {
         const double dry = std::max(0.0f, rgb[c]);
-        const double wet = dry * ratio + gloss * film * r * mirrored[c];
+        const double wet = dry * ratio + gloss * film * r * view.mirrored[i][c];
         rgb[c] = float(rgb[c] + weight * (wet - rgb[c]));
       }
     }

@@ -44,16 +44,19 @@ struct WetGroundLight {
   std::array<double, 3> irradiance{};  // levelIrradiance of the environment
 };
 
-// Fresnel's reflectance of the level film (index `eta`) along each pixel's view ray, where
-// weights[i] > 0 (else 0): what wetGround takes, made once per camera.
-std::vector<float> levelFilmReflectance(const Camera& camera, const std::vector<float>& weights,
-                                        double eta);
+// What the level film (index `eta`) shows along each pixel's view ray where weights[i] > 0:
+// Fresnel's reflectance there and the environment it mirrors (light.gloss), made once per camera.
+struct LevelFilmView {
+  std::vector<float> reflectance;              // per pixel; 0 where the weight is
+  std::vector<std::array<float, 3>> mirrored;  // per pixel
+};
+LevelFilmView levelFilmView(const Camera& camera, const std::vector<float>& weights,
+                            const WetGroundLight& light, double eta);
 
 // Wets `image` (RGB; alpha kept) by weight `wetness` * weights[i] (0..1 per pixel), the film's
-// mirror weighted by `gloss` (0..1; 0: the darkening alone); `reflectance`:
-// levelFilmReflectance of the same camera, weights and eta.
-void wetGround(Image& image, const Camera& camera, const std::vector<float>& weights,
-               const std::vector<float>& reflectance, double wetness, double gloss,
-               const WetGroundLight& light, double eta);
+// mirror weighted by `gloss` (0..1; 0: the darkening alone); `view`: levelFilmView of the same
+// camera, weights, light and eta.
+void wetGround(Image& image, const std::vector<float>& weights, const LevelFilmView& view,
+               double wetness, double gloss, const WetGroundLight& light, double eta);
 
 }  // namespace pluvia::rain

@@ -52,14 +52,13 @@ class WetGroundStage : public Stage {
     const std::vector<float>& weights = weightsFor(camera, *depth);
     GradingAov aov(frame.image, "wet_ground");
     const double gloss = guessBackdropMeters_ > 0.0 ? 0.0 : wet_.gloss;
-    rain::wetGround(frame.image, camera, weights, reflectance_, wet_.wetness, gloss, light_,
-                    optics::kWaterEta);
+    rain::wetGround(frame.image, weights, film_, wet_.wetness, gloss, light_, optics::kWaterEta);
     aov.finish(frame.image, weights);
   }
 
  private:
-  // The frame's wet weights and the film's reflectance per pixel, made again only when the depth
-  // or the camera changes (a locked-off camera over a static depth makes them once).
+  // The frame's wet weights and what the film shows per pixel, made again only when the depth or
+  // the camera changes (a locked-off camera over a static depth makes them once).
   const std::vector<float>& weightsFor(const Camera& camera, const std::vector<float>& depth) {
     const bool same =
         weightsDepth_.size() == depth.size() &&
@@ -74,7 +73,7 @@ class WetGroundStage : public Stage {
       for (size_t i = 0; i < weights_.size(); ++i)
         weights_[i] *= float(
             std::clamp(2.0 * (guessBackdropMeters_ - depth[i]) / guessBackdropMeters_, 0.0, 1.0));
-    reflectance_ = rain::levelFilmReflectance(camera, weights_, optics::kWaterEta);
+    film_ = rain::levelFilmView(camera, weights_, light_, optics::kWaterEta);
     weightsDepth_ = depth;
     weightsCamera_ = camera;
     return weights_;
@@ -85,7 +84,8 @@ class WetGroundStage : public Stage {
   bool leftOut_ = false;
   CameraPath path_;
   rain::WetGroundLight light_;
-  std::vector<float> weights_, reflectance_, weightsDepth_;
+  std::vector<float> weights_, weightsDepth_;
+  rain::LevelFilmView film_;
   Camera weightsCamera_;
 };
 

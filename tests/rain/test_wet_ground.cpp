@@ -115,8 +115,8 @@ TEST(WetGround, GreyGroundUnderAUniformSkyDarkensAndMirrorsItByHand) {
   for (size_t i = 0; i < image.pixelCount(); ++i)
     for (int c = 0; c < 3; ++c) image.rgba[i * 4 + c] = std::isfinite(depth[i]) ? ground : sky;
   const Image dry = image;
-  rain::wetGround(image, camera, weights, rain::levelFilmReflectance(camera, weights, kEta), 1.0,
-                  1.0, light, kEta);
+  rain::wetGround(image, weights, rain::levelFilmView(camera, weights, light, kEta), 1.0, 1.0,
+                  light, kEta);
   // By hand: Rbar for water 0.0664 (2 int R mu dmu, as tests/optics checks), p = 1 - (1 - Rbar) /
   // eta^2.
   const double rbar = 0.06641, p = 1.0 - (1.0 - rbar) / (kEta * kEta), albedo = 0.1;
@@ -140,8 +140,8 @@ TEST(WetGround, GreyGroundUnderAUniformSkyDarkensAndMirrorsItByHand) {
   EXPECT_GT(checked, 1000);
   // Wetness 0 leaves the plate exactly.
   Image again = dry;
-  rain::wetGround(again, camera, weights, rain::levelFilmReflectance(camera, weights, kEta), 0.0,
-                  1.0, light, kEta);
+  rain::wetGround(again, weights, rain::levelFilmView(camera, weights, light, kEta), 0.0, 1.0,
+                  light, kEta);
   EXPECT_EQ(again.rgba, dry.rgba);
 }
 
@@ -165,8 +165,8 @@ TEST(WetGround, GrassSoaksTheWaterInAndOnlyDarkens) {
   for (size_t i = 0; i < image.pixelCount(); ++i)
     for (int c = 0; c < 3; ++c) image.rgba[i * 4 + c] = grass[c];
   const Image dry = image;
-  rain::wetGround(image, camera, weights, rain::levelFilmReflectance(camera, weights, kEta), 1.0,
-                  1.0, light, kEta);
+  rain::wetGround(image, weights, rain::levelFilmView(camera, weights, light, kEta), 1.0, 1.0,
+                  light, kEta);
   for (size_t i = 0; i < image.pixelCount(); ++i)
     if (depth[i] < kResolvedMeters)
       for (int c = 0; c < 3; ++c) EXPECT_LT(image.rgba[i * 4 + c], 0.6f * dry.rgba[i * 4 + c]);
