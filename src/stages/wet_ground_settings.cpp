@@ -21,10 +21,12 @@ const SettingsTable<WetGroundSettings>& wetGroundTable() {
                                           "share of the ground under a film of water: 0 leaves "
                                           "it dry, 1 soaked")),
           bind(&S::gloss,
-               fractionParam("gloss", 1.0,
+               fractionParam("gloss", 0.0,
                              "the film's mirror of the environment, times Fresnel's reflectance "
-                             "(1) or less; none over the guessed depth (depth.source auto), which "
-                             "does not know what is ground: give depth.layers or a depth")),
+                             "(1) or less; 0 by default: the environment's sky is brighter than "
+                             "the plate's ground implies, and the mirror whitened paving and "
+                             "ghosted the people standing on it; none over the guessed depth "
+                             "(depth.source auto)")),
           bind(&S::maxTiltDeg, numberParam("max_tilt_deg", 30.0, {0.0, 90.0}, "deg",
                                            "surfaces tilted up to this from level are fully wet")),
           bind(&S::fadeDeg, numberParam("fade_deg", 15.0, {0.0, 90.0}, "deg",

@@ -8,9 +8,11 @@ namespace pluvia {
 
 struct WetGroundSettings {
   bool enabled = true;
-  bool overRain = false;     // also on a plate shot in rain, whose ground is wet already
-  double wetness = 1.0;      // share of the ground under a film: 0 dry, 1 soaked
-  double gloss = 1.0;        // the film's mirror: 1 Fresnel's, 0 none (never over a guessed depth)
+  bool overRain = false;  // also on a plate shot in rain, whose ground is wet already
+  double wetness = 1.0;   // share of the ground under a film: 0 dry, 1 soaked
+  // The film's mirror: 1 Fresnel's, 0 none (the default: see wet_ground_settings.cpp; never over a
+  // guessed depth).
+  double gloss = 0.0;
   double maxTiltDeg = 30.0;  // fully wet up to this tilt from level
   double fadeDeg = 15.0;     // and dry again this much steeper
 };
