@@ -10,8 +10,9 @@ const SettingsTable<WetGroundSettings>& wetGroundTable() {
       {.name = "wet_ground",
        .help = "The ground the rain falls on (from the depth plane: surfaces facing up), wet: "
                "darkened as a rough surface under a film of water is (Lekner and Dorf 1988) and "
-               "glossed with the environment it mirrors by Fresnel's reflectance; left out on a "
-               "plate shot in rain; what it changes is the \"wet_ground\" AOV.",
+               "(with wet_ground.gloss) glossed with the environment it mirrors by Fresnel's "
+               "reflectance; left out on a plate shot in rain; what it changes is the "
+               "\"wet_ground\" AOV.",
        .inputs = {"image", "depth", "environment", "camera", "plate_rain"},
        .outputs = {"image", "wet_ground"}},
       {
