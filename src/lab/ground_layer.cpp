@@ -5,17 +5,12 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "util/median.h"
+
 namespace pluvia::lab {
 namespace {
 
 constexpr int kMinAreaPx = 2, kMaxAreaPx = 400;
-
-double quantile(std::vector<double> values, double q) {
-  if (values.empty()) return 0.0;
-  const size_t k = std::min(values.size() - 1, size_t(q * double(values.size())));
-  std::nth_element(values.begin(), values.begin() + ptrdiff_t(k), values.end());
-  return values[k];
-}
 
 }  // namespace
 
@@ -62,8 +57,8 @@ GroundStats measureGroundLayers(const std::vector<cv::Mat1f>& layers) {
   stats.frames = int(layers.size());
   if (layers.empty()) return stats;
   stats.blobsPerMpx = blobsPerMpxSum / double(layers.size());
-  stats.areaP50Px = quantile(areas, 0.5);
-  stats.deltaP90 = quantile(deltas, 0.9);
+  stats.areaP50Px = quantileInPlace(areas, 0.5);
+  stats.deltaP90 = quantileInPlace(deltas, 0.9);
   const double share = counted ? double(continued) / double(counted) : 0.0;
   stats.lifetimeFrames = std::min(1.0 / std::max(1.0 - share, 1e-9), double(layers.size()));
   return stats;

@@ -8,6 +8,7 @@
 #include <Eigen/SVD>
 
 #include "util/error.h"
+#include "util/median.h"
 
 namespace pluvia::lab {
 namespace {
@@ -21,14 +22,6 @@ Eigen::Matrix3d projectToRotation(const Eigen::Matrix3d& m) {
   Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
   d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
   return svd.matrixU() * d * svd.matrixV().transpose();
-}
-
-// The q-quantile (0..1) of `values` (reordered), nearest rank; NaN when empty.
-double quantile(std::vector<float>& values, double q) {
-  if (values.empty()) return kNaN;
-  const size_t k = std::min(values.size() - 1, static_cast<size_t>(q * (values.size() - 1) + 0.5));
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
-  return values[k];
 }
 
 }  // namespace
@@ -124,8 +117,8 @@ DepthErrors DepthErrorAccumulator::result() const {
   DepthErrors errors;
   std::vector<float> values = relativeErrors_;
   errors.comparedPixels = values.size();
-  errors.medianRelativeError = quantile(values, 0.5);
-  errors.p90RelativeError = quantile(values, 0.9);
+  errors.medianRelativeError = quantileInPlace(values, 0.5);
+  errors.p90RelativeError = quantileInPlace(values, 0.9);
   errors.skyPixels = skyPixels_;
   errors.nonSkyPixels = nonSkyPixels_;
   errors.skyAsInfinityFraction =

@@ -1,6 +1,6 @@
 #pragma once
-// The one median: the middle value of an odd count, the mean of the two middle values of an even
-// one, NaN for none. nth_element, so linear time; the values are reordered.
+// The one median (and quantile): the middle value of an odd count, the mean of the two middle
+// values of an even one, NaN for none. nth_element, so linear time; the values are reordered.
 #include <algorithm>
 #include <cstddef>
 #include <limits>
@@ -33,6 +33,15 @@ T median5(T a, T b, T c, T d, T e) {
 template <class T>
 T median(std::vector<T> values) {
   return medianInPlace(values.data(), values.size());
+}
+
+// The q-quantile (0..1) of `values` (reordered), nearest rank q (n - 1) rounded; NaN when empty.
+template <class T>
+double quantileInPlace(std::vector<T>& values, double q) {
+  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const size_t k = std::min(values.size() - 1, static_cast<size_t>(q * (values.size() - 1) + 0.5));
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
+  return double(values[k]);
 }
 
 }  // namespace pluvia
