@@ -131,6 +131,7 @@ void addDerainCommand(CLI::App& app, Invocation& invocation) {
     if (cleanWriter->isMovie())
       throw UsageError(fmt::format("-o {}: write a sequence pattern, not a movie", args->clean));
     refuseOverwritingInput(clip.files, "-o", outputPaths(*cleanWriter, frames));
+    if (!args->report.empty()) refuseOverwritingInput(clip.files, "--report", {args->report});
     // Held to the end, as a render holds its output; the temporaries a killed derain left go.
     std::optional<OutputLock> cleanLock, matteLock;
     if (!frames.empty()) {

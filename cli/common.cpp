@@ -159,8 +159,8 @@ std::vector<std::string> RenderOutputOptions::renderArguments() const {
 }
 
 void protectNamedInputs(const CLI::App& app) {
-  static const std::set<std::string> kInputOptions = {"INPUT", "CLIP", "--env", "--hdr",
-                                                      "--preset"};
+  static const std::set<std::string> kInputOptions = {
+      "INPUT", "CLIP", "clips", "REFERENCE", "PRESET", "--env", "--hdr", "--lights", "--preset"};
   for (const CLI::App* command : app.get_subcommands()) {
     for (const CLI::Option* option : command->get_options())
       if (kInputOptions.count(option->get_name()) != 0) fs::protectInputs(option->results());
@@ -171,12 +171,19 @@ void protectNamedInputs(const CLI::App& app) {
 void refuseOverwritingInput(const std::vector<std::string>& inputFiles, const std::string& option,
                             const std::vector<std::string>& outputs) {
   fs::protectInputs(inputFiles);
-  for (const std::string& out : outputs)
+  for (const std::string& out : outputs) {
+    fs::claimOutput(out, option);
     for (const std::string& in : inputFiles)
       if (fs::samePath(out, in))
         throw UsageError(
             fmt::format("{} {} is the input file {}: refusing to overwrite it", option, out, in),
             {"write", {}, in});
+    // Any other input of the run: the preset, --lights, a file the preset names.
+    if (const std::string in = fs::protectedInputAt(out); !in.empty())
+      throw UsageError(
+          fmt::format("{} {} is the input file {}: refusing to overwrite it", option, out, in),
+          {"write", {}, in});
+  }
 }
 
 std::string findBesideInstall(const std::filesystem::path& relative) {

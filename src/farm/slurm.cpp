@@ -320,6 +320,7 @@ UnitState unitState(const std::string& id, const std::map<std::string, std::stri
     return unit;
   }
   if (stdfs::exists(record)) {
+    fs::requireRegularFile(record, "the task record");
     const std::string text = fs::readTextFile(record);
     std::istringstream fields(text);
     int code = -1;
@@ -371,6 +372,7 @@ FarmStatus slurmStatus(const std::string& farmDir) {
   if (!stdfs::exists(dir / "farm.json"))
     throw Error(fmt::format("{} holds no pluvia farm job (no farm.json)", farmDir),
                 {"farm", {}, farmDir});
+  fs::requireRegularFile(dir / "farm.json", "the farm job");
   const FarmJob job =
       farmJobFromJson(fs::readTextFile(dir / "farm.json"), (dir / "farm.json").string());
   if (!stdfs::exists(jobsPath))
@@ -380,6 +382,7 @@ FarmStatus slurmStatus(const std::string& farmDir) {
                 {"farm", {}, farmDir});
   SlurmJobIds ids;
   try {
+    fs::requireRegularFile(jobsPath, "the farm's job ids");
     const nlohmann::json json = nlohmann::json::parse(fs::readTextFile(jobsPath));
     ids = {json.at("prepare"), json.at("render"), json.at("assemble")};
   } catch (const std::exception& e) {

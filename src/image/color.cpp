@@ -16,6 +16,7 @@
 
 #include "util/error.h"
 #include "util/fs.h"
+#include "util/input_guard.h"
 #include "util/parallel.h"
 
 namespace OCIO = OCIO_NAMESPACE;
@@ -122,6 +123,10 @@ OCIO::ConstConfigRcPtr configFor(const std::string& given) {
   auto found = configs.find(configPath);
   if (found != configs.end()) return found->second;
   OCIO::ConstConfigRcPtr config;
+  if (!configPath.empty() && configPath.rfind("ocio://", 0) != 0) {
+    fs::requireRegularFile(configPath, "the OpenColorIO config");
+    fs::protectInputs({configPath});
+  }
   try {
     config = configPath.empty() ? buildBuiltinConfig()
                                 : OCIO::Config::CreateFromFile(configPath.c_str());
@@ -227,6 +232,7 @@ void refuseHostileLuts(const OCIO::ConstConfigRcPtr& config,
       throw Error("the LUT '" + std::string(file->getSrc()) + "' (" + path +
                       ") is not a regular file (a device, FIFO or folder)",
                   {"color", {}, configPath});
+    fs::protectInputs({path});
     const uintmax_t bytes = std::filesystem::file_size(path, error);
     if (!error && bytes > kMaxLutFileBytes)
       throw Error("the LUT '" + std::string(file->getSrc()) + "' (" + path + ") holds " +

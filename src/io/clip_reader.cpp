@@ -11,6 +11,7 @@
 #include "io/movie_reader.h"
 #include "io/sequence_pattern.h"
 #include "util/error.h"
+#include "util/input_guard.h"
 #include "util/interrupt.h"
 #include "util/log.h"
 
@@ -35,6 +36,7 @@ class ImageFilesReader final : public ClipReader {
                               inGap ? "is missing from" : "is not in", info_.path, path),
                   {"read", frame, path});
     }
+    fs::protectInputs({path});  // a frame read here is never written by this run
     Image image = readImageFile(path, frame);
     if (image.width != info_.width || image.height != info_.height) {
       throw Error(fmt::format("frame {} is {}x{} but the clip is {}x{} (from its first frame): {}",

@@ -13,6 +13,8 @@
 
 #include "image/image.h"
 #include "util/error.h"
+#include "util/fs.h"
+#include "util/input_guard.h"
 
 namespace pluvia {
 namespace {
@@ -77,6 +79,8 @@ DepthPlane readDepthFile(const std::string& path, const DepthDecoding& decoding,
   std::error_code ec;
   if (std::filesystem::is_regular_file(path, ec) && std::filesystem::file_size(path, ec) == 0)
     throw Error("depth file is empty (0 bytes): " + path, depthContext(path, frame));
+  fs::requireRegularFile(path, "the depth file");
+  fs::protectInputs({path});
   std::unique_ptr<OIIO::ImageInput> input = OIIO::ImageInput::open(path);
   if (!input)
     throw Error(fmt::format("cannot read depth file {}: {}", path, OIIO::geterror()),

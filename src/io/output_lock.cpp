@@ -118,7 +118,7 @@ int OutputLock::removeStaleTemporaries() const {
   for (const auto& entry : std::filesystem::directory_iterator(folder.empty() ? "." : folder, ec)) {
     const std::string name = entry.path().filename().string();
     const int64_t frame = frameOfTemporary(name, namePrefix);
-    if (frame < firstFrame_ || frame > lastFrame_ || !fs::isTemporaryOfDeadProcess(name)) continue;
+    if (frame < firstFrame_ || frame > lastFrame_ || !fs::isStaleTemporary(entry.path())) continue;
     std::error_code removeError;
     removed += std::filesystem::remove(entry.path(), removeError) ? 1 : 0;
   }

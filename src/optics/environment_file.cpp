@@ -7,11 +7,13 @@
 
 #include "io/image_file_reader.h"
 #include "util/error.h"
+#include "util/input_guard.h"
 
 namespace pluvia::optics {
 
 EquirectMap loadEnvironment(const std::string& path) {
   const ErrorContext context{"environment", {}, path};
+  fs::protectInputs({path});
   const Image image = readImageFile(path, std::nullopt);
   if (image.width != 2 * image.height) {
     throw Error(

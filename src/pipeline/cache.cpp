@@ -70,6 +70,11 @@ std::optional<ArtifactCache::Blob> ArtifactCache::loadBlob(const std::string& st
   const std::filesystem::path path = blobPathOf(pathFor(stage, key));
   try {
     const size_t size = entry->at("bytes").get<size_t>();
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) {  // a FIFO would block the read
+      log::warning("ignoring cache entry " + path.string() + ": not a regular file");
+      return std::nullopt;
+    }
     std::ifstream in(path, std::ios::binary);
     Blob blob{entry->at("header"), std::string(size, '\0')};
     if (!in.read(blob.bytes.data(), std::streamsize(size)) || in.peek() != EOF) {

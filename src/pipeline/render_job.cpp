@@ -94,21 +94,51 @@ std::vector<int64_t> selectFrames(const RenderRequest& request, const ClipInfo& 
   return frames;
 }
 
+// Registers with fs::protectInputs every file a preset's value names (lighting.hdr, depth.file
+// and its frames, depth.colmap_model's files, derain.input, rain.strokes, color.config): each is
+// read by a stage only once the render runs, and the outputs are checked before that. A string
+// that names no file protects nothing.
+void protectFilesNamedIn(const nlohmann::json& value) {
+  if (value.is_object() || value.is_array()) {
+    for (const nlohmann::json& item : value) protectFilesNamedIn(item);
+    return;
+  }
+  if (!value.is_string()) return;
+  const std::string text = value.get<std::string>();
+  std::error_code ec;
+  if (text.empty() || text.size() > 4096) return;
+  if (std::filesystem::is_directory(text, ec)) {  // a COLMAP model's folder
+    std::vector<std::string> files;
+    for (const auto& entry : std::filesystem::directory_iterator(text, ec))
+      if (entry.is_regular_file(ec)) files.push_back(entry.path().string());
+    fs::protectInputs(files);
+  } else if (std::filesystem::exists(text, ec)) {
+    fs::protectInputs({text});
+  } else if (std::optional<SequencePattern> pattern = SequencePattern::parse(text)) {
+    std::vector<std::string> files;
+    for (const int64_t frame : pattern->existingFrames()) files.push_back(pattern->pathFor(frame));
+    fs::protectInputs(files);
+  }
+}
+
 // Refuses any file the render would write (the beauty, an AOV's own file) that is one of the
-// input files: the original plate is never touched. The inputs are also registered with
-// fs::protectInputs, which every later write (reports, the log) checks.
+// input files: the original plate is never touched, nor a file the preset names. The inputs are
+// also registered with fs::protectInputs, which every later write (reports, the log) checks.
 void refuseOverwritingInput(const ClipInfo& clip, const RenderRequest& request,
-                            const std::vector<int64_t>& frames) {
+                            const Preset& preset, const std::vector<int64_t>& frames) {
   std::set<std::string> inputs(clip.files.begin(), clip.files.end());
   inputs.insert(clip.path);
   fs::protectInputs({inputs.begin(), inputs.end()});
+  protectFilesNamedIn(preset.json());
   const bool oneFile = !request.output.isSequence();
   for (const int64_t frame : oneFile ? std::vector<int64_t>{frames.front()} : frames) {
     for (const std::string& out : framePaths(request.output, request.aovs, frame)) {
+      fs::claimOutput(out, "-o");
+      fs::refuseSpecialTarget(out);
       const std::string in = fs::protectedInputAt(out);
       if (!in.empty())
         throw UsageError(
-            fmt::format("output {} is the input file {}: refusing to overwrite the plate", out, in),
+            fmt::format("output {} is the input file {}: refusing to overwrite it", out, in),
             {"write", {}, in});
     }
   }
@@ -166,9 +196,10 @@ std::unique_ptr<ClipReader> openInput(const RenderRequest& request) {
 }
 
 // The frames to render; an output that names an input file is refused before any work.
-std::vector<int64_t> framesToRender(const RenderRequest& request, const ClipInfo& clip) {
+std::vector<int64_t> framesToRender(const RenderRequest& request, const ClipInfo& clip,
+                                    const Preset& preset) {
   std::vector<int64_t> frames = selectFrames(request, clip);
-  refuseOverwritingInput(clip, request, frames);
+  refuseOverwritingInput(clip, request, preset, frames);
   refuseNamesTooLongToWrite(request, frames.back());
   if (request.output.isMovie()) {
     WriterOptions options = request.format;
@@ -229,7 +260,7 @@ std::string configIdentity(const ColorSettings& color) {
   Hasher config;
   config.add(describeConfig(color.configPath));
   const std::string configFile = chosenConfigPath(color.configPath);
-  if (!configFile.empty()) config.add(fs::readTextFile(configFile));
+  if (!configFile.empty()) config.add(fs::readInputText(configFile, "the OpenColorIO config"));
   return config.hex();
 }
 
@@ -355,7 +386,7 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
       stageInfos_(stages),
       times_(times),
       reader_(openInput(request)),
-      frames_(framesToRender(request, clip())),
+      frames_(framesToRender(request, clip(), preset)),
       cache_(openCache(request, clip())),
       framesKey_(cache_ ? workingFramesKey(preset, clip()) : ""),
       plan_(makePlan(preset, clip(), cache_ ? &*cache_ : nullptr, framesKey_, stages)),

@@ -68,7 +68,7 @@ json loadWithExtends(const stdfs::path& file, std::vector<std::string>& chain) {
   chain.push_back(canonical);
   std::string text;
   try {
-    text = fs::readTextFile(file);
+    text = fs::readInputText(file, "the preset");
   } catch (const Error& e) {
     throw PresetError(file.string(), {e.what()});
   }

@@ -11,6 +11,7 @@
 #include "util/error.h"
 #include "util/executable.h"
 #include "util/fs.h"
+#include "util/input_guard.h"
 
 namespace pluvia::rain {
 namespace {
@@ -135,7 +136,7 @@ StrokeLibrary loadStrokeLibrary(const std::string& jsonPath) {
   if (!stdfs::is_regular_file(json)) throw libraryError(jsonPath, "no such file");
   nlohmann::json doc;
   try {
-    doc = nlohmann::json::parse(fs::readTextFile(json));
+    doc = nlohmann::json::parse(fs::readInputText(json, "the stroke library"));
   } catch (const nlohmann::json::parse_error& e) {
     // The position only: the parser's message quotes the file, which may be any file at all.
     throw libraryError(jsonPath, fmt::format("not valid JSON (at byte {})", e.byte));
@@ -192,6 +193,7 @@ StrokeLibrary loadStrokeLibrary(const std::string& jsonPath) {
   }
   cv::Mat image;
   try {
+    fs::protectInputs({png.string()});
     image = cv::imread(png.string(), cv::IMREAD_UNCHANGED);
   } catch (const cv::Exception&) {
     image = cv::Mat();

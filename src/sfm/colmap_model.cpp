@@ -199,7 +199,7 @@ ColmapModel readColmapTextModel(const std::filesystem::path& folder) {
     std::filesystem::path path = folder / name;
     if (!std::filesystem::exists(path))
       throw Error("COLMAP model file missing: " + path.string(), {kStage, std::nullopt, path});
-    return fs::readTextFile(path);
+    return fs::readInputText(path, "the COLMAP model file");
   };
   parseColmapCameras(read("cameras.txt"), (folder / "cameras.txt").string(), model);
   parseColmapImages(read("images.txt"), (folder / "images.txt").string(), model);

@@ -7,6 +7,8 @@
 #include <limits>
 
 #include "util/error.h"
+#include "util/fs.h"
+#include "util/input_guard.h"
 
 namespace pluvia::sfm {
 namespace {
@@ -38,6 +40,8 @@ long headerField(std::istream& in, const std::filesystem::path& path, const char
 
 ColmapArray readColmapArray(const std::filesystem::path& path) {
   if (!littleEndianHost()) fail(path, "reading needs a little-endian host");
+  fs::requireRegularFile(path, "the COLMAP depth map");
+  fs::protectInputs({path.string()});
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open");
   ColmapArray array;

@@ -11,6 +11,7 @@
 
 #include "util/error.h"
 #include "util/fs.h"
+#include "util/input_guard.h"
 #include "util/log.h"
 
 namespace pluvia {
@@ -54,6 +55,8 @@ std::string thisHostName() {
 std::optional<FileRangeLock> FileRangeLock::tryLock(const std::string& path, off_t start,
                                                     off_t length, LockConflict* conflict) {
   fs::ensureParentFolder(path, fs::MakeFolders::All);
+  // The lock's bytes are written and the file removed by its last holder: never an input.
+  fs::refuseWritingInput(path);
   while (true) {
     // Never through a link: a lock file that is a symlink (or a second name of another file)
     // would have its target's bytes overwritten by the holder's pid and host.

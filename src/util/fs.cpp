@@ -30,10 +30,24 @@ stdfs::path temporaryPathFor(const stdfs::path& target, size_t reserveBytes) {
   return target.parent_path() / (stem + tail);
 }
 
+void refuseSpecialTarget(const stdfs::path& target) {
+  std::error_code ec;
+  const stdfs::file_status status = stdfs::status(target, ec);
+  if (!stdfs::exists(status) || stdfs::is_regular_file(status)) return;
+  throw UsageError(target.string() + " is " +
+                       (stdfs::is_directory(status) ? "a folder"
+                        : stdfs::is_fifo(status)    ? "a FIFO"
+                                                    : "a device or socket") +
+                       ", not a file: pluvia writes its images and movies to files, and would "
+                       "replace it",
+                   {"write", {}, target.string()});
+}
+
 void commitTemporary(const stdfs::path& tmp, const stdfs::path& target) {
   std::error_code ec;
   try {
     refuseWritingInput(target);
+    refuseSpecialTarget(target);
   } catch (const Error&) {
     stdfs::remove(tmp, ec);
     throw;
@@ -48,23 +62,37 @@ void commitTemporary(const stdfs::path& tmp, const stdfs::path& target) {
 
 namespace {
 
+// Writes all `size` bytes to `fd`; 0 or the errno of the failure.
+int writeAll(int fd, const char* bytes, size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::write(fd, bytes, size);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return n < 0 ? errno : EIO;
+    bytes += n;
+    size -= static_cast<size_t>(n);
+  }
+  return 0;
+}
+
 // Writes, flushes and closes; returns 0 or the errno of the first step that failed.
 int writeWholeFile(const stdfs::path& path, const char* bytes, size_t size) {
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) return errno;
-  int failure = 0;
-  while (size > 0 && failure == 0) {
-    const ssize_t n = ::write(fd, bytes, size);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      failure = n < 0 ? errno : EIO;
-      break;
-    }
-    bytes += n;
-    size -= static_cast<size_t>(n);
-  }
+  int failure = writeAll(fd, bytes, size);
   // A full disk may only show when the data is flushed, or on close (NFS).
   if (failure == 0 && ::fdatasync(fd) != 0) failure = errno;
+  if (::close(fd) != 0 && failure == 0) failure = errno;
+  return failure;
+}
+
+// Writes through to a FIFO or a character device (`--csv /dev/stdout`, `>(sort)`, /dev/null)
+// rather than replacing it by a file; 0 or the errno of the failure (ENXIO: a FIFO nobody
+// reads, which would block the run; ENOSPC: /dev/full).
+int writeThrough(const stdfs::path& target, const char* bytes, size_t size) {
+  const int fd = ::open(target.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return errno;
+  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);  // a reader is there: wait for it
+  int failure = writeAll(fd, bytes, size);
   if (::close(fd) != 0 && failure == 0) failure = errno;
   return failure;
 }
@@ -73,6 +101,20 @@ int writeWholeFile(const stdfs::path& path, const char* bytes, size_t size) {
 
 void writeFileAtomically(const stdfs::path& target, const void* bytes, size_t size) {
   refuseWritingInput(target);
+  std::error_code ec;
+  const stdfs::file_status status = stdfs::status(target, ec);
+  if (stdfs::is_fifo(status) || stdfs::is_character_file(status)) {
+    if (const int failure = writeThrough(target, static_cast<const char*>(bytes), size))
+      throw Error("cannot write " + target.string() + ": " + std::strerror(failure) +
+                      (failure == ENXIO ? " (a FIFO no process reads)" : ""),
+                  {"write", {}, target.string()});
+    return;
+  }
+  if (stdfs::exists(status) && !stdfs::is_regular_file(status))
+    throw UsageError(target.string() +
+                         " is a folder, a socket or a block device, not a file: "
+                         "refusing to replace it",
+                     {"write", {}, target.string()});
   const stdfs::path tmp = temporaryPathFor(target);
   int failure = writeWholeFile(tmp, static_cast<const char*>(bytes), size);
   struct stat written {};
@@ -88,7 +130,8 @@ void writeFileAtomically(const stdfs::path& target, const void* bytes, size_t si
   commitTemporary(tmp, target);
 }
 
-bool isTemporaryOfDeadProcess(const std::string& name) {
+bool isStaleTemporary(const stdfs::path& path) {
+  const std::string name = path.filename().string();
   const std::string marker = ".pluvia-tmp-";
   const size_t at = name.find(marker);
   if (at == std::string::npos) return false;
@@ -98,7 +141,9 @@ bool isTemporaryOfDeadProcess(const std::string& name) {
   if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos)
     return false;
   // ESRCH: no such process. EPERM means it runs (as another user): keep its files.
-  return ::kill(static_cast<pid_t>(std::stol(pid)), 0) != 0 && errno == ESRCH;
+  if (::kill(static_cast<pid_t>(std::stol(pid)), 0) == 0 || errno != ESRCH) return false;
+  // A plate frame may be named like a temporary (r.0001.pluvia-tmp-999999-0.png): kept.
+  return protectedInputAt(path).empty();
 }
 
 int removeStaleTemporaries(const stdfs::path& folder, const std::string& namePrefix) {
@@ -106,7 +151,7 @@ int removeStaleTemporaries(const stdfs::path& folder, const std::string& namePre
   std::error_code ec;
   for (const auto& entry : stdfs::directory_iterator(folder.empty() ? "." : folder, ec)) {
     const std::string name = entry.path().filename().string();
-    if (name.rfind(namePrefix, 0) != 0 || !isTemporaryOfDeadProcess(name)) continue;
+    if (name.rfind(namePrefix, 0) != 0 || !isStaleTemporary(entry.path())) continue;
     std::error_code removeError;
     removed += stdfs::remove(entry.path(), removeError) ? 1 : 0;
   }
@@ -147,6 +192,24 @@ std::string readTextFile(const stdfs::path& path) {
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
+}
+
+void requireRegularFile(const stdfs::path& path, const std::string& what) {
+  std::error_code ec;
+  const stdfs::file_status status = stdfs::status(path, ec);
+  if (!stdfs::exists(status) || stdfs::is_regular_file(status)) return;
+  const char* kind = stdfs::is_fifo(status)        ? "a FIFO"
+                     : stdfs::is_directory(status) ? "a folder"
+                     : stdfs::is_socket(status)    ? "a socket"
+                                                   : "a device";
+  throw Error(what + " " + path.string() + " is " + kind + ", not a file: refusing to read it",
+              {"read", {}, path.string()});
+}
+
+std::string readInputText(const stdfs::path& path, const std::string& what) {
+  requireRegularFile(path, what);
+  protectInputs({path.string()});
+  return readTextFile(path);
 }
 
 void writeTextFile(const stdfs::path& path, const std::string& text) {

@@ -16,24 +16,31 @@ constexpr size_t kNameMaxBytes = 255;
 std::filesystem::path temporaryPathFor(const std::filesystem::path& target,
                                        size_t reserveBytes = 0);
 
-// Renames tmp over target atomically; removes tmp and throws pluvia::Error on failure.
+// Throws pluvia::UsageError when `target` exists and is no regular file (a device, a FIFO, a
+// folder): renaming a finished image or movie over it would replace it.
+void refuseSpecialTarget(const std::filesystem::path& target);
+
+// Renames tmp over target atomically (refuseWritingInput, refuseSpecialTarget first); removes
+// tmp and throws pluvia::Error on failure.
 void commitTemporary(const std::filesystem::path& tmp, const std::filesystem::path& target);
 
 // Writes `size` bytes to a temporary file beside `target`, flushes them to the disk
 // (fdatasync), closes the file and checks that it holds exactly `size` bytes before renaming it
 // over `target`. A full disk (ENOSPC), a file size limit (EFBIG) or an I/O error at any step
 // removes the temporary and throws pluvia::Error naming `target` and the reason, so a file
-// under the target's name is always whole.
+// under the target's name is always whole. A FIFO or a character device (/dev/stdout, /dev/null)
+// is written through instead, its errors said the same way; a folder or socket is refused.
 void writeFileAtomically(const std::filesystem::path& target, const void* bytes, size_t size);
 
-// True when `name` is a temporary (see temporaryPathFor) whose process, by the pid in its name,
-// runs no process here (crashed, killed by SIGKILL; or it ran on another host).
-bool isTemporaryOfDeadProcess(const std::string& name);
+// True when the file at `path` is a temporary (see temporaryPathFor) whose process, by the pid
+// in its name, runs no process here (crashed, killed by SIGKILL; or it ran on another host), and
+// is no input of this run (input_guard.h) that happens to be named like one.
+bool isStaleTemporary(const std::filesystem::path& path);
 
 // Removes the temporaries in `folder` whose names start with `namePrefix` (one output's files:
 // "o." for o.####.exr) and whose process is gone (the pid in their name, see temporaryPathFor,
 // runs no process here: a render killed by SIGKILL or a crash), with a movie temporary's ffmpeg
-// log. Returns how many files were removed.
+// log (isStaleTemporary). Returns how many files were removed.
 int removeStaleTemporaries(const std::filesystem::path& folder, const std::string& namePrefix);
 
 // How much of a missing folder ensureParentFolder may make. An output's folder is made only when
@@ -49,6 +56,14 @@ void ensureParentFolder(const std::filesystem::path& file, MakeFolders make);
 bool samePath(const std::filesystem::path& a, const std::filesystem::path& b);
 
 std::string readTextFile(const std::filesystem::path& path);
+// Throws pluvia::Error when `path` exists but is no regular file: reading a FIFO blocks until a
+// writer comes, a device (/dev/zero) never ends, a folder is no file. `what` names the file in
+// the message ("the OpenColorIO config").
+void requireRegularFile(const std::filesystem::path& path, const std::string& what);
+// readTextFile for a file the run reads as its input (a preset, a COLMAP model, a stroke
+// library): requireRegularFile, then registered with protectInputs (input_guard.h), so that no
+// output, report or log of the run is written over it.
+std::string readInputText(const std::filesystem::path& path, const std::string& what);
 // Atomic text write (temporary + rename).
 void writeTextFile(const std::filesystem::path& path, const std::string& text);
 

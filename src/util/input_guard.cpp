@@ -15,7 +15,8 @@ namespace {
 using FileId = std::pair<dev_t, ino_t>;
 
 std::mutex gMutex;
-std::map<FileId, std::string> gInputs;  // file id -> the path it was read by
+std::map<FileId, std::string> gInputs;        // file id -> the path it was read by
+std::map<std::string, std::string> gOutputs;  // canonical path -> the option that writes it
 
 }  // namespace
 
@@ -40,6 +41,18 @@ std::string protectedInputAt(const std::filesystem::path& target) {
   std::lock_guard lock(gMutex);
   auto found = gInputs.find({info.st_dev, info.st_ino});
   return found == gInputs.end() ? "" : found->second;
+}
+
+void claimOutput(const std::filesystem::path& target, const std::string& option) {
+  std::error_code ec;
+  std::filesystem::path canonical = std::filesystem::weakly_canonical(target, ec);
+  if (ec) canonical = std::filesystem::absolute(target, ec).lexically_normal();
+  std::lock_guard lock(gMutex);
+  const auto [at, added] = gOutputs.emplace(canonical.string(), option);
+  if (added || at->second == option) return;
+  throw UsageError(target.string() + " would be written twice by this run, as " + at->second +
+                       " and as " + option + ": one would be lost; give them different names",
+                   {"write", {}, target.string()});
 }
 
 void refuseWritingInput(const std::filesystem::path& target) {

@@ -21,4 +21,10 @@ std::string protectedInputAt(const std::filesystem::path& target);
 // change an input file.
 void refuseWritingInput(const std::filesystem::path& target);
 
+// Records `target` as a file this run writes under `option` ("-o", "--report", "--log"), and
+// throws pluvia::UsageError when another option of the run already writes it (`--log
+// o/r.0002.png` beside `-o o/r.####.png`): one of the two would be lost. Paths are compared
+// after making them absolute and resolving links, so two spellings of one file collide.
+void claimOutput(const std::filesystem::path& target, const std::string& option);
+
 }  // namespace pluvia::fs

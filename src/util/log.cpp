@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -33,24 +34,41 @@ void fileWriteFailed() {
                std::strerror(code));
   std::fflush(stderr);
 }
-// The log is appended to: a file holding NUL bytes (an image, a movie, an archive) is no text
-// log, and appending would damage it (`--log plate.0002.png`).
-void refuseBinaryFile(const std::string& path) {
+// Whether `text` starts as every line of a pluvia log does: "YYYY-MM-DD HH:MM:SS pluvia: ".
+bool startsAsLogLine(const char* text, size_t size) {
+  static constexpr char kShape[] = "0000-00-00 00:00:00 pluvia: ";
+  const size_t length = sizeof kShape - 1;
+  if (size < length) return false;
+  for (size_t i = 0; i < length; ++i) {
+    const bool digit = kShape[i] == '0';
+    if (digit ? !std::isdigit(static_cast<unsigned char>(text[i])) : text[i] != kShape[i])
+      return false;
+  }
+  return true;
+}
+
+// The log is appended to: an existing file that is not a pluvia log (an image, a colour
+// config, a LUT, a COLMAP model, any text of the user's) would be damaged by it, whether or not
+// the run has read it yet (`--log plate.0002.png`, `--log config.ocio`).
+void refuseFileNotALog(const std::string& path) {
   struct stat info {};
   if (::stat(path.c_str(), &info) != 0 || !S_ISREG(info.st_mode)) return;  // new, a device, a pipe
+  if (info.st_size == 0) return;
   std::FILE* existing = std::fopen(path.c_str(), "rb");
   if (!existing) return;
-  char head[65536];
+  char head[64];
   const size_t n = std::fread(head, 1, sizeof head, existing);
   std::fclose(existing);
-  if (std::memchr(head, '\0', n))
-    throw UsageError(
-        "--log " + path + " is not a text log (it holds binary data): refusing to append to it",
-        {"write", {}, path});
+  if (!startsAsLogLine(head, n))
+    throw UsageError("--log " + path +
+                         " is not a pluvia log (its first line is no log line): refusing to "
+                         "append to it; name a new file",
+                     {"write", {}, path});
 }
 
 const bool gTerminal = isatty(fileno(stderr)) != 0;
 
+// Every line of the file is stamped, progress lines too (refuseFileNotALog knows a log by it).
 void toFile(const char* tag, const std::string& message) {
   if (!gFile) return;
   char stamp[32];
@@ -64,12 +82,17 @@ void toFile(const char* tag, const std::string& message) {
 }
 
 // Control characters from names, tags and preset values are shown escaped: an escape sequence
-// must not drive the terminal (util/printable.h).
-void emit(const char* tag, const std::string& message) {
+// must not drive the terminal (util/printable.h). -q quiets the terminal, never the log file:
+// it gets every message at `level` up to Info, and debug messages with -v.
+void emit(Level level, const char* tag, const std::string& message) {
+  const bool terminal = gLevel >= level;
+  if (!terminal && level > Level::Info) return;
   const std::string shown = printable(message, /*keepLines=*/true);
   std::lock_guard lock(gMutex);
-  std::fprintf(stderr, "pluvia: %s%s\n", tag, shown.c_str());
-  std::fflush(stderr);
+  if (terminal) {
+    std::fprintf(stderr, "pluvia: %s%s\n", tag, shown.c_str());
+    std::fflush(stderr);
+  }
   toFile(tag, shown);
 }
 }  // namespace
@@ -87,7 +110,8 @@ void setFile(const std::string& path) {
   gFile = nullptr;
   if (path.empty()) return;
   fs::refuseWritingInput(path);
-  refuseBinaryFile(path);
+  fs::claimOutput(path, "--log");
+  refuseFileNotALog(path);
   gFilePath = path;
   gFileFailed = false;
   gFile = std::fopen(path.c_str(), "a");
@@ -107,30 +131,29 @@ bool fileFailed() {
 }
 
 void warning(const std::string& m) {
-  if (gLevel >= Level::Warning) emit("warning: ", m);
+  emit(Level::Warning, "warning: ", m);
 }
 void info(const std::string& m) {
-  if (gLevel >= Level::Info) emit("", m);
+  emit(Level::Info, "", m);
 }
 void debug(const std::string& m) {
-  if (gLevel >= Level::Debug) emit("debug: ", m);
+  emit(Level::Debug, "debug: ", m);
 }
 void error(const std::string& m) {
-  emit("error: ", m);
+  emit(Level::Quiet, "error: ", m);
 }
 
 void progress(const std::string& line, const std::string& terminalText, bool lastStep) {
-  if (gLevel < Level::Info) return;
   std::lock_guard lock(gMutex);
-  if (gTerminal) {
-    std::fprintf(stderr, "\r%s%s", terminalText.c_str(), lastStep ? "\n" : "");
-  } else if (!line.empty()) {
-    std::fprintf(stderr, "%s\n", line.c_str());
+  if (gLevel >= Level::Info) {
+    if (gTerminal) {
+      std::fprintf(stderr, "\r%s%s", terminalText.c_str(), lastStep ? "\n" : "");
+    } else if (!line.empty()) {
+      std::fprintf(stderr, "%s\n", line.c_str());
+    }
+    std::fflush(stderr);
   }
-  std::fflush(stderr);
-  if (gFile && !line.empty() &&
-      (std::fprintf(gFile, "%s\n", line.c_str()) < 0 || std::fflush(gFile) != 0))
-    fileWriteFailed();
+  if (!line.empty()) toFile("", line);
 }
 
 }  // namespace pluvia::log

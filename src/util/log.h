@@ -9,8 +9,9 @@ enum class Level { Quiet = 0, Warning = 1, Info = 2, Debug = 3 };
 
 void setLevel(Level level);
 Level level();
-// Appends every line from now on to `path` too (created when missing). Throws pluvia::Error
-// naming the file when it cannot be opened. "" stops.
+// Appends every line from now on to `path` too (created when missing), whatever the level: -q
+// quiets the terminal, not the file. Throws pluvia::Error naming the file when it cannot be
+// opened, and pluvia::UsageError when it exists and is no pluvia log. "" stops.
 void setFile(const std::string& path);
 // Whether a write to that file failed (it was then closed, with a warning on stderr).
 bool fileFailed();

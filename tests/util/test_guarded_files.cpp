@@ -57,14 +57,23 @@ TEST(GuardedFiles, AProtectedInputIsNeverWrittenByAnyOfItsNames) {
   EXPECT_THROW(log::setFile((dir / "hard.png").string()), UsageError);
 }
 
-TEST(GuardedFiles, TheLogRefusesABinaryFile) {
+TEST(GuardedFiles, TheLogAppendsOnlyToAPluviaLog) {
   const stdfs::path dir = freshTempDir("guard_log");
   const stdfs::path image = writeTextFile(dir, "frame.exr", std::string("v/1\x01\0\0\0", 7));
   EXPECT_THROW(log::setFile(image.string()), UsageError);
   EXPECT_EQ(fs::readTextFile(image).size(), 7u);
-  const stdfs::path text = writeTextFile(dir, "run.log", "earlier run\n");
-  EXPECT_NO_THROW(log::setFile(text.string()));
+  // Text that is no log (a colour config, a LUT, a COLMAP model) is refused too.
+  const stdfs::path text = writeTextFile(dir, "notes.txt", "earlier notes\n");
+  EXPECT_THROW(log::setFile(text.string()), UsageError);
+  EXPECT_EQ(fs::readTextFile(text), "earlier notes\n");
+  const stdfs::path earlier =
+      writeTextFile(dir, "run.log", "2026-12-01 10:00:00 pluvia: an earlier run\n");
+  EXPECT_NO_THROW(log::setFile(earlier.string()));
+  log::info("this run");
   log::setFile("");
+  const std::string logged = fs::readTextFile(earlier);
+  EXPECT_EQ(logged.rfind("2026-12-01 10:00:00 pluvia: an earlier run\n", 0), 0u) << logged;
+  EXPECT_NE(logged.find(" pluvia: this run\n"), std::string::npos) << logged;
 }
 
 TEST(GuardedFiles, ControlCharactersAreShownEscaped) {
