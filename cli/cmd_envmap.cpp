@@ -62,7 +62,8 @@ void addEnvmapCommand(CLI::App& app, Invocation& invocation) {
     settings.motion = *envmap::stitchMotionNamed(args->motion);
     if (!args->lights.empty())
       settings.lights = envmap::parseLights(
-          nlohmann::json::parse(fs::readInputText(args->lights, "the lights file"), nullptr, false), args->lights);
+          nlohmann::json::parse(fs::readInputText(args->lights, "the lights file"), nullptr, false),
+          args->lights);
     envmap::ClipEnvironment environment;
     std::vector<int64_t> frames;
     const OutputTarget panorama = OutputTarget::classify(args->panorama);
