@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "io/movie_index.h"
 #include "io/sequence_pattern.h"
 #include "io/ycbcr_frame.h"
 #include "util/log.h"
@@ -207,6 +208,12 @@ class MovieWriter final : public ClipWriter {
       throw Error("ffmpeg is needed to write the movie " + path + " but is not on PATH",
                   {"write", {}, path});
     }
+    if (encodedWidth_ != width || encodedHeight_ != height)
+      log::warning(fmt::format(
+          "{}x{} frames are written as {}x{} into {}: {} shares chroma between pixel pairs, "
+          "so its frames have even sizes (the last column or row repeated); a 4:4:4 codec or an "
+          "image sequence keeps the plate's size",
+          width, height, encodedWidth_, encodedHeight_, path, codec_.name));
     const MovieCodec& codec = codec_;
     std::vector<std::string> argv{"ffmpeg",   "-y",
                                   "-v",       "error",
@@ -299,6 +306,12 @@ class MovieWriter final : public ClipWriter {
     if (code != 0) {
       throw Error(fmt::format("ffmpeg failed (exit code {}) encoding {}:{}", code, path_,
                               lastLines(log_, kLogLinesInErrors)),
+                  context);
+    }
+    // ffmpeg may exit 0 with the index unwritten (a full disk): the file is checked itself.
+    if (const std::string problem = movieIndexProblem(tmp_.string()); !problem.empty()) {
+      removeTemporaries();
+      throw Error(fmt::format("ffmpeg finished {} but the movie is not whole: {}", path_, problem),
                   context);
     }
     fs::commitTemporary(tmp_, path_);

@@ -1,5 +1,6 @@
 #include "io/written_frame.h"
 
+#include <cstdio>
 #include <filesystem>
 #include <memory>
 
@@ -8,6 +9,7 @@
 
 #include "io/clip_reader.h"
 #include "io/image_file_reader.h"
+#include "io/movie_index.h"
 #include "io/sequence_pattern.h"
 #include "util/error.h"
 
@@ -74,11 +76,20 @@ std::string reasonToRenderAgain(const std::string& path,
   return "";
 }
 
-std::string reasonToRenderMovieAgain(const std::string& path, size_t frames) {
+std::string reasonToRenderMovieAgain(const std::string& path, size_t frames,
+                                     const std::string& size) {
+  if (const std::string problem = movieIndexProblem(path); !problem.empty())
+    return "the movie is not whole: " + problem;
   try {
-    const size_t held = openClip(path)->info().frames.size();
-    if (held != frames)
-      return "it holds " + std::to_string(held) + " frames, this render makes " +
+    const ClipInfo info = openClip(path)->info();
+    // A codec that shares chroma between pixel pairs pads an odd size by one (movie_writer.cpp).
+    const std::string held = fmt::format("{}x{}", info.width, info.height);
+    int width = 0, height = 0;
+    std::sscanf(size.c_str(), "%dx%d", &width, &height);
+    const bool padded = info.width == width + width % 2 && info.height == height + height % 2;
+    if (held != size && !padded) return "it is " + held + ", this render makes " + size;
+    if (info.frames.size() != frames)
+      return "it holds " + std::to_string(info.frames.size()) + " frames, this render makes " +
              std::to_string(frames);
   } catch (const Error&) {
     return "the movie does not decode (empty, truncated or corrupt)";

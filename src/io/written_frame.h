@@ -21,8 +21,10 @@ extern const char* const kResumeIdentityKeys[8];
 std::string reasonToRenderAgain(const std::string& path,
                                 const std::map<std::string, std::string>& metadata);
 
-// The same for a movie a previous run left: it must open and hold `frames` frames (its preset
-// is not checked: the hash sits in a comment that OpenCV does not read).
-std::string reasonToRenderMovieAgain(const std::string& path, size_t frames);
+// The same for a movie a previous run left: it must be whole (io/movie_index.h), open, be
+// `size` ("WIDTHxHEIGHT", the output's; a proxy's movie is not the final's) and hold `frames`
+// frames (its preset is not checked: the hash sits in a comment that OpenCV does not read).
+std::string reasonToRenderMovieAgain(const std::string& path, size_t frames,
+                                     const std::string& size);
 
 }  // namespace pluvia

@@ -600,7 +600,8 @@ RenderSummary renderJob(const RenderRequest& request, const Preset& preset,
   std::vector<int64_t> frames = session.frames();
   if (request.skipExisting) {
     FramesToRender todo =
-        framesStillToRender(request.output, frames, session.writerOptions().metadata, request.aovs);
+        framesStillToRender(request.output, frames, session.writerOptions().metadata, request.aovs,
+                            fmt::format("{}x{}", session.clip().width, session.clip().height));
     summary.framesSkipped = todo.kept;
     summary.framesRedone = todo.redone;
     if (todo.frames.empty()) return summary;

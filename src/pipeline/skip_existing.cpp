@@ -14,10 +14,11 @@ namespace {
 
 // Why a movie and its AOV movies must be rendered again, empty when each is whole.
 std::string reasonToRenderMoviesAgain(const OutputTarget& output,
-                                      const std::vector<std::string>& aovs, size_t frames) {
+                                      const std::vector<std::string>& aovs, size_t frames,
+                                      const std::string& size) {
   for (const std::string& path : framePaths(output, aovs, 0)) {
     if (!std::filesystem::exists(path)) return path + " is missing";
-    const std::string reason = reasonToRenderMovieAgain(path, frames);
+    const std::string reason = reasonToRenderMovieAgain(path, frames, size);
     if (!reason.empty()) return path == output.path ? reason : path + ": " + reason;
   }
   return "";
@@ -27,11 +28,11 @@ std::string reasonToRenderMoviesAgain(const OutputTarget& output,
 
 FramesToRender framesStillToRender(const OutputTarget& output, const std::vector<int64_t>& frames,
                                    const std::map<std::string, std::string>& metadata,
-                                   const std::vector<std::string>& aovs) {
+                                   const std::vector<std::string>& aovs, const std::string& size) {
   FramesToRender result;
   result.frames = frames;
   if (output.isMovie() && std::filesystem::exists(output.path)) {
-    const std::string reason = reasonToRenderMoviesAgain(output, aovs, frames.size());
+    const std::string reason = reasonToRenderMoviesAgain(output, aovs, frames.size(), size);
     if (reason.empty()) {
       log::info("--skip-existing: " + output.path + " exists, nothing to do");
       result.kept = int(frames.size());

@@ -155,7 +155,7 @@ TEST(CliFrameSafety, SkipExistingRendersAnEmptyOrShortMovieAgain) {
   std::ofstream(movie, std::ios::binary);  // empty
   auto r = runPluvia({"render", plate, "-p", "drizzle", "-o", movie, "--skip-existing"});
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  EXPECT_NE(r.output.find("o.mp4 again: the movie does not decode"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("o.mp4 again: the movie is not whole"), std::string::npos) << r.output;
   r = runPluvia({"render", plate, "-p", "drizzle", "-o", movie, "--skip-existing"});
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("exists, nothing to do"), std::string::npos) << r.output;
