@@ -30,6 +30,7 @@
 #include "util/fs.h"
 #include "util/interrupt.h"
 #include "util/log.h"
+#include "util/printable.h"
 #include "util/timer.h"
 
 namespace pluvia::cli {
@@ -219,7 +220,7 @@ void addStatusCommand(CLI::App* farm, Invocation& invocation) {
     farm::FarmStatus status = farm::slurmStatus(args->farmDir);
     while (args->wait && !status.finished) {
       if (args->timeout > 0 && secondsSince(started) > args->timeout) {
-        std::cout << status.text;
+        std::cout << printable(status.text, /*keepLines=*/true);
         throw Error(fmt::format("the farm job in {} has not ended after {:g} s", args->farmDir,
                                 args->timeout),
                     {"farm", {}, args->farmDir});
@@ -228,7 +229,8 @@ void addStatusCommand(CLI::App* farm, Invocation& invocation) {
       std::this_thread::sleep_for(std::chrono::seconds(1));
       status = farm::slurmStatus(args->farmDir);
     }
-    std::cout << status.text;
+    // A task record's host or reason is the node's text: no escape sequence reaches the terminal.
+    std::cout << printable(status.text, /*keepLines=*/true);
     // 3 when every failed task only ran out of time (resubmit it with more), 1 for a failure.
     if (status.failed) invocation.exitCode = status.timedOut == status.failed ? 3 : 1;
   });

@@ -18,7 +18,7 @@ void addValidateCommand(CLI::App& app, Invocation& invocation) {
       std::cout << printable(p.source()) << ": valid (hash " << p.hash() << ")\n";
     } catch (const PresetError& e) {
       std::cout << printable(e.what(), /*keepLines=*/true) << "\n";
-      invocation.exitCode = 1;
+      invocation.exitCode = e.isCommandLine() ? 2 : 1;
     }
   });
 }

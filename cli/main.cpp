@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <csignal>
 #include <cstdio>
+#include <iostream>
 #include <new>
 
 #include <CLI/CLI.hpp>
@@ -12,11 +13,13 @@
 #include "io/oiio_debug.h"
 #include "pluvia/version.h"
 #include "preset/param_table.h"
+#include "preset/preset.h"
 #include "process_memory.h"
 #include "process_variables.h"
 #include "util/error.h"
 #include "util/interrupt.h"
 #include "util/log.h"
+#include "util/printable.h"
 
 namespace {
 constexpr const char* kExitCodes =
@@ -97,11 +100,17 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    app.exit(e);
+    // CLI11 echoes the word it refused: shown escaped, so that an escape sequence in it does
+    // not drive the terminal.
+    std::cerr << printable(e.what(), /*keepLines=*/true)
+              << "\nRun with --help for more information.\n";
     return 2;
   } catch (const UsageError& e) {
     log::error(e.describe());
     return 2;
+  } catch (const PresetError& e) {
+    log::error(e.describe());
+    return e.isCommandLine() ? 2 : 1;
   } catch (const Error& e) {
     log::error(e.describe());
     // Whatever failed after a SIGINT or SIGTERM (ffmpeg got it too and stopped) failed for it.

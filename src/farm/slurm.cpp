@@ -31,7 +31,7 @@ std::string directiveValue(const std::string& what, const std::string& value) {
                                    "use a name without it",
                                    what, printable(value),
                                    c == '"' ? "double quote" : "control character (a newline?)"),
-                       {"farm", {}, value});
+                       {"farm"});
   }
   return value.find_first_of(" \t") == std::string::npos ? value : "\"" + value + "\"";
 }

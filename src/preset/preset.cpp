@@ -1,6 +1,7 @@
 #include "preset/preset.h"
 
 #include <unistd.h>
+#include <algorithm>
 
 #include <cmath>
 #include <cstdlib>
@@ -16,6 +17,7 @@
 #include "util/executable.h"
 #include "util/fs.h"
 #include "util/hash.h"
+#include "util/printable.h"
 
 namespace pluvia {
 namespace stdfs = std::filesystem;
@@ -154,9 +156,11 @@ const json* walk(const json& document, const std::string& dottedPath) {
 }  // namespace
 
 PresetError::PresetError(const std::string& source, std::vector<std::string> problems)
-    : Error(fmt::format("invalid preset {}:{}", source, joinLines(problems)),
-            {"preset", {}, source}),
-      problems_(std::move(problems)) {}
+    : Error(source == kSetSource ? fmt::format("invalid --set:{}", joinLines(problems))
+                                 : fmt::format("invalid preset {}:{}", source, joinLines(problems)),
+            source == kSetSource ? ErrorContext{"preset"} : ErrorContext{"preset", {}, source}),
+      problems_(std::move(problems)),
+      commandLine_(source == kSetSource) {}
 
 namespace {
 
@@ -208,22 +212,23 @@ stdfs::path findPreset(const std::string& nameOrPath) {
 void applyOverride(json& document, const std::string& assignment) {
   size_t eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0) {
-    throw PresetError("--set", {fmt::format("'{}' is not KEY=VALUE (for example rain.rate_mm_h=40)",
-                                            assignment)});
+    throw PresetError(
+        kSetSource,
+        {fmt::format("'{}' is not KEY=VALUE (for example rain.rate_mm_h=40)", assignment)});
   }
   std::string key = assignment.substr(0, eq);
   std::string text = assignment.substr(eq + 1);
   if (!isValidUtf8(assignment)) {
-    throw PresetError("--set", {"a --set line is not valid UTF-8 text"});
+    throw PresetError(kSetSource, {"a --set line is not valid UTF-8 text"});
   }
   if (key == "extends") {
-    throw PresetError("--set", {"extends cannot be set on the command line: give that preset "
-                                "with -p, or write a preset file that extends it"});
+    throw PresetError(kSetSource, {"extends cannot be set on the command line: give that preset "
+                                   "with -p, or write a preset file that extends it"});
   }
   try {
     checkJsonNesting(text, "--set");
   } catch (const PresetError& e) {
-    throw PresetError("--set", {fmt::format("--set {}: {}", key, e.problems().front())});
+    throw PresetError(kSetSource, {fmt::format("--set {}: {}", key, e.problems().front())});
   }
   json value;
   try {
@@ -231,23 +236,23 @@ void applyOverride(json& document, const std::string& assignment) {
   } catch (const json::parse_error&) {
     value = text;
   } catch (const json::exception&) {
-    throw PresetError("--set", {fmt::format("{}: {} is too large for a number", key, text)});
+    throw PresetError(kSetSource, {fmt::format("{}: {} is too large for a number", key, text)});
   }
   json* node = &document;
   auto parts = splitDots(key);
   for (const std::string& part : parts)
     if (part.empty())
-      throw PresetError("--set", {fmt::format("--set {}: an empty key between dots (write "
-                                              "section.key, for example rain.rate_mm_h)",
-                                              key)});
+      throw PresetError(kSetSource, {fmt::format("--set {}: an empty key between dots (write "
+                                                 "section.key, for example rain.rate_mm_h)",
+                                                 key)});
   for (size_t i = 0; i < parts.size(); ++i) {
     const std::string& part = parts[i];
     bool last = i + 1 == parts.size();
     if (node->is_array() && isIndex(part)) {
       const size_t index = indexValue(part);
       if (index >= node->size())
-        throw PresetError("--set", {fmt::format("{}: index {} is past the end of a list of {}", key,
-                                                part, node->size())});
+        throw PresetError(kSetSource, {fmt::format("{}: index {} is past the end of a list of {}",
+                                                   key, part, node->size())});
       node = &(*node)[index];
     } else if (node->is_object() || node->is_null()) {
       if (last) {
@@ -257,7 +262,7 @@ void applyOverride(json& document, const std::string& assignment) {
       if (!node->contains(part)) (*node)[part] = json::object();
       node = &(*node)[part];
     } else {
-      throw PresetError("--set", {fmt::format("{}: '{}' is not an object", key, part)});
+      throw PresetError(kSetSource, {fmt::format("{}: '{}' is not an object", key, part)});
     }
     if (last) *node = value;
   }
@@ -285,13 +290,34 @@ Preset Preset::resolve(const std::string& nameOrPath, const std::vector<std::str
       setProblems.insert(setProblems.end(), e.problems().begin(), e.problems().end());
     }
   }
-  if (!setProblems.empty()) throw PresetError("--set", setProblems);
-  std::vector<std::string> problems;
+  if (!setProblems.empty()) throw PresetError(kSetSource, setProblems);
   wrapKeyShorthand(document,
                    schema);  // problems name the full form's paths (/rain/rate_mm_h/keys/1/1)
-  auto found = validatePreset(document, schema);
-  problems.insert(problems.end(), found.begin(), found.end());
-  if (!problems.empty()) throw PresetError(file.string(), problems);
+  // A problem at or under a key a --set wrote is that --set's, the argument named; the others
+  // are the file's. Every problem is said at once; only when the file has none is it the command
+  // line's mistake alone (exit 2).
+  std::vector<std::string> fileProblems;
+  for (const std::string& problem : validatePreset(document, schema)) {
+    const std::string* blamed = nullptr;
+    for (const std::string& assignment : overrides) {
+      const std::string key = "/" + assignment.substr(0, assignment.find('='));
+      std::string pointer = key;
+      std::replace(pointer.begin(), pointer.end(), '.', '/');
+      if (problem.rfind(pointer, 0) == 0 &&
+          (problem.size() == pointer.size() || problem[pointer.size()] == '/' ||
+           problem[pointer.size()] == ':'))
+        blamed = &assignment;
+    }
+    if (blamed)
+      setProblems.push_back("--set " + printable(*blamed) + ": " + problem);
+    else
+      fileProblems.push_back(problem);
+  }
+  if (!fileProblems.empty()) {
+    fileProblems.insert(fileProblems.end(), setProblems.begin(), setProblems.end());
+    throw PresetError(file.string(), fileProblems);
+  }
+  if (!setProblems.empty()) throw PresetError(kSetSource, setProblems);
   fillDefaults(document, schema);
   Preset preset;
   preset.resolved_ = std::move(document);

@@ -23,14 +23,20 @@ namespace pluvia {
 
 inline constexpr int kPresetSchemaVersion = 1;
 
-// All the problems found in a preset, one line each.
+// The source of problems in --set arguments rather than in a preset file.
+inline constexpr const char* kSetSource = "--set";
+
+// All the problems found in a preset, one line each; from `source` kSetSource, each names its
+// --set argument, and they are the command line's mistakes (a usage error, exit 2).
 class PresetError : public Error {
  public:
   PresetError(const std::string& source, std::vector<std::string> problems);
   const std::vector<std::string>& problems() const { return problems_; }
+  bool isCommandLine() const { return commandLine_; }
 
  private:
   std::vector<std::string> problems_;
+  bool commandLine_ = false;
 };
 
 // A folder searched for preset names before the others (the front end sets it from

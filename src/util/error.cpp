@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "util/printable.h"
+
 namespace pluvia {
 
 Error::Error(const std::string& message, ErrorContext context)
@@ -16,8 +18,11 @@ std::string Error::describe() const {
     where += "] ";
   }
   std::string text = where + what();
-  if (!context_.file.empty() && text.find(context_.file) == std::string::npos) {
-    text += fmt::format(" (file: {})", context_.file);
+  // A name may hold control characters (a newline, an escape): shown escaped, as log lines are.
+  const std::string file = printable(context_.file);
+  if (!file.empty() && text.find(file) == std::string::npos &&
+      text.find(context_.file) == std::string::npos) {
+    text += fmt::format(" (file: {})", file);
   }
   return text;
 }

@@ -59,14 +59,16 @@ TEST(CliDepth, BadPresetOrOutputWritesNothing) {
   auto out = (dir / "z.####.exr").string();
   auto bad = runPluvia({"depth", exampleClip().string(), "-o", out, "-p", kExamplePreset,
                         "--frames", "0-2", "--set", "depth.layers.1.distanse_m=40"});
-  EXPECT_EQ(bad.exitCode, 1) << bad.output;
-  EXPECT_NE(bad.output.find("/depth/layers/1/distanse_m: unknown key"), std::string::npos)
+  EXPECT_EQ(bad.exitCode, 2) << bad.output;  // the command line's mistake, not the file's
+  EXPECT_NE(bad.output.find("--set depth.layers.1.distanse_m=40: /depth/layers/1/distanse_m: "
+                            "unknown key"),
+            std::string::npos)
       << bad.output;
-  EXPECT_NE(bad.output.find("street.json"), std::string::npos) << bad.output;
+  EXPECT_EQ(bad.output.find("street.json"), std::string::npos) << bad.output;
   auto polygon =
       runPluvia({"depth", exampleClip().string(), "-o", out, "-p", kExamplePreset, "--set",
                  R"(depth.layers=[{"type": "polygon", "points": [[0, 0], [1, 1]]}])"});
-  EXPECT_EQ(polygon.exitCode, 1) << polygon.output;
+  EXPECT_EQ(polygon.exitCode, 2) << polygon.output;
   EXPECT_NE(polygon.output.find("/depth/layers/0/points: expected [[x, y], ...]"),
             std::string::npos)
       << polygon.output;

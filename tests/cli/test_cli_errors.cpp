@@ -128,7 +128,8 @@ TEST(CliErrors, InvalidPresetRendersNothing) {
   auto r = runPluvia({"render", (dir / "in.png").string(), "-p", "moderate", "-o",
                       (dir / "o.####.png").string(), "--set", "fog.densty=3", "--set",
                       "rain.rate_mm_h=-1"});
-  expectError(r, 1, "/fog/densty: unknown key 'densty' (did you mean 'density'?)");
+  expectError(r, 2,
+              "--set fog.densty=3: /fog/densty: unknown key 'densty' (did you mean 'density'?)");
   EXPECT_NE(r.output.find("/rain/rate_mm_h: must be between 0 and 500"), std::string::npos);
   EXPECT_FALSE(stdfs::exists(dir / "o.0000.png"));
 }

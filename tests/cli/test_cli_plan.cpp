@@ -55,7 +55,7 @@ TEST(CliValidateDescribe, ValidateAndDescribe) {
   EXPECT_NE(ok.output.find("valid"), std::string::npos);
   auto bad =
       runPluvia({"validate", "heavy", "--set", "rain.wind.speed=3", "--set", "fog.color=red"});
-  EXPECT_EQ(bad.exitCode, 1);
+  EXPECT_EQ(bad.exitCode, 2);  // --set mistakes are usage errors
   EXPECT_NE(bad.output.find("/rain/wind/speed: unknown key 'speed' (did you mean 'speed_m_s'?)"),
             std::string::npos)
       << bad.output;
