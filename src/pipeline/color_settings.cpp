@@ -22,8 +22,8 @@ const SettingsTable<ColorSettings>& colorTable() {
                            "output colour space; auto: the working space for EXR/HDR, the "
                            "config's sRGB space otherwise (--out-colorspace)")),
           bind(&S::configPath,
-               stringParam("config", "",
-                           "path of an .ocio config; empty: $OCIO, else pluvia's built-in one")),
+               pathParam("config", "",
+                         "path of an .ocio config; empty: $OCIO, else pluvia's built-in one")),
       });
   return table;
 }

@@ -255,12 +255,19 @@ Camera cameraOfFrame(const CameraSettings& settings, const ClipInfo& clip) {
   return camera;
 }
 
-// The colour config as a hash of its description and, for a file, its text.
+// The colour config as a hash of the file it is (absolute, links resolved: not as the preset
+// or $OCIO spells it) and its text; the built-in one by its description.
 std::string configIdentity(const ColorSettings& color) {
   Hasher config;
-  config.add(describeConfig(color.configPath));
   const std::string configFile = chosenConfigPath(color.configPath);
-  if (!configFile.empty()) config.add(fs::readInputText(configFile, "the OpenColorIO config"));
+  if (configFile.empty() || configFile.rfind("ocio://", 0) == 0) {
+    config.add(describeConfig(color.configPath));
+    return config.hex();
+  }
+  std::error_code ec;
+  config.add(
+      std::filesystem::weakly_canonical(std::filesystem::absolute(configFile, ec), ec).string());
+  config.add(fs::readInputText(configFile, "the OpenColorIO config"));
   return config.hex();
 }
 

@@ -213,6 +213,14 @@ ParamSpec stringParam(std::string key, std::string defaultValue, std::string hel
   return row(std::move(key), ParamType::String, std::move(defaultValue), std::move(help));
 }
 
+ParamSpec pathParam(std::string key, std::string defaultValue, std::string help,
+                    std::vector<std::string> words) {
+  ParamSpec p = stringParam(std::move(key), std::move(defaultValue), std::move(help));
+  p.path = true;
+  p.choices = std::move(words);
+  return p;
+}
+
 ParamSpec enumParam(std::string key, std::string defaultValue, std::vector<std::string> choices,
                     std::string help) {
   ParamSpec p = row(std::move(key), ParamType::Enum, std::move(defaultValue), std::move(help));

@@ -40,6 +40,10 @@ struct ParamSpec {
   // Number or Integer parameter that may be keyframed over clip frames: a section parameter, or
   // a field of a list item (depth layers' distance_m); other item fields take plain numbers.
   bool keyframes = false;
+  // String naming a file or folder (pathParam): the resolved preset holds it absolute, links
+  // resolved, so that its hash and the resume identity do not depend on how it was spelled. The
+  // words of `choices` (rain.strokes' "builtin") and "" are not paths.
+  bool path = false;
 };
 
 // Builders for a table's rows, so that a table reads as named fields:
@@ -60,6 +64,10 @@ ParamSpec booleanParam(std::string key, bool defaultValue, std::string help);
 // Every stage section's first row: "enabled", default true.
 ParamSpec enabledParam(std::string help = "run this stage");
 ParamSpec stringParam(std::string key, std::string defaultValue, std::string help);
+// A String naming a file, a folder or a sequence pattern (see ParamSpec::path); `words` are
+// values that name none ("builtin").
+ParamSpec pathParam(std::string key, std::string defaultValue, std::string help,
+                    std::vector<std::string> words = {});
 ParamSpec enumParam(std::string key, std::string defaultValue, std::vector<std::string> choices,
                     std::string help);
 // `defaultValue`: [r, g, b].

@@ -275,6 +275,28 @@ void fillDefaults(json& document, const Schema& schema) {
   }
 }
 
+namespace {
+
+// Each path parameter's value made absolute with links resolved (ParamSpec::path): relative
+// paths are read from the current folder, so that is where they start.
+void canonicalizePaths(json& document, const Schema& schema) {
+  for (const auto& section : schema)
+    for (const ParamSpec& param : section.params) {
+      if (!param.path || !document[section.name].contains(param.key)) continue;
+      json& value = document[section.name][param.key];
+      if (!value.is_string()) continue;
+      const std::string text = value.get<std::string>();
+      if (text.empty() || text.rfind("ocio://", 0) == 0 ||
+          std::find(param.choices.begin(), param.choices.end(), text) != param.choices.end())
+        continue;
+      std::error_code ec;
+      const stdfs::path canonical = stdfs::weakly_canonical(stdfs::absolute(text, ec), ec);
+      if (!ec) value = canonical.string();
+    }
+}
+
+}  // namespace
+
 Preset Preset::resolve(const std::string& nameOrPath, const std::vector<std::string>& overrides,
                        const Schema& schema) {
   stdfs::path file = findPreset(nameOrPath);
@@ -319,6 +341,7 @@ Preset Preset::resolve(const std::string& nameOrPath, const std::vector<std::str
   }
   if (!setProblems.empty()) throw PresetError(kSetSource, setProblems);
   fillDefaults(document, schema);
+  canonicalizePaths(document, schema);
   Preset preset;
   preset.resolved_ = std::move(document);
   preset.resolved_.erase("extends");

@@ -79,15 +79,15 @@ const SettingsTable<DepthSettings>& depthTable() {
                             "colmap: features are found on frames downscaled to this longest "
                             "side")),
           bind(&S::colmapModel,
-               stringParam("colmap_model", "",
-                           "colmap: a COLMAP text model of this clip (cameras.txt, images.txt, "
-                           "points3D.txt) to read instead of running COLMAP; images named "
-                           "frame_%08d.png (pluvia depth's) or as the clip's files")),
+               pathParam("colmap_model", "",
+                         "colmap: a COLMAP text model of this clip (cameras.txt, images.txt, "
+                         "points3D.txt) to read instead of running COLMAP; images named "
+                         "frame_%08d.png (pluvia depth's) or as the clip's files")),
           bind(&S::colmapDense,
-               stringParam("colmap_dense", "",
-                           "colmap: a dense workspace of the same model (stereo/depth_maps after "
-                           "patch_match_stereo); its depth maps replace the densified points where "
-                           "they have estimates")),
+               pathParam("colmap_dense", "",
+                         "colmap: a dense workspace of the same model (stereo/depth_maps after "
+                         "patch_match_stereo); its depth maps replace the densified points where "
+                         "they have estimates")),
           bind(&S::scale, "scale",
                {{"camera_height", DepthScale::CameraHeight},
                 {"first_frame_depth", DepthScale::FirstFrameDepth}},
@@ -98,11 +98,11 @@ const SettingsTable<DepthSettings>& depthTable() {
                            "colmap, scale first_frame_depth: median distance of what the first "
                            "frame sees")),
           bind(&S::file,
-               stringParam("file", "",
-                           "file: the depth sequence, depth.####.exr or depth.%04d.png (frame N "
-                           "for plate frame N, a movie plate's frames counted from 0), or one "
-                           "file for every frame; channel Z, depth.Z, Y or R, or the only one; "
-                           "resampled to the plate size (bilinear on 1/z)")),
+               pathParam("file", "",
+                         "file: the depth sequence, depth.####.exr or depth.%04d.png (frame N "
+                         "for plate frame N, a movie plate's frames counted from 0), or one "
+                         "file for every frame; channel Z, depth.Z, Y or R, or the only one; "
+                         "resampled to the plate size (bilinear on 1/z)")),
           bind(&S::fileEncoding,
                enumParam("file_encoding", "z_m", {"z_m", "inverse", "normalized"},
                          "file: what a value v means (8/16-bit files: v = code / max code, in "

@@ -11,8 +11,8 @@ const SettingsTable<DerainSettings>& derainTable() {
        .outputs = {"footage_strokes"}},
       {
           bind(&S::enabled, enabledParam("run this stage when its strokes are read")),
-          bind(&S::input, stringParam("input", "",
-                                      "rain footage to cut strokes from; empty: the render input")),
+          bind(&S::input,
+               pathParam("input", "", "rain footage to cut strokes from; empty: the render input")),
           bind(&S::frames, integerParam("frames", 20, {3, 1000}, "frames",
                                         "frames solved together (one derain window, from the "
                                         "footage's first frame)")),

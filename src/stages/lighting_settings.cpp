@@ -69,9 +69,9 @@ const SettingsTable<LightingSettings>& lightingTable() {
                "albedo under it; nearest: the nearest seen colour (Wang et al.)"),
           bind(&S::lights, lightsParam()),
           bind(&S::hdrPath,
-               stringParam("hdr", "",
-                           "equirect HDR (.exr, .hdr; linear Rec.709; +Y up, image centre looking "
-                           "along -Z) for source hdr")),
+               pathParam("hdr", "",
+                         "equirect HDR (.exr, .hdr; linear Rec.709; +Y up, image centre looking "
+                         "along -Z) for source hdr")),
           bind(&S::intensity, numberParam("intensity", 1.0, {0.0, 1e6}, "",
                                           "scale on the HDR's radiance, to match the plate")),
           bind(&S::constantRgb, colorParam("color", nlohmann::json::array({0.5, 0.5, 0.5}),

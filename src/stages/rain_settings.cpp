@@ -26,9 +26,10 @@ const SettingsTable<RainSettings>& rainTable() {
           bind(&S::seed,
                integerParam("seed", 1, {0, 4294967295.0}, "", "random seed; same seed, same rain")),
           bind(&S::strokes,
-               stringParam("strokes", "builtin",
-                           "stroke library: builtin (cut from real rain, shipped), derain (cut "
-                           "from derain.input), or a LIBRARY.json written by `pluvia strokes`")),
+               pathParam("strokes", "builtin",
+                         "stroke library: builtin (cut from real rain, shipped), derain (cut "
+                         "from derain.input), or a LIBRARY.json written by `pluvia strokes`",
+                         {"builtin", "derain"})),
           // The drop size distributions stop at 6 mm.
           bind(&S::minDiameterMm, numberParam("min_diameter_mm", 0.8, {0.05, 5.99}, "mm",
                                               "smaller drops are left to the fog")),

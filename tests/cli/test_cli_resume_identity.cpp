@@ -77,6 +77,34 @@ colorspaces:
   EXPECT_TRUE(stdfs::exists(dir / "o" / "r.rain.0002.png"));
 }
 
+// A local resume over a farm's frames: the farm spelled the plate and the colour config
+// absolute, the artist relative (and through a link). One plate, one config: nothing to redo.
+TEST(CliResumeIdentity, SpellingsOfOnePlateAndConfigAreOneIdentity) {
+  const stdfs::path dir = freshTempDir("resume_spelling");
+  stdfs::create_directories(dir / "p");
+  const std::string plate = writeTexturedPlate(dir / "p", 1, 2, 64, 48);
+  const stdfs::path config = writeTextFile(dir, "facility.ocio", R"(ocio_profile_version: 2
+roles: {default: lin, scene_linear: lin, texture_paint: srgb}
+file_rules:
+  - !<Rule> {name: Default, colorspace: lin}
+colorspaces:
+  - !<ColorSpace> {name: lin, encoding: scene-linear}
+  - !<ColorSpace>
+    name: srgb
+    encoding: sdr-video
+    to_scene_reference: !<ExponentWithLinearTransform> {gamma: 2.4, offset: 0.055}
+)");
+  stdfs::create_symlink(config, dir / "link.ocio");
+  const stdfs::path out = dir / "o" / "r.####.png";
+  ASSERT_EQ(runPluvia(render(plate, out, {"--ocio", config.string()})).exitCode, 0);
+  const ProcessResult r = runProcess(
+      {"sh", "-c", "cd \"$1\" && shift && exec \"$@\"", "sh", dir.string(), pluviaBinary().string(),
+       "render", "p/plate.####.png", "-p", "gentle", "-o", "./o/../o/r.####.png", "--frames", "1-2",
+       "--ocio", "link.ocio", "--skip-existing"});
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  expectOutputHas(r.output, {"every frame exists, nothing to do"});
+}
+
 TEST(CliResumeIdentity, APlateReplacedInPlaceIsNotLitFromTheOldCache) {
   const stdfs::path dir = freshTempDir("resume_cache");
   for (const char* sub : {"a", "b"}) stdfs::create_directories(dir / sub);
