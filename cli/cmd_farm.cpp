@@ -236,6 +236,22 @@ void addStatusCommand(CLI::App* farm, Invocation& invocation) {
   });
 }
 
+void addResubmitCommand(CLI::App* farm) {
+  auto* cmd = farm->add_subcommand(
+      "resubmit",
+      "submit again only the failed or missing tasks of an ended farm job (then its assembly); "
+      "their frames already written are kept (--skip-existing)");
+  auto farmDir = std::make_shared<std::string>();
+  cmd->add_option("FARM_DIR", *farmDir, "the farm job's folder")->required();
+  cmd->callback([=] {
+    const std::string submitted = farm::resubmitSlurm(*farmDir);
+    if (submitted.empty())
+      log::info(fmt::format("nothing failed in {}: nothing to resubmit", *farmDir));
+    else
+      log::info(fmt::format("resubmitted {}; see `pluvia farm status {}`", submitted, *farmDir));
+  });
+}
+
 void addAssembleCommand(CLI::App* farm) {
   auto* cmd = farm->add_subcommand(
       "assemble", "encode a farm job's rendered frames into its movie (the assembly job)");
@@ -294,6 +310,7 @@ void addFarmCommand(CLI::App& app, Invocation& invocation) {
   farm->require_subcommand(1);
   addSlurmCommand(farm);
   addStatusCommand(farm, invocation);
+  addResubmitCommand(farm);
   addAssembleCommand(farm);
 }
 

@@ -35,7 +35,7 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
                   "frame numbers");
   cmd->add_option("--threads", args->threads,
                   "threads for every pool: decoding, colour conversion, encoding (default 2)")
-      ->check(CLI::Range(1, 64));
+      ->check(CLI::Range(1, 1024));
   cmd->add_option("--cache", args->cache, "cache folder for per-clip analysis");
   cmd->add_flag("--require-cache", args->requireCache,
                 "fail when per-clip analysis is missing from --cache instead of computing it "
@@ -71,6 +71,7 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
     Preset preset = loadPresetForProxy(args->preset, args->sets, args->writes.proxy);
     InterruptHandlers stopCleanly;
     const ThreadLimit threadCap(args->threads);
+    log::info(fmt::format("threads: {}", threadLimit()));  // a farm chunk's log shows its share
     StageTimes times;
     auto started = std::chrono::steady_clock::now();
     RenderSummary summary = renderJob(request, preset, allStages(), times);

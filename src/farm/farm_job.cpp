@@ -53,9 +53,12 @@ std::string quotedArguments(const std::vector<std::string>& arguments) {
   return line;
 }
 
-// A fixed count, or the node's allocation.
+// A fixed count, or the allocation in every Slurm mode: --cpus-per-task sets
+// SLURM_CPUS_PER_TASK; a whole-node allocation (--exclusive) sets only SLURM_CPUS_ON_NODE; and
+// inside any job nproc counts the CPUs its cgroup allows.
 std::string threadsArgument(const FarmJob& job) {
-  return job.threads > 0 ? std::to_string(job.threads) : "\"${SLURM_CPUS_PER_TASK:-2}\"";
+  return job.threads > 0 ? std::to_string(job.threads)
+                         : "\"${SLURM_CPUS_PER_TASK:-${SLURM_CPUS_ON_NODE:-$(nproc)}}\"";
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "farm/slurm.h"
 
+#include <algorithm>
 #include <cctype>
 #include <filesystem>
 #include <map>
@@ -208,9 +209,11 @@ void writeSlurmFarmFolder(const FarmJob& job, const std::vector<SlurmScript>& sc
 
 namespace {
 
-std::string submitOne(const FarmJob& job, const std::string& script, const std::string& after) {
+std::string submitOne(const FarmJob& job, const std::string& script, const std::string& after,
+                      const std::string& array = "") {
   std::vector<std::string> argv{"sbatch", "--parsable"};
   if (!after.empty()) argv.push_back("--dependency=afterok:" + after);
+  if (!array.empty()) argv.push_back("--array=" + array);  // over the script's own #SBATCH line
   argv.push_back((stdfs::path(job.farmDir) / script).string());
   const ProcessResult result = runProcess(argv);
   std::string id = result.output.substr(0, result.output.find_first_of(";\n"));
@@ -221,22 +224,57 @@ std::string submitOne(const FarmJob& job, const std::string& script, const std::
   return id;
 }
 
-}  // namespace
+void writeJobIds(const stdfs::path& dir, const SlurmJobIds& ids) {
+  nlohmann::json tasks = nlohmann::json::object();
+  for (const auto& [index, id] : ids.renderTasks) tasks[std::to_string(index)] = id;
+  const nlohmann::json record = {{"scheduler", "slurm"},
+                                 {"prepare", ids.prepare},
+                                 {"render", ids.render},
+                                 {"assemble", ids.assemble},
+                                 {"render_tasks", tasks}};
+  fs::writeTextFile(dir / "jobs.json", record.dump(2) + "\n");
+}
 
-SlurmJobIds submitSlurm(const FarmJob& job) {
+SlurmJobIds readJobIds(const stdfs::path& dir, const std::string& farmDir) {
+  const stdfs::path jobsPath = dir / "jobs.json";
+  if (!stdfs::exists(jobsPath))
+    throw Error(fmt::format("the farm job in {} was not submitted (no jobs.json): run {} or "
+                            "`pluvia farm slurm ... --submit`",
+                            farmDir, (dir / "submit.sh").string()),
+                {"farm", {}, farmDir});
+  SlurmJobIds ids;
+  try {
+    fs::requireRegularFile(jobsPath, "the farm's job ids");
+    const nlohmann::json json = nlohmann::json::parse(fs::readTextFile(jobsPath));
+    ids = {json.at("prepare"), json.at("render"), json.at("assemble"), {}};
+    if (json.contains("render_tasks"))
+      for (const auto& [index, id] : json.at("render_tasks").items())
+        ids.renderTasks[std::stoi(index)] = id.get<std::string>();
+  } catch (const std::exception& e) {
+    throw Error(fmt::format("{} is unreadable: {}", jobsPath.string(), e.what()),
+                {"farm", {}, jobsPath.string()});
+  }
+  return ids;
+}
+
+void requireSbatch(const std::string& farmDir) {
   if (!programAvailable("sbatch"))
     throw Error("sbatch is not on PATH: submit from a Slurm login node, or run " +
-                    (stdfs::path(job.farmDir) / "submit.sh").string() + " on one",
-                {"farm", {}, job.farmDir});
+                    (stdfs::path(farmDir) / "submit.sh").string() + " on one",
+                {"farm", {}, farmDir});
+}
+
+}  // namespace
+
+std::string SlurmJobIds::renderJobOf(int index) const {
+  const auto again = renderTasks.find(index);
+  return again == renderTasks.end() ? render : again->second;
+}
+
+SlurmJobIds submitSlurm(const FarmJob& job) {
+  requireSbatch(job.farmDir);
   SlurmJobIds ids;
-  nlohmann::json record;
-  const auto save = [&] {
-    record = {{"scheduler", "slurm"},
-              {"prepare", ids.prepare},
-              {"render", ids.render},
-              {"assemble", ids.assemble}};
-    fs::writeTextFile(stdfs::path(job.farmDir) / "jobs.json", record.dump(2) + "\n");
-  };
+  const auto save = [&] { writeJobIds(job.farmDir, ids); };
   // Each id is recorded as soon as it is known, so a failed later submission leaves the earlier
   // jobs findable (by `pluvia farm status`, and to scancel).
   ids.prepare = submitOne(job, "prepare.sbatch", "");
@@ -375,31 +413,21 @@ FarmStatus slurmStatus(const std::string& farmDir) {
   fs::requireRegularFile(dir / "farm.json", "the farm job");
   const FarmJob job =
       farmJobFromJson(fs::readTextFile(dir / "farm.json"), (dir / "farm.json").string());
-  if (!stdfs::exists(jobsPath))
-    throw Error(fmt::format("the farm job in {} was not submitted (no jobs.json): run {} or "
-                            "`pluvia farm slurm ... --submit`",
-                            farmDir, (dir / "submit.sh").string()),
-                {"farm", {}, farmDir});
-  SlurmJobIds ids;
-  try {
-    fs::requireRegularFile(jobsPath, "the farm's job ids");
-    const nlohmann::json json = nlohmann::json::parse(fs::readTextFile(jobsPath));
-    ids = {json.at("prepare"), json.at("render"), json.at("assemble")};
-  } catch (const std::exception& e) {
-    throw Error(fmt::format("{} is unreadable: {}", jobsPath.string(), e.what()),
-                {"farm", {}, jobsPath.string()});
-  }
+  const SlurmJobIds ids = readJobIds(dir, farmDir);
 
+  std::vector<std::string> jobIds = {ids.prepare, ids.render, ids.assemble};
+  for (const auto& [index, id] : ids.renderTasks)
+    if (std::find(jobIds.begin(), jobIds.end(), id) == jobIds.end()) jobIds.push_back(id);
   std::map<std::string, std::string> queue;
-  for (const std::string& id : {ids.prepare, ids.render, ids.assemble})
+  for (const std::string& id : jobIds)
     for (auto& [k, v] : queued(id)) queue[k] = v;
-  const auto accounting = accounted({ids.prepare, ids.render, ids.assemble});
+  const auto accounting = accounted(jobIds);
 
   FarmStatus status;
   status.finished = true;
   std::string failedList;
   const auto row = [&](const std::string& what, bool named, const std::string& id,
-                       const std::string& frames, const std::string& record) {
+                       const std::string& frames, const std::string& record) -> bool {
     UnitState unit = unitState(id, queue, accounting, dir / "tasks" / (record + ".status"));
     status.text +=
         fmt::format("  {:<9} {:<10} {:<12} {}{}\n", named ? what : "", id.empty() ? "-" : id,
@@ -411,23 +439,26 @@ FarmStatus slurmStatus(const std::string& farmDir) {
       failedList += fmt::format("  {} {} {}: {}{}\n", what, id, frames, unit.state,
                                 unit.detail.empty() ? "" : ", " + unit.detail);
     }
+    return unit.failed;
   };
   status.text =
       fmt::format("farm job {}: {} -> {}, frames {}-{} in {} chunks of {}\n", farmDir, job.input,
                   job.output.path, job.firstFrame, job.lastFrame, chunkCount(job), job.chunkFrames);
-  row("prepare", true, ids.prepare, "", "prepare");
+  status.prepareFailed = row("prepare", true, ids.prepare, "", "prepare");
   for (int i = 0; i < chunkCount(job); ++i) {
     const auto [first, last] = chunkFrames(job, i);
-    const std::string taskId = ids.render.empty() ? "" : fmt::format("{}_{}", ids.render, i);
-    row("render", i == 0, taskId, fmt::format("frames {}-{}", first, last),
-        fmt::format("render-{}", i));
+    const std::string render = ids.renderJobOf(i);
+    const std::string taskId = render.empty() ? "" : fmt::format("{}_{}", render, i);
+    if (row("render", i == 0, taskId, fmt::format("frames {}-{}", first, last),
+            fmt::format("render-{}", i)))
+      status.failedChunks.push_back(i);
   }
-  if (isMovieJob(job)) row("assemble", true, ids.assemble, "", "assemble");
+  if (isMovieJob(job)) status.assembleFailed = row("assemble", true, ids.assemble, "", "assemble");
   if (status.failed && status.timedOut == status.failed)
     status.text += fmt::format(
-        "timed out ({}; their frames so far are kept: resubmit with a longer --time, and "
-        "--skip-existing renders only the rest):\n{}",
-        status.failed, failedList);
+        "timed out ({}; their frames so far are kept: `pluvia farm resubmit {}` (with a longer "
+        "#SBATCH --time in render.sbatch) renders only the rest):\n{}",
+        status.failed, farmDir, failedList);
   else if (status.failed)
     status.text += fmt::format(
         "failed ({}{}):\n{}", status.failed,
@@ -435,6 +466,55 @@ FarmStatus slurmStatus(const std::string& farmDir) {
   else if (status.finished)
     status.text += "all done\n";
   return status;
+}
+
+std::string resubmitSlurm(const std::string& farmDir) {
+  const FarmStatus status = slurmStatus(farmDir);
+  if (!status.finished)
+    throw Error(fmt::format("the farm job in {} still runs: resubmit once every job has ended "
+                            "(`pluvia farm status {} --wait`)",
+                            farmDir, farmDir),
+                {"farm", {}, farmDir});
+  if (status.failed == 0) return "";
+  requireSbatch(farmDir);
+  const stdfs::path dir = farmDir;
+  const FarmJob job =
+      farmJobFromJson(fs::readTextFile(dir / "farm.json"), (dir / "farm.json").string());
+  const auto removeRecord = [&](const std::string& name) {
+    std::error_code ignored;
+    stdfs::remove(dir / "tasks" / (name + ".status"), ignored);
+  };
+  if (status.prepareFailed) {  // the chunks read its cache: everything again
+    for (const auto& entry : stdfs::directory_iterator(dir / "tasks"))
+      if (isTaskRecord(entry.path())) stdfs::remove(entry.path());
+    const SlurmJobIds ids = submitSlurm(job);
+    return fmt::format("the whole job again (its prepare failed): prepare {}, render {}{}",
+                       ids.prepare, ids.render,
+                       ids.assemble.empty() ? "" : ", assemble " + ids.assemble);
+  }
+  SlurmJobIds ids = readJobIds(dir, farmDir);
+  std::string submitted;
+  if (!status.failedChunks.empty()) {
+    std::string array;
+    for (const int index : status.failedChunks) {
+      array += (array.empty() ? "" : ",") + std::to_string(index);
+      removeRecord(fmt::format("render-{}", index));
+    }
+    const std::string render = submitOne(job, "render.sbatch", "", array);
+    for (const int index : status.failedChunks) ids.renderTasks[index] = render;
+    writeJobIds(dir, ids);
+    submitted = fmt::format("render {} (chunks {})", render, array);
+  }
+  // The movie is assembled again after any chunk rendered again, or when it alone failed.
+  if (isMovieJob(job) && (status.assembleFailed || !status.failedChunks.empty())) {
+    removeRecord("assemble");
+    const std::string after =
+        status.failedChunks.empty() ? "" : ids.renderJobOf(status.failedChunks.front());
+    ids.assemble = submitOne(job, "assemble.sbatch", after);
+    writeJobIds(dir, ids);
+    submitted += (submitted.empty() ? "" : ", ") + fmt::format("assemble {}", ids.assemble);
+  }
+  return submitted;
 }
 
 }  // namespace pluvia::farm

@@ -171,7 +171,18 @@ TEST(CliFarmScripts, TheChunksGetTheRendersOptionsThreadsAndColourConfig) {
                       (dir / "b" / "o.mov").string(), "--chunk", "2", "--codec", "prores_4444"});
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const std::string chunks = fs::readTextFile(dir / "b" / "o.farm" / "render.sbatch");
-  EXPECT_NE(chunks.find("--threads \"${SLURM_CPUS_PER_TASK:-2}\""), std::string::npos) << chunks;
+  const std::string threads = "\"${SLURM_CPUS_PER_TASK:-${SLURM_CPUS_ON_NODE:-$(nproc)}}\"";
+  EXPECT_NE(chunks.find("--threads " + threads), std::string::npos) << chunks;
+  // What that expands to in each Slurm mode: --cpus-per-task, --exclusive (the node's CPUs
+  // only), and no Slurm variable at all (the CPUs this process may use).
+  const auto expand = [&](const std::string& environment) {
+    return runProcess({"bash", "-c", environment + " printf %s " + threads}).output;
+  };
+  EXPECT_EQ(expand("SLURM_CPUS_PER_TASK=3; SLURM_CPUS_ON_NODE=16;"), "3");
+  EXPECT_EQ(expand("unset SLURM_CPUS_PER_TASK; SLURM_CPUS_ON_NODE=16;"), "16");
+  const std::string cpus = runProcess({"nproc"}).output;
+  EXPECT_EQ(expand("unset SLURM_CPUS_PER_TASK SLURM_CPUS_ON_NODE;"),
+            cpus.substr(0, cpus.find('\n')));
   EXPECT_EQ(chunks.find("prores"), std::string::npos) << chunks;
   const std::string assemble = fs::readTextFile(dir / "b" / "o.farm" / "assemble.sbatch");
   EXPECT_NE(assemble.find("--codec prores_4444"), std::string::npos) << assemble;

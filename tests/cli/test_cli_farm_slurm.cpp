@@ -331,7 +331,7 @@ TEST_F(FarmSlurm, EveryRenderOptionReachesTheChunksThroughAPathWithASpace) {
 }
 
 TEST_F(FarmSlurm, AFailedChunkIsListedWithItsFramesAndLog) {
-  // Frame 1014's file cannot be written: a folder stands at its name.
+  // Frame 1014's file cannot be written: a folder stands at its name (a usage error, exit 2).
   stdfs::create_directories(dir_ / "farm" / frameName(1014));
   const auto submitted = submit("o.####.png");
   ASSERT_EQ(submitted.exitCode, 0) << submitted.output;
@@ -342,7 +342,7 @@ TEST_F(FarmSlurm, AFailedChunkIsListedWithItsFramesAndLog) {
   const std::string log =
       (dir_ / "farm" / "o.farm" / "logs" / ("render-" + ids[1] + "_2.log")).string();
   EXPECT_NE(status.output.find("failed (1):\n  render " + ids[1] +
-                               "_2 frames 1013-1018: FAILED (exit 1), on "),
+                               "_2 frames 1013-1018: FAILED (exit 2), on "),
             std::string::npos)
       << status.output;
   EXPECT_NE(status.output.find("log " + log), std::string::npos) << status.output;
@@ -350,4 +350,31 @@ TEST_F(FarmSlurm, AFailedChunkIsListedWithItsFramesAndLog) {
       << fs::readTextFile(log);
   // The other chunks finished their frames.
   EXPECT_TRUE(stdfs::exists(dir_ / "farm" / frameName(1024)));
+
+  // Its cause gone, `farm resubmit` runs that chunk alone again, and the job ends done.
+  stdfs::remove_all(dir_ / "farm" / frameName(1014));
+  const std::string farm = (dir_ / "farm" / "o.farm").string();
+  const auto again = runPluvia({"farm", "resubmit", farm});
+  ASSERT_EQ(again.exitCode, 0) << again.output;
+  expectOutputHas(again.output, {"resubmitted render ", " (chunks 2)"});
+  const auto done = waitForFarm("o.farm");
+  EXPECT_EQ(done.exitCode, 0) << done.output << cluster_->logs();
+  expectOutputHas(done.output, {"all done"});
+  EXPECT_TRUE(stdfs::is_regular_file(dir_ / "farm" / frameName(1014)));
+  expectOutputHas(runPluvia({"farm", "resubmit", farm}).output, {"nothing to resubmit"});
+}
+
+// A whole-node allocation sets no SLURM_CPUS_PER_TASK: each chunk still takes the node's CPUs
+// (SLURM_CPUS_ON_NODE), and its log says how many.
+TEST_F(FarmSlurm, ExclusiveChunksTakeTheNodesThreads) {
+  const auto submitted = submit("o.####.png", {"--sbatch-arg=--exclusive"});
+  ASSERT_EQ(submitted.exitCode, 0) << submitted.output;
+  const std::vector<std::string> ids = jobIds(submitted.output);
+  ASSERT_EQ(ids.size(), 2u) << submitted.output;
+  const auto status = waitForFarm("o.farm");
+  ASSERT_EQ(status.exitCode, 0) << status.output << cluster_->logs();
+  const std::string cpus = runProcess({"nproc", "--all"}).output;
+  const std::string log =
+      fs::readTextFile(dir_ / "farm" / "o.farm" / "logs" / ("render-" + ids[1] + "_0.log"));
+  EXPECT_NE(log.find("threads: " + cpus.substr(0, cpus.find('\n'))), std::string::npos) << log;
 }
