@@ -107,7 +107,8 @@ void addDepthCommand(CLI::App& app, Invocation& invocation) {
       ->check(CLI::IsMember({"layers", "colmap"}));
   cmd->add_option("-p,--preset", args->preset, "preset name or path (camera and depth.layers)");
   cmd->add_option("--set", args->sets, "override KEY=VALUE (e.g. depth.layers.1.distance_m=40)");
-  cmd->add_option("--frames", args->frames, "FIRST-LAST, in the clip's frame numbers");
+  cmd->add_option("--frames", args->frames, "FIRST-LAST, in the clip's frame numbers")
+      ->check(nonEmptyText());
   cmd->callback([=, &invocation] {
     const OutputTarget output = OutputTarget::classify(args->output);
     if (!output.isSequence() || lowerExtension(output.path) != "exr")

@@ -92,7 +92,8 @@ void addDerainCommand(CLI::App& app, Invocation& invocation) {
       ->required();
   cmd->add_option("--matte-out", args->matte,
                   "rain mattes alpha, a sequence pattern (matte.####.png/exr)");
-  cmd->add_option("--frames", args->frames, "FIRST-LAST, in the clip's frame numbers");
+  cmd->add_option("--frames", args->frames, "FIRST-LAST, in the clip's frame numbers")
+      ->check(nonEmptyText());
   cmd->add_option("--window", args->settings.window, "frames per solve (at least 3)")
       ->check(CLI::Range(3, 1000));
   cmd->add_option("--report", args->report, "write a JSON report of the solve");

@@ -43,7 +43,7 @@ void addEnvmapCommand(CLI::App& app, Invocation& invocation) {
   cmd->add_option("--panorama-out", args->panorama,
                   "the panorama as an equirect EXR (with several keys: a pattern, pano.####.exr)");
   cmd->add_option("--fov", args->settings.horizontalFovDeg, "horizontal field of view, degrees")
-      ->check(CLI::Range(1.0, 170.0));
+      ->check(finiteNumber() & CLI::Range(1.0, 170.0));
   cmd->add_option("--every", args->settings.every, "looming camera: a panorama every N frames")
       ->check(CLI::Range(1, 10000));
   cmd->add_option("--motion", args->motion, "auto, pan, loom or static")->check(CLI::IsMember([] {
@@ -53,7 +53,8 @@ void addEnvmapCommand(CLI::App& app, Invocation& invocation) {
   }()));
   cmd->add_option("--order", args->settings.shOrder, "SH order (3: 16 coefficients per channel)")
       ->check(CLI::Range(0, 8));
-  cmd->add_option("--frames", args->frames, "FIRST-LAST, in the clip's frame numbers");
+  cmd->add_option("--frames", args->frames, "FIRST-LAST, in the clip's frame numbers")
+      ->check(nonEmptyText());
   cmd->add_option("--lights", args->lights,
                   "JSON file: a list of light sources replacing saturated pixels");
   cmd->add_option("--hdr", args->hdr, "an equirect HDR instead of footage");

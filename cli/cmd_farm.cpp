@@ -68,7 +68,8 @@ void addSlurmCommand(CLI::App* farm) {
   cmd->add_option("--chunk", args->chunk, "frames per render task")
       ->required()
       ->check(CLI::Range(1, 1000000));
-  cmd->add_option("--frames", args->frames, "FIRST-LAST, in the clip's frame numbers (all)");
+  cmd->add_option("--frames", args->frames, "FIRST-LAST, in the clip's frame numbers (all)")
+      ->check(nonEmptyText());
   cmd->add_option("--cache", args->cache,
                   "per-clip analysis cache every node sees (default: FARM_DIR/cache)");
   cmd->add_option("--farm-dir", args->farmDir,

@@ -68,7 +68,8 @@ void addPreviewCommand(CLI::App& app, Invocation& invocation) {
   addClipPresetOptions(cmd, args->input, args->preset, args->sets);
   cmd->add_option("-o,--output", args->output, "the contact sheet, SHEET.png")->required();
   cmd->add_option("--frames", args->frames,
-                  "FIRST-LAST (or a stepped or comma list) to sample from, in the clip's numbers");
+                  "FIRST-LAST (or a stepped or comma list) to sample from, in the clip's numbers")
+      ->check(nonEmptyText());
   cmd->add_option("--count", args->count, "frames on the sheet, spread evenly (default 3)");
   cmd->add_option("--proxy", args->proxy,
                   fmt::format("render at this fraction of the plate's size, in (0, 1] (default: "

@@ -32,7 +32,8 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
       ->required();
   cmd->add_option("--frames", args->frames,
                   "FIRST-LAST, FIRST-LASTxSTEP or a comma list (1001-1100x2,1150), in the clip's "
-                  "frame numbers");
+                  "frame numbers")
+      ->check(nonEmptyText());
   cmd->add_option("--threads", args->threads,
                   "threads for every pool: decoding, colour conversion, encoding (default 2)")
       ->check(CLI::Range(1, 1024));

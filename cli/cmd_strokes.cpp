@@ -46,7 +46,8 @@ void addStrokesCommand(CLI::App& app, Invocation& invocation) {
   cmd->add_option("--count", args->strokes.count, "strokes kept, best first")
       ->check(CLI::Range(1, 4096))
       ->capture_default_str();
-  cmd->add_option("--frames", args->frames, "FIRST-LAST, in the clip's frame numbers");
+  cmd->add_option("--frames", args->frames, "FIRST-LAST, in the clip's frame numbers")
+      ->check(nonEmptyText());
   cmd->add_option("--window", args->clip.window, "frames per derain solve")
       ->check(CLI::Range(3, 1000))
       ->capture_default_str();

@@ -2,6 +2,8 @@
 
 #include "commands.h"
 #include "common.h"
+#include "stages/registry.h"
+#include "util/error.h"
 #include "util/printable.h"
 
 namespace pluvia::cli {
@@ -15,10 +17,16 @@ void addValidateCommand(CLI::App& app, Invocation& invocation) {
   cmd->callback([=, &invocation] {
     try {
       Preset p = loadPreset(*preset, *sets);
+      // Each stage reads its settings, and checks them across keys, as a render does.
+      for (const StageInfo& stage : allStages()) stage.create(p);
       std::cout << printable(p.source()) << ": valid (hash " << p.hash() << ")\n";
     } catch (const PresetError& e) {
       std::cout << printable(e.what(), /*keepLines=*/true) << "\n";
       invocation.exitCode = e.isCommandLine() ? 2 : 1;
+    } catch (const Error& e) {
+      std::cout << printable(*preset) << ": " << printable(e.describe(), /*keepLines=*/true)
+                << "\n";
+      invocation.exitCode = 1;
     }
   });
 }

@@ -100,9 +100,11 @@ std::string joinCommandLine(int argc, char** argv) {
 }
 
 void addStartFrameOption(CLI::App* cmd, std::optional<int64_t>& movieFirstFrame) {
+  // Frame numbers beyond a trillion are no clip's; within them frame arithmetic cannot overflow.
   cmd->add_option("--start-frame", movieFirstFrame,
                   "the number of a movie's first frame (movies count from 0 otherwise), such as "
-                  "1001: --frames, the rain and the output's frame numbers and timecode follow it");
+                  "1001: --frames, the rain and the output's frame numbers and timecode follow it")
+      ->check(CLI::Range(int64_t(-1'000'000'000'000), int64_t(1'000'000'000'000)));
 }
 
 void addRenderOutputOptions(CLI::App* cmd, RenderOutputOptions& options) {
@@ -156,6 +158,31 @@ std::vector<std::string> RenderOutputOptions::renderArguments() const {
     arguments.insert(arguments.end(), {"--proxy", fmt::format("{}", proxy)});
   if (makeFolders) arguments.push_back("--mkdir");
   return arguments;
+}
+
+const CLI::Validator& nonEmptyText() {
+  static const CLI::Validator check(
+      [](std::string& value) {
+        return value.empty() ? std::string(
+                                   "is empty (an unset shell variable?): give a value "
+                                   "or leave the option out")
+                             : std::string();
+      },
+      "NOT EMPTY");
+  return check;
+}
+
+const CLI::Validator& finiteNumber() {
+  static const CLI::Validator check(
+      [](std::string& value) {
+        try {
+          if (std::isfinite(std::stod(value))) return std::string();
+        } catch (const std::exception&) {
+        }
+        return "'" + value + "' is not a finite number";
+      },
+      "FINITE");
+  return check;
 }
 
 void protectNamedInputs(const CLI::App& app) {

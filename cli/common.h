@@ -56,6 +56,12 @@ void protectNamedInputs(const CLI::App& app);
 
 void refuseOverwritingInput(const std::vector<std::string>& inputFiles, const std::string& option,
                             const std::vector<std::string>& outputs);
+// A CLI11 check for options whose empty value would read as not given (`--frames "$RANGE"` with
+// RANGE unset rendered the whole clip): an empty value is refused, naming the option.
+const CLI::Validator& nonEmptyText();
+// A CLI11 check that a number is finite (CLI::Range lets NaN through).
+const CLI::Validator& finiteNumber();
+
 // The command line as one shell-quoted string, for logs and metadata.
 std::string joinCommandLine(int argc, char** argv);
 

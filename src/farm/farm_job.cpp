@@ -113,6 +113,23 @@ namespace {
 // a farm.json asking for them was edited by hand or damaged.
 constexpr int64_t kMaxChunks = 4000000;
 
+// Frame numbers beyond this are no clip's; within it, frame arithmetic never overflows.
+constexpr int64_t kMaxFrameNumber = 1'000'000'000'000;
+
+// An integer field, refused when it is no integer or outside [min, max]: JSON's 1e300 or
+// -2^63 read into an int64_t would wrap.
+int64_t integerField(const nlohmann::json& json, const std::string& key, int64_t min, int64_t max,
+                     const std::string& path) {
+  const nlohmann::json& value = json.at(key);
+  if (!value.is_number_integer() ||
+      (value.is_number_unsigned() && value.get<uint64_t>() > uint64_t(max)) ||
+      value.get<int64_t>() < min || value.get<int64_t>() > max)
+    throw Error(fmt::format("{}: {} is {}; it must be an integer from {} to {}", path, key,
+                            value.dump(), min, max),
+                {"farm", {}, path});
+  return value.get<int64_t>();
+}
+
 // The frame range and chunk size a farm.json states, before anything divides by or loops over
 // them.
 void checkFrames(const FarmJob& job, const std::string& path) {
@@ -146,11 +163,14 @@ FarmJob farmJobFromJson(const std::string& text, const std::string& path) {
     job.cacheDir = json.at("cache");
     job.farmDir = json.at("farm_dir");
     job.workingDir = json.at("working_dir");
-    job.firstFrame = json.at("first_frame");
-    job.lastFrame = json.at("last_frame");
-    job.chunkFrames = json.at("chunk_frames");
+    job.firstFrame = integerField(json, "first_frame", -kMaxFrameNumber, kMaxFrameNumber, path);
+    job.lastFrame = integerField(json, "last_frame", -kMaxFrameNumber, kMaxFrameNumber, path);
+    job.chunkFrames = int(integerField(json, "chunk_frames", 1, 1'000'000, path));
     job.fps = json.at("fps");
-    job.threads = json.at("threads");
+    if (!(job.fps > 0.0 && job.fps <= 1000.0))
+      throw Error(fmt::format("{}: fps is {}; it must be in (0, 1000]", path, job.fps),
+                  {"farm", {}, path});
+    job.threads = int(integerField(json, "threads", 0, 1024, path));
     // Farm folders written before these were recorded hold none.
     job.renderOptions = json.value("render_options", std::vector<std::string>{});
     job.prepareOptions = json.value("prepare_options", std::vector<std::string>{});

@@ -3,11 +3,15 @@
 #include <algorithm>
 #include <limits>
 
+#include <fmt/format.h>
+
+#include "util/error.h"
+
 namespace pluvia {
 
 namespace {
 
-ParamSpec pathParam() {
+ParamSpec cameraPathParam() {
   // camera.path: poses over clip frames (geometry/camera_path.h has the angle conventions).
   ParamSpec path = listParam(
       "path", nlohmann::json::array(),
@@ -84,7 +88,7 @@ const SettingsTable<CameraSettings>& cameraTable() {
                             "FocalLength, FocalLengthIn35mmFilm), film the rain through it: "
                             "they replace fov_deg, f_number and sensor_width_mm; false: the "
                             "preset's keys always")),
-          unbound<S>(pathParam()),
+          unbound<S>(cameraPathParam()),
       });
   return table;
 }
@@ -92,7 +96,23 @@ const SettingsTable<CameraSettings>& cameraTable() {
 CameraSettings cameraSettings(const Preset& p) {
   CameraSettings s = cameraTable().read(p);
   if (p.has("camera.path")) s.pathKeys = pathKeys(p.at("camera.path"));
+  // 0 reads the plate's rate; a rate under 1 fps is no video's.
+  if (s.framesPerSecond != 0.0 && s.framesPerSecond < 1.0)
+    throw Error(fmt::format("camera.fps {:g} is under 1 frame a second: give the plate's rate, "
+                            "or 0 to read it from the plate",
+                            s.framesPerSecond),
+                {"camera"});
+  if (s.framesPerSecond > 0.0) s.checkExposureFits(s.framesPerSecond);
   return s;
+}
+
+void CameraSettings::checkExposureFits(double fps) const {
+  for (const RampKey& key : exposureSeconds.keys())
+    if (key.value > 1.0 / fps + 1e-9)
+      throw Error(fmt::format("camera.exposure_s {:g} s is longer than a frame at {:g} fps ({:g} "
+                              "s): a shutter cannot stay open past the next frame",
+                              key.value, fps, 1.0 / fps),
+                  {"camera"});
 }
 
 Camera CameraSettings::base(int width, int height) const {

@@ -45,6 +45,8 @@ struct CameraSettings {
   // The shutter time at clip frame `frame` of a clip at `fps`: the angle when given, else the
   // exposure, else (exposure 0) the plate's.
   double exposureSecondsAt(double fps, double frame) const;
+  // Throws pluvia::Error when an exposure key is longer than a frame at `fps`.
+  void checkExposureFits(double fps) const;
   // Whether some frame's exposure is left to the plate's shutter (exposure_s 0, no angle).
   bool shutterFromPlate() const;
   // The frame rate a render works and writes at: camera.fps when given, else the clip's. A farm

@@ -1,5 +1,7 @@
 #include "stages/lighting_settings.h"
 
+#include "util/error.h"
+
 namespace pluvia {
 namespace {
 
@@ -85,7 +87,11 @@ const SettingsTable<LightingSettings>& lightingTable() {
 }
 
 LightingSettings lightingSettings(const Preset& p) {
-  return lightingTable().read(p);
+  LightingSettings s = lightingTable().read(p);
+  // Said where the preset is read, so that `pluvia validate` says it as the render does.
+  if (s.source == LightingSource::Hdr && s.hdrPath.empty())
+    throw Error("lighting.source is \"hdr\" but lighting.hdr names no file", {"lighting"});
+  return s;
 }
 
 }  // namespace pluvia

@@ -2,10 +2,6 @@
 
 #include <cmath>
 
-#include <fmt/format.h>
-
-#include "util/error.h"
-
 namespace pluvia {
 
 std::vector<optics::LocalLight> lightsAtFrame(const LightsSettings& settings, const Camera& camera,
@@ -28,12 +24,7 @@ std::vector<optics::LocalLight> lightsAtFrame(const LightsSettings& settings, co
     light.radiusMeters = spec.radiusMeters;
     light.photographed = spec.photographed;
     if (spec.spot) {
-      if (!(axis.norm() > 1e-9))
-        throw Error(fmt::format("lights.list[{}]: a spot's axis (dir_x, dir_y, dir_z) = ({}, {}, "
-                                "{}) has no length",
-                                i, spec.direction[0], spec.direction[1], spec.direction[2]),
-                    {"lights"});
-      axis.normalize();
+      axis.normalize();  // of some length: lightsSettings refuses a spot without one
       light.spot = true;
       light.axis = {axis.x(), axis.y(), axis.z()};
       light.cosHalfAngle = std::cos(spec.halfAngleDeg.valueAt(frame) * M_PI / 180.0);

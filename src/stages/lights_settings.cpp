@@ -1,5 +1,11 @@
 #include "stages/lights_settings.h"
 
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "util/error.h"
+
 namespace pluvia {
 namespace {
 
@@ -109,6 +115,15 @@ LightsSettings lightsSettings(const Preset& p) {
     light.radiusMeters = numberOr(item, "radius_m", 0.05);
     light.direction = {numberOr(item, "dir_x", 0.0), numberOr(item, "dir_y", -1.0),
                        numberOr(item, "dir_z", 0.0)};
+    // Said where the preset is read, so that `pluvia validate` says it as the render does.
+    const double axisLength =
+        std::hypot(light.direction[0], light.direction[1], light.direction[2]);
+    if (light.spot && !(axisLength > 1e-9))
+      throw Error(
+          fmt::format("lights.list[{}]: a spot's axis (dir_x, dir_y, dir_z) = ({}, {}, {}) "
+                      "has no length",
+                      s.lights.size(), light.direction[0], light.direction[1], light.direction[2]),
+          {"lights"});
     light.halfAngleDeg = rampOr(item, "half_angle_deg", 30.0);
     light.falloffQ = numberOr(item, "falloff_q", 0.0);
     s.lights.push_back(light);

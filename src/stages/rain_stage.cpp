@@ -152,6 +152,7 @@ class RainStage : public Stage {
 
   void prepare(ClipContext& clip) override {
     fps_ = clip.fps;
+    camera_.checkExposureFits(fps_);
     resolvePlateShutter(camera_, clip, "rain");
     camera_ = withPlateLens(camera_, clip.plateLens);
     log::info("rain: lens " + lensLine(camera_, clip.plateLens));

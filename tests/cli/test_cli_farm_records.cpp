@@ -50,6 +50,25 @@ TEST(CliFarmRecords, ABrokenFarmJsonIsRefusedNamingTheKey) {
   EXPECT_EQ(huge.exitCode, 1) << huge.output;
   EXPECT_NE(huge.output.find("farm.json: last_frame 2000000000 makes"), std::string::npos)
       << huge.output;
+
+  // Numbers an int64_t cannot hold, or that are no integer, are refused, not wrapped.
+  replaceInFile(farm / "farm.json", std::regex(R"("last_frame": 2000000000)"),
+                R"("last_frame": 5)");
+  replaceInFile(farm / "farm.json", std::regex(R"("chunk_frames": 1)"), R"("chunk_frames": 1e300)");
+  const auto wide = runPluvia({"farm", "status", farm.string()});
+  EXPECT_EQ(wide.exitCode, 1) << wide.output;
+  EXPECT_NE(wide.output.find("farm.json: chunk_frames is 1e+300; it must be an integer"),
+            std::string::npos)
+      << wide.output;
+  replaceInFile(farm / "farm.json", std::regex(R"("chunk_frames": 1e\+?300)"),
+                R"("chunk_frames": 1)");
+  replaceInFile(farm / "farm.json", std::regex(R"("first_frame": 0)"),
+                R"("first_frame": -9223372036854775808)");
+  const auto low = runPluvia({"farm", "status", farm.string()});
+  EXPECT_EQ(low.exitCode, 1) << low.output;
+  EXPECT_NE(low.output.find("first_frame is -9223372036854775808; it must be an integer"),
+            std::string::npos)
+      << low.output;
 }
 
 TEST(CliFarmRecords, AGarbledTaskRecordIsAFailureNotACompletion) {

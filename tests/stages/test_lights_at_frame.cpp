@@ -22,11 +22,10 @@ TEST(LightsAtFrame, WorldLightsFollowTheCamera) {
   const Preset preset = Preset::resolve(
       "base",
       {R"(lights.list=[{"type":"point","frame":"world","x_m":1,"y_m":3,"z_m":-10,"intensity":50},)"
-       R"({"type":"spot","x_m":0,"y_m":0,"z_m":-5,"dir_x":0,"dir_y":0,"dir_z":0}])"},
+       R"({"type":"spot","x_m":0,"y_m":0,"z_m":-5,"dir_x":0,"dir_y":-1,"dir_z":0}])"},
       presetSchema());
   LightsSettings settings = lightsSettings(preset);
   ASSERT_EQ(settings.lights.size(), 2u);
-  settings.lights.pop_back();    // the spot with no axis: an error, below
   Camera camera = testCamera();  // at (0, 1.6, 0)
   camera.positionMeters = {2.0, 1.6, 0.0};
   const auto lights = lightsAtFrame(settings, camera, 0.0);
@@ -34,7 +33,11 @@ TEST(LightsAtFrame, WorldLightsFollowTheCamera) {
   EXPECT_NEAR(lights[0].positionMeters[1], 1.4, 1e-12);
   EXPECT_NEAR(lights[0].positionMeters[2], -10.0, 1e-12);
   EXPECT_NEAR(lights[0].rgbIntensity[0], 50.0 * 1.0, 1e-12);
-  EXPECT_THROW(lightsAtFrame(lightsSettings(preset), camera, 0.0), Error);
+  // A spot with no axis is refused where the preset is read (as `pluvia validate` says).
+  const Preset noAxis = Preset::resolve(
+      "base", {R"(lights.list=[{"type":"spot","dir_x":0,"dir_y":0,"dir_z":1e-12}])"},
+      presetSchema());
+  EXPECT_THROW(lightsSettings(noAxis), Error);
 }
 
 TEST(LightsAtFrame, PlanSkipsTheStageWithoutLights) {
