@@ -415,7 +415,8 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
     if (!note.empty()) log::info("colour: " + note);
   }
   // The bounded copy the frames record: a preset with a 50 MB description stays out of the log.
-  log::info("preset (resolved): " + writerOptions_.metadata.at("pluvia:preset"));
+  // With -v only: every frame's header holds it, and `pluvia plan --resolved` prints it.
+  log::debug("preset (resolved): " + writerOptions_.metadata.at("pluvia:preset"));
   log::info("plan:\n" + plan_.text());
   log::debug(fmt::format(
       "input: {}x{}, {} bits a sample, {:g} fps; output tagged '{}'{}{}", clip().width,

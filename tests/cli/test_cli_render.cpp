@@ -27,12 +27,12 @@ TEST(CliRender, ExampleGetsVisibleRainAndTheStatsTable) {
   auto out = (dir / "rain.####.png").string();
   // The wet ground aside (it darkens where the rain falls, and a render without rain has none).
   auto r = runPluvia({"render", exampleClip().string(), "-p", kExamplePreset, "-o", out, "--frames",
-                      "10-12", "--stats", "--set", "wet_ground.enabled=false"});
+                      "10-12", "--stats", "--set", "wet_ground.enabled=false", "-v"});
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_NE(r.output.find("rain"), std::string::npos);
-  EXPECT_NE(r.output.find("ms/frame"), std::string::npos);   // --stats
-  EXPECT_NE(r.output.find("command: "), std::string::npos);  // command line in the log
-  EXPECT_NE(r.output.find("preset (resolved): "), std::string::npos);
+  EXPECT_NE(r.output.find("ms/frame"), std::string::npos);             // --stats
+  EXPECT_NE(r.output.find("command: "), std::string::npos);            // command line in the log
+  EXPECT_NE(r.output.find("preset (resolved): "), std::string::npos);  // -v
   for (int f = 10; f <= 12; ++f)
     EXPECT_TRUE(stdfs::exists(dir / ("rain.00" + std::to_string(f) + ".png")));
   // The same frame without rain: the rain changes many pixels, most of them brighter.

@@ -25,6 +25,21 @@ std::vector<std::string> render(const std::string& plate, const stdfs::path& out
   return args;
 }
 
+// A facility's OCIO config (linear and an sRGB-encoded space) as dir/facility.ocio.
+stdfs::path writeFacilityConfig(const stdfs::path& dir) {
+  return writeTextFile(dir, "facility.ocio", R"(ocio_profile_version: 2
+roles: {default: lin, scene_linear: lin, texture_paint: srgb}
+file_rules:
+  - !<Rule> {name: Default, colorspace: lin}
+colorspaces:
+  - !<ColorSpace> {name: lin, encoding: scene-linear}
+  - !<ColorSpace>
+    name: srgb
+    encoding: sdr-video
+    to_scene_reference: !<ExponentWithLinearTransform> {gamma: 2.4, offset: 0.055}
+)");
+}
+
 }  // namespace
 
 TEST(CliResumeIdentity, SkipExistingRendersAgainWhatThisRenderWouldWriteOtherwise) {
@@ -52,17 +67,7 @@ TEST(CliResumeIdentity, SkipExistingRendersAgainWhatThisRenderWouldWriteOtherwis
 
   // A facility's OCIO config from $OCIO in place of the built-in one: the preset (and its hash)
   // is the same, the frames are not.
-  const stdfs::path config = writeTextFile(dir, "facility.ocio", R"(ocio_profile_version: 2
-roles: {default: lin, scene_linear: lin, texture_paint: srgb}
-file_rules:
-  - !<Rule> {name: Default, colorspace: lin}
-colorspaces:
-  - !<ColorSpace> {name: lin, encoding: scene-linear}
-  - !<ColorSpace>
-    name: srgb
-    encoding: sdr-video
-    to_scene_reference: !<ExponentWithLinearTransform> {gamma: 2.4, offset: 0.055}
-)");
+  const stdfs::path config = writeFacilityConfig(dir);
   std::vector<std::string> withOcio = {"env", "OCIO=" + config.string(), pluviaBinary().string()};
   for (const std::string& arg : render(other, out, {"--skip-existing"})) withOcio.push_back(arg);
   const auto facility = runProcess(withOcio);
@@ -83,17 +88,7 @@ TEST(CliResumeIdentity, SpellingsOfOnePlateAndConfigAreOneIdentity) {
   const stdfs::path dir = freshTempDir("resume_spelling");
   stdfs::create_directories(dir / "p");
   const std::string plate = writeTexturedPlate(dir / "p", 1, 2, 64, 48);
-  const stdfs::path config = writeTextFile(dir, "facility.ocio", R"(ocio_profile_version: 2
-roles: {default: lin, scene_linear: lin, texture_paint: srgb}
-file_rules:
-  - !<Rule> {name: Default, colorspace: lin}
-colorspaces:
-  - !<ColorSpace> {name: lin, encoding: scene-linear}
-  - !<ColorSpace>
-    name: srgb
-    encoding: sdr-video
-    to_scene_reference: !<ExponentWithLinearTransform> {gamma: 2.4, offset: 0.055}
-)");
+  const stdfs::path config = writeFacilityConfig(dir);
   stdfs::create_symlink(config, dir / "link.ocio");
   const stdfs::path out = dir / "o" / "r.####.png";
   ASSERT_EQ(runPluvia(render(plate, out, {"--ocio", config.string()})).exitCode, 0);
