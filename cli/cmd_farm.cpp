@@ -88,6 +88,7 @@ void addSlurmCommand(CLI::App* farm) {
       ->excludes(submit);
   cmd->callback([=] {
     checkProxyScale(args->writes.proxy);
+    args->writes.refuseOptionsNotFor(args->output);
     const OutputTarget output = OutputTarget::classify(stdfs::absolute(args->output).string());
     // An unknown AOV refused here, not on the farm; a farm movie is assembled from the chunks'
     // beauty frames alone, so its AOVs would be lost.

@@ -48,6 +48,7 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
   addStartFrameOption(cmd, args->startFrame);
   cmd->callback([=, &invocation] {
     checkProxyScale(args->writes.proxy);
+    args->writes.refuseOptionsNotFor(args->output);
     RenderRequest request;
     request.input = args->input;
     request.movieFirstFrame = args->startFrame;

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "io/frame_list.h"
+#include "io/sequence_pattern.h"
 #include "stages/blur_settings.h"
 #include "stages/lighting_settings.h"
 #include "stages/registry.h"
@@ -108,14 +109,16 @@ void addStartFrameOption(CLI::App* cmd, std::optional<int64_t>& movieFirstFrame)
 }
 
 void addRenderOutputOptions(CLI::App* cmd, RenderOutputOptions& options) {
-  cmd->add_option("--codec", options.codec,
-                  "movie codec: h264 (default), prores_4444, prores_422hq, dnxhr_hq, dnxhr_hqx, "
-                  "dnxhr_444 (ProRes and DNxHR in .mov or .mkv, DNxHR also in .mxf)");
-  cmd->add_option("--exr-type", options.exrType, "EXR samples: half (default) or float")
-      ->check(CLI::IsMember({"half", "float"}));
-  cmd->add_option("--exr-compression", options.exrCompression,
-                  "EXR compression: piz (default), zip, zips, dwaa, dwab, b44, b44a, pxr24, rle, "
-                  "none");
+  options.codecOption = cmd->add_option(
+      "--codec", options.codec,
+      "movie codec: h264 (default), prores_4444, prores_422hq, dnxhr_hq, dnxhr_hqx, "
+      "dnxhr_444 (ProRes and DNxHR in .mov or .mkv, DNxHR also in .mxf)");
+  options.exrTypeOption =
+      cmd->add_option("--exr-type", options.exrType, "EXR samples: half (default) or float")
+          ->check(CLI::IsMember({"half", "float"}));
+  options.exrCompressionOption = cmd->add_option(
+      "--exr-compression", options.exrCompression,
+      "EXR compression: piz (default), zip, zips, dwaa, dwab, b44, b44a, pxr24, rle, none");
   cmd->add_option(
       "--aov", options.aov,
       "extra outputs: rain,matte,depth,lights,wet_ground,splash,ripples,glare,darken,blur,fog");
@@ -183,6 +186,19 @@ const CLI::Validator& finiteNumber() {
       },
       "FINITE");
   return check;
+}
+
+void RenderOutputOptions::refuseOptionsNotFor(const std::string& output) const {
+  const bool movie = isMovieExtension(output), exr = lowerExtension(output) == "exr";
+  if (codecOption && codecOption->count() && !movie)
+    throw UsageError(
+        fmt::format("--codec applies to a movie; {} is not one (its format is its "
+                    "extension's)",
+                    output));
+  for (const CLI::Option* given : {exrTypeOption, exrCompressionOption})
+    if (given && given->count() && !exr)
+      throw UsageError(
+          fmt::format("{} applies to EXR output; {} is not EXR", given->get_name(), output));
 }
 
 void protectNamedInputs(const CLI::App& app) {

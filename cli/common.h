@@ -37,6 +37,12 @@ struct RenderOutputOptions {
   // These options as `pluvia render` arguments (those the user gave a value other than the
   // default), for a farm chunk's command line.
   std::vector<std::string> renderArguments() const;
+  // Throws pluvia::UsageError naming an option given that does nothing for `output`: --codec
+  // for an image sequence, --exr-type or --exr-compression for anything but EXR.
+  void refuseOptionsNotFor(const std::string& output) const;
+  // Set by addRenderOutputOptions: whether each was given.
+  const CLI::Option *codecOption = nullptr, *exrTypeOption = nullptr,
+                    *exrCompressionOption = nullptr;
 };
 void addRenderOutputOptions(CLI::App* cmd, RenderOutputOptions& options);
 // Resolves a preset against the full schema (every stage's table).

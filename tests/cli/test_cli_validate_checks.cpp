@@ -63,3 +63,19 @@ TEST(CliValidateChecks, EmptyFramesNanFovAndHugeStartFramesAreUsageErrors) {
   EXPECT_EQ(start.exitCode, 2) << start.output;
   expectOutputHas(start.output, {"--start-frame"});
 }
+
+// An option that does nothing for the output asked for was ignored without a word.
+TEST(CliValidateChecks, OptionsThatDoNothingForTheOutputAreUsageErrors) {
+  const stdfs::path dir = freshTempDir("validate_output_options");
+  const std::string plate = writeTexturedPlate(dir, 1, 1);
+  const auto exr = runPluvia({"render", plate, "-p", "moderate", "-o", (dir / "o.mp4").string(),
+                              "--exr-type", "float", "--exr-compression", "dwaa"});
+  EXPECT_EQ(exr.exitCode, 2) << exr.output;
+  expectOutputHas(exr.output, {"--exr-type applies to EXR output", "o.mp4 is not EXR"});
+  const auto codec = runPluvia({"render", plate, "-p", "moderate", "-o",
+                                (dir / "o.####.png").string(), "--codec", "prores_4444"});
+  EXPECT_EQ(codec.exitCode, 2) << codec.output;
+  expectOutputHas(codec.output, {"--codec applies to a movie"});
+  EXPECT_FALSE(stdfs::exists(dir / "o.mp4"));
+  EXPECT_FALSE(stdfs::exists(dir / "o.0001.png"));
+}
