@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "test_support.h"
+#include "util/subprocess.h"
 
 using namespace pluvia::test;
 namespace stdfs = std::filesystem;
@@ -77,5 +78,24 @@ TEST(CliValidateChecks, OptionsThatDoNothingForTheOutputAreUsageErrors) {
   EXPECT_EQ(codec.exitCode, 2) << codec.output;
   expectOutputHas(codec.output, {"--codec applies to a movie"});
   EXPECT_FALSE(stdfs::exists(dir / "o.mp4"));
+  EXPECT_FALSE(stdfs::exists(dir / "o.0001.png"));
+}
+
+// A broken colour config from $OCIO fails `plan` as it fails `render`: a plan that says all is
+// well would send a farm job to fail on every node.
+TEST(CliValidateChecks, ABrokenOcioConfigFailsThePlanAsTheRender) {
+  const stdfs::path dir = freshTempDir("validate_ocio");
+  const std::string plate = writeTexturedPlate(dir, 1, 1);
+  const stdfs::path config = writeTextFile(dir, "bad.ocio", "garbage: [\n");
+  for (const std::vector<std::string>& command :
+       {std::vector<std::string>{"plan", plate, "-p", "moderate"},
+        std::vector<std::string>{"render", plate, "-p", "moderate", "-o",
+                                 (dir / "o.####.png").string()}}) {
+    std::vector<std::string> argv{"env", "OCIO=" + config.string(), pluviaBinary().string()};
+    argv.insert(argv.end(), command.begin(), command.end());
+    const pluvia::ProcessResult r = pluvia::runProcess(argv);
+    EXPECT_EQ(r.exitCode, 1) << command[0] << "\n" << r.output;
+    expectOutputHas(r.output, {"cannot load the OpenColorIO config", "bad.ocio (from $OCIO)"});
+  }
   EXPECT_FALSE(stdfs::exists(dir / "o.0001.png"));
 }
