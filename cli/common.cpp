@@ -216,12 +216,8 @@ void refuseOverwritingInput(const std::vector<std::string>& inputFiles, const st
   fs::protectInputs(inputFiles);
   for (const std::string& out : outputs) {
     fs::claimOutput(out, option);
-    for (const std::string& in : inputFiles)
-      if (fs::samePath(out, in))
-        throw UsageError(
-            fmt::format("{} {} is the input file {}: refusing to overwrite it", option, out, in),
-            {"write", {}, in});
-    // Any other input of the run: the preset, --lights, a file the preset names.
+    // `inputFiles` and every other input of the run (the preset, --lights, a file the preset
+    // names), by device and inode: any spelling or link of one.
     if (const std::string in = fs::protectedInputAt(out); !in.empty())
       throw UsageError(
           fmt::format("{} {} is the input file {}: refusing to overwrite it", option, out, in),

@@ -264,9 +264,7 @@ std::string configIdentity(const ColorSettings& color) {
     config.add(describeConfig(color.configPath));
     return config.hex();
   }
-  std::error_code ec;
-  config.add(
-      std::filesystem::weakly_canonical(std::filesystem::absolute(configFile, ec), ec).string());
+  config.add(fs::canonicalSpelling(configFile).string());
   config.add(fs::readInputText(configFile, "the OpenColorIO config"));
   return config.hex();
 }

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <string_view>
 
+#include "util/fs.h"
 #include "util/hash.h"
 
 namespace pluvia {
@@ -44,16 +45,10 @@ std::string clipIdentity(const ClipInfo& clip) {
   Hasher hasher;
   // Names absolute with links resolved: a relative and an absolute spelling of one plate (a
   // local resume over a farm's frames) are one plate.
-  const auto canonical = [](const std::string& path) {
-    std::error_code ec;
-    const std::filesystem::path resolved =
-        std::filesystem::weakly_canonical(std::filesystem::absolute(path, ec), ec);
-    return ec ? path : resolved.string();
-  };
-  hasher.add(canonical(clip.path));
+  hasher.add(fs::canonicalSpelling(clip.path).string());
   std::error_code ec;
   for (const auto& file : clip.files) {
-    hasher.add(canonical(file));
+    hasher.add(fs::canonicalSpelling(file).string());
     hasher.add(static_cast<uint64_t>(std::filesystem::file_size(file, ec)));
     auto time = std::filesystem::last_write_time(file, ec);
     hasher.add(static_cast<uint64_t>(time.time_since_epoch().count()));

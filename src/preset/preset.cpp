@@ -289,9 +289,7 @@ void canonicalizePaths(json& document, const Schema& schema) {
       if (text.empty() || text.rfind("ocio://", 0) == 0 ||
           std::find(param.choices.begin(), param.choices.end(), text) != param.choices.end())
         continue;
-      std::error_code ec;
-      const stdfs::path canonical = stdfs::weakly_canonical(stdfs::absolute(text, ec), ec);
-      if (!ec) value = canonical.string();
+      value = fs::canonicalSpelling(text).string();
     }
 }
 

@@ -1,9 +1,5 @@
 #include "stages/depth_settings.h"
 
-#include <fmt/format.h>
-
-#include "util/error.h"
-
 namespace pluvia {
 
 namespace {
@@ -125,14 +121,7 @@ const SettingsTable<DepthSettings>& depthTable() {
 }
 
 DepthSettings depthSettings(const Preset& p) {
-  DepthSettings s = depthTable().read(p);
-  // Said where the preset is read, so that `pluvia validate` says it as the render does.
-  if (s.source == DepthSource::File && s.fileEncoding == "normalized" &&
-      s.fileFarMeters <= s.fileNearMeters)
-    throw Error(fmt::format("depth.file_far_m ({:g}) must be beyond depth.file_near_m ({:g})",
-                            s.fileFarMeters, s.fileNearMeters),
-                {"depth"});
-  return s;
+  return depthTable().read(p);
 }
 
 }  // namespace pluvia

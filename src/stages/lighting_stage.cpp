@@ -189,9 +189,7 @@ class EnvironmentStage : public Stage {
     stitch_.horizontalFovDeg = withPlateLens(camera_, clip.plateLens).fovDeg;
     const LightingSource source = lighting_.source;
     if (source == LightingSource::Hdr) {
-      const std::string& hdr = lighting_.hdrPath;
-      if (hdr.empty())
-        throw Error("lighting.source is \"hdr\" but lighting.hdr names no file", {"lighting"});
+      const std::string& hdr = lighting_.hdrPath;  // never empty here (lightingSettings)
       clip.environment = hdrEnvironment(hdr, lighting_.intensity);
       const auto& mean = clip.environment->averageRgb;
       log::info(fmt::format("lighting: {} ({} x {}), mean radiance {:.4f} {:.4f} {:.4f}", hdr,

@@ -180,6 +180,12 @@ void ensureParentFolder(const stdfs::path& file, MakeFolders make) {
   }
 }
 
+stdfs::path canonicalSpelling(const stdfs::path& path) {
+  std::error_code ec;
+  const stdfs::path canonical = stdfs::weakly_canonical(stdfs::absolute(path, ec), ec);
+  return ec ? path : canonical;
+}
+
 bool samePath(const stdfs::path& a, const stdfs::path& b) {
   std::error_code ec;
   if (stdfs::exists(a, ec) && stdfs::exists(b, ec)) return stdfs::equivalent(a, b, ec);

@@ -52,6 +52,10 @@ enum class MakeFolders { LastLevel, All };
 // cannot, or when a level above its last is missing under LastLevel.
 void ensureParentFolder(const std::filesystem::path& file, MakeFolders make);
 
+// `path` absolute, with "." and ".." and the links of its existing part resolved: one name for
+// one file however it was spelled (relative, through a link). `path` itself if that fails.
+std::filesystem::path canonicalSpelling(const std::filesystem::path& path);
+
 // True if two paths name the same existing file (follows links), or the same path when absent.
 bool samePath(const std::filesystem::path& a, const std::filesystem::path& b);
 

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "util/error.h"
+#include "util/fs.h"
 #include "util/log.h"
 
 namespace pluvia::fs {
@@ -44,11 +45,9 @@ std::string protectedInputAt(const std::filesystem::path& target) {
 }
 
 void claimOutput(const std::filesystem::path& target, const std::string& option) {
-  std::error_code ec;
-  std::filesystem::path canonical = std::filesystem::weakly_canonical(target, ec);
-  if (ec) canonical = std::filesystem::absolute(target, ec).lexically_normal();
+  const std::string canonical = canonicalSpelling(target).string();
   std::lock_guard lock(gMutex);
-  const auto [at, added] = gOutputs.emplace(canonical.string(), option);
+  const auto [at, added] = gOutputs.emplace(canonical, option);
   if (added || at->second == option) return;
   throw UsageError(target.string() + " would be written twice by this run, as " + at->second +
                        " and as " + option + ": one would be lost; give them different names",
