@@ -52,25 +52,40 @@ void writeSheet(const std::string& path, const Image& sheet,
   writeImageFile(path, sheet.width, sheet.height, channels, metadata, std::nullopt);
 }
 
+// A preset's name on the sheet: a shipped name as given, a preset file by its stem.
+std::string presetLabel(const std::string& nameOrPath) {
+  return std::filesystem::path(nameOrPath).stem().string();
+}
+
 }  // namespace
 
 void addPreviewCommand(CLI::App& app, Invocation& invocation) {
   auto* cmd = app.add_subcommand(
-      "preview", "a contact sheet of a few frames: plate, rained, rain alone, depth");
+      "preview",
+      "a contact sheet of a few frames (or one frame under several presets): plate, rained, rain "
+      "alone, depth");
   struct Args {
     std::string input, output, preset, frames, cache;
-    std::vector<std::string> sets;
+    std::vector<std::string> sets, presets;
     int count = 3;
     std::optional<double> proxy;
     std::optional<int64_t> startFrame;
   };
   auto args = std::make_shared<Args>();
   addClipPresetOptions(cmd, args->input, args->preset, args->sets);
+  // -p or --presets: one of the two (checked in the callback, naming both).
+  CLI::Option* presetOption = cmd->get_option("-p")->required(false);
+  cmd->add_option("--presets", args->presets,
+                  "compare presets instead of -p: a row per preset (NAME,NAME,... or paths), "
+                  "each at the same frames (--count 1 unless given), --set applied to each")
+      ->delimiter(',')
+      ->excludes(presetOption);
   cmd->add_option("-o,--output", args->output, "the contact sheet, SHEET.png")->required();
   cmd->add_option("--frames", args->frames,
                   "FIRST-LAST (or a stepped or comma list) to sample from, in the clip's numbers")
       ->check(nonEmptyText());
-  cmd->add_option("--count", args->count, "frames on the sheet, spread evenly (default 3)");
+  CLI::Option* countOption = cmd->add_option(
+      "--count", args->count, "frames on the sheet, spread evenly (default 3; 1 with --presets)");
   cmd->add_option("--proxy", args->proxy,
                   fmt::format("render at this fraction of the plate's size, in (0, 1] (default: "
                               "columns at most {} px wide)",
@@ -78,8 +93,12 @@ void addPreviewCommand(CLI::App& app, Invocation& invocation) {
   cmd->add_option("--cache", args->cache, "cache folder for per-clip analysis");
   addStartFrameOption(cmd, args->startFrame);
   cmd->callback([=, &invocation] {
-    if (args->count < 1)
-      throw UsageError(fmt::format("--count {}: the sheet needs 1 frame or more", args->count));
+    if (args->preset.empty() && args->presets.empty())
+      throw UsageError("give -p PRESET, or --presets NAME,NAME,... for a row per preset");
+    const bool comparing = !args->presets.empty();
+    const int count = comparing && countOption->count() == 0 ? 1 : args->count;
+    if (count < 1)
+      throw UsageError(fmt::format("--count {}: the sheet needs 1 frame or more", count));
     if (args->proxy) checkProxyScale(*args->proxy);
     if (lowerExtension(args->output) != "png")
       throw UsageError(fmt::format("-o {}: the contact sheet is a PNG (SHEET.png)", args->output));
@@ -100,30 +119,45 @@ void addPreviewCommand(CLI::App& app, Invocation& invocation) {
       const int plateWidth = openClip(args->input)->info().width;
       request.proxyScale = std::min(1.0, double(kMaxColumnWidthPx) / plateWidth);
     }
-    Preset preset = loadPresetForProxy(args->preset, args->sets, request.proxyScale);
+    const std::vector<std::string> presetNames =
+        comparing ? args->presets : std::vector<std::string>{args->preset};
+    // Every preset resolved before any frame is rendered: a mistake in the third is said at once.
+    std::vector<Preset> presets;
+    for (const std::string& name : presetNames)
+      presets.push_back(loadPresetForProxy(name, args->sets, request.proxyScale));
 
-    StageTimes times;
-    RenderSession session(request, preset, allStages(), times);
-    const std::vector<int64_t> frames = spreadFrames(session.frames(), args->count);
-    session.prepareStages();
-    const cv::Size tileSize(session.clip().width, session.clip().height);
-    ContactSheet sheet(tileSize, 4, int(frames.size()));
-    for (size_t row = 0; row < frames.size(); ++row) {
-      FrameContext frame = session.readFrame(frames[row]);
-      Image plate = frame.image;
-      session.processFrame(frame);
-      Image rain = rainOverBlack(frame.image, kRainGain);
-      Image depth = depthPicture(frame.image);
-      for (Image* tile : {&plate, &frame.image, &rain, &depth}) session.toOutput(*tile);
-      sheet.place(int(row), 0, plate, fmt::format("plate {}", frames[row]));
-      sheet.place(int(row), 1, frame.image, "rained");
-      sheet.place(int(row), 2, rain, fmt::format("rain x{:g}", kRainGain));
-      sheet.place(int(row), 3, depth, "depth");
+    std::optional<ContactSheet> sheet;
+    std::map<std::string, std::string> metadata;
+    cv::Size tileSize;
+    size_t rows = 0;
+    for (size_t p = 0; p < presets.size(); ++p) {
+      StageTimes times;
+      RenderSession session(request, presets[p], allStages(), times);
+      const std::vector<int64_t> frames = spreadFrames(session.frames(), count);
+      session.prepareStages();
+      if (!sheet) {
+        tileSize = cv::Size(session.clip().width, session.clip().height);
+        sheet.emplace(tileSize, 4, int(frames.size() * presets.size()));
+        metadata = session.writerOptions().metadata;
+      }
+      for (int64_t frameNumber : frames) {
+        FrameContext frame = session.readFrame(frameNumber);
+        Image plate = frame.image;
+        session.processFrame(frame);
+        Image rain = rainOverBlack(frame.image, kRainGain);
+        Image depth = depthPicture(frame.image);
+        for (Image* tile : {&plate, &frame.image, &rain, &depth}) session.toOutput(*tile);
+        const int row = int(rows++);
+        sheet->place(row, 0, plate, fmt::format("plate {}", frameNumber));
+        sheet->place(row, 1, frame.image,
+                     comparing ? presetLabel(presetNames[p]) : std::string("rained"));
+        sheet->place(row, 2, rain, fmt::format("rain x{:g}", kRainGain));
+        sheet->place(row, 3, depth, "depth");
+      }
     }
-    writeSheet(args->output, sheet.image(), session.writerOptions().metadata);
+    writeSheet(args->output, sheet->image(), metadata);
     log::info(fmt::format(
-        "wrote {} ({} frames at {}x{}{})", args->output, frames.size(), tileSize.width,
-        tileSize.height,
+        "wrote {} ({} rows at {}x{}{})", args->output, rows, tileSize.width, tileSize.height,
         request.proxyScale != 1.0 ? fmt::format(", proxy {:g}", request.proxyScale) : ""));
   });
 }

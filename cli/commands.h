@@ -35,5 +35,7 @@ void addStrokesCommand(CLI::App& app, Invocation& invocation);
 void addMatchCommand(CLI::App& app, Invocation& invocation);
 void addEnvmapCommand(CLI::App& app, Invocation& invocation);
 void addDepthCommand(CLI::App& app, Invocation& invocation);
+void addPresetsCommand(CLI::App& app, Invocation& invocation);
+void addManualCommands(CLI::App& app, Invocation& invocation);
 
 }  // namespace pluvia::cli

@@ -10,6 +10,7 @@
 
 #include "commands.h"
 #include "common.h"
+#include "image/color.h"
 #include "io/oiio_debug.h"
 #include "pluvia/version.h"
 #include "preset/param_table.h"
@@ -36,7 +37,8 @@ int main(int argc, char** argv) {
   keepFreedBlocksForTheNextFrame();
   CLI::App app{"pluvia: adds physically based rain to real footage.", "pluvia"};
   app.footer(kExitCodes);
-  app.set_version_flag("--version", std::string("pluvia ") + kVersion);
+  app.set_version_flag("--version", std::string("pluvia ") + kVersion + " (OpenColorIO " +
+                                        colorLibraryVersion() + ")");
   app.require_subcommand(1);
   // -q, -v and --log belong to the program, and may stand anywhere on the line: before the
   // command or among its options (a farm template appends them at the end).
@@ -45,7 +47,8 @@ int main(int argc, char** argv) {
   std::string logFile;
   app.add_flag("-q,--quiet", quiet, "only warnings and errors");
   app.add_flag("-v,--verbose", verbose, "debug messages too");
-  app.add_option("--log", logFile, "append every message and progress line to FILE too");
+  app.add_option("--log", logFile, "append every message and progress line to FILE too")
+      ->type_name("FILE");
 
   cli::Invocation invocation;
   invocation.commandLine = cli::joinCommandLine(argc, argv);
@@ -55,6 +58,7 @@ int main(int argc, char** argv) {
   cli::addPreviewCommand(app, invocation);
   cli::addPlanCommand(app, invocation);
   cli::addValidateCommand(app, invocation);
+  cli::addPresetsCommand(app, invocation);
   cli::addDescribeCommand(app, invocation);
   cli::addBenchCommand(app, invocation);
   cli::addShadeDropCommand(app, invocation);
@@ -64,6 +68,7 @@ int main(int argc, char** argv) {
   cli::addMatchCommand(app, invocation);
   cli::addEnvmapCommand(app, invocation);
   cli::addDepthCommand(app, invocation);
+  cli::addManualCommands(app, invocation);
   app.parse_complete_callback([&] {
     log::setLevel(quiet ? log::Level::Warning : verbose ? log::Level::Debug : log::Level::Info);
     showOiioDebugMessages(verbose);

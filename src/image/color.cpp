@@ -11,6 +11,7 @@
 #include <tuple>
 
 #include <OpenColorIO/OpenColorIO.h>
+#include <fmt/format.h>
 
 #include "image/transfer_lut.h"
 
@@ -123,7 +124,16 @@ OCIO::ConstConfigRcPtr configFor(const std::string& given) {
   auto found = configs.find(configPath);
   if (found != configs.end()) return found->second;
   OCIO::ConstConfigRcPtr config;
-  if (!configPath.empty() && configPath.rfind("ocio://", 0) != 0) {
+  const bool builtinUri = configPath.rfind("ocio://", 0) == 0;
+  // Configs built into the library (ocio://default, ocio://cg-config-...) came with
+  // OpenColorIO 2.2; an older library reads the URI as a file name that does not exist.
+  if (builtinUri && OCIO::GetVersionHex() < 0x02020000)
+    throw Error(fmt::format("the OpenColorIO config {}: configs built into OpenColorIO "
+                            "(ocio:// URIs) need OpenColorIO 2.2 or later, and pluvia runs "
+                            "with OpenColorIO {}; give the config's .ocio file instead",
+                            configPath, OCIO::GetVersion()),
+                {"color", {}, configPath});
+  if (!configPath.empty() && !builtinUri) {
     fs::requireRegularFile(configPath, "the OpenColorIO config");
     fs::protectInputs({configPath});
   }
@@ -398,6 +408,10 @@ std::optional<CodeValues> ColorConverter::codeValues(int bits) const {
 
 std::vector<std::string> colorSpaceNames(const std::string& configPath) {
   return namesIn(configFor(configPath));
+}
+
+std::string colorLibraryVersion() {
+  return OCIO::GetVersion();
 }
 
 void saveBuiltinConfig(const std::string& path) {

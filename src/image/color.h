@@ -70,6 +70,9 @@ std::optional<std::string> videoEncodedSpace(const std::string& primaries,
 // Names of the colour spaces available (built-in config or the given one).
 std::vector<std::string> colorSpaceNames(const std::string& configPath = "");
 
+// The version of the OpenColorIO library pluvia runs with ("2.1.2").
+std::string colorLibraryVersion();
+
 // Writes the built-in config as an .ocio file (so users can inspect or extend it).
 void saveBuiltinConfig(const std::string& path);
 
