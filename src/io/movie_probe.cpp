@@ -126,13 +126,16 @@ MovieProbe probeMovie(const std::string& path) {
   const double average = parseRate(value(stream + "avg_frame_rate"));
   // Variable: the average rate is not the nominal one, or the container lists more frames than
   // it codes while the coded ones still reach its end (an AVI index with empty "hold the last
-  // frame" entries), and its duration spans the frames it lists. Coded frames that stop early,
-  // or a header listing far more frames than its duration holds (an AVI cut short, its index
-  // gone: 795 listed, 0.2 s), are a truncated file, not a variable rate: the frame count check
-  // then refuses it.
-  const bool holdsFrames = listed > 0 && probe.packets > 0 && probe.packets < listed &&
-                           nominal > 0 && duration > 0 && codedEnd >= duration - 1.5 / nominal &&
-                           std::abs(static_cast<double>(listed) - duration * nominal) <= 1.5;
+  // frame" entries), and its duration spans the frames it lists; a container that lists none
+  // (Matroska, whose average rate is its nominal one) the same with the frames its duration
+  // holds at the nominal rate. Coded frames that stop early, or a header listing far more frames
+  // than its duration holds (an AVI cut short, its index gone: 795 listed, 0.2 s), are a
+  // truncated file, not a variable rate: the frame count check then refuses it.
+  const double heldFrames = listed > 0 ? static_cast<double>(listed) : duration * nominal;
+  const bool holdsFrames = probe.packets > 0 &&
+                           static_cast<double>(probe.packets) + 0.5 < heldFrames && nominal > 0 &&
+                           duration > 0 && codedEnd >= duration - 1.5 / nominal &&
+                           std::abs(heldFrames - duration * nominal) <= 1.5;
   probe.variableRate =
       (nominal > 0 && average > 0 && std::abs(average - nominal) > kRateTolerance * nominal) ||
       holdsFrames;

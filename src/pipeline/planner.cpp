@@ -36,6 +36,22 @@ std::string Plan::text() const {
   return out;
 }
 
+std::string Plan::summary() const {
+  std::vector<std::string> running, cached, leftOut;
+  for (const auto& e : entries) {
+    if (e.runs)
+      running.push_back(e.stage);
+    else if (e.cached)
+      cached.push_back(e.stage);
+    else
+      leftOut.push_back(fmt::format("{} [{}]", e.stage, e.reason));
+  }
+  std::string out = fmt::format("runs {}", fmt::join(running, ", "));
+  if (!cached.empty()) out += fmt::format("; cached {}", fmt::join(cached, ", "));
+  if (!leftOut.empty()) out += fmt::format("; leaves out {}", fmt::join(leftOut, ", "));
+  return out;
+}
+
 namespace {
 
 // Who makes and who reads each artifact among the stages the plan keeps: a cached stage makes

@@ -31,6 +31,9 @@ struct Plan {
   bool available(const std::string& stage) const;  // runs or cached
   // Human-readable: one line per stage, then one per artifact.
   std::string text() const;
+  // One line for a render's log: the stages that run, those cached and those left out with why
+  // ("runs lighting, rain, write; cached depth; leaves out fog [no-op: density is 0]").
+  std::string summary() const;
 };
 
 // `framesKey`: the key the clip's per-clip work is stored under in `cache` (render_job.h's

@@ -415,7 +415,9 @@ RenderSession::RenderSession(const RenderRequest& request, const Preset& preset,
   // The bounded copy the frames record: a preset with a 50 MB description stays out of the log.
   // With -v only: every frame's header holds it, and `pluvia plan --resolved` prints it.
   log::debug("preset (resolved): " + writerOptions_.metadata.at("pluvia:preset"));
-  log::info("plan:\n" + plan_.text());
+  // The stages in one line; each stage's note and the artifacts with -v (or `pluvia plan`).
+  log::info("plan: " + plan_.summary());
+  log::debug("plan:\n" + plan_.text());
   log::debug(fmt::format(
       "input: {}x{}, {} bits a sample, {:g} fps; output tagged '{}'{}{}", clip().width,
       clip().height, clip().bitsPerSample, writerOptions_.fps, writerOptions_.color.name,

@@ -142,6 +142,9 @@ struct ClipContext {
   std::optional<PlateRainFinding> plateRain;
   // Found on first use by a stage that films the rain with the plate's shutter.
   std::optional<PlateShutter> plateShutter;
+  // The shutter a stage said it films with (stages/plate_shutter.h's resolvePlateShutter): the
+  // next stage that films with the same one says so only with -v.
+  std::string shutterSaid;
   // The blur of the plate's still edges, px at the size rendered, found on first use by the
   // rain stage (stages/plate_shutter.h's clipPlateStillBlurPx); 0 where none was measured.
   std::optional<double> plateStillBlurPx;

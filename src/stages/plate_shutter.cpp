@@ -193,17 +193,23 @@ std::string presetShutterSource(const CameraSettings& camera, double fps) {
 }
 
 void resolvePlateShutter(CameraSettings& camera, ClipContext& clip, const char* stage) {
+  std::string said;
   if (const std::string source = presetShutterSource(camera, clip.fps); !source.empty()) {
-    log::info(fmt::format("{}: shutter {} ({})", stage,
-                          fraction(camera.exposureSecondsAt(clip.fps, 0.0)), source));
+    said =
+        fmt::format("shutter {} ({})", fraction(camera.exposureSecondsAt(clip.fps, 0.0)), source);
+  } else {
+    const PlateShutter& shutter = clipPlateShutter(clip);
+    camera.plateShutterSeconds = shutter.seconds;
+    said = fmt::format("shutter {}, {}; camera.exposure_s or camera.shutter_angle_deg sets another",
+                       fraction(shutter.seconds), shutter.source);
+  }
+  // Each stage films with it, but the log says it once (the splash stage's is the rain's).
+  if (said == clip.shutterSaid) {
+    log::debug(fmt::format("{}: {}", stage, said));
     return;
   }
-  const PlateShutter& shutter = clipPlateShutter(clip);
-  camera.plateShutterSeconds = shutter.seconds;
-  log::info(
-      fmt::format("{}: shutter {}, {}; camera.exposure_s or camera.shutter_angle_deg "
-                  "sets another",
-                  stage, fraction(shutter.seconds), shutter.source));
+  log::info(fmt::format("{}: {}", stage, said));
+  clip.shutterSaid = said;
 }
 
 }  // namespace pluvia

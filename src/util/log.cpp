@@ -10,6 +10,7 @@
 #include <cstring>
 #include <ctime>
 #include <mutex>
+#include <set>
 
 #include "util/error.h"
 #include "util/input_guard.h"
@@ -131,6 +132,13 @@ bool fileFailed() {
 }
 
 void warning(const std::string& m) {
+  // A warning said again word for word (a movie opened by several readers, a setting every
+  // chunk of frames meets) is said once: the first says all it has to.
+  {
+    static std::set<std::string> said;
+    std::lock_guard lock(gMutex);
+    if (!said.insert(m).second) return;
+  }
   emit(Level::Warning, "warning: ", m);
 }
 void info(const std::string& m) {

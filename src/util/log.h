@@ -17,6 +17,7 @@ void setFile(const std::string& path);
 bool fileFailed();
 // The --log file being written, or "" when there is none.
 std::string filePath();
+// Each distinct warning once in the process: the same message again says nothing.
 void warning(const std::string& message);
 void info(const std::string& message);
 void debug(const std::string& message);

@@ -136,6 +136,31 @@ TEST(MovieReader, VariableRateAviIsConformedToItsNominalRate) {
   EXPECT_EQ(clip->read(9).rgba, frames[9].rgba);
 }
 
+// A Matroska file at a variable rate: 20 frames, the first 10 a tenth of a second apart, the
+// rest three tenths. Matroska lists no frame count and states its nominal rate as its average,
+// so the rate looked constant and the 20th frame was "truncated or corrupt"; it is conformed to
+// 10 fps as 38 frames, each coded frame held until the next.
+TEST(MovieReader, VariableRateMatroskaIsConformedToItsNominalRate) {
+  if (!programAvailable("ffmpeg")) GTEST_SKIP() << "ffmpeg not on PATH";
+  auto dir = test::freshTempDir("movie_vfr_mkv");
+  const stdfs::path mkv = dir / "vfr.mkv";
+  ffmpeg({"-f", "lavfi", "-i", "testsrc=s=64x36:r=10", "-frames:v", "20", "-vf",
+          "setpts='(if(lt(N,10),N,10+(N-10)*3))/10/TB'", "-fps_mode", "vfr", "-c:v", "libx264",
+          "-pix_fmt", "yuv444p", "-qp", "0", mkv.string()});
+  auto clip = openClip(mkv.string());
+  ASSERT_EQ(clip->info().frames.size(), 38u);
+  std::vector<Image> frames;
+  for (int64_t f = 0; f < 38; ++f) frames.push_back(clip->read(f));
+  EXPECT_NE(frames[9].rgba, frames[10].rgba);
+  // Coded frame 11 is shown at 1.3 s: frames 10-12 hold coded frame 10.
+  EXPECT_EQ(frames[11].rgba, frames[10].rgba);
+  EXPECT_EQ(frames[12].rgba, frames[10].rgba);
+  EXPECT_NE(frames[13].rgba, frames[12].rgba);
+  // The last coded frame is shown at 3.7 s, the one before at 3.4 s (frames 34-36).
+  EXPECT_EQ(frames[36].rgba, frames[34].rgba);
+  EXPECT_NE(frames[37].rgba, frames[36].rgba);
+}
+
 TEST(MovieReader, SeekingLandsOnTheFrameAskedFor) {
   auto clip = openClip(test::exampleClip().string());
   std::vector<Image> sequential;
