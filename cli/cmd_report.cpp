@@ -50,7 +50,15 @@ struct TableFiles {
 
   void addOptions(CLI::App* command, const std::string& plotted) {
     command->add_option("--csv", csv, "also write the table as CSV");
-    command->add_option("--plot", plot, "also write " + plotted + " as a PNG");
+    // Checked before any work: a report runs for minutes before it writes its plot.
+    command->add_option("--plot", plot, "also write " + plotted + " as a PNG (PLOT.png)")
+        ->check(CLI::Validator(
+            [](const std::string& path) {
+              return lowerExtension(path) == "png"
+                         ? std::string()
+                         : "the plot is a PNG: give PLOT.png, not " + path;
+            },
+            "PLOT.png"));
   }
   // Prints the table and writes the files asked for.
   template <class Report>

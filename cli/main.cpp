@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <new>
 
+#include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
@@ -126,6 +128,12 @@ int main(int argc, char** argv) {
         "out of memory: this command needed more memory than the process may use (the "
         "machine's, ulimit -v or the job's memory limit); a smaller --proxy, fewer "
         "--threads or rain.max_drops lower it");
+    return 1;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // The path and the system's reason, not the library's "filesystem error: status: ...".
+    log::error(fmt::format("{}{}: {}", e.path1().string(),
+                           e.path2().empty() ? "" : " -> " + e.path2().string(),
+                           e.code().message()));
     return 1;
   } catch (const std::exception& e) {
     log::error(e.what());

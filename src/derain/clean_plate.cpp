@@ -121,6 +121,7 @@ std::vector<CleanPlate> cleanPlatesAt(const std::vector<cv::Mat3f>& frames,
                                       const std::vector<int>& at,
                                       const CleanPlateSettings& settings) {
   requireFrames(frames);
+  requireDenseFlowSize(frames.front().size(), "the clean plate");
   const int count = int(frames.size());
   for (int t : at)
     if (t < 0 || t >= count)

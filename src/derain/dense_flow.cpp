@@ -5,7 +5,10 @@
 #include <limits>
 #include <vector>
 
+#include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
+
+#include "util/error.h"
 
 namespace pluvia::derain {
 
@@ -68,6 +71,18 @@ cv::Mat remapCubic(const cv::Mat& image, const cv::Mat2f& points) {
   cv::Mat out;
   cv::remap(image, out, points, cv::noArray(), cv::INTER_CUBIC, cv::BORDER_REPLICATE);
   return out;
+}
+
+bool denseFlowMeasures(cv::Size frameSize) {
+  return std::max(frameSize.width, frameSize.height) >= kDenseFlowMinSidePx;
+}
+
+void requireDenseFlowSize(cv::Size frameSize, const std::string& what) {
+  if (!denseFlowMeasures(frameSize))
+    throw Error(
+        fmt::format("{} needs frames of at least {} px on a side to follow their motion, "
+                    "and these are {}x{} px",
+                    what, kDenseFlowMinSidePx, frameSize.width, frameSize.height));
 }
 
 cv::Ptr<cv::DISOpticalFlow> makeDenseFlow() {

@@ -3,6 +3,8 @@
 // and derain's registration (registration.h) share: where the reference's pixels land in a
 // neighbour, whether the flow there is forward-backward consistent, and the residual the flow is
 // judged by.
+#include <string>
+
 #include <opencv2/core.hpp>
 #include <opencv2/video/tracking.hpp>
 
@@ -31,6 +33,13 @@ cv::Mat1b forwardBackwardConsistent(const cv::Mat2f& forward, const cv::Mat2f& b
 // An image resampled at `points` (cubic: linear interpolation at half-pixel offsets blurs fine
 // texture by several codes), the border replicated.
 cv::Mat remapCubic(const cv::Mat& image, const cv::Mat2f& points);
+
+// OpenCV's DIS measures no flow on a frame under 12 px on both sides (it asserts).
+inline constexpr int kDenseFlowMinSidePx = 12;
+bool denseFlowMeasures(cv::Size frameSize);
+// Throws pluvia::Error, "`what` needs frames of at least 12 px on a side to follow their motion,
+// and these are WxH px", for a size denseFlowMeasures refuses.
+void requireDenseFlowSize(cv::Size frameSize, const std::string& what);
 
 // The flow estimator both use: DIS, PRESET_MEDIUM (multi-scale, so it follows shifts of tens of
 // pixels).

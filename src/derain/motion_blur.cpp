@@ -261,6 +261,13 @@ ShutterFromBlur measureShutterFromBlur(const std::vector<cv::Mat1f>& input) {
   const float white = std::max(quantile(all, 0.995), 1e-6f);
   std::vector<cv::Mat1b> codes;
   for (const cv::Mat1f& g : greys) codes.push_back(flowCodes(g, white));
+  if (!denseFlowMeasures(greys.front().size())) {
+    ShutterFromBlur tooSmall;
+    tooSmall.summary = fmt::format(
+        "frames of {}x{} px are too small to follow their motion (needs {} px on a side)",
+        greys.front().cols, greys.front().rows, kDenseFlowMinSidePx);
+    return tooSmall;
+  }
 
   std::vector<EdgeSample> samples;
   for (int middle = 1; middle + 1 < int(greys.size()); ++middle)

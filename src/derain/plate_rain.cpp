@@ -7,11 +7,13 @@
 #include <opencv2/imgproc.hpp>
 
 #include "derain/clean_plate.h"
+#include "derain/dense_flow.h"
 #include "derain/streak_stats.h"
 #include "util/error.h"
 
 namespace pluvia::derain {
 std::string PlateRain::summary() const {
+  if (!unmeasured.empty()) return unmeasured;
   std::string angle = std::isfinite(stats.angleDeg)
                           ? fmt::format(", falling at {:.1f} deg", stats.angleDeg)
                           : std::string();
@@ -24,6 +26,14 @@ PlateRain measurePlateRain(const std::vector<cv::Mat3f>& bgrFrames,
   const int count = int(bgrFrames.size());
   if (count < 3)
     throw Error(fmt::format("plate rain: {} frames; a clean plate needs 3 or more", count));
+  if (!denseFlowMeasures(bgrFrames.front().size())) {
+    PlateRain tooSmall;
+    tooSmall.unmeasured = fmt::format(
+        "not looked for: frames of {}x{} px are too small to follow their motion (needs {} px on "
+        "a side)",
+        bgrFrames.front().cols, bgrFrames.front().rows, kDenseFlowMinSidePx);
+    return tooSmall;
+  }
   const int measured = std::clamp(settings.measuredFrames, 1, count);
   const int first = (count - measured) / 2;
   std::vector<int> at;

@@ -27,11 +27,14 @@ struct PlateRain {
   bool rained = false;
   StreakStats stats;
   int frames = 0;  // measured
+  // Why nothing was measured (frames too small to follow), "" when the frames were.
+  std::string unmeasured;
   // "streaks over 1.1 % of the frame, 990 per Mpx, falling at 0.2 deg (3 frames measured)"
   std::string summary() const;
 };
 
-// Throws pluvia::Error when there are fewer than 3 frames or they differ in size.
+// Throws pluvia::Error when there are fewer than 3 frames or they differ in size. Frames too
+// small to follow their motion (derain/dense_flow.h) are not rained, and `unmeasured` says why.
 PlateRain measurePlateRain(const std::vector<cv::Mat3f>& bgrFrames,
                            const PlateRainSettings& settings = {});
 

@@ -234,6 +234,7 @@ DenseMotion denseMotion(const cv::Mat& reference, const cv::Mat& frame, const cv
 
 // Registration::dense for a registration that keeps its motion.
 void refineByFlow(const std::vector<cv::Mat>& features, int reference, Registration& registration) {
+  requireDenseFlowSize(features.front().size(), "registering a moving camera's frames");
   registration.dense.assign(features.size(), DenseMotion{});
   const cv::Ptr<cv::DISOpticalFlow> flow = makeDenseFlow();
   double before = 0.0, after = 0.0;

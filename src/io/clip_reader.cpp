@@ -119,7 +119,11 @@ std::unique_ptr<ClipReader> openClip(const std::string& input) {
   if (stdfs::exists(status)) return isMovieExtension(input) ? openMovie(input) : openStill(input);
   if (std::optional<SequencePattern> pattern = SequencePattern::parse(input))
     return openSequence(input, *pattern);
-  throw Error("input not found: " + input, {"read", {}, input});
+  // Not there, or not reachable: the system says which (a name too long, a folder not readable).
+  throw Error(ec && ec != std::errc::no_such_file_or_directory
+                  ? "cannot read the input " + input + ": " + ec.message()
+                  : "input not found: " + input,
+              {"read", {}, input});
 }
 
 }  // namespace pluvia

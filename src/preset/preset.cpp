@@ -192,12 +192,13 @@ std::vector<std::string> shippedPresetNames() {
 
 stdfs::path findPreset(const std::string& nameOrPath) {
   stdfs::path asPath(nameOrPath);
-  if (stdfs::is_regular_file(asPath)) return asPath;
+  std::error_code ec;  // a name too long for a file name is looked for as a name, not thrown on
+  if (stdfs::is_regular_file(asPath, ec)) return asPath;
   bool looksLikePath = nameOrPath.find('/') != std::string::npos || asPath.extension() == ".json";
   if (!looksLikePath) {
     for (const auto& dir : presetSearchPath()) {
       stdfs::path candidate = dir / (nameOrPath + ".json");
-      if (stdfs::is_regular_file(candidate)) return candidate;
+      if (stdfs::is_regular_file(candidate, ec)) return candidate;
     }
   }
   auto names = shippedPresetNames();

@@ -36,10 +36,12 @@ EquirectMap cachedDropRadianceMap(ClipContext& clip, const EquirectMap& environm
   if (!clip.cache) return optics::buildDropRadianceMap(environment, optics, settings);
   const std::string key = radianceMapKey(environment, optics, settings);
   if (auto blob = clip.cache->loadBlob("drop-radiance", key)) {
-    if (const auto size = blob->pixelSize(3 * sizeof(float))) {
+    // The map is outputWidth x outputWidth / 2: an entry of another size is made again.
+    if (blob->pixelSize(3 * sizeof(float)) ==
+        std::pair{settings.outputWidth, settings.outputWidth / 2}) {
       EquirectMap map;
-      map.width = size->first;
-      map.height = size->second;
+      map.width = settings.outputWidth;
+      map.height = settings.outputWidth / 2;
       map.rgb.resize(blob->bytes.size() / sizeof(float));
       std::memcpy(map.rgb.data(), blob->bytes.data(), blob->bytes.size());
       log::debug(fmt::format("drop radiance map {}x{}: from cache", map.width, map.height));

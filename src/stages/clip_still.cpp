@@ -113,12 +113,16 @@ const Image& clipStill(ClipContext& clip) {
   const std::string key = stillKey(clip);
   if (clip.cache && !key.empty()) {
     if (auto blob = clip.cache->loadBlob("still", key)) {
-      if (const auto size = blob->pixelSize(4 * sizeof(float))) {
-        Image& still = clip.still.emplace(size->first, size->second);
+      // An entry of another size (edited, or written by another build) is made again.
+      if (blob->pixelSize(4 * sizeof(float)) == std::pair{clip.clip->width, clip.clip->height}) {
+        Image& still = clip.still.emplace(clip.clip->width, clip.clip->height);
         std::memcpy(still.rgba.data(), blob->bytes.data(), blob->bytes.size());
         log::info("still: the median of the clip's frames, from cache");
         return still;
       }
+      log::warning(fmt::format("ignoring cache entry {}: not a still of the frames' {}x{} px",
+                               clip.cache->pathFor("still", key).string(), clip.clip->width,
+                               clip.clip->height));
     }
   }
   const auto started = std::chrono::steady_clock::now();
@@ -161,7 +165,13 @@ double stillMismatch(ClipContext& clip) {
   const std::string still = stillKey(clip);
   const std::string key = still.empty() ? "" : Hasher().add("still-motion").add(still).hex();
   if (clip.cache && !key.empty())
-    if (auto cached = clip.cache->load("still-motion", key)) return cached->at("mismatch");
+    if (auto cached = clip.cache->load("still-motion", key)) {
+      // A malformed entry (edited, cut short) is measured again and stored over.
+      if (cached->is_object() && cached->contains("mismatch") && cached->at("mismatch").is_number())
+        return cached->at("mismatch").get<double>();
+      log::warning(fmt::format("ignoring cache entry {}: no \"mismatch\" number",
+                               clip.cache->pathFor("still-motion", key).string()));
+    }
   // Grey display codes at the sky's size, 5x5 median-filtered: thin rain streaks and noise
   // leave, a moved picture stays.
   const auto grey = [](const Image& image) {

@@ -47,9 +47,14 @@ class DerainStage : public Stage {
     const std::string key = derainCacheKey(derain_, *clip.clip);
     if (clip.cache) {
       if (auto cached = clip.cache->load("derain", key)) {
-        clip.footageStrokes =
-            rain::strokeAtlasFromJson(*cached, clip.cache->pathFor("derain", key).string());
-        return;
+        try {
+          clip.footageStrokes =
+              rain::strokeAtlasFromJson(*cached, clip.cache->pathFor("derain", key).string());
+          return;
+        } catch (const Error& e) {
+          // A malformed entry (edited, cut short) is derained again and stored over.
+          log::warning(fmt::format("ignoring cache entry: {}", e.describe()));
+        }
       }
     }
     // One window: the first derain.frames frames of the footage.

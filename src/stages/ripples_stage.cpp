@@ -45,6 +45,8 @@ class RipplesStage : public Stage {
     inputs.maxDepthMeters = rain::rippleReachMeters(camera);
     inputs.impactsPerSquareMeterSecond = rain::impactsPerSquareMeterSecond(
         rain_.distribution, rain_.velocity, rate, ripples_.minDiameterMm, kMaxDiameterMm);
+    // A rate whose flux underflows to 0 (1e-308 mm/h) lands no drop: nothing to draw.
+    if (!(inputs.impactsPerSquareMeterSecond > 0.0)) return;
     memo_.setField(camera, *depth, inputs);
     const rain::SplashField& field = memo_.field();
     std::vector<uint8_t> water(field.areaPerPixel.size());

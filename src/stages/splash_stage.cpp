@@ -73,6 +73,8 @@ class SplashStage : public Stage {
                                 : std::numeric_limits<double>::infinity();
     inputs.impactsPerSquareMeterSecond = rain::impactsPerSquareMeterSecond(
         rain_.distribution, rain_.velocity, rate, splash_.minDiameterMm, kMaxDiameterMm);
+    // A rate whose flux underflows to 0 (1e-308 mm/h) lands no drop: nothing to draw.
+    if (!(inputs.impactsPerSquareMeterSecond > 0.0)) return;
     memo_.setField(camera, *depth, inputs);
     const rain::ImpactDiameters diameters(rain_.distribution, rain_.velocity, rate,
                                           splash_.minDiameterMm, kMaxDiameterMm);
