@@ -2,19 +2,24 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cctype>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <system_error>
 
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
+#include <fmt/format.h>
 
 #include "io/frame_size.h"
 #include "io/metadata_names.h"
 #include "io/oiio_message.h"
 #include "io/timecode.h"
 #include "util/error.h"
+#include "util/log.h"
 
 namespace pluvia {
 namespace {
@@ -34,6 +39,46 @@ PixelWindow frameOf(const OIIO::ImageSpec& spec) {
       std::max<int64_t>(int64_t(spec.y) + spec.height, int64_t(spec.full_y) + spec.full_height);
   return {x0, y0, int(std::min<int64_t>(x1 - x0, INT32_MAX)),
           int(std::min<int64_t>(y1 - y0, INT32_MAX))};
+}
+
+// A multi-part EXR (or a multi-page TIFF): pluvia reads its first part. Said once, for the first
+// such file: a sequence's every frame has the same parts.
+void warnOfOtherParts(OIIO::ImageInput& input, const std::string& path) {
+  static std::atomic<bool> said{false};
+  if (said || !input.seek_subimage(1, 0)) {
+    input.seek_subimage(0, 0);
+    return;
+  }
+  std::vector<std::string> parts;
+  for (int part = 0; input.seek_subimage(part, 0); ++part) {
+    const std::string name = input.spec().get_string_attribute("name");
+    parts.push_back(name.empty() ? fmt::format("part {}", part) : "'" + name + "'");
+  }
+  input.seek_subimage(0, 0);
+  if (said.exchange(true)) return;
+  log::warning(fmt::format(
+      "{} holds {} parts ({}): pluvia reads the first, {}, as the plate and leaves the others "
+      "(said once for all such files)",
+      path, parts.size(), fmt::join(parts, ", "), parts.front()));
+}
+
+// EXIF orientation (1 upright, 2-8 flipped and turned, 5-8 a quarter turn): 1 where the file
+// states none. The frame is read turned upright, as every viewer shows it.
+int orientationOf(const OIIO::ImageSpec& spec) {
+  const int orientation = spec.get_int_attribute("Orientation", 1);
+  return orientation >= 1 && orientation <= 8 ? orientation : 1;
+}
+
+// `image` as shown: turned and flipped by its EXIF orientation.
+Image upright(const Image& image, int orientation) {
+  OIIO::ImageSpec spec(image.width, image.height, 4, OIIO::TypeDesc::FLOAT);
+  spec.attribute("Orientation", orientation);
+  const OIIO::ImageBuf stored(spec, const_cast<float*>(image.rgba.data()));
+  const OIIO::ImageBuf turned = OIIO::ImageBufAlgo::reorient(stored);
+  const OIIO::ROI roi = turned.roi();
+  Image out(roi.width(), roi.height());
+  turned.get_pixels(roi, OIIO::TypeDesc::FLOAT, out.rgba.data());
+  return out;
 }
 
 std::unique_ptr<OIIO::ImageInput> openImage(const std::string& path, std::optional<int64_t> frame) {
@@ -60,6 +105,12 @@ std::unique_ptr<OIIO::ImageInput> openImage(const std::string& path, std::option
       spec.nchannels <= 0) {
     throw Error("image has no pixels (zero size): " + path, readContext(path, frame));
   }
+  if (spec.deep)
+    throw Error("image " + path +
+                    " is a deep image (several samples a pixel): pluvia reads flat images; "
+                    "flatten it first (oiiotool IN --flatten -o OUT)",
+                readContext(path, frame));
+  warnOfOtherParts(*input, path);
   checkFrameSize(spec.full_width, spec.full_height, path, readContext(path, frame));
   checkFrameSize(spec.width, spec.height, path, readContext(path, frame));  // the data window
   // The two windows together (a hostile header may set them far apart).
@@ -116,6 +167,7 @@ ImageFileHeader readImageHeader(const std::string& path, std::optional<int64_t> 
   const PixelWindow frameWindow = frameOf(spec);
   header.width = frameWindow.width;
   header.height = frameWindow.height;
+  if (orientationOf(spec) >= 5) std::swap(header.width, header.height);  // read upright
   header.channels = spec.nchannels;
   header.isFloat = isFloatFormat(spec);
   header.bitsPerSample =
@@ -168,7 +220,15 @@ Image readImageFile(const std::string& path, std::optional<int64_t> frame) {
                     " (corrupt or truncated?): " + oiioMessage(input->geterror()),
                 readContext(path, frame));
   }
+  // A decoder that filled what it could not read (a JPEG cut short: its lower part grey) still
+  // returns true; it says so among its errors.
+  if (input->has_error())
+    throw Error("cannot decode image " + path +
+                    " (corrupt or truncated?): " + oiioMessage(input->geterror()),
+                readContext(path, frame));
   expandChannels(image, channelsRead);
+  if (const int orientation = orientationOf(spec); orientation != 1)
+    return upright(image, orientation);
   return image;
 }
 

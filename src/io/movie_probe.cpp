@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <sstream>
 
 #include <fmt/format.h>
 
@@ -88,9 +89,16 @@ MovieProbe probeMovie(const std::string& path) {
     return found == values.end() || found->second == "N/A" ? std::string() : found->second;
   };
   const std::string stream = "streams.stream.0.";
-  if (result.exitCode != 0 || value(stream + "width").empty()) {
-    std::string reason = result.output;
-    while (!reason.empty() && reason.back() == '\n') reason.pop_back();
+  if (result.exitCode == 0 && value(stream + "width").empty())
+    throw Error(fmt::format("movie {} has no picture: no video stream (audio only, or none)", path),
+                context);
+  if (result.exitCode != 0) {
+    // ffprobe's own words, without the fields it printed before it stopped.
+    std::string reason;
+    std::istringstream lines(result.output);
+    for (std::string line; std::getline(lines, line);)
+      if (!line.empty() && !values.count(line.substr(0, line.find('='))))
+        reason += (reason.empty() ? "" : "; ") + line;
     throw Error(fmt::format("cannot open movie {} (not a movie FFmpeg can decode, or truncated){}",
                             path, reason.empty() ? "" : ": " + reason),
                 context);
