@@ -45,16 +45,20 @@ PixelWindow frameOf(const OIIO::ImageSpec& spec) {
 // such file: a sequence's every frame has the same parts.
 void warnOfOtherParts(OIIO::ImageInput& input, const std::string& path) {
   static std::atomic<bool> said{false};
-  if (said || !input.seek_subimage(1, 0)) {
-    input.seek_subimage(0, 0);
-    return;
-  }
+  if (said) return;
+  const bool several = input.seek_subimage(1, 0);
+  input.seek_subimage(0, 0);
+  // A seek past the last part leaves an error behind (libtiff's "Out of memory"), which the
+  // decode check would take for the frame's.
+  input.geterror(/*clear=*/true);
+  if (!several) return;
   std::vector<std::string> parts;
   for (int part = 0; input.seek_subimage(part, 0); ++part) {
     const std::string name = input.spec().get_string_attribute("name");
     parts.push_back(name.empty() ? fmt::format("part {}", part) : "'" + name + "'");
   }
   input.seek_subimage(0, 0);
+  input.geterror(/*clear=*/true);
   if (said.exchange(true)) return;
   log::warning(fmt::format(
       "{} holds {} parts ({}): pluvia reads the first, {}, as the plate and leaves the others "
