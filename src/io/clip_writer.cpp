@@ -144,8 +144,11 @@ class ImageSequenceWriter final : public ClipWriter {
     fileOptions.displayWindow = options_.displayWindow;
     if (options_.timecode)
       fileOptions.timecode = options_.timecode->plus(frame - options_.firstFrame);
-    // AOV files hold mattes, depth and rain alone: only the beauty is tagged with a colour space.
+    // AOV files hold linear values whatever the beauty's space (linearAovTags); depth is data.
+    const ColorTags aovTags = linearAovTags();
     for (const auto& [aovPath, aovSamples] : aovFiles) {
+      const bool depth = aovSamples.size() == 1 && aovSamples.front().name == "Z";
+      fileOptions.color = depth ? nullptr : &aovTags;
       writeImageFile(aovPath, width_, height_, aovSamples, options_.metadata, frame, fileOptions);
     }
     fileOptions.color = &options_.color;
@@ -216,9 +219,9 @@ class MovieWithAovsWriter final : public ClipWriter {
                       const WriterOptions& options)
       : beauty_(openMovieWriter(output.path, width, height, options, false)) {
     const FrameNaming naming = namingFor(output);
-    // AOV movies hold rain, mattes and light alone: only the beauty is tagged with its space.
+    // AOV movies hold rain, mattes and light alone, linear whatever the beauty's space.
     WriterOptions aovOptions = options;
-    aovOptions.color = ColorTags{};
+    aovOptions.color = linearAovTags();
     for (const std::string& aov : options.aovs) {
       aovs_.push_back({aov, openMovieWriter(naming.aov(aov, suffixOf(output), 0), width, height,
                                             aovOptions, true)});

@@ -84,4 +84,12 @@ ColorTags colorTagsFor(const std::vector<std::string>& names) {
   return tags;
 }
 
+ColorTags linearAovTags() {
+  ColorTags tags;
+  tags.name = "linear";
+  tags.movieTransfer = "linear";
+  tags.linear = true;
+  return tags;
+}
+
 }  // namespace pluvia

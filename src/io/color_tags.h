@@ -29,4 +29,9 @@ struct ColorTags {
 // The tags for a space known by these names (its name first, then its aliases).
 ColorTags colorTagsFor(const std::vector<std::string>& names);
 
+// The tags of an AOV's own file or movie: its values are the working space's, linear (a
+// premultiplied layer, a matte, a signed change), whatever the beauty's output space. A PNG
+// gets gAMA 1.0 ("oiio:ColorSpace" "linear"), a movie color_trc linear.
+ColorTags linearAovTags();
+
 }  // namespace pluvia
