@@ -36,6 +36,10 @@ int main(int argc, char** argv) {
   // Past a file size limit (ulimit -f) a write fails with EFBIG and pluvia reports it, instead
   // of being killed by SIGXFSZ with the file half written.
   std::signal(SIGXFSZ, SIG_IGN);
+  // Output piped into a reader that stops early (`pluvia render ... 2>&1 | head`): the writes
+  // fail and the command goes on to its end, which releases its lock, instead of dying with it
+  // held.
+  std::signal(SIGPIPE, SIG_IGN);
   keepFreedBlocksForTheNextFrame();
   CLI::App app{"pluvia: adds physically based rain to real footage.", "pluvia"};
   app.footer(kExitCodes);

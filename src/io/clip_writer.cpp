@@ -163,7 +163,7 @@ class ImageSequenceWriter final : public ClipWriter {
   std::vector<OutputChannel> beautyChannels(const Image& image) const {
     std::vector<OutputChannel> channels;
     for (const char* name : {"R", "G", "B", "A"}) {
-      if (channels.size() < 3 || formatKeepsAlpha(extension_)) {
+      if (channels.size() < 3 || (formatKeepsAlpha(extension_) && options_.alpha)) {
         channels.push_back({name, image.rgba.data() + channels.size(), 4});
       }
     }

@@ -38,6 +38,9 @@ struct WriterOptions {
   std::string exrCompression = "piz";
   // The colour space the frames' RGB is in, as the files say it (io/color_tags.h).
   ColorTags color;
+  // Whether the beauty keeps an alpha channel where its format holds one: the plate had one.
+  // An RGB plate gets no alpha of 1 invented.
+  bool alpha = true;
   // The input's timecode at frame `firstFrame`: frame f gets it plus (f - firstFrame). A
   // sequence writes each frame's into its header (EXR, DPX), a movie its first frame's.
   std::optional<Timecode> timecode;

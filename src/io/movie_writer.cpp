@@ -21,6 +21,7 @@
 
 #include "util/error.h"
 #include "util/fs.h"
+#include "util/interrupt.h"
 #include "util/subprocess.h"
 #include "util/thread_limit.h"
 
@@ -186,7 +187,9 @@ class MovieWriter final : public ClipWriter {
         encodedWidth_(codec_.layout.chromaColumns == 2 ? width + width % 2 : width),
         encodedHeight_(codec_.layout.chromaRows == 2 ? height + height % 2 : height),
         tmp_(fs::temporaryPathFor(path, std::string(kLogSuffix).size())),
-        log_(tmp_.string() + kLogSuffix) {
+        log_(tmp_.string() + kLogSuffix),
+        tmpRemovedOnHardStop_(tmp_.string()),
+        logRemovedOnHardStop_(log_.string()) {
     matrix_ = ycbcrMatrix(options.color.movieMatrix, path);
     if (withAlpha && pixelFormat_.empty()) {
       throw Error(fmt::format("the codec {} has no alpha channel, which {} needs: use {}",
@@ -342,6 +345,8 @@ class MovieWriter final : public ClipWriter {
   int encodedHeight_;
   stdfs::path tmp_;  // encoded here, renamed to path_ by close()
   stdfs::path log_;  // ffmpeg's output, quoted in errors
+  // Both removed if a second signal stops the process before close() or the destructor does.
+  RemovedOnHardStop tmpRemovedOnHardStop_, logRemovedOnHardStop_;
   std::optional<PipeProcess> encoder_;
   std::optional<int64_t> lastFrame_;
   YcbcrMatrix matrix_;

@@ -300,6 +300,8 @@ WriterOptions writerOptionsFor(const RenderRequest& request, const Preset& prese
   options.metadata = frameMetadata(preset, stages);
   carryInputMetadata(options, clip, frames, request.proxyScale);
   options.color = outputColorTags(color, request.output.path, taggedInputSpace(color, clip));
+  // Grey and alpha, or RGBA: the plate's alpha goes out; an RGB plate's frames stay RGB.
+  options.alpha = clip.channels == 2 || clip.channels >= 4;
   // A proxy frame must never pass for a final one: it says so in its header.
   if (request.proxyScale != 1.0)
     options.metadata["pluvia:proxy"] =

@@ -119,11 +119,14 @@ std::optional<FileRangeLock> FileRangeLock::tryLock(const std::string& path, off
 }
 
 FileRangeLock::FileRangeLock(FileRangeLock&& other) noexcept
-    : path_(std::move(other.path_)), fd_(other.fd_) {
+    : path_(std::move(other.path_)),
+      fd_(other.fd_),
+      removedOnHardStop_(std::move(other.removedOnHardStop_)) {
   other.fd_ = -1;
 }
 
 FileRangeLock::~FileRangeLock() {
+  removedOnHardStop_.release();  // before the descriptor closes and its number is reused
   if (fd_ < 0) return;
   // The last holder removes the file, while it holds all of it, so no process can hold a lock
   // on a removed file unnoticed (tryLock checks that its file is still at the path). Others

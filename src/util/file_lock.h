@@ -9,6 +9,8 @@
 #include <optional>
 #include <string>
 
+#include "util/interrupt.h"
+
 namespace pluvia {
 
 // Who holds a range another process asked for.
@@ -35,9 +37,11 @@ class FileRangeLock {
   const std::string& path() const { return path_; }
 
  private:
-  FileRangeLock(std::string path, int fd) : path_(std::move(path)), fd_(fd) {}
+  FileRangeLock(std::string path, int fd)
+      : path_(std::move(path)), fd_(fd), removedOnHardStop_(path_, fd_) {}
   std::string path_;
   int fd_ = -1;
+  RemovedOnHardStop removedOnHardStop_;
 };
 
 // This machine's host name, as lock files record it.

@@ -14,6 +14,7 @@
 
 #include "util/error.h"
 #include "util/input_guard.h"
+#include "util/interrupt.h"
 
 namespace pluvia::fs {
 namespace stdfs = std::filesystem;
@@ -116,6 +117,7 @@ void writeFileAtomically(const stdfs::path& target, const void* bytes, size_t si
                          "refusing to replace it",
                      {"write", {}, target.string()});
   const stdfs::path tmp = temporaryPathFor(target);
+  const RemovedOnHardStop removedOnHardStop(tmp.string());
   int failure = writeWholeFile(tmp, static_cast<const char*>(bytes), size);
   struct stat written {};
   if (failure == 0 && ::stat(tmp.c_str(), &written) != 0) failure = errno;

@@ -1,13 +1,58 @@
 #include "util/interrupt.h"
 
+#include <fcntl.h>
+#include <limits.h>
+#include <unistd.h>
+
+#include <atomic>
 #include <csignal>
+#include <cstring>
 
 namespace pluvia {
 namespace {
 
 volatile std::sig_atomic_t gSignal = 0;
 
+// The files RemovedOnHardStop registers. A slot is free, being written (skipped by the handler)
+// or ready; the handler reads ready slots only, with async-signal-safe calls.
+constexpr int kSlots = 256;
+enum SlotState : int { kFree = 0, kWriting = 1, kReady = 2 };
+struct Slot {
+  std::atomic<int> state{kFree};
+  std::atomic<unsigned> generation{0};  // counts registrations: a slot reused is seen
+  int lockFd = -1;
+  char path[PATH_MAX];
+};
+Slot gSlots[kSlots];
+
+void removeRegisteredFiles() {
+  // Other threads run on while this one handles the signal: a slot is read into a copy, and the
+  // copy used only if the slot stayed ready and unchanged while it was made.
+  static char path[PATH_MAX];
+  for (Slot& slot : gSlots) {
+    const unsigned generation = slot.generation.load();
+    if (slot.state.load() != kReady) continue;
+    const int lockFd = slot.lockFd;
+    std::memcpy(path, slot.path, PATH_MAX);
+    if (slot.state.load() != kReady || slot.generation.load() != generation) continue;
+    path[PATH_MAX - 1] = '\0';
+    if (lockFd >= 0) {
+      // As FileRangeLock's last holder: only a lock file no other process holds a part of.
+      struct flock whole {};
+      whole.l_type = F_WRLCK;
+      whole.l_whence = SEEK_SET;
+      if (fcntl(lockFd, F_OFD_SETLK, &whole) != 0) continue;
+    }
+    ::unlink(path);
+  }
+}
+
 void record(int signal) {
+  if (gSignal != 0) {
+    // The second signal: the job did not reach its next check; stop now, leaving nothing.
+    removeRegisteredFiles();
+    _exit(128 + signal);
+  }
   gSignal = signal;
 }
 
@@ -27,8 +72,8 @@ InterruptHandlers::InterruptHandlers() {
   struct sigaction action {};
   action.sa_handler = record;
   sigemptyset(&action.sa_mask);
-  // SA_RESETHAND: a second Ctrl-C stops a job that does not reach its next check.
-  action.sa_flags = SA_RESTART | SA_RESETHAND;
+  // A second Ctrl-C stops a job that does not reach its next check (record()).
+  action.sa_flags = SA_RESTART;
   sigaction(SIGINT, &action, &gPreviousInt);
   sigaction(SIGTERM, &action, &gPreviousTerm);
   // A closed terminal or ssh session hangs the job up: it stops as cleanly as on SIGTERM.
@@ -39,6 +84,34 @@ InterruptHandlers::~InterruptHandlers() {
   sigaction(SIGINT, &gPreviousInt, nullptr);
   sigaction(SIGTERM, &gPreviousTerm, nullptr);
   sigaction(SIGHUP, &gPreviousHup, nullptr);
+}
+
+RemovedOnHardStop::RemovedOnHardStop(const std::string& path, int lockFd) {
+  if (path.size() >= PATH_MAX) return;
+  for (int i = 0; i < kSlots; ++i) {
+    int expected = kFree;
+    if (!gSlots[i].state.compare_exchange_strong(expected, kWriting)) continue;
+    gSlots[i].generation.fetch_add(1);
+    gSlots[i].lockFd = lockFd;
+    std::memcpy(gSlots[i].path, path.c_str(), path.size() + 1);
+    gSlots[i].state.store(kReady);
+    slot_ = i;
+    return;
+  }
+}
+
+RemovedOnHardStop::RemovedOnHardStop(RemovedOnHardStop&& other) noexcept : slot_(other.slot_) {
+  other.slot_ = -1;
+}
+
+RemovedOnHardStop::~RemovedOnHardStop() {
+  release();
+}
+
+void RemovedOnHardStop::release() {
+  if (slot_ < 0) return;
+  gSlots[slot_].state.store(kFree);
+  slot_ = -1;
 }
 
 int interruptSignal() {

@@ -3,8 +3,11 @@
 // check it between frames and throw Interrupted, which unwinds like any error, so temporary files
 // and a movie's partial file are removed on the way out. The command then exits 128 + the signal
 // (130 for SIGINT, 143 for SIGTERM, 129 for SIGHUP). Every frame a clip reader reads checks it
-// too, so a per-clip analysis (prepare, derain) stops at its next frame. A second signal acts at
-// once (the default action).
+// too, so a per-clip analysis (prepare, derain) stops at its next frame. A second signal stops
+// the process at once, exit 128 + the signal, after removing its locks and temporaries
+// (RemovedOnHardStop).
+#include <string>
+
 #include "util/error.h"
 
 namespace pluvia {
@@ -16,6 +19,25 @@ class Interrupted : public Error {
 
  private:
   int signal_;
+};
+
+// A file the process removes when a second signal stops it at once: a lock (with `lockFd`, its
+// open descriptor: removed only where no other process holds a part of it, as FileRangeLock's
+// last holder does) or a temporary being written. Registered for the object's lifetime, in a
+// fixed table the signal handler reads without allocating (best effort: past 256 files at once,
+// the others are not registered).
+class RemovedOnHardStop {
+ public:
+  explicit RemovedOnHardStop(const std::string& path, int lockFd = -1);
+  RemovedOnHardStop(RemovedOnHardStop&& other) noexcept;
+  RemovedOnHardStop& operator=(RemovedOnHardStop&&) = delete;
+  RemovedOnHardStop(const RemovedOnHardStop&) = delete;
+  ~RemovedOnHardStop();
+  // No longer removed on a hard stop (before the file is released another way).
+  void release();
+
+ private:
+  int slot_ = -1;
 };
 
 // Installs the handlers for its lifetime (only jobs that check interruptSignal() should).

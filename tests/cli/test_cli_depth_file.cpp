@@ -113,9 +113,10 @@ TEST(CliDepthFile, RendersAsTheLayersItWasWrittenFrom) {
       runPluvia({"render", plate, "-p", "moderate", "-o", (dir / "out" / "file.####.exr").string(),
                  "--aov", "depth", "--set", "depth.source=file", "--set", "depth.file=" + depth});
   ASSERT_EQ(file.exitCode, 0) << file.output;
-  // An EXR output holds the AOVs as channels: "depth.Z" beside R, G, B, A.
+  // An EXR output holds the AOVs as channels: "depth.Z" beside R, G, B (the plate has no
+  // alpha, and none is invented).
   EXPECT_EQ(readAllChannels(dir / "out" / "file.0001.exr").channels,
-            (std::vector<std::string>{"R", "G", "B", "A", "depth.Z"}));
+            (std::vector<std::string>{"R", "G", "B", "depth.Z"}));
   for (const char* frame : {"0001", "0002", "0003"}) {
     EXPECT_LE(maxDifference(dir / "out" / ("layers." + std::string(frame) + ".exr"),
                             dir / "out" / ("file." + std::string(frame) + ".exr")),

@@ -304,6 +304,50 @@ TEST(CliFrameSafety, SigtermAndSighupStopAMovieRenderAndRemoveItsPartialFile) {
   }
 }
 
+// A second signal, sent before the render has stopped for the first, stopped it with the default
+// action: its temporary movie, the encoder's log beside it and the lock were left. The second
+// now stops it at once and leaves nothing either.
+TEST(CliFrameSafety, ASecondSignalStopsAtOnceAndLeavesNothing) {
+  for (const int gapMs : {2, 20}) {
+    SCOPED_TRACE(gapMs);
+    auto dir = freshTempDir("stop_twice_" + std::to_string(gapMs));
+    const pid_t pid = startLongRender(dir, "o.mp4");
+    EXPECT_TRUE(waitUntil([&] { return countTemporaries(dir / "out") > 0; }));
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    kill(pid, SIGTERM);
+    std::this_thread::sleep_for(std::chrono::milliseconds(gapMs));
+    kill(pid, SIGTERM);
+    // 143 from the handler, or killed by the second SIGTERM after the render had cleaned up and
+    // given the signal its default action back: either way a farm sees SIGTERM.
+    const int code = waitForExit(pid);
+    EXPECT_TRUE(code == 143 || code == 1000 + SIGTERM) << code << fs::readTextFile(dir / "log");
+    // The encoder, which outlives a hard stop by a moment, writes into the removed file.
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    std::vector<std::string> left;
+    for (const auto& e : stdfs::directory_iterator(dir / "out"))
+      left.push_back(e.path().filename().string());
+    EXPECT_TRUE(left.empty()) << "left: " << testing::PrintToString(left);
+  }
+}
+
+// Piped into a reader that stops early (`render ... 2>&1 | head -c 3000`), the render died of
+// SIGPIPE at its next message with its lock held. It now goes on to its end.
+TEST(CliFrameSafety, AReaderThatStopsEarlyLeavesNoLock) {
+  auto dir = freshTempDir("sigpipe");
+  const std::string plate = writeTexturedPlate(dir, 1, 6);
+  stdfs::create_directories(dir / "out");
+  const ProcessResult r =
+      runProcess({"sh", "-c", "\"$0\" render \"$1\" -p moderate -o \"$2\" 2>&1 | head -c 10",
+                  pluviaBinary().string(), plate, (dir / "out" / "o.####.png").string()});
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  std::vector<std::string> left;
+  for (const auto& e : stdfs::directory_iterator(dir / "out"))
+    left.push_back(e.path().filename().string());
+  EXPECT_EQ(left.size(), 6u) << testing::PrintToString(left);
+  for (const std::string& name : left)
+    EXPECT_EQ(name.find("pluvia-lock"), std::string::npos) << name;
+}
+
 // A derain killed mid-write left a temporary that no rerun removed (S23).
 TEST(CliFrameSafety, DerainRemovesTheTemporariesOfAKilledDerain) {
   auto dir = freshTempDir("derain_stale");

@@ -149,11 +149,19 @@ Image readImageFile(const stdfs::path& path) {
   Image image(spec.width, spec.height);
   std::vector<float> pixels(image.pixelCount() * spec.nchannels);
   buf.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, pixels.data());
+  // Alpha is the channel named so (an RGB beauty followed by AOV channels has none: 1); grey
+  // fills R, G and B.
+  // (OpenImageIO's alpha_channel may be an AOV's "rain.A".)
+  const auto named = std::find(spec.channelnames.begin(), spec.channelnames.end(), "A");
+  const int alpha = spec.nchannels == 2                ? 1
+                    : named != spec.channelnames.end() ? int(named - spec.channelnames.begin())
+                                                       : -1;
   for (size_t i = 0; i < image.pixelCount(); ++i) {
-    for (int c = 0; c < 4; ++c) {
-      int src = c < spec.nchannels ? c : (c == 3 ? -1 : 0);
-      image.rgba[i * 4 + c] = src >= 0 ? pixels[i * spec.nchannels + src] : 1.0f;
+    for (int c = 0; c < 3; ++c) {
+      const int src = c < spec.nchannels && c != alpha ? c : 0;
+      image.rgba[i * 4 + c] = pixels[i * spec.nchannels + src];
     }
+    image.rgba[i * 4 + 3] = alpha >= 0 ? pixels[i * spec.nchannels + alpha] : 1.0f;
   }
   return image;
 }
