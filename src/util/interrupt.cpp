@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <limits.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -21,9 +22,32 @@ struct Slot {
   std::atomic<int> state{kFree};
   std::atomic<unsigned> generation{0};  // counts registrations: a slot reused is seen
   int lockFd = -1;
+  pid_t child = -1;  // a child process to kill, or -1 for a file
   char path[PATH_MAX];
 };
 Slot gSlots[kSlots];
+
+// A free slot marked being written, or -1 when all are taken.
+int claimSlot() {
+  for (int i = 0; i < kSlots; ++i) {
+    int expected = kFree;
+    if (!gSlots[i].state.compare_exchange_strong(expected, kWriting)) continue;
+    gSlots[i].generation.fetch_add(1);
+    return i;
+  }
+  return -1;
+}
+
+// The children first, killed and reaped: none can write a file once the files are removed.
+void killRegisteredChildren() {
+  for (Slot& slot : gSlots) {
+    if (slot.state.load() != kReady) continue;
+    const pid_t child = slot.child;
+    if (child <= 0 || slot.state.load() != kReady) continue;
+    ::kill(child, SIGKILL);
+    ::waitpid(child, nullptr, 0);
+  }
+}
 
 void removeRegisteredFiles() {
   // Other threads run on while this one handles the signal: a slot is read into a copy, and the
@@ -32,6 +56,7 @@ void removeRegisteredFiles() {
   for (Slot& slot : gSlots) {
     const unsigned generation = slot.generation.load();
     if (slot.state.load() != kReady) continue;
+    if (slot.child > 0) continue;
     const int lockFd = slot.lockFd;
     std::memcpy(path, slot.path, PATH_MAX);
     if (slot.state.load() != kReady || slot.generation.load() != generation) continue;
@@ -50,6 +75,7 @@ void removeRegisteredFiles() {
 void record(int signal) {
   if (gSignal != 0) {
     // The second signal: the job did not reach its next check; stop now, leaving nothing.
+    killRegisteredChildren();
     removeRegisteredFiles();
     _exit(128 + signal);
   }
@@ -87,17 +113,23 @@ InterruptHandlers::~InterruptHandlers() {
 }
 
 RemovedOnHardStop::RemovedOnHardStop(const std::string& path, int lockFd) {
-  if (path.size() >= PATH_MAX) return;
-  for (int i = 0; i < kSlots; ++i) {
-    int expected = kFree;
-    if (!gSlots[i].state.compare_exchange_strong(expected, kWriting)) continue;
-    gSlots[i].generation.fetch_add(1);
-    gSlots[i].lockFd = lockFd;
-    std::memcpy(gSlots[i].path, path.c_str(), path.size() + 1);
-    gSlots[i].state.store(kReady);
-    slot_ = i;
-    return;
-  }
+  if (path.size() >= PATH_MAX || (slot_ = claimSlot()) < 0) return;
+  gSlots[slot_].lockFd = lockFd;
+  gSlots[slot_].child = -1;
+  std::memcpy(gSlots[slot_].path, path.c_str(), path.size() + 1);
+  gSlots[slot_].state.store(kReady);
+}
+
+KilledOnHardStop::KilledOnHardStop(int pid) {
+  if (pid <= 0 || (slot_ = claimSlot()) < 0) return;
+  gSlots[slot_].lockFd = -1;
+  gSlots[slot_].child = pid;
+  gSlots[slot_].path[0] = '\0';
+  gSlots[slot_].state.store(kReady);
+}
+
+KilledOnHardStop::~KilledOnHardStop() {
+  if (slot_ >= 0) gSlots[slot_].state.store(kFree);
 }
 
 RemovedOnHardStop::RemovedOnHardStop(RemovedOnHardStop&& other) noexcept : slot_(other.slot_) {

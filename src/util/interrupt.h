@@ -40,6 +40,20 @@ class RemovedOnHardStop {
   int slot_ = -1;
 };
 
+// A child process a second signal kills (SIGKILL) and reaps before the files are removed, so
+// that it cannot write one after the process is gone (ffmpeg creates its output only once the
+// first frames arrive). Registered for the object's lifetime, in the same table.
+class KilledOnHardStop {
+ public:
+  explicit KilledOnHardStop(int pid);
+  KilledOnHardStop(const KilledOnHardStop&) = delete;
+  KilledOnHardStop& operator=(const KilledOnHardStop&) = delete;
+  ~KilledOnHardStop();
+
+ private:
+  int slot_ = -1;
+};
+
 // Installs the handlers for its lifetime (only jobs that check interruptSignal() should).
 class InterruptHandlers {
  public:

@@ -87,6 +87,7 @@ PipeProcess::PipeProcess(const std::vector<std::string>& argv, const std::string
   }
   ::close(fds[0]);
   stdinFd_ = fds[1];
+  killedOnHardStop_ = std::make_unique<KilledOnHardStop>(pid_);
   // A dead encoder must give an error, not kill us with SIGPIPE.
   signal(SIGPIPE, SIG_IGN);
 }
@@ -96,6 +97,7 @@ PipeProcess::~PipeProcess() {
     if (stdinFd_ >= 0) ::close(stdinFd_);
     kill(pid_, SIGTERM);
     waitExit(pid_);
+    killedOnHardStop_.reset();
   }
 }
 
@@ -116,6 +118,7 @@ int PipeProcess::close() {
   if (stdinFd_ >= 0) ::close(stdinFd_);
   stdinFd_ = -1;
   int code = waitExit(pid_);
+  killedOnHardStop_.reset();
   pid_ = -1;
   return code;
 }

@@ -1,8 +1,11 @@
 #pragma once
 // Running an external program (ffmpeg, colmap) without a shell: arguments are passed as-is.
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "util/interrupt.h"
 
 namespace pluvia {
 
@@ -27,6 +30,8 @@ class PipeProcess {
  private:
   int pid_ = -1;
   int stdinFd_ = -1;
+  // Killed if a second signal stops pluvia at once (util/interrupt.h), until it is reaped.
+  std::unique_ptr<KilledOnHardStop> killedOnHardStop_;
 };
 
 // True when `program` is an executable file: found on PATH, or at the path given when it holds

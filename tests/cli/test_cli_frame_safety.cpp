@@ -326,7 +326,7 @@ TEST(CliFrameSafety, ASecondSignalStopsAtOnceAndLeavesNothing) {
     std::vector<std::string> left;
     for (const auto& e : stdfs::directory_iterator(dir / "out"))
       left.push_back(e.path().filename().string());
-    EXPECT_TRUE(left.empty()) << "left: " << testing::PrintToString(left);
+    EXPECT_TRUE(left.empty()) << "left: " << testing::PrintToString(left) << " exit " << code;
   }
 }
 

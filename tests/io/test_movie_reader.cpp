@@ -2,6 +2,7 @@
 // nominal rate. The inputs are small clips ffmpeg makes here.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -71,16 +72,58 @@ TEST(MovieReader, TwelveBitProResKeepsMoreThanEightBitsOfGradient) {
   EXPECT_LT(frame.pixel(100, 4)[1], frame.pixel(400, 4)[1]);
 }
 
+// A 10-bit ProRes 422 HQ grey ramp, Y' codes 4 to 1019 (sub-blacks below 64, super-whites above
+// 940), neutral chroma: read as R' = G' = B' = (Y' / 4 - 16) / 219 exactly, beyond [0, 1] where
+// the codes are. Through swscale's rgb48 it read 0.39 % dark (Y' 513: 0.51058 for 0.51256) and
+// clipped both ends.
+TEST(MovieReader, TenBitYcbcrIsReadAtFullPrecisionAndRange) {
+  if (!programAvailable("ffmpeg")) GTEST_SKIP() << "ffmpeg not on PATH";
+  auto dir = test::freshTempDir("movie_ten_bit");
+  constexpr int kWidth = 256, kHeight = 4;
+  std::vector<uint16_t> planes;
+  std::vector<int> codes;
+  for (int x = 0; x < kWidth; ++x) codes.push_back(4 + (1019 - 4) * x / (kWidth - 1));
+  for (int y = 0; y < kHeight; ++y) planes.insert(planes.end(), codes.begin(), codes.end());
+  planes.insert(planes.end(), size_t(kWidth) * kHeight, uint16_t(512));  // Cb, Cr at 4:2:2
+  const stdfs::path raw = dir / "ramp.yuv", movie = dir / "ramp.mov";
+  std::ofstream(raw, std::ios::binary)
+      .write(reinterpret_cast<const char*>(planes.data()),
+             static_cast<std::streamsize>(planes.size() * sizeof(uint16_t)));
+  ffmpeg({"-f", "rawvideo", "-pix_fmt", "yuv422p10le", "-s", "256x4", "-r", "24", "-i",
+          raw.string(), "-c:v", "prores_ks", "-profile:v", "3", "-color_range", "tv", "-colorspace",
+          "bt709", movie.string()});
+  auto clip = openClip(movie.string());
+  EXPECT_EQ(clip->info().bitsPerSample, 10);
+  const Image frame = clip->read(0);
+  double largest = 0.0;
+  for (int x = 0; x < kWidth; ++x) {
+    const float expected = (float(codes[size_t(x)]) / 4.0f - 16.0f) / 219.0f;
+    for (int c = 0; c < 3; ++c)
+      largest = std::max(largest, double(std::fabs(frame.pixel(x, 2)[c] - expected)));
+  }
+  // ProRes is lossy, but a flat-chroma ramp comes back to a fraction of a 10-bit code.
+  EXPECT_LT(largest, 0.5 / 876.0) << "largest error " << largest;
+  EXPECT_LT(frame.pixel(0, 2)[1], -0.06f);          // sub-black code 4: -0.0685
+  EXPECT_GT(frame.pixel(kWidth - 1, 2)[1], 1.08f);  // super-white 1019: 1.0902
+}
+
 // Each code looked up in a table as it is unpacked (readCodesThrough) gives the table's entry
-// for the code read() normalises, in every channel: for 8-bit codes and for 16-bit ones (a
-// 12-bit ProRes, piped as 16 bits).
+// for the code read() normalises, in every channel, for 8-bit codes. A deep Y'CbCr movie (a
+// 12-bit ProRes) is converted by the reader itself, beyond [0, 1]: it has no code table
+// (codeBits 0) and reads through one as read() does.
 TEST(MovieReader, CodesReadThroughATableAreTheTablesEntries) {
   if (!programAvailable("ffmpeg")) GTEST_SKIP() << "ffmpeg not on PATH";
   auto dir = test::freshTempDir("movie_code_table");
-  for (const stdfs::path& path : {test::exampleClip(), deepRamp(dir)}) {
+  {
+    auto deep = openClip(deepRamp(dir).string());
+    EXPECT_EQ(deep->codeBits(), 0);
+    CodeValues none;
+    EXPECT_EQ(deep->readCodesThrough(0, none).rgba, deep->read(0).rgba);
+  }
+  for (const stdfs::path& path : {test::exampleClip()}) {
     auto clip = openClip(path.string());
     const int bits = clip->codeBits();
-    ASSERT_TRUE(bits == 8 || bits == 16) << path;
+    ASSERT_EQ(bits, 8) << path;
     const int largest = (1 << bits) - 1;
     CodeValues table;
     for (int c = 0; c < 3; ++c)
