@@ -48,9 +48,9 @@ std::string writeStreetPlate(const stdfs::path& dir, float gain,
 
 Image readAov(const stdfs::path& exr, const std::string& aov, const stdfs::path& dir) {
   const stdfs::path out = dir / (aov + "_only.exr");
-  const auto r =
-      runProcess({"oiiotool", exr.string(), "--ch",
-                  aov + ".R," + aov + ".G," + aov + ".B," + aov + ".A", "-o", out.string()});
+  const auto r = runProcess({"oiiotool", exr.string(), "--ch",
+                             "R=" + aov + ".R,G=" + aov + ".G,B=" + aov + ".B,A=" + aov + ".A",
+                             "-o", out.string()});
   EXPECT_EQ(r.exitCode, 0) << r.output;
   return readImageFile(out);
 }
