@@ -14,8 +14,9 @@ namespace {
 
 volatile std::sig_atomic_t gSignal = 0;
 
-// The files RemovedOnHardStop registers. A slot is free, being written (skipped by the handler)
-// or ready; the handler reads ready slots only, with async-signal-safe calls.
+// The files RemovedOnHardStop and the children KilledOnHardStop register. A slot is free, being
+// written (skipped by the handler) or ready; the handler reads ready slots only, with
+// async-signal-safe calls.
 constexpr int kSlots = 256;
 enum SlotState : int { kFree = 0, kWriting = 1, kReady = 2 };
 struct Slot {
