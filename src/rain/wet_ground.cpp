@@ -131,16 +131,17 @@ void wetGround(Image& image, const std::vector<float>& weights, const LevelFilmV
       const double r = view.reflectance[i];
       float* rgb = image.pixel(x, y);
       const double film = gloss > 0.0 ? filmCoverage(local.ptr<float>(y) + size_t(x) * 4) : 0.0;
-      // The albedo, pi Y / E of luminances: per channel it would take the environment's colour
-      // for the light's, and an environment without the plate's sun (a blue sky alone) would
-      // turn sunlit stone red. Over 1 the pixel is lit by more than the environment holds (a sun
-      // it leaves out, a lamp): taken as 1, the film darkens it least.
-      const double albedo =
-          irradiance > 0.0 ? std::min(1.0, M_PI * std::max(0.0, rec709Luminance(rgb)) / irradiance)
-                           : 1.0;
-      const double ratio = optics::wetRadianceRatioAt(water, albedo, r);
       for (size_t c = 0; c < 3; ++c) {
         const double dry = std::max(0.0f, rgb[c]);
+        // The albedo per channel, as Lekner and Dorf's is per wavelength, pi L / E against the
+        // irradiance's luminance: the light taken as white, as the camera balanced it. The
+        // environment's own colour would take its tint for the ground's, and one without the
+        // plate's sun (a blue sky alone) would turn sunlit stone red. A channel's darker
+        // albedo darkens more under the film, so wet grass and brick gain saturation. Over 1 the
+        // pixel is lit by more than the environment holds (a sun it leaves out, a lamp): taken
+        // as 1, the film darkens it least.
+        const double albedo = irradiance > 0.0 ? std::min(1.0, M_PI * dry / irradiance) : 1.0;
+        const double ratio = optics::wetRadianceRatioAt(water, albedo, r);
         const double wet = dry * ratio + gloss * film * r * view.mirrored[i][c];
         rgb[c] = float(rgb[c] + weight * (wet - rgb[c]));
       }

@@ -1,7 +1,8 @@
 #pragma once
 // The ground the rain falls on, wet (optics/wet_surface.h): where the frame's depth shows a
 // surface facing up, the plate's own radiance is what the dry surface sends back, so its albedo
-// is a = pi Y / E (luminances; E: the environment's irradiance on level ground), and under the
+// is a = pi L / E per channel (E: the luminance of the environment's irradiance on level ground,
+// the light taken as white as the camera balanced it), and under the
 // film it becomes L' = L ratio(a, theta) + R(theta) G(r): the darkening of Lekner and Dorf and
 // the film's gloss, G the environment (blurred, a rough film) along the view ray mirrored in the
 // level film, R(theta) Fresnel's reflectance at the viewing angle. Distant ground, seen at grazing

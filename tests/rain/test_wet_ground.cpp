@@ -171,3 +171,38 @@ TEST(WetGround, GrassSoaksTheWaterInAndOnlyDarkens) {
     if (depth[i] < kResolvedMeters)
       for (int c = 0; c < 3; ++c) EXPECT_LT(image.rgba[i * 4 + c], 0.6f * dry.rgba[i * 4 + c]);
 }
+
+// Lekner and Dorf's darkening is per wavelength: a channel of lower albedo loses more, so wet
+// ground is more saturated than dry (real wet grass is deeper green, not greyer).
+TEST(WetGround, EachChannelDarkensByItsOwnAlbedoSoWetGroundIsMoreSaturated) {
+  const Camera camera = streetCamera();
+  const std::vector<float> depth = depthOfPlane(camera, Eigen::Vector3d::UnitY());
+  const std::vector<float> weights = rain::wetGroundWeights(camera, depth, 30.0, 15.0);
+  rain::WetGroundLight light;
+  light.gloss = uniformEquirect(64, 32, {0.0f, 0.0f, 0.0f});  // nothing mirrored
+  light.irradiance = {M_PI, M_PI, M_PI};
+  const float grass[3] = {0.3f, 0.6f, 0.1f};  // albedos, the light's radiance 1
+  Image image(kWidth, kHeight);
+  for (size_t i = 0; i < image.pixelCount(); ++i)
+    for (int c = 0; c < 3; ++c) image.rgba[i * 4 + c] = grass[c];
+  rain::wetGround(image, weights, rain::levelFilmView(camera, weights, light, kEta), 1.0, 0.0,
+                  light, kEta);
+  const double rbar = 0.06641, p = 1.0 - (1.0 - rbar) / (kEta * kEta);
+  int checked = 0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const size_t i = size_t(y) * kWidth + x;
+      if (!(depth[i] < kResolvedMeters)) continue;
+      const double r =
+          optics::fresnelReflectance(std::abs(ray(camera, x, y).normalized().y()), kEta);
+      for (int c = 0; c < 3; ++c) {
+        const double expected =
+            grass[c] * (1.0 - rbar) * (1.0 - r) / (kEta * kEta * (1.0 - p * grass[c]));
+        EXPECT_NEAR(image.rgba[i * 4 + c], expected, 2e-5) << x << "," << y << " channel " << c;
+      }
+      const float* wet = image.pixel(x, y);
+      EXPECT_GT((wet[1] - wet[2]) / wet[1], (grass[1] - grass[2]) / grass[1] + 0.02f);
+      ++checked;
+    }
+  EXPECT_GT(checked, 1000);
+}
