@@ -60,6 +60,7 @@ void addRenderCommand(CLI::App& app, Invocation& invocation) {
     request.format.codec = args->writes.codec;
     request.format.exrSampleType = args->writes.exrType;
     request.format.exrCompression = args->writes.exrCompression;
+    request.format.tiffSampleType = args->writes.tiffType;
     request.format.makeFolders =
         args->writes.makeFolders ? fs::MakeFolders::All : fs::MakeFolders::LastLevel;
     request.cacheDir = args->cache;

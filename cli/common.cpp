@@ -119,6 +119,10 @@ void addRenderOutputOptions(CLI::App* cmd, RenderOutputOptions& options) {
   options.exrCompressionOption = cmd->add_option(
       "--exr-compression", options.exrCompression,
       "EXR compression: piz (default), zip, zips, dwaa, dwab, b44, b44a, pxr24, rle, none");
+  options.tiffTypeOption =
+      cmd->add_option("--tiff-type", options.tiffType,
+                      "TIFF samples: uint16 (default) or float (keeps values beyond [0, 1])")
+          ->check(CLI::IsMember({"uint16", "float"}));
   cmd->add_option(
       "--aov", options.aov,
       "extra outputs: rain,matte,depth,lights,wet_ground,splash,ripples,glare,darken,blur,fog");
@@ -155,6 +159,7 @@ std::vector<std::string> RenderOutputOptions::renderArguments() const {
   if (exrType != defaults.exrType) arguments.insert(arguments.end(), {"--exr-type", exrType});
   if (exrCompression != defaults.exrCompression)
     arguments.insert(arguments.end(), {"--exr-compression", exrCompression});
+  if (tiffType != defaults.tiffType) arguments.insert(arguments.end(), {"--tiff-type", tiffType});
   if (!aov.empty())
     arguments.insert(arguments.end(), {"--aov", fmt::format("{}", fmt::join(aovs(), ","))});
   if (proxy != defaults.proxy)
@@ -189,7 +194,9 @@ const CLI::Validator& finiteNumber() {
 }
 
 void RenderOutputOptions::refuseOptionsNotFor(const std::string& output) const {
-  const bool movie = isMovieExtension(output), exr = lowerExtension(output) == "exr";
+  const std::string extension = lowerExtension(output);
+  const bool movie = isMovieExtension(output), exr = extension == "exr",
+             tiff = extension == "tif" || extension == "tiff";
   if (codecOption && codecOption->count() && !movie)
     throw UsageError(
         fmt::format("--codec applies to a movie; {} is not one (its format is its "
@@ -199,6 +206,8 @@ void RenderOutputOptions::refuseOptionsNotFor(const std::string& output) const {
     if (given && given->count() && !exr)
       throw UsageError(
           fmt::format("{} applies to EXR output; {} is not EXR", given->get_name(), output));
+  if (tiffTypeOption && tiffTypeOption->count() && !tiff)
+    throw UsageError(fmt::format("--tiff-type applies to TIFF output; {} is not TIFF", output));
 }
 
 void protectNamedInputs(const CLI::App& app) {

@@ -29,7 +29,7 @@ void addStartFrameOption(CLI::App* cmd, std::optional<int64_t>& movieFirstFrame)
 // What a render writes besides its frames' pixels: shared by `render` and `farm slurm` (which
 // passes them on to its chunks and its assembly) so that the two commands cannot drift.
 struct RenderOutputOptions {
-  std::string codec = "h264", exrType = "half", exrCompression = "piz", aov;
+  std::string codec = "h264", exrType = "half", exrCompression = "piz", tiffType = "uint16", aov;
   double proxy = 1.0;
   bool makeFolders = false;  // --mkdir
   // The --aov list, checked: each known output once, in the order given.
@@ -38,11 +38,12 @@ struct RenderOutputOptions {
   // default), for a farm chunk's command line.
   std::vector<std::string> renderArguments() const;
   // Throws pluvia::UsageError naming an option given that does nothing for `output`: --codec
-  // for an image sequence, --exr-type or --exr-compression for anything but EXR.
+  // for an image sequence, --exr-type or --exr-compression for anything but EXR, --tiff-type for
+  // anything but TIFF.
   void refuseOptionsNotFor(const std::string& output) const;
   // Set by addRenderOutputOptions: whether each was given.
   const CLI::Option *codecOption = nullptr, *exrTypeOption = nullptr,
-                    *exrCompressionOption = nullptr;
+                    *exrCompressionOption = nullptr, *tiffTypeOption = nullptr;
 };
 void addRenderOutputOptions(CLI::App* cmd, RenderOutputOptions& options);
 // Resolves a preset against the full schema (every stage's table).

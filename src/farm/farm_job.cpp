@@ -73,10 +73,10 @@ std::string renderCommand(const FarmJob& job, const std::string& frames) {
   // The frame range stays open to the shell (it may be "$FIRST-$LAST"): double quotes.
   return fmt::format(
       "{} render {} {} -o {} --frames \"{}\" --cache {} --require-cache --skip-existing "
-      "--threads {}{}",
+      "--threads {}{}{}",
       shellQuote(job.pluvia), shellQuote(job.input), presetArguments(job),
       shellQuote(chunkOutput(job)), frames, shellQuote(job.cacheDir), threadsArgument(job),
-      quotedArguments(job.renderOptions));
+      isMovieJob(job) ? " --tiff-type float" : "", quotedArguments(job.renderOptions));
 }
 
 std::string assembleCommand(const FarmJob& job) {

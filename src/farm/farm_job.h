@@ -42,9 +42,10 @@ struct FarmJob {
 int chunkCount(const FarmJob& job);
 std::pair<int64_t, int64_t> chunkFrames(const FarmJob& job, int index);
 bool isMovieJob(const FarmJob& job);
-// What the chunks render into: the output itself, or for a movie a 16-bit TIFF sequence in the
+// What the chunks render into: the output itself, or for a movie a float TIFF sequence in the
 // farm folder (frames/NAME.####.tif), which the assembly job encodes exactly as a one-machine
-// render would have (the movie writer takes 16-bit RGB; TIFF keeps those codes).
+// render would have: the frames keep the very samples the movie writer takes, super-whites and
+// sub-blacks too (a 16-bit TIFF would clip them to [0, 1]).
 std::string chunkOutput(const FarmJob& job);
 
 // The shell commands (quoted, one line each) a node runs. `frames` is "A-B" or a shell

@@ -140,6 +140,7 @@ class ImageSequenceWriter final : public ClipWriter {
     ImageFileOptions fileOptions;
     fileOptions.exrFullFloat = options_.exrSampleType == "float";
     fileOptions.exrCompression = options_.exrCompression;
+    fileOptions.tiffFloat = options_.tiffSampleType == "float";
     fileOptions.dataWindow = options_.dataWindow;
     fileOptions.displayWindow = options_.displayWindow;
     if (options_.timecode)
@@ -318,6 +319,11 @@ std::unique_ptr<ClipWriter> openClipWriter(const OutputTarget& output, int width
   if (options.exrSampleType != "half" && options.exrSampleType != "float") {
     throw Error(fmt::format("unknown EXR sample type '{}' for {} (known: half, float)",
                             options.exrSampleType, output.path),
+                {"write", {}, output.path});
+  }
+  if (options.tiffSampleType != "uint16" && options.tiffSampleType != "float") {
+    throw Error(fmt::format("unknown TIFF sample type '{}' for {} (known: uint16, float)",
+                            options.tiffSampleType, output.path),
                 {"write", {}, output.path});
   }
   if (isMovieFormat) checkMovieAovs(output.path, options);

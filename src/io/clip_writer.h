@@ -36,6 +36,8 @@ struct WriterOptions {
   // exrCompressions()).
   std::string exrSampleType = "half";
   std::string exrCompression = "piz";
+  // TIFF: "uint16" (clamped to [0, 1]) or "float" samples.
+  std::string tiffSampleType = "uint16";
   // The colour space the frames' RGB is in, as the files say it (io/color_tags.h).
   ColorTags color;
   // Whether the beauty keeps an alpha channel where its format holds one: the plate had one.

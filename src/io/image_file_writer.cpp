@@ -40,7 +40,8 @@ enum class Encoding { Uint8, Uint16, Dpx10, Half, Float };
 Encoding encodingFor(const std::string& extension, const ImageFileOptions& options) {
   if (extension == "exr") return options.exrFullFloat ? Encoding::Float : Encoding::Half;
   if (extension == "hdr") return Encoding::Float;
-  if (extension == "tif" || extension == "tiff") return Encoding::Uint16;
+  if (extension == "tif" || extension == "tiff")
+    return options.tiffFloat ? Encoding::Float : Encoding::Uint16;
   if (extension == "dpx") return Encoding::Dpx10;
   return Encoding::Uint8;  // png, jpg, jpeg
 }

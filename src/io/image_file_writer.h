@@ -26,6 +26,7 @@ struct OutputChannel {
 // How a file is written beyond its extension's defaults.
 struct ImageFileOptions {
   bool exrFullFloat = false;           // EXR: every channel 32-bit float instead of half
+  bool tiffFloat = false;              // TIFF: 32-bit float samples instead of 16-bit codes
   std::string exrCompression = "piz";  // EXR: as OpenImageIO names it (exrCompressions())
   const ColorTags* color = nullptr;    // the colour space: EXR chromaticities, oiio:ColorSpace,
                                        // DPX transfer and colorimetric fields

@@ -11,16 +11,31 @@
 namespace pluvia {
 namespace {
 
-// One row's samples (RGBA, alpha too: a stride-1 loop, which the compiler vectorises) clamped to
-// [0, 1] (NaN -> 0: std::min passes NaN on, std::max(0, NaN) is 0) and rounded to the nearest
-// 16-bit code, ties up, as the 16-bit TIFF frames a farm chunk writes hold them: a movie
-// assembled from those gets the very Y'CbCr of a one-machine render (the farm test compares
-// the files).
-void quantizeRow(const float* rgba, int width, float* out) {
+// The codes Y'CbCr may use at `bits`: video range without its reserved codes (0 and 255 at 8
+// bits, 0-3 and 1020-1023 at 10; ITU-R BT.709 section 4: 1 to 254, scaled by 2^(bits - 8)), so
+// that super-whites and sub-blacks a plate held go out as the codes they came in as.
+struct LegalCodes {
+  float low, high;    // codes
+  float lowE, highE;  // the R' = G' = B' whose Y' is the lowest and the highest code
+};
+
+LegalCodes legalCodes(int bits) {
+  const float scale = static_cast<float>(1 << (bits - 8));
+  const float low = scale, high = static_cast<float>((1 << bits) - 1) - scale;
+  return {low, high, (low / scale - 16.0f) / 219.0f, (high / scale - 16.0f) / 219.0f};
+}
+
+// One row's samples (RGBA, alpha too: a stride-1 loop, which the compiler vectorises): R', G',
+// B' clamped to those of the legal Y' codes, alpha to [0, 1], NaN as 0. Not quantised: a farm
+// chunk's frames are float TIFF (farm/farm_job.h), so a movie assembled from them gets these very
+// samples, and the very Y'CbCr of a one-machine render (the farm test compares the files).
+void legalRow(const float* rgba, int width, const LegalCodes& legal, float* out) {
   const size_t samples = static_cast<size_t>(width) * 4;
   for (size_t i = 0; i < samples; ++i) {
-    const float unit = std::max(0.0f, std::min(rgba[i], 1.0f));
-    out[i] = static_cast<float>(static_cast<int>(unit * 65535.0f + 0.5f)) * (1.0f / 65535.0f);
+    const bool alpha = i % 4 == 3;
+    const float low = alpha ? 0.0f : legal.lowE, high = alpha ? 1.0f : legal.highE;
+    const float value = rgba[i];
+    out[i] = value == value ? std::max(low, std::min(value, high)) : 0.0f;
   }
 }
 
@@ -30,11 +45,18 @@ inline Sample rounded(float code) {
   return static_cast<Sample>(static_cast<int>(code + 0.5f));
 }
 
+// A colour-difference code rounded and kept legal: a saturated colour beyond white can ask for
+// one past them.
+template <class Sample>
+inline Sample legalRounded(float code, const LegalCodes& legal) {
+  return rounded<Sample>(std::max(legal.low, std::min(code, legal.high)));
+}
+
 struct Weights {
   float kr, kg, kb;
 };
 
-// Y' codes of one row of `width` RGBA pixels, quantised; `scale` is 2^(bits - 8).
+// Y' codes of one row of `width` legal RGBA pixels; `scale` is 2^(bits - 8).
 template <class Sample>
 void lumaRow(const float* rgba, int width, const Weights& k, float scale, Sample* luma) {
   for (int x = 0; x < width; ++x) {
@@ -104,16 +126,17 @@ void packYcbcr(const Image& image, int encodedWidth, int encodedHeight, const Yc
   Sample* cr = cb + chromaSize;
   Sample* alpha = layout.alpha ? cr + chromaSize : nullptr;
   const float alphaScale = static_cast<float>((1 << layout.bits) - 1);
+  const LegalCodes legal = legalCodes(layout.bits);
   forEachBlock(size_t(chromaHeight), 1, [&](size_t firstRow, size_t endRow) {
     std::vector<float> sums(static_cast<size_t>(chromaWidth) * 3);  // R', G', B' planes
-    std::vector<float> row(static_cast<size_t>(image.width) * 4);   // quantised
+    std::vector<float> row(static_cast<size_t>(image.width) * 4);   // legal
     const float* r = sums.data();
     const float* g = r + chromaWidth;
     const float* b = g + chromaWidth;
     for (int cy = int(firstRow); cy < int(endRow); ++cy) {
       std::fill(sums.begin(), sums.end(), 0.0f);
       for (int y = cy * layout.chromaRows; y < (cy + 1) * layout.chromaRows; ++y) {
-        quantizeRow(image.pixel(0, std::min(y, image.height - 1)), image.width, row.data());
+        legalRow(image.pixel(0, std::min(y, image.height - 1)), image.width, legal, row.data());
         Sample* lumaOut = luma + static_cast<size_t>(y) * encodedWidth;
         lumaRow(row.data(), image.width, k, scale, lumaOut);
         if (encodedWidth > image.width) lumaOut[image.width] = lumaOut[image.width - 1];
@@ -129,8 +152,10 @@ void packYcbcr(const Image& image, int encodedWidth, int encodedHeight, const Yc
       Sample* crRow = cr + static_cast<size_t>(cy) * chromaWidth;
       for (int cx = 0; cx < chromaWidth; ++cx) {
         const float ey = (k.kr * r[cx] + k.kg * g[cx] + k.kb * b[cx]) * meanOfSums;
-        cbRow[cx] = rounded<Sample>((128.0f + blueScale * (b[cx] * meanOfSums - ey)) * scale);
-        crRow[cx] = rounded<Sample>((128.0f + redScale * (r[cx] * meanOfSums - ey)) * scale);
+        cbRow[cx] =
+            legalRounded<Sample>((128.0f + blueScale * (b[cx] * meanOfSums - ey)) * scale, legal);
+        crRow[cx] =
+            legalRounded<Sample>((128.0f + redScale * (r[cx] * meanOfSums - ey)) * scale, legal);
       }
     }
   });

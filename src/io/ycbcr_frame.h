@@ -30,8 +30,10 @@ struct YcbcrLayout {
   bool alpha = false;     // an alpha plane after Cr (ffmpeg's yuva...: full range, 0 to 2^bits - 1)
 };
 
-// Writes `image` (RGB in [0, 1], clamped, NaN as 0, and rounded to 16 bits) into `planes` as
-// video-range Y'CbCr of layout.bits: the Y' plane of encodedWidth x encodedHeight, then Cb and
+// Writes `image` (display-encoded R'G'B', 1 at video white; NaN as 0) into `planes` as
+// video-range Y'CbCr of layout.bits, within the legal codes (1 to 254 at 8 bits, 4 to 1019 at
+// 10, 16 to 4079 at 12: R'G'B' from -0.068 to 1.087-1.090 keep their super-whites and
+// sub-blacks; beyond, they are clamped): the Y' plane of encodedWidth x encodedHeight, then Cb and
 // Cr of encodedWidth / chromaColumns x encodedHeight / chromaRows, then with layout.alpha the
 // image's alpha as a full plane (A = (2^bits - 1) alpha). Codes round to nearest:
 // Y' = (16 + 219 E'y) 2^(bits-8), Cb/Cr = (128 + 224 E'c) 2^(bits-8) (ITU-R BT.709/BT.2020). A

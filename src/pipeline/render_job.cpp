@@ -284,10 +284,12 @@ void addResumeIdentity(WriterOptions& options, const RenderRequest& request,
                   configIdentity(color));
   options.metadata["pluvia:aovs"] =
       request.aovs.empty() ? "none" : fmt::format("{}", fmt::join(request.aovs, ","));
+  const std::string extension = lowerExtension(request.output.path);
   options.metadata["pluvia:format"] =
-      lowerExtension(request.output.path) == "exr"
-          ? fmt::format("exr {} {}", options.exrSampleType, options.exrCompression)
-          : lowerExtension(request.output.path);
+      extension == "exr" ? fmt::format("exr {} {}", options.exrSampleType, options.exrCompression)
+      : extension == "tif" || extension == "tiff"
+          ? fmt::format("{} {}", extension, options.tiffSampleType)
+          : extension;
 }
 
 WriterOptions writerOptionsFor(const RenderRequest& request, const Preset& preset,

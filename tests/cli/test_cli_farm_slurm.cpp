@@ -4,6 +4,7 @@
 // failed chunk is listed with its log. Skipped where the cluster cannot start (no Slurm or munge
 // installed, not root, a container that forbids it).
 // ctest: one process (the suite's set-up runs once for all its tests)
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <netinet/in.h>
@@ -295,11 +296,15 @@ TEST_F(FarmSlurm, AMovieIsAssembledAfterItsChunksAsTheOneMachineMovie) {
   const auto status = waitForFarm("rain.farm");
   ASSERT_EQ(status.exitCode, 0) << status.output << cluster_->logs();
   EXPECT_NE(status.output.find("assemble  " + ids[2]), std::string::npos) << status.output;
-  // The chunks wrote 16-bit frames, which the movie writer takes as it takes a render's frames:
-  // the same ffmpeg input, so the same movie.
+  // The chunks wrote float frames, which the movie writer takes as it takes a render's frames:
+  // the same samples, so the same movie.
   ASSERT_TRUE(stdfs::exists(dir_ / "farm" / "rain.mov")) << status.output;
   EXPECT_EQ(fs::readTextFile(dir_ / "one.mov"), fs::readTextFile(dir_ / "farm" / "rain.mov"));
-  EXPECT_TRUE(stdfs::exists(dir_ / "farm" / "rain.farm" / "frames" / "rain.1024.tif"));
+  const stdfs::path chunkFrame = dir_ / "farm" / "rain.farm" / "frames" / "rain.1024.tif";
+  ASSERT_TRUE(stdfs::exists(chunkFrame));
+  auto frame = OIIO::ImageInput::open(chunkFrame.string());
+  ASSERT_TRUE(frame);
+  EXPECT_EQ(frame->spec().format, OIIO::TypeDesc::FLOAT) << "a 16-bit frame clips super-whites";
 }
 
 // Every option of `render` reaches the chunks through a farm folder whose path holds a space:

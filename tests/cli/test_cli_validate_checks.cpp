@@ -73,6 +73,10 @@ TEST(CliValidateChecks, OptionsThatDoNothingForTheOutputAreUsageErrors) {
                               "--exr-type", "float", "--exr-compression", "dwaa"});
   EXPECT_EQ(exr.exitCode, 2) << exr.output;
   expectOutputHas(exr.output, {"--exr-type applies to EXR output", "o.mp4 is not EXR"});
+  const auto tiff = runPluvia({"render", plate, "-p", "moderate", "-o",
+                               (dir / "o.####.exr").string(), "--tiff-type", "float"});
+  EXPECT_EQ(tiff.exitCode, 2) << tiff.output;
+  expectOutputHas(tiff.output, {"--tiff-type applies to TIFF output", "o.####.exr is not TIFF"});
   const auto codec = runPluvia({"render", plate, "-p", "moderate", "-o",
                                 (dir / "o.####.png").string(), "--codec", "prores_4444"});
   EXPECT_EQ(codec.exitCode, 2) << codec.output;

@@ -45,10 +45,13 @@ TEST(YcbcrFrame, KnownColoursGiveTheStandardsCodes) {
   expectCodes(codesOf(0, 0, 1, "bt709"), {32, 240, 118}, "709 blue");
   // The same red by BT.2020: E'y = 0.2627 -> 73.53; E'cb = -0.2627 / 1.8814 -> 96.72.
   expectCodes(codesOf(1, 0, 0, "bt2020nc"), {74, 97, 240}, "2020 red");
-  // "" is BT.709 (no tag names a matrix); out-of-range and NaN samples clamp to [0, 1].
+  // "" is BT.709 (no tag names a matrix).
   expectCodes(codesOf(1, 0, 0, ""), {63, 102, 240}, "default");
+  // Beyond the legal codes (1 to 254) samples clamp to their R'G'B' (238 / 219 and -15 / 219),
+  // NaN to 0: E'y = 0.2126 * 1.08676 - 0.7152 * 0.06849 = 0.18205 -> 55.87; E'cb = -0.18205 /
+  // 1.8556 -> 106.02; Cr asks for 128 + 224 * 0.90471 / 1.5748 = 256.7 and gets 254.
   expectCodes(codesOf(2.0f, -1.0f, std::numeric_limits<float>::quiet_NaN(), "bt709"),
-              {63, 102, 240}, "clamped");
+              {56, 106, 254}, "clamped");
   // Mid grey 0.5: 16 + 109.5 = 125.5 rounds up.
   expectCodes(codesOf(0.5f, 0.5f, 0.5f, "bt709"), {126, 128, 128}, "grey");
 }
@@ -116,6 +119,35 @@ TEST(YcbcrFrame, DeepCodecsScaleTheCodesByTwoToTheBitsOverEight) {
   packYcbcr(test::flatImage(1, 1, 0.5f, 0.5f, 0.5f), 1, 1, prores4444,
             ycbcrMatrix("bt709", "t.mov"), planes);
   EXPECT_EQ(planes[0], 2008);
+}
+
+TEST(YcbcrFrame, SuperWhitesAndSubBlacksKeepTheirLegalCodes) {
+  // Grey beyond white and below black (a plate's super-whites and sub-blacks): Y' = 16 + 219 E'
+  // until the last legal code, 1 and 254 at 8 bits, 4 and 1019 at 10, 16 and 4079 at 12.
+  EXPECT_EQ(codesOf(1.05f, 1.05f, 1.05f, "bt709").y, 246);   // 245.95
+  EXPECT_EQ(codesOf(-0.05f, -0.05f, -0.05f, "bt709").y, 5);  // 5.05
+  EXPECT_EQ(codesOf(1.2f, 1.2f, 1.2f, "bt709").y, 254);
+  EXPECT_EQ(codesOf(-0.2f, -0.2f, -0.2f, "bt709").y, 1);
+  std::vector<uint16_t> planes;
+  const YcbcrLayout tenBit444{.bits = 10, .chromaColumns = 1, .chromaRows = 1};
+  const YcbcrLayout twelveBit444{.bits = 12, .chromaColumns = 1, .chromaRows = 1};
+  const auto lumaOf = [&](float grey, const YcbcrLayout& layout) {
+    packYcbcr(test::flatImage(1, 1, grey, grey, grey), 1, 1, layout, ycbcrMatrix("bt709", "t.mov"),
+              planes);
+    return int(planes[0]);
+  };
+  EXPECT_EQ(lumaOf(1.08f, tenBit444), 1010);  // (16 + 236.52) * 4 = 1010.1
+  EXPECT_EQ(lumaOf(-0.06f, tenBit444), 11);   // (16 - 13.14) * 4 = 11.4
+  EXPECT_EQ(lumaOf(1.5f, tenBit444), 1019);
+  EXPECT_EQ(lumaOf(-0.5f, tenBit444), 4);
+  EXPECT_EQ(lumaOf(1.5f, twelveBit444), 4079);
+  EXPECT_EQ(lumaOf(-0.5f, twelveBit444), 16);
+  // A saturated colour beyond white keeps its chroma legal too: (-0.1, -0.1, 1.5), clamped to
+  // (-0.0685, -0.0685, 1.0902), has E'y 0.0152 and asks for Cb (128 + 224 * 1.0750 / 1.8556) * 4
+  // = 1031; it gets 1019.
+  packYcbcr(test::flatImage(1, 1, -0.1f, -0.1f, 1.5f), 1, 1, tenBit444,
+            ycbcrMatrix("bt709", "t.mov"), planes);
+  EXPECT_EQ(planes[1], 1019);
 }
 
 TEST(YcbcrFrame, UnknownMatrixNamesItAndTheFile) {
