@@ -224,6 +224,7 @@ void refuseOverwritingInput(const std::vector<std::string>& inputFiles, const st
                             const std::vector<std::string>& outputs) {
   fs::protectInputs(inputFiles);
   for (const std::string& out : outputs) {
+    if (out.empty()) continue;  // an optional output not asked for
     fs::claimOutput(out, option);
     // `inputFiles` and every other input of the run (the preset, --lights, a file the preset
     // names), by device and inode: any spelling or link of one.

@@ -226,9 +226,9 @@ double dropSecondsPerDiameter() {
   return seconds;
 }
 
-double shutterFromStreaksSeconds(double lengthPx, double widthPx) {
-  if (!(widthPx > 0.0) || !(lengthPx > widthPx)) return 0.0;
-  return (lengthPx / widthPx - 1.0) * dropSecondsPerDiameter();
+double shutterFromStreaksSeconds(double elongationByLight) {
+  if (!(elongationByLight > 1.0)) return 0.0;
+  return (elongationByLight - 1.0) * dropSecondsPerDiameter();
 }
 
 double blurredEdgeWidthPx(double rampPx, double sigmaPx) {

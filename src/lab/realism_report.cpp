@@ -125,12 +125,14 @@ ClipShutter clipShutter(const RealClip& clip, const StreakStats& rain) {
                            blur.summary)};
     if (!blur.upperBound) return shutter;
   }
-  const double streaks = derain::shutterFromStreaksSeconds(rain.lengthP50Px, rain.widthP50Px);
+  const double streaks = derain::shutterFromStreaksSeconds(rain.elongationByLightP50);
   if (streaks > 0.0 && streaks < shutter.seconds)
-    shutter = {streaks, fmt::format("from its rain's streaks ({:.1f} px long, {:.2f} px wide), "
-                                    "shorter than 1/{:.0f} s {}",
-                                    rain.lengthP50Px, rain.widthP50Px, 1.0 / shutter.seconds,
-                                    shutter.source)};
+    shutter = {streaks,
+               fmt::format("from its rain's streaks (by their light {:.1f} times as long "
+                           "as wide, the median {:.1f} x {:.2f} px), shorter than 1/{:.0f} "
+                           "s {}",
+                           rain.elongationByLightP50, rain.lengthP50Px, rain.widthP50Px,
+                           1.0 / shutter.seconds, shutter.source)};
   return shutter;
 }
 
@@ -247,6 +249,16 @@ RealismReport runRealismReport(const RealismReportSettings& settings,
     for (const RealismRow& row : report.rows)
       if (row.clip == clip.name && row.preset != "real" && (!nearest || row.worst < nearest->worst))
         nearest = &row;
+    if (!(real.stats.streaksPerMpx > 0.0)) {
+      // No statistic has a real value to be a ratio of: "nearest x0.00" would be a number that
+      // says nothing.
+      report.notes.push_back(fmt::format(
+          "{}: no rain streaks found in its {} frames measured (dI > 10 codes with a ridge, "
+          "against its clean plates): nothing to compare the presets with (measure more frames: "
+          "--frames)",
+          clip.name, clip.frames.size()));
+      nearest = nullptr;
+    }
     if (nearest) {
       int within = 0;
       for (const auto& [name, ratio] : nearest->ratios) within += factorOff(ratio) <= kRealismBound;

@@ -70,9 +70,10 @@ struct FoundLamp {
 // Whether the plate was shot in rain (stages/clip_plate_rain.h).
 struct PlateRainFinding {
   bool rained = false;
-  // The plate's own streaks' median length and half-maximum width (px at the 640 px measured):
-  // the shutter it was filmed with (stages/plate_shutter.h).
-  double streakLengthPx = 0.0, streakWidthPx = 0.0;
+  // The plate's own streaks' median length and half-maximum width (px at the 640 px measured),
+  // and their length over width, the median weighted by their light: the shutter it was filmed
+  // with (stages/plate_shutter.h).
+  double streakLengthPx = 0.0, streakWidthPx = 0.0, streakElongationByLight = 0.0;
   std::string summary;           // what was measured, for the log
   double measuredSeconds = 0.0;  // for the log too
 };

@@ -61,8 +61,12 @@ PlateRainFinding measureOn(const ClipInfo& clip, const std::function<Image(int64
   const derain::PlateRain rain = derain::measurePlateRain(codes);
   // No streaks leave the medians NaN (which JSON cannot hold): 0, none.
   const auto finiteOr0 = [](double v) { return std::isfinite(v) ? v : 0.0; };
-  return {rain.rained, finiteOr0(rain.stats.lengthP50Px), finiteOr0(rain.stats.widthP50Px),
-          rain.summary(), secondsSince(start)};
+  return {rain.rained,
+          finiteOr0(rain.stats.lengthP50Px),
+          finiteOr0(rain.stats.widthP50Px),
+          finiteOr0(rain.stats.elongationByLightP50),
+          rain.summary(),
+          secondsSince(start)};
 }
 
 bool measurable(const ClipContext& clip) {
@@ -81,6 +85,7 @@ std::optional<PlateRainFinding> cachedFinding(const ClipContext& clip) {
     finding.summary = cached->at("summary").get<std::string>();
     finding.streakLengthPx = cached->at("streak_length_px").get<double>();
     finding.streakWidthPx = cached->at("streak_width_px").get<double>();
+    finding.streakElongationByLight = cached->at("streak_elongation_by_light").get<double>();
     log::info(fmt::format("plate: {} in rain: {}, from cache", finding.rained ? "shot" : "not shot",
                           finding.summary));
     return finding;
@@ -98,6 +103,7 @@ const PlateRainFinding& keepMeasured(ClipContext& clip, const PlateRainFinding& 
                       {{"rained", finding.rained},
                        {"streak_length_px", finding.streakLengthPx},
                        {"streak_width_px", finding.streakWidthPx},
+                       {"streak_elongation_by_light", finding.streakElongationByLight},
                        {"summary", finding.summary}});
   return clip.plateRain.emplace(finding);
 }

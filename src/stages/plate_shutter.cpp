@@ -155,15 +155,16 @@ const PlateShutter& clipPlateShutter(ClipContext& clip) {
   PlateShutter shutter = findPlateShutter(*clip.clip, clip.fps, read, clip.cache, clip.framesKey);
   if (shutter.firm || clip.clip->frames.size() < 3) return clip.plateShutter.emplace(shutter);
   const PlateRainFinding& rain = clipPlateRain(clip);
-  const double streaks = derain::shutterFromStreaksSeconds(rain.streakLengthPx, rain.streakWidthPx);
+  const double streaks = derain::shutterFromStreaksSeconds(rain.streakElongationByLight);
   if (!rain.rained || !(streaks > 0.0) || streaks > shutter.seconds)
     return clip.plateShutter.emplace(shutter);
   return clip.plateShutter.emplace(PlateShutter{
       streaks,
-      fmt::format("the streaks of the plate's own rain ({:.1f} px long, {:.2f} px wide: "
-                  "(L / W - 1) D / v(D)), shorter than {} ({})",
-                  rain.streakLengthPx, rain.streakWidthPx, fraction(shutter.seconds),
-                  shutter.source),
+      fmt::format(
+          "the streaks of the plate's own rain (by their light {:.1f} times as long as "
+          "wide, the median {:.1f} x {:.2f} px: (L / W - 1) D / v(D)), shorter than {} ({})",
+          rain.streakElongationByLight, rain.streakLengthPx, rain.streakWidthPx,
+          fraction(shutter.seconds), shutter.source),
       true, shutter.stillBlurPx});
 }
 

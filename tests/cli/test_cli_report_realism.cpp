@@ -118,6 +118,21 @@ TEST(CliReportRealism, ATableNamingAFrameOfTheClipIsRefusedAndTheFrameKept) {
   EXPECT_EQ(fs::readTextFile(frame), before);
 }
 
+// A clip given without --csv or --plot was refused ("would be written twice ... as --csv and as
+// --plot": two empty names), and a clip without rain printed "nearest preset drizzle (worst
+// x0.00, its ; ...)". Now it runs and says there is nothing to compare.
+TEST(CliReportRealism, AClipWithoutRainAndNoTableRunsAndSaysSo) {
+  const auto dir = freshTempDir("report_realism_dry");
+  const std::string clip = writePlateSequence(dir, 1, 8, 64, 48, [](Image& image, int frame) {
+    for (float& v : image.rgba) v = 0.1f + 0.01f * float(frame % 3);
+  });
+  const CommandResult r = runPluvia({"report", "realism", clip, "-p", "drizzle", "--quick"});
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  expectOutputHas(r.output, {"no rain streaks found in its 8 frames measured"});
+  EXPECT_EQ(r.output.find("would be written twice"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("nearest preset"), std::string::npos) << r.output;
+}
+
 TEST(CliReportRealism, AClipThatCannotBeReadIsNamed) {
   const auto dir = freshTempDir("report_realism_missing");
   const stdfs::path missing = dir / "no_such_clip.mp4";

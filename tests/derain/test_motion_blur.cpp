@@ -150,11 +150,12 @@ TEST(MotionBlur, AStillEdgesBlurIsMeasuredWithOrWithoutMotion) {
 // T = (L / W - 1) D / v: a streak as wide as long shows no motion; one 5 widths long, 4 drop
 // passages of D / v = 1.5 mm / 5.4 m/s (Atlas's fall speed of a 1.5 mm drop).
 TEST(MotionBlur, TheStreaksClockIsTheirLengthOverTheirWidth) {
-  EXPECT_EQ(shutterFromStreaksSeconds(3.0, 3.0), 0.0);
-  EXPECT_EQ(shutterFromStreaksSeconds(0.0, 0.0), 0.0);
-  EXPECT_NEAR(shutterFromStreaksSeconds(5.0, 1.0),
+  EXPECT_EQ(shutterFromStreaksSeconds(1.0), 0.0);
+  EXPECT_EQ(shutterFromStreaksSeconds(0.0), 0.0);
+  EXPECT_EQ(shutterFromStreaksSeconds(std::nan("")), 0.0);
+  EXPECT_NEAR(shutterFromStreaksSeconds(5.0),
               4.0 * 1.5e-3 / rain::terminalVelocityMetersPerSecond(1.5), 1e-12);
-  EXPECT_NEAR(shutterFromStreaksSeconds(5.0, 1.0), 4.0 * 1.5e-3 / 5.4, 0.1 * 4.0 * 1.5e-3 / 5.4);
+  EXPECT_NEAR(shutterFromStreaksSeconds(5.0), 4.0 * 1.5e-3 / 5.4, 0.1 * 4.0 * 1.5e-3 / 5.4);
 }
 
 }  // namespace
