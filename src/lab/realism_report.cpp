@@ -246,9 +246,6 @@ RealismReport runRealismReport(const RealismReportSettings& settings,
       report.rows.push_back(row);
       columns.push_back(std::move(column));
     }
-    for (const RealismRow& row : report.rows)
-      if (row.clip == clip.name && row.preset != "real" && (!nearest || row.worst < nearest->worst))
-        nearest = &row;
     if (!(real.stats.streaksPerMpx > 0.0)) {
       // No statistic has a real value to be a ratio of: "nearest x0.00" would be a number that
       // says nothing.
@@ -257,7 +254,11 @@ RealismReport runRealismReport(const RealismReportSettings& settings,
           "against its clean plates): nothing to compare the presets with (measure more frames: "
           "--frames)",
           clip.name, clip.frames.size()));
-      nearest = nullptr;
+    } else {
+      for (const RealismRow& row : report.rows)
+        if (row.clip == clip.name && row.preset != "real" &&
+            (!nearest || row.worst < nearest->worst))
+          nearest = &row;
     }
     if (nearest) {
       int within = 0;
