@@ -138,6 +138,9 @@ struct ClipContext {
   // The lamps found in the still (lights.find), set once by the lights stage's prepare(), so
   // that every chunk of a farm render places them alike and `pluvia plan --resolved` lists them.
   std::optional<std::vector<FoundLamp>> foundLamps;
+  // Whether the still is a night plate (stages/plate_lights.h), decided on first use by a
+  // grading stage that leaves the plate's lamps as they are (stages/lamp_keeping.h).
+  std::optional<bool> nightPlate;
   // Measured on first use by a grading stage that leaves itself out on a plate shot in rain, or
   // ahead (plateRainAhead, on a thread of its own) and taken on first use.
   std::optional<PlateRainFinding> plateRain;
@@ -162,6 +165,9 @@ struct FrameContext {
   // without local lights.
   std::vector<optics::LocalLight> lights;
   double lightsExtinctionPerMeter = 0.0;  // the medium between the lights and the drops
+  // How much of each pixel a lamp of a night plate holds, found in the frame before the first
+  // grading stage changed it (stages/lamp_keeping.h), for every grading stage alike.
+  std::optional<std::vector<float>> lampShare;
 };
 
 class Stage {

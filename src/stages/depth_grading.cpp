@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "stages/clip_plate_rain.h"
+#include "stages/lamp_keeping.h"
 #include "util/parallel.h"
 
 namespace pluvia {
@@ -54,13 +55,16 @@ void DepthGradingStage::prepareAhead(ClipContext& clip) {
 
 void DepthGradingStage::prepare(ClipContext& clip) {
   leftOut_ = leaveOutOnRainedPlate(clip, name_, overRain_);
+  if (!leftOut_) findNightPlate(clip);
 }
 
-void DepthGradingStage::process(ClipContext&, FrameContext& frame) {
+void DepthGradingStage::process(ClipContext& clip, FrameContext& frame) {
   if (leftOut_) return;
   const GradingAov aov(frame.image, name_);
+  const KeptLamps lamps(frame.image, frameLampShare(clip, frame));
   const std::vector<float>& weight = weightsOf(frame.image);
   grade_(frame.image, weight);
+  lamps.restore(frame.image);
   aov.finish(frame.image, weight);
 }
 

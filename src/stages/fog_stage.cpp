@@ -13,6 +13,7 @@
 #include "stages/clip_plate_rain.h"
 #include "stages/depth_grading.h"
 #include "stages/fog_settings.h"
+#include "stages/lamp_keeping.h"
 #include "stages/rain_medium.h"
 #include "stages/rain_settings.h"
 #include "stages/registry.h"
@@ -34,6 +35,7 @@ class FogStage : public Stage {
   void prepare(ClipContext& clip) override {
     leftOut_ = leaveOutOnRainedPlate(clip, "fog", fog_.overRain);
     if (leftOut_) return;
+    findNightPlate(clip);
     rgb_ = fog_.constantRgb;
     if (fog_.model == FogModel::Skylight) {
       prepareSkylight(clip);  // fog.color: the CIE sky's zenith without an environment
@@ -48,10 +50,12 @@ class FogStage : public Stage {
                           average ? "average" : "horizon"));
   }
 
-  void process(ClipContext&, FrameContext& frame) override {
+  void process(ClipContext& clip, FrameContext& frame) override {
     if (leftOut_) return;
     const GradingAov aov(frame.image, "fog");
+    const KeptLamps lamps(frame.image, frameLampShare(clip, frame));
     addFog(frame);
+    lamps.restore(frame.image);
     aov.finish(frame.image, {});
   }
 

@@ -44,8 +44,16 @@ constexpr double kLampRimOverClip = 0.4;
 constexpr float kGlowCoreLevel = 0.95f;
 constexpr double kGlowCoreRadii = 8.0, kGlowMarginPx = 8.0, kGlowFade = 0.75;
 
-// 255 on the pixels of lamp glows (above) in `luminance` (width x height) of `still`.
-cv::Mat1b lampGlowMask(const Image& still, const std::vector<float>& luminance) {
+// The lamp glows (above) in `luminance` (width x height) of `still`: 255 on their pixels, and
+// each glow's core (centroid and radius, px).
+struct LampGlow {
+  double xPx = 0.0, yPx = 0.0, coreRadiusPx = 0.0;
+};
+struct LampGlows {
+  cv::Mat1b mask;
+  std::vector<LampGlow> glows;
+};
+LampGlows lampGlows(const Image& still, const std::vector<float>& luminance) {
   const int width = still.width, height = still.height;
   cv::Mat1b bright(height, width), core(height, width);
   for (int y = 0; y < height; ++y)
@@ -76,12 +84,15 @@ cv::Mat1b lampGlowMask(const Image& still, const std::vector<float>& luminance) 
                           luminance[size_t(y) * width + x]});
     }
   std::vector<uchar> glow(count, 0);
+  LampGlows found;
   for (int l = 1; l < count; ++l) {
     Region& r = regions[l];
     if (!(r.coreArea > 0) || r.coreArea > kMaxLampShareOfFrame * width * height) continue;
     const double radius = std::sqrt(r.coreArea / M_PI);
+    const LampGlow lamp{r.sx / r.coreArea, r.sy / r.coreArea, radius};
     if (r.around.size() < 2) {
       glow[l] = 1;
+      found.glows.push_back(lamp);
       continue;
     }
     // The region's reach: the distance nine tenths of the pixels around the core lie within (a
@@ -95,11 +106,42 @@ cv::Mat1b lampGlowMask(const Image& still, const std::vector<float>& luminance) 
       (i < half ? nearSum : farSum) += r.around[i].second;
     const bool fades = farSum / double(r.around.size() - half) < kGlowFade * nearSum / double(half);
     glow[l] = reach <= kGlowCoreRadii * radius + kGlowMarginPx && fades;
+    if (glow[l]) found.glows.push_back(lamp);
   }
-  cv::Mat1b mask(height, width);
+  found.mask = cv::Mat1b(height, width);
   for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) mask(y, x) = glow[labels(y, x)] ? 255 : 0;
-  return mask;
+    for (int x = 0; x < width; ++x) found.mask(y, x) = glow[labels(y, x)] ? 255 : 0;
+  return found;
+}
+
+// How far a lamp's glow reaches: the radius (px, from the core's centre) where the mean
+// luminance of a one-pixel ring has lost kGlowFadedShare of its excess over the farthest ring
+// (kGlowCoreRadii core radii out, plus kGlowMarginPx, or the farthest the frame holds; the rings'
+// pixels inside the frame).
+constexpr double kGlowFadedShare = 0.9;
+double glowReachPx(const LampGlow& lamp, const std::vector<float>& luminance, int width,
+                   int height) {
+  const int rings = int(std::ceil(kGlowCoreRadii * lamp.coreRadiusPx + kGlowMarginPx)) + 1;
+  std::vector<double> sum(size_t(rings), 0.0), count(size_t(rings), 0.0);
+  const int x0 = std::max(0, int(lamp.xPx) - rings), x1 = std::min(width, int(lamp.xPx) + rings);
+  const int y0 = std::max(0, int(lamp.yPx) - rings), y1 = std::min(height, int(lamp.yPx) + rings);
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) {
+      const auto ring = size_t(std::hypot(x - lamp.xPx, y - lamp.yPx));
+      if (ring >= size_t(rings)) continue;
+      sum[ring] += luminance[size_t(y) * size_t(width) + size_t(x)];
+      count[ring] += 1.0;
+    }
+  const auto mean = [&](size_t ring) { return count[ring] > 0 ? sum[ring] / count[ring] : 0.0; };
+  const auto edge = size_t(std::ceil(lamp.coreRadiusPx));
+  if (edge + 1 >= size_t(rings)) return lamp.coreRadiusPx;
+  size_t farthest = size_t(rings) - 1;
+  while (farthest > edge && count[farthest] == 0) --farthest;
+  const double far = mean(farthest), excess = mean(edge) - far;
+  for (size_t ring = edge; ring <= farthest; ++ring)
+    if (count[ring] > 0 && mean(ring) - far <= (1.0 - kGlowFadedShare) * excess)
+      return double(ring);
+  return double(farthest);
 }
 
 // The mean luminance of the ring kSurroundInner..OuterRadii blob radii around blob `label`.
@@ -129,11 +171,44 @@ double surroundLuminanceOf(const Image& still, const cv::Mat& labels, int label,
 
 }  // namespace
 
+std::vector<float> lampShare(const Image& image) {
+  std::vector<float> luminance(image.pixelCount());
+  for (size_t i = 0; i < luminance.size(); ++i)
+    luminance[i] = rec709LuminanceFloat(&image.rgba[i * 4]);
+  std::vector<float> share(luminance.size(), 0.0f);
+  if (share.empty()) return share;
+  const LampGlows found = lampGlows(image, luminance);
+  if (found.glows.empty()) return share;
+  // The glow mask (the light over kNightUpperLuminance joined to the core), feathered ...
+  cv::Mat1f distance;
+  cv::distanceTransform(found.mask == 0, distance, cv::DIST_L2, 3);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      share[size_t(y) * size_t(image.width) + size_t(x)] =
+          float(std::max(0.0, 1.0 - distance(y, x) / kLampFeatherPx));
+  // ... and the disc the glow's light reaches: the fainter glow beyond the mask, feathered over
+  // as far again (a graded night sky's airlight beside an ungraded glow showed a ring at 8 px).
+  for (const LampGlow& lamp : found.glows) {
+    const double reach = glowReachPx(lamp, luminance, image.width, image.height);
+    const double feather = std::max(kLampFeatherPx, reach);
+    const int extent = int(std::ceil(reach + feather));
+    for (int y = std::max(0, int(lamp.yPx) - extent);
+         y < std::min(image.height, int(lamp.yPx) + extent + 1); ++y)
+      for (int x = std::max(0, int(lamp.xPx) - extent);
+           x < std::min(image.width, int(lamp.xPx) + extent + 1); ++x) {
+        const double d = std::hypot(x - lamp.xPx, y - lamp.yPx);
+        float& s = share[size_t(y) * size_t(image.width) + size_t(x)];
+        s = std::max(s, float(std::clamp(1.0 - (d - reach) / feather, 0.0, 1.0)));
+      }
+  }
+  return share;
+}
+
 PlateLuminance plateLuminance(const Image& still) {
   std::vector<float> all(static_cast<size_t>(still.width) * still.height);
   for (size_t i = 0; i < all.size(); ++i) all[i] = rec709LuminanceFloat(&still.rgba[i * 4]);
   if (all.empty()) return {};
-  const cv::Mat1b glow = lampGlowMask(still, all);
+  const cv::Mat1b glow = lampGlows(still, all).mask;
   std::vector<float> luminance;
   luminance.reserve(all.size());
   for (size_t i = 0; i < all.size(); ++i)

@@ -31,6 +31,15 @@ struct PlateLuminance {
 };
 PlateLuminance plateLuminance(const Image& still);
 
+// How much of each pixel of a night plate's `image` (width * height, 0..1) is a lamp: 1 on the
+// clipped cores inside their own glows and on those glows (the bright pixels joined to a core
+// that fade away from it, as plateLuminance leaves them out), and within the radius where the
+// glow's ring luminance has lost nine tenths of its excess over the scene around; falling to 0
+// over kLampFeatherPx outside the mask and over as far again as that radius outside it, so that
+// what is kept has no edge.
+inline constexpr double kLampFeatherPx = 8.0;
+std::vector<float> lampShare(const Image& image);
+
 // A night plate: its median luminance under kNightMedianLuminance and nine tenths of it under
 // kNightUpperLuminance (a shaded day plate is as dark at its median, but its sunlit tenth is not).
 bool isNightPlate(const PlateLuminance& luminance);

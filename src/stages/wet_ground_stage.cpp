@@ -13,6 +13,7 @@
 #include "stages/clip_plate_rain.h"
 #include "stages/depth_grading.h"
 #include "stages/depth_settings.h"
+#include "stages/lamp_keeping.h"
 #include "stages/rain_settings.h"
 #include "stages/registry.h"
 #include "stages/wet_ground_settings.h"
@@ -38,6 +39,7 @@ class WetGroundStage : public Stage {
   void prepare(ClipContext& clip) override {
     leftOut_ = leaveOutOnRainedPlate(clip, "wet_ground", wet_.overRain);
     if (leftOut_) return;
+    findNightPlate(clip);
     if (!clip.environment)
       throw Error("wet_ground needs the lighting stage's environment", {"wet_ground"});
     path_ = clip.cameraPath;
@@ -45,14 +47,16 @@ class WetGroundStage : public Stage {
     light_.irradiance = rain::levelIrradiance(light_.gloss);
   }
 
-  void process(ClipContext&, FrameContext& frame) override {
+  void process(ClipContext& clip, FrameContext& frame) override {
     const std::vector<float>* depth = frame.image.findPlane(kDepthPlane);
     if (leftOut_ || !depth) return;
     const Camera camera = path_.cameraAt(double(frame.frame));
     const std::vector<float>& weights = weightsFor(camera, *depth);
     GradingAov aov(frame.image, "wet_ground");
+    const KeptLamps lamps(frame.image, frameLampShare(clip, frame));
     const double gloss = guessBackdropMeters_ > 0.0 ? 0.0 : wet_.gloss;
     rain::wetGround(frame.image, weights, film_, wet_.wetness, gloss, light_, optics::kWaterEta);
+    lamps.restore(frame.image);
     aov.finish(frame.image, weights);
   }
 
