@@ -169,9 +169,8 @@ double surroundLuminanceOf(const Image& still, const cv::Mat& labels, int label,
   return count > 0 ? sum / count : 0.0;
 }
 
-}  // namespace
-
-std::vector<float> lampShare(const Image& image) {
+// lampShare at the image's own size.
+std::vector<float> lampShareAtSize(const Image& image) {
   std::vector<float> luminance(image.pixelCount());
   for (size_t i = 0; i < luminance.size(); ++i)
     luminance[i] = rec709LuminanceFloat(&image.rgba[i * 4]);
@@ -202,6 +201,22 @@ std::vector<float> lampShare(const Image& image) {
       }
   }
   return share;
+}
+
+}  // namespace
+
+std::vector<float> lampShare(const Image& image) {
+  const int factor = (image.width + kLampShareWidthPx - 1) / kLampShareWidthPx;
+  if (factor <= 1) return lampShareAtSize(image);
+  // Found at a fraction of the size (the share is smooth), then brought back to it.
+  Image small((image.width + factor - 1) / factor, (image.height + factor - 1) / factor);
+  cv::resize(const_cast<Image&>(image).rgbaMat(), small.rgbaMat(), small.rgbaMat().size(), 0, 0,
+             cv::INTER_AREA);
+  const std::vector<float> found = lampShareAtSize(small);
+  cv::Mat1f share(image.height, image.width);
+  cv::resize(cv::Mat1f(small.height, small.width, const_cast<float*>(found.data())), share,
+             share.size(), 0, 0, cv::INTER_LINEAR);
+  return {share.begin(), share.end()};
 }
 
 PlateLuminance plateLuminance(const Image& still) {

@@ -37,7 +37,10 @@ PlateLuminance plateLuminance(const Image& still);
 // glow's ring luminance has lost nine tenths of its excess over the scene around; falling to 0
 // over kLampFeatherPx outside the mask and over as far again as that radius outside it, so that
 // what is kept has no edge.
+// Found at most kLampShareWidthPx wide (a wider image at a whole fraction of its size: 1080p
+// took 60 ms a frame at its own), so the feather is that many px of the smaller image.
 inline constexpr double kLampFeatherPx = 8.0;
+inline constexpr int kLampShareWidthPx = 960;
 std::vector<float> lampShare(const Image& image);
 
 // A night plate: its median luminance under kNightMedianLuminance and nine tenths of it under
