@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "night_plate.h"
 #include "stages/lamp_keeping.h"
 #include "stages/plate_lights.h"
 #include "test_support.h"
@@ -20,15 +21,7 @@ namespace {
 // sqrt(0.9 / 0.159 - 1) = 38.4 px, within a ring or two.
 constexpr double kGlowReachPx = 38.4;
 Image lampInItsGlow() {
-  Image lamp = test::flatImage(160, 120, 0.02f, 0.02f, 0.02f);
-  for (int y = 0; y < lamp.height; ++y)
-    for (int x = 0; x < lamp.width; ++x) {
-      const double d = std::hypot(x + 0.5 - 80, y + 0.5 - 60);
-      const float v =
-          d <= 6 ? 1.0f : std::max(0.02f, float(0.9 / (1.0 + std::pow((d - 6) / 15, 2))));
-      std::fill(lamp.pixel(x, y), lamp.pixel(x, y) + 3, v);
-    }
-  return lamp;
+  return test::lampInItsGlow(6.0);
 }
 
 float shareAt(const std::vector<float>& share, int x, int y) {

@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "night_plate.h"
 #include "stages/plate_lights.h"
 #include "test_support.h"
 
@@ -117,14 +118,7 @@ TEST(PlateLights, ALampInItsOwnGlowIsFoundALitWallIsNot) {
 // plate is a night one. The same light spread flat over the frame's top (a sunlit strip holding a
 // clipped patch as big as the core) is a day plate.
 TEST(PlateLights, ALampsOwnGlowDoesNotMakeANightPlateDay) {
-  Image lamp = test::flatImage(160, 120, 0.02f, 0.02f, 0.02f);
-  for (int y = 0; y < lamp.height; ++y)
-    for (int x = 0; x < lamp.width; ++x) {
-      const double d = std::hypot(x + 0.5 - 80, y + 0.5 - 60);
-      const float v =
-          d <= 12 ? 1.0f : std::max(0.02f, float(0.9 / (1.0 + std::pow((d - 12) / 15, 2))));
-      std::fill(lamp.pixel(x, y), lamp.pixel(x, y) + 3, v);
-    }
+  const Image lamp = test::lampInItsGlow(12.0);
   int lit = 0;
   for (size_t i = 0; i < lamp.pixelCount(); ++i) lit += lamp.rgba[i * 4] >= 0.3f;
   ASSERT_GT(lit, int(lamp.pixelCount() / 10));  // the brightest tenth is glow

@@ -26,6 +26,20 @@ double nearestPx(int x, int y, const std::vector<PixelXY>& points) {
 
 }  // namespace
 
+Image lampInItsGlow(double coreRadiusPx) {
+  Image lamp = flatImage(160, 120, 0.02f, 0.02f, 0.02f);
+  for (int y = 0; y < lamp.height; ++y)
+    for (int x = 0; x < lamp.width; ++x) {
+      const double d = std::hypot(x + 0.5 - 80, y + 0.5 - 60);
+      const float v =
+          d <= coreRadiusPx
+              ? 1.0f
+              : std::max(0.02f, float(0.9 / (1.0 + std::pow((d - coreRadiusPx) / 15, 2))));
+      std::fill(lamp.pixel(x, y), lamp.pixel(x, y) + 3, v);
+    }
+  return lamp;
+}
+
 bool haveStreetMovie() {
   return stdfs::exists(sharedData() / kStreetMovie);
 }

@@ -12,6 +12,10 @@
 
 namespace pluvia::test {
 
+// A 160 x 120 night plate of grey 0.02 holding a lamp at (80, 60): a clipped core (1.0) of radius
+// `coreRadiusPx` in a glow 0.9 / (1 + ((d - coreRadiusPx) / 15)^2), d the distance in px.
+Image lampInItsGlow(double coreRadiusPx);
+
 // Whether sharedData() has the street movie (plate_static/opencv_vtest.avi) the plate is cut from.
 bool haveStreetMovie();
 
