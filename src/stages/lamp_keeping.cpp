@@ -2,6 +2,7 @@
 
 #include "stages/clip_still.h"
 #include "stages/plate_lights.h"
+#include "util/log.h"
 
 namespace pluvia {
 
@@ -9,6 +10,10 @@ void findNightPlate(ClipContext& clip) {
   if (clip.nightPlate) return;
   // A stage run alone over one image (no clip to make a still of) keeps nothing.
   clip.nightPlate = clip.clip && clip.readWorking && isNightPlate(plateLuminance(clipStill(clip)));
+  if (*clip.nightPlate)
+    log::info(
+        "grading: a night plate: the lamps in their own glows are kept as the plate holds "
+        "them (wet ground, darken, blur and fog leave them)");
 }
 
 const std::vector<float>& frameLampShare(const ClipContext& clip, FrameContext& frame) {

@@ -36,7 +36,9 @@ TEST(CliNightLampGrading, TheGradingLeavesALampAndItsGlowAsThePlateHoldsThem) {
   const auto rendered = runPluvia(
       {"render", plate, "-p", "heavy", "--set", "rain.enabled=false", "-o", out.string()});
   ASSERT_EQ(rendered.exitCode, 0) << rendered.output;
-  expectOutputHas(rendered.output, {"runs", "wet_ground", "darken", "fog"});
+  expectOutputHas(rendered.output,
+                  {"runs", "wet_ground", "darken", "fog",
+                   "grading: a night plate: the lamps in their own glows are kept"});
   // The plate in the working space, every stage off: the reference.
   const auto passed =
       runPluvia({"-q", "render", plate, "-p", "heavy", "--set", "rain.enabled=false", "--set",
