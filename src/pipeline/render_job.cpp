@@ -34,8 +34,9 @@
 namespace pluvia {
 namespace {
 
-// A movie's frames are decoded from integer codes (io/movie_reader.cpp: rgb24 or rgb48): they
-// hold no NaN or infinity, and a 1080p frame's scan for them costs a few milliseconds.
+// A movie's frames are decoded from integer codes (io/movie_reader.cpp: Y'CbCr through a finite
+// matrix, or RGB): they hold no NaN or infinity, and a 1080p frame's scan for them costs a few
+// milliseconds.
 bool mayHoldNonFinite(const ClipInfo& clip) {
   return !clip.isMovie;
 }
